@@ -1,0 +1,19 @@
+// math.glsl — constants and small helpers.
+const float PI = 3.14159265358979323846;
+const float TWO_PI = 6.28318530717958647692;
+
+// Interleaved gradient noise (Jimenez 2014): a per-pixel value in [0,1).
+float ign(vec2 pixel)
+{
+    return fract(52.9829189 * fract(dot(pixel, vec2(0.06711056, 0.00583715))));
+}
+
+// Orthonormal basis around unit n (Duff et al. 2017).
+void basis(vec3 n, out vec3 t, out vec3 b)
+{
+    float s = n.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (s + n.z);
+    float c = n.x * n.y * a;
+    t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
+    b = vec3(c, s + n.y * n.y * a, -n.y);
+}

@@ -1,0 +1,136 @@
+// shadow.glsl — shadow-map visibility: hard, PCF (Reeves 1987) and PCSS
+// (Fernando 2005). Maps store the distance to the light divided by far
+// (directional: depth along the light direction from the ortho near plane),
+// so biases, blocker depths and penumbrae are in metres.
+
+layout(binding = TEX_SHADOW_2D) uniform sampler2D u_shadow_2d;
+layout(binding = TEX_SHADOW_CUBE) uniform samplerCube u_shadow_cube;
+
+struct ShadowCoord {
+    vec3 dir;  // cube: unit direction light → receiver
+    vec2 uv;   // 2D: shadow-map coordinates
+    float d;   // receiver distance (m)
+    vec3 t, b; // cube: tangent frame of dir
+};
+
+bool shadow_is_cube() { return u_light.shadow_info.w > 0.5; }
+bool shadow_is_ortho() { return int(u_light.position_type.w) == LIGHT_DIRECTIONAL; }
+
+// World size of one shadow-map texel at distance d from the light.
+float shadow_texel(float d)
+{
+    return shadow_is_ortho() ? u_light.shadow_info.y : u_light.shadow_info.y * d;
+}
+
+ShadowCoord shadow_coord(vec3 x)
+{
+    ShadowCoord sc;
+    sc.t = vec3(0);
+    sc.b = vec3(0);
+    sc.dir = vec3(0);
+    sc.uv = vec2(0);
+    if (shadow_is_ortho()) {
+        sc.d = dot(x - u_light.shadow_origin.xyz, u_light.direction_width.xyz);
+    } else {
+        vec3 v = x - u_light.position_type.xyz;
+        sc.d = length(v);
+        sc.dir = v / sc.d;
+        basis(sc.dir, sc.t, sc.b);
+    }
+    if (!shadow_is_cube()) {
+        vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
+        sc.uv = c.xy / c.w * 0.5 + 0.5;
+    }
+    return sc;
+}
+
+// Stored occluder distance (m) at an offset of `o` texels from the receiver's texel.
+float shadow_fetch(ShadowCoord sc, vec2 o)
+{
+    float far = u_light.shadow_info.x;
+    if (shadow_is_cube()) {
+        float k = u_light.shadow_info.y;
+        vec3 d = sc.dir + (sc.t * o.x + sc.b * o.y) * k;
+        return textureLod(u_shadow_cube, d, 0.0).r * far;
+    }
+    vec2 uv = sc.uv + o / u_light.shadow_info.z;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))))
+        return 1e30; // outside the map: nothing recorded, lit
+    return textureLod(u_shadow_2d, uv, 0.0).r * far;
+}
+
+// Constant + slope-scaled bias for a filter footprint of `radius` texels.
+float shadow_bias(float d, float cos_theta, float radius)
+{
+    float tan_theta = min(sqrt(max(1.0 - cos_theta * cos_theta, 0.0)) / max(cos_theta, 1e-3), 100.0);
+    return u_shadow.bias.x + u_shadow.bias.y * shadow_texel(d) * tan_theta * max(radius, 1.0);
+}
+
+vec2 shadow_poisson(int i, float angle)
+{
+    vec2 p = u_shadow.poisson[i].xy;
+    float c = cos(angle), s = sin(angle);
+    return vec2(c * p.x - s * p.y, s * p.x + c * p.y);
+}
+
+float shadow_pcf(ShadowCoord sc, float radius, float cos_theta, float angle)
+{
+    int n = int(u_shadow.filt.y);
+    float ref = sc.d - shadow_bias(sc.d, cos_theta, radius);
+    float lit = 0.0;
+    for (int i = 0; i < n; i++)
+        lit += shadow_fetch(sc, shadow_poisson(i, angle) * radius) >= ref ? 1.0 : 0.0;
+    return lit / float(n);
+}
+
+// Light width as seen from distance 1: PCSS's w_light/d for perspective
+// lights becomes w·(1/d_b); the sun's is tan of its angular diameter.
+float shadow_pcss(ShadowCoord sc, float cos_theta, float angle)
+{
+    float w = u_light.direction_width.w;
+    float max_r = u_shadow.filt.w;
+    // (1) Blocker search: the light's footprint through the receiver, taken at
+    // a tenth of the receiver distance (blockers nearer the light than that
+    // give penumbrae wider than the cap anyway), in texels, capped.
+    float d_min = shadow_is_ortho() ? 0.0 : 0.1 * sc.d;
+    float search_world = shadow_is_ortho() ? w * sc.d : w * (sc.d - d_min) / sc.d;
+    float search = clamp(0.5 * search_world / shadow_texel(max(d_min, 1e-4)), 1.0, max_r);
+    int nb = int(u_shadow.filt.z);
+    float ref = sc.d - shadow_bias(sc.d, cos_theta, search);
+    float sum = 0.0;
+    int count = 0;
+    for (int i = 0; i < nb; i++) {
+        float z = shadow_fetch(sc, shadow_poisson(i, angle) * search);
+        if (z < ref) {
+            sum += z;
+            count++;
+        }
+    }
+    if (count == 0)
+        return 1.0;
+    float d_b = sum / float(count);
+    // (2) Penumbra width at the receiver: w_p = (d_r − d_b)·w_light/d_b.
+    float w_p = shadow_is_ortho() ? (sc.d - d_b) * w : (sc.d - d_b) * w / max(d_b, 1e-4);
+    // (3) PCF with a radius of half the penumbra, in texels at the receiver.
+    float radius = clamp(0.5 * w_p / shadow_texel(sc.d), 1.0, max_r);
+    return shadow_pcf(sc, radius, cos_theta, angle);
+}
+
+// Visibility in [0,1] of the light from x (normal n, unit direction to light l).
+float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
+{
+    int mode = int(u_shadow.bias.w);
+    if (mode == SHADOW_NONE)
+        return 1.0;
+    float cos_theta = max(dot(n, l), 0.0);
+    ShadowCoord sc0 = shadow_coord(x);
+    // Normal offset: move the receiver along n by a few texels before lookup.
+    vec3 xo = x + n * u_shadow.bias.z * shadow_texel(sc0.d);
+    ShadowCoord sc = shadow_coord(xo);
+    float angle = TWO_PI * ign(pixel);
+    if (mode == SHADOW_HARD)
+        return shadow_fetch(sc, vec2(0.0)) >= sc.d - shadow_bias(sc.d, cos_theta, 1.0) ? 1.0 : 0.0;
+    if (mode == SHADOW_PCF)
+        return shadow_pcf(sc, u_shadow.filt.x, cos_theta, angle);
+    return shadow_pcss(sc, cos_theta, angle);
+}

@@ -1,0 +1,46 @@
+// types.glsl — blocks shared with C (src/gpu_types.h). Keep in sync.
+#define LIGHT_DIRECTIONAL 0
+#define LIGHT_SPOT 1
+#define LIGHT_POINT 2
+#define LIGHT_QUAD 3
+
+#define UBO_LIGHT 0
+#define UBO_SHADOW 1
+#define TEX_ALBEDO 0
+#define TEX_SHADOW_2D 1
+#define TEX_SHADOW_CUBE 2
+#define TEX_GB_POSITION 3
+#define TEX_GB_NORMAL 4
+#define TEX_GB_ALBEDO 5
+#define TEX_GB_EMISSION 6
+#define TEX_HDR 7
+
+#define LOC_MATERIAL_ALBEDO 0
+#define LOC_MATERIAL_HAS_TEX 1
+#define LOC_MATERIAL_CUTOFF 2
+#define LOC_MATERIAL_EMISSION 3
+#define LOC_VIEW_PROJ 4
+#define LOC_EYE 5
+
+struct GpuLight {
+    vec4 position_type;   // xyz position, w type
+    vec4 direction_width; // xyz direction, w PCSS width
+    vec4 color;           // E / I / L·A
+    vec4 spot;            // x cos outer, y cos inner
+    mat4 shadow_view_proj;
+    vec4 shadow_origin;
+    vec4 shadow_info;     // x far, y texel factor k, z resolution, w cube
+};
+
+layout(std140, binding = UBO_LIGHT) uniform LightBlock { GpuLight u_light; };
+
+#define SHADOW_NONE 0
+#define SHADOW_HARD 1
+#define SHADOW_PCF 2
+#define SHADOW_PCSS 3
+
+layout(std140, binding = UBO_SHADOW) uniform ShadowBlock {
+    vec4 bias;    // x const (m), y slope (texels·tanθ), z normal offset (texels), w mode
+    vec4 filt;    // x PCF radius, y PCF samples, z blocker samples, w PCSS max radius
+    vec4 poisson[64];
+} u_shadow;

@@ -1,0 +1,26 @@
+/* cli.h — strict parsing of command-line values. Each returns false after
+ * logging one line that names the option and the bad value. */
+#ifndef RTGI_CLI_H
+#define RTGI_CLI_H
+
+#include <stdbool.h>
+
+bool cli_float(const char *opt, const char *v, float lo, float hi, float *out);
+bool cli_int(const char *opt, const char *v, int lo, int hi, int *out);
+/* "WxH", each in [1, max]. */
+bool cli_size(const char *opt, const char *v, int max, int *w, int *h);
+/* Index of `v` in the NULL-terminated `names`, or -1 after logging. */
+int cli_choice(const char *opt, const char *v, const char *const *names);
+
+/* Iterates argv: cli_next returns the next option name (or NULL at the end)
+ * and cli_value its argument (NULL after logging if missing). */
+typedef struct CliArgs {
+    int argc;
+    char **argv;
+    int i;
+    const char *opt; /* current option */
+} CliArgs;
+const char *cli_next(CliArgs *a);
+const char *cli_value(CliArgs *a);
+
+#endif

@@ -1,0 +1,267 @@
+/* cmd_render.c — `rtgi render`: rasterize a scene headless to PNG or PFM. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cli.h"
+#include "commands.h"
+#include "gl_context.h"
+#include "log.h"
+#include "renderer.h"
+#include "shader.h"
+#include "util.h"
+
+#define MAX_IMAGE_SIZE 16384
+#ifdef RTGI_DEBUG
+#define RTGI_DEBUG_BUILD true /* KHR_debug messages into the log */
+#else
+#define RTGI_DEBUG_BUILD false
+#endif
+
+void cmd_render_help(void)
+{
+    printf(
+        "usage: rtgi render [options]\n"
+        "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
+        "  --shadow none|hard|pcf|pcss   shadow technique (default: pcss)\n"
+        "  --gi none                     indirect light technique (default: none)\n"
+        "  --size WxH                    image size (default: 512x512)\n"
+        "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
+        "  --out FILE.png|FILE.pfm       output; PNG tone-mapped sRGB, PFM linear radiance\n"
+        "                                (default: out/render.png)\n"
+        "  --timings                     print per-pass GPU (and wall) times\n"
+        "  --frames N                    frames to time after one warm-up (default: 3)\n"
+        "  --light-scale S               scale every light's emitter size (0: point lights)\n"
+        "shadow parameters (default: scene file's, else built-in):\n"
+        "  --shadow-map-size N  --bias-const M  --bias-slope S  --normal-offset T\n"
+        "  --pcf-samples N  --pcf-radius T  --blocker-samples N  --pcss-max-radius T\n"
+        "  (M in metres, T in shadow-map texels, S in texels x tan(theta))\n"
+        "other:\n"
+        "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
+        "  --debug            GL debug context, KHR_debug messages logged\n"
+        "  --quiet | --verbose\n");
+}
+
+typedef struct RenderOptions {
+    const char *scene;
+    const char *out;
+    int shadow;   /* -1: default */
+    int width, height;
+    float exposure; /* < 0: scene's */
+    float light_scale; /* < 0: unchanged */
+    int frames;
+    bool timings, debug;
+    /* Shadow overrides; NaN/-1 = keep the scene's. */
+    ShadowParams sp;
+    unsigned sp_set; /* bit per ShadowParams field given on the CLI */
+} RenderOptions;
+
+enum { SP_MAP = 1, SP_BC = 2, SP_BS = 4, SP_NO = 8, SP_PS = 16, SP_PR = 32, SP_BL = 64, SP_MR = 128 };
+
+static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
+static const char *const k_gi_names[] = {"none", NULL};
+
+/* Parses argv; returns 0 to go on, or an exit status. */
+static int parse(int argc, char **argv, RenderOptions *o)
+{
+    memset(o, 0, sizeof *o);
+    o->scene = "cornell";
+    o->out = "out/render.png";
+    o->shadow = SHADOW_MODE_PCSS;
+    o->width = o->height = 512;
+    o->exposure = -1.f;
+    o->light_scale = -1.f;
+    o->frames = 3;
+    CliArgs a = {argc, argv, 0, NULL};
+    const char *opt, *v;
+    while ((opt = cli_next(&a))) {
+#define VALUE()                    \
+    if (!(v = cli_value(&a)))      \
+        return 2;
+        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+            cmd_render_help();
+            return -1;
+        } else if (!strcmp(opt, "--scene")) {
+            VALUE();
+            o->scene = v;
+        } else if (!strcmp(opt, "--out")) {
+            VALUE();
+            o->out = v;
+            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
+                log_error("cli", "--out: '%s' must end in .png or .pfm", v);
+                return 2;
+            }
+        } else if (!strcmp(opt, "--shadow")) {
+            VALUE();
+            if ((o->shadow = cli_choice(opt, v, k_shadow_names)) < 0)
+                return 2;
+        } else if (!strcmp(opt, "--gi")) {
+            VALUE();
+            if (cli_choice(opt, v, k_gi_names) < 0)
+                return 2;
+        } else if (!strcmp(opt, "--size")) {
+            VALUE();
+            if (!cli_size(opt, v, MAX_IMAGE_SIZE, &o->width, &o->height))
+                return 2;
+        } else if (!strcmp(opt, "--exposure")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 1e9f, &o->exposure))
+                return 2;
+        } else if (!strcmp(opt, "--light-scale")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 1e3f, &o->light_scale))
+                return 2;
+        } else if (!strcmp(opt, "--frames")) {
+            VALUE();
+            if (!cli_int(opt, v, 1, 10000, &o->frames))
+                return 2;
+        } else if (!strcmp(opt, "--timings")) {
+            o->timings = true;
+        } else if (!strcmp(opt, "--debug")) {
+            o->debug = true;
+        } else if (!strcmp(opt, "--quiet")) {
+            log_set_level(LOG_ERROR);
+        } else if (!strcmp(opt, "--verbose")) {
+            log_set_level(LOG_DEBUG);
+        } else if (!strcmp(opt, "--shader-dir")) {
+            VALUE();
+            shader_set_directory(v);
+        } else if (!strcmp(opt, "--shadow-map-size")) {
+            VALUE();
+            if (!cli_int(opt, v, 16, 8192, &o->sp.map_size))
+                return 2;
+            o->sp_set |= SP_MAP;
+        } else if (!strcmp(opt, "--bias-const")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 10.f, &o->sp.bias_const))
+                return 2;
+            o->sp_set |= SP_BC;
+        } else if (!strcmp(opt, "--bias-slope")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 100.f, &o->sp.bias_slope))
+                return 2;
+            o->sp_set |= SP_BS;
+        } else if (!strcmp(opt, "--normal-offset")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 100.f, &o->sp.normal_offset))
+                return 2;
+            o->sp_set |= SP_NO;
+        } else if (!strcmp(opt, "--pcf-samples")) {
+            VALUE();
+            if (!cli_int(opt, v, 1, 64, &o->sp.pcf_samples))
+                return 2;
+            o->sp_set |= SP_PS;
+        } else if (!strcmp(opt, "--pcf-radius")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 256.f, &o->sp.pcf_radius))
+                return 2;
+            o->sp_set |= SP_PR;
+        } else if (!strcmp(opt, "--blocker-samples")) {
+            VALUE();
+            if (!cli_int(opt, v, 1, 64, &o->sp.blocker_samples))
+                return 2;
+            o->sp_set |= SP_BL;
+        } else if (!strcmp(opt, "--pcss-max-radius")) {
+            VALUE();
+            if (!cli_float(opt, v, 1.f, 256.f, &o->sp.pcss_max_radius))
+                return 2;
+            o->sp_set |= SP_MR;
+        } else {
+            log_error("cli", "render: unknown option '%s' (see rtgi render --help)", opt);
+            return 2;
+        }
+#undef VALUE
+    }
+    return 0;
+}
+
+static void apply_shadow_overrides(const RenderOptions *o, ShadowParams *p)
+{
+    if (o->sp_set & SP_MAP) p->map_size = o->sp.map_size;
+    if (o->sp_set & SP_BC) p->bias_const = o->sp.bias_const;
+    if (o->sp_set & SP_BS) p->bias_slope = o->sp.bias_slope;
+    if (o->sp_set & SP_NO) p->normal_offset = o->sp.normal_offset;
+    if (o->sp_set & SP_PS) p->pcf_samples = o->sp.pcf_samples;
+    if (o->sp_set & SP_PR) p->pcf_radius = o->sp.pcf_radius;
+    if (o->sp_set & SP_BL) p->blocker_samples = o->sp.blocker_samples;
+    if (o->sp_set & SP_MR) p->pcss_max_radius = o->sp.pcss_max_radius;
+}
+
+/* Creates the parent directory of `path` if it is missing (one level). */
+static void ensure_parent_dir(const char *path)
+{
+    char dir[1024];
+    util_dirname(path, dir, sizeof dir);
+    struct stat st;
+    if (stat(dir, &st) != 0)
+        mkdir(dir, 0777);
+}
+
+int cmd_render(int argc, char **argv)
+{
+    RenderOptions o;
+    int rc = parse(argc, argv, &o);
+    if (rc != 0)
+        return rc < 0 ? 0 : rc;
+
+    Scene scene;
+    if (!scene_load(&scene, o.scene))
+        return 1;
+    if (o.light_scale >= 0.f)
+        scene_rescale_lights(&scene, o.light_scale);
+
+    RenderSettings rs = {0};
+    rs.width = o.width;
+    rs.height = o.height;
+    rs.shadow = (ShadowMode)o.shadow;
+    rs.gi = GI_NONE;
+    rs.exposure = o.exposure >= 0.f ? o.exposure : scene.exposure;
+    rs.shadow_params = scene.shadow;
+    apply_shadow_overrides(&o, &rs.shadow_params);
+    rs.timings = o.timings;
+    rs.timing_sync = o.timings;
+
+    GlContext *gl = gl_context_create(o.debug || RTGI_DEBUG_BUILD);
+    if (!gl) {
+        scene_free(&scene);
+        return 1;
+    }
+    rc = 1;
+    Renderer r;
+    if (renderer_create(&r, &scene, &rs)) {
+        double t0 = util_seconds();
+        renderer_frame(&r, &scene.camera);
+        if (o.timings) { /* first frame warms up; time the next ones */
+            gpu_timer_reset(&r.timer);
+            for (int f = 0; f < o.frames; f++)
+                renderer_frame(&r, &scene.camera);
+        }
+        double t1 = util_seconds();
+        ensure_parent_dir(o.out);
+        bool ok;
+        if (util_ends_with(o.out, ".pfm")) {
+            ImageF img = {0};
+            ok = renderer_read_hdr(&r, &img) && image_write_pfm(o.out, &img);
+            image_free(&img);
+        } else {
+            uint8_t *rgb = renderer_read_ldr(&r);
+            ok = image_write_png8(o.out, rs.width, rs.height, rgb);
+            free(rgb);
+        }
+        if (ok) {
+            rc = 0;
+            log_info("render", "wrote %s (%dx%d, %s, %s)", o.out, rs.width, rs.height, scene.source,
+                     gl_context_renderer(gl));
+            if (o.timings) {
+                printf("renderer: %s\n", gl_context_renderer(gl));
+                gpu_timer_print(&r.timer, stdout);
+                printf("frame_wall_ms: %.3f\n", 1e3 * (t1 - t0) / (o.frames + 1));
+            }
+        }
+    }
+    renderer_destroy(&r);
+    gl_context_destroy(gl);
+    scene_free(&scene);
+    return rc;
+}

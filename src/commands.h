@@ -1,0 +1,9 @@
+/* commands.h — the CLI's subcommands. Each takes the arguments after its
+ * name and returns the process exit status (0 ok, 1 runtime error, 2 usage). */
+#ifndef RTGI_COMMANDS_H
+#define RTGI_COMMANDS_H
+
+int cmd_render(int argc, char **argv);
+void cmd_render_help(void);
+
+#endif

@@ -1,0 +1,113 @@
+#include "gpu_timer.h"
+
+#include <string.h>
+
+#include "util.h"
+
+void gpu_timer_create(GpuTimer *t, bool enabled, bool sync)
+{
+    memset(t, 0, sizeof *t);
+    t->enabled = enabled;
+    t->sync = sync;
+    t->open_pass = -1;
+    if (enabled)
+        glCreateQueries(GL_TIMESTAMP, GPU_TIMER_MAX_QUERIES, t->queries);
+}
+
+void gpu_timer_destroy(GpuTimer *t)
+{
+    if (t->enabled)
+        glDeleteQueries(GPU_TIMER_MAX_QUERIES, t->queries);
+    memset(t, 0, sizeof *t);
+}
+
+static int pass_index(GpuTimer *t, const char *name)
+{
+    for (int i = 0; i < t->pass_count; i++)
+        if (strcmp(t->passes[i].name, name) == 0)
+            return i;
+    if (t->pass_count == GPU_TIMER_MAX_PASSES)
+        return GPU_TIMER_MAX_PASSES - 1;
+    GpuTimerPass *p = &t->passes[t->pass_count];
+    memset(p, 0, sizeof *p);
+    strncpy(p->name, name, sizeof p->name - 1);
+    return t->pass_count++;
+}
+
+void gpu_timer_begin(GpuTimer *t, const char *pass)
+{
+    if (!t->enabled || t->query_count + 2 > GPU_TIMER_MAX_QUERIES)
+        return;
+    t->open_pass = pass_index(t, pass);
+    if (t->sync) {
+        glFinish();
+        t->cpu_begin = util_seconds();
+    }
+    t->query_pass[t->query_count / 2] = t->open_pass;
+    glQueryCounter(t->queries[t->query_count], GL_TIMESTAMP);
+}
+
+void gpu_timer_end(GpuTimer *t)
+{
+    if (!t->enabled || t->open_pass < 0)
+        return;
+    glQueryCounter(t->queries[t->query_count + 1], GL_TIMESTAMP);
+    t->query_count += 2;
+    if (t->sync) {
+        glFinish();
+        t->passes[t->open_pass].cpu_ms += 1e3 * (util_seconds() - t->cpu_begin);
+    }
+    t->open_pass = -1;
+}
+
+void gpu_timer_end_frame(GpuTimer *t)
+{
+    if (!t->enabled)
+        return;
+    for (int q = 0; q < t->query_count; q += 2) {
+        GLuint64 a = 0, b = 0;
+        glGetQueryObjectui64v(t->queries[q], GL_QUERY_RESULT, &a);
+        glGetQueryObjectui64v(t->queries[q + 1], GL_QUERY_RESULT, &b);
+        t->passes[t->query_pass[q / 2]].gpu_ms += (double)(b - a) * 1e-6;
+    }
+    t->query_count = 0;
+    t->frames++;
+}
+
+void gpu_timer_reset(GpuTimer *t)
+{
+    t->pass_count = 0;
+    t->frames = 0;
+    t->query_count = 0;
+}
+
+double gpu_timer_mean_ms(const GpuTimer *t, const char *pass, bool cpu)
+{
+    for (int i = 0; i < t->pass_count; i++)
+        if (strcmp(t->passes[i].name, pass) == 0 && t->frames > 0)
+            return (cpu ? t->passes[i].cpu_ms : t->passes[i].gpu_ms) / t->frames;
+    return -1.0;
+}
+
+void gpu_timer_print(const GpuTimer *t, FILE *f)
+{
+    if (!t->enabled || t->frames == 0)
+        return;
+    double tg = 0, tc = 0;
+    fprintf(f, "timings: mean of %d frame%s (gpu: timer queries%s)\n", t->frames, t->frames > 1 ? "s" : "",
+            t->sync ? ", cpu: wall time with glFinish" : "");
+    fprintf(f, "  %-20s %10s %10s\n", "pass", "gpu_ms", t->sync ? "cpu_ms" : "");
+    for (int i = 0; i < t->pass_count; i++) {
+        double g = t->passes[i].gpu_ms / t->frames, c = t->passes[i].cpu_ms / t->frames;
+        tg += g;
+        tc += c;
+        if (t->sync)
+            fprintf(f, "  %-20s %10.3f %10.3f\n", t->passes[i].name, g, c);
+        else
+            fprintf(f, "  %-20s %10.3f\n", t->passes[i].name, g);
+    }
+    if (t->sync)
+        fprintf(f, "  %-20s %10.3f %10.3f\n", "total", tg, tc);
+    else
+        fprintf(f, "  %-20s %10.3f\n", "total", tg);
+}

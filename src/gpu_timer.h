@@ -1,0 +1,48 @@
+/* gpu_timer.h — per-pass GPU and CPU timings.
+ * Each pass is bracketed by gpu_timer_begin/end: GL timestamp queries give
+ * GPU time; when `sync` is set the CPU waits for the GPU at both ends
+ * (glFinish) and the wall time is recorded too, which is the meaningful
+ * number on software rasterizers such as llvmpipe. Times accumulate by pass
+ * name over frames until gpu_timer_reset. */
+#ifndef RTGI_GPU_TIMER_H
+#define RTGI_GPU_TIMER_H
+
+#include <epoxy/gl.h>
+#include <stdbool.h>
+#include <stdio.h>
+
+#define GPU_TIMER_MAX_PASSES 32
+#define GPU_TIMER_MAX_QUERIES 256
+
+typedef struct GpuTimerPass {
+    char name[32];
+    double gpu_ms; /* summed over frames */
+    double cpu_ms; /* summed over frames (sync only) */
+} GpuTimerPass;
+
+typedef struct GpuTimer {
+    bool enabled;
+    bool sync;
+    GLuint queries[GPU_TIMER_MAX_QUERIES]; /* owned */
+    int query_pass[GPU_TIMER_MAX_QUERIES / 2];
+    int query_count;                       /* pairs in flight ×2 */
+    double cpu_begin;
+    int open_pass;                         /* pass between begin/end or -1 */
+    GpuTimerPass passes[GPU_TIMER_MAX_PASSES];
+    int pass_count;
+    int frames;
+} GpuTimer;
+
+void gpu_timer_create(GpuTimer *t, bool enabled, bool sync);
+void gpu_timer_destroy(GpuTimer *t);
+void gpu_timer_begin(GpuTimer *t, const char *pass);
+void gpu_timer_end(GpuTimer *t);
+/* Collects this frame's queries (waits for them). */
+void gpu_timer_end_frame(GpuTimer *t);
+void gpu_timer_reset(GpuTimer *t);
+/* Mean per frame of a pass, or -1 if it never ran. */
+double gpu_timer_mean_ms(const GpuTimer *t, const char *pass, bool cpu);
+/* Prints "pass  gpu_ms  cpu_ms" lines and a total, means per frame. */
+void gpu_timer_print(const GpuTimer *t, FILE *f);
+
+#endif

@@ -1,0 +1,41 @@
+/* image.h — linear RGB float images and their files.
+ * Row 0 is the top row everywhere in memory; PFM files store rows bottom-up
+ * and are converted on read/write. PNG is 8-bit sRGB: written from radiance
+ * through exposure and the sRGB curve, read back to linear. */
+#ifndef RTGI_IMAGE_H
+#define RTGI_IMAGE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef struct ImageF {
+    int width, height;
+    float *rgb; /* width*height*3 floats, owned; row 0 = top */
+} ImageF;
+
+bool image_alloc(ImageF *img, int width, int height); /* zero-filled */
+void image_free(ImageF *img);
+static inline float *image_px(const ImageF *img, int x, int y)
+{
+    return img->rgb + 3 * ((long)y * img->width + x);
+}
+
+bool image_write_pfm(const char *path, const ImageF *img);
+bool image_read_pfm(const char *path, ImageF *img);
+/* Writes 8-bit RGB (row 0 = top) as PNG. */
+bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb);
+/* Tone maps (radiance × exposure, clamp, sRGB) and writes a PNG. */
+bool image_write_png(const char *path, const ImageF *img, float exposure);
+/* Reads PFM as is, or PNG/JPG decoded from sRGB to linear [0,1]. */
+bool image_read(const char *path, ImageF *img);
+/* Writes .pfm as linear or .png tone-mapped, by the file's extension. */
+bool image_write(const char *path, const ImageF *img, float exposure);
+
+float srgb_encode(float linear); /* linear [0,1] → sRGB [0,1] */
+float srgb_decode(float encoded);
+static inline float luminance(const float *rgb)
+{
+    return 0.2126f * rgb[0] + 0.7152f * rgb[1] + 0.0722f * rgb[2];
+}
+
+#endif

@@ -1,0 +1,21 @@
+/* log.h — tagged, levelled log lines on stderr.
+ * One line per event: "rtgi: error [scene] scenes/x.json:12: expected ','".
+ * Errors are logged where they are detected and then returned; only main
+ * decides to exit. */
+#ifndef RTGI_LOG_H
+#define RTGI_LOG_H
+
+typedef enum LogLevel { LOG_DEBUG, LOG_INFO, LOG_WARN, LOG_ERROR, LOG_QUIET } LogLevel;
+
+/* Messages below `level` are dropped. Default: LOG_INFO. */
+void log_set_level(LogLevel level);
+LogLevel log_get_level(void);
+void log_msg(LogLevel level, const char *tag, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+#define log_debug(tag, ...) log_msg(LOG_DEBUG, tag, __VA_ARGS__)
+#define log_info(tag, ...) log_msg(LOG_INFO, tag, __VA_ARGS__)
+#define log_warn(tag, ...) log_msg(LOG_WARN, tag, __VA_ARGS__)
+#define log_error(tag, ...) log_msg(LOG_ERROR, tag, __VA_ARGS__)
+
+#endif

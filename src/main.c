@@ -1,0 +1,34 @@
+/* main.c — rtgi's entry point: dispatches subcommands; the only place that
+ * exits. */
+#include <stdio.h>
+#include <string.h>
+
+#include "commands.h"
+#include "log.h"
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "rtgi — real-time global illumination renderer and its reference\n"
+            "usage: rtgi <command> [options]\n"
+            "commands:\n"
+            "  render      rasterize a scene (shadows, GI) to PNG or PFM\n"
+            "run 'rtgi <command> --help' for a command's options\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+        usage(stdout);
+        return 0;
+    }
+    if (!strcmp(cmd, "render"))
+        return cmd_render(argc - 2, argv + 2);
+    log_error("cli", "unknown command '%s' (see rtgi --help)", cmd);
+    return 2;
+}

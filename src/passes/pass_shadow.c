@@ -1,0 +1,97 @@
+#include "passes/pass_shadow.h"
+
+#include "log.h"
+#include "shader.h"
+
+static GLuint make_depth(GLenum target, int size, const char *label)
+{
+    GLuint t;
+    glCreateTextures(target, 1, &t);
+    glTextureStorage2D(t, 1, GL_DEPTH_COMPONENT32F, size, size);
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t, -1, label);
+    return t;
+}
+
+bool pass_shadow_create(PassShadow *p)
+{
+    p->program = shader_program_make("shadow", "scene.vert", "shadow_depth.frag", NULL);
+    if (!p->program)
+        return false;
+    glCreateBuffers(1, &p->light_ubo);
+    glNamedBufferStorage(p->light_ubo, sizeof(GpuLight), NULL, GL_DYNAMIC_STORAGE_BIT);
+    p->dummy_2d = make_depth(GL_TEXTURE_2D, 1, "shadow.dummy2d");
+    p->dummy_cube = make_depth(GL_TEXTURE_CUBE_MAP, 1, "shadow.dummycube");
+    return true;
+}
+
+void pass_shadow_destroy(PassShadow *p)
+{
+    glDeleteProgram(p->program);
+    glDeleteBuffers(1, &p->light_ubo);
+    GLuint t[2] = {p->dummy_2d, p->dummy_cube};
+    glDeleteTextures(2, t);
+    *p = (PassShadow){0};
+}
+
+bool shadow_map_create(ShadowMap *m, bool cube, int size)
+{
+    m->size = size;
+    m->cube = cube;
+    m->texture = make_depth(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, size, cube ? "shadow.cube" : "shadow.2d");
+    glCreateFramebuffers(1, &m->fbo);
+    glNamedFramebufferDrawBuffer(m->fbo, GL_NONE);
+    glNamedFramebufferReadBuffer(m->fbo, GL_NONE);
+    if (cube)
+        glNamedFramebufferTextureLayer(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, 0, 0);
+    else
+        glNamedFramebufferTexture(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, 0);
+    GLenum st = glCheckNamedFramebufferStatus(m->fbo, GL_FRAMEBUFFER);
+    if (st != GL_FRAMEBUFFER_COMPLETE) {
+        log_error("shadow", "shadow map framebuffer incomplete (0x%x, size %d)", st, size);
+        return false;
+    }
+    return true;
+}
+
+void shadow_map_destroy(ShadowMap *m)
+{
+    glDeleteTextures(1, &m->texture);
+    glDeleteFramebuffers(1, &m->fbo);
+    *m = (ShadowMap){0};
+}
+
+void pass_shadow_run(PassShadow *p, ShadowMap *m, const GpuScene *gs, const Scene *s, const Light *l)
+{
+    shadow_frame_compute(l, s->bounds_min, s->bounds_max, m->size, &m->frame);
+    shadow_frame_to_gpu(l, &m->frame, m->size, &m->gpu);
+    glNamedBufferSubData(p->light_ubo, 0, sizeof(GpuLight), &m->gpu);
+    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LIGHT, p->light_ubo);
+
+    glUseProgram(p->program);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glViewport(0, 0, m->size, m->size);
+    glBindFramebuffer(GL_FRAMEBUFFER, m->fbo);
+    for (int face = 0; face < m->frame.face_count; face++) {
+        if (m->cube)
+            glNamedFramebufferTextureLayer(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, 0, face);
+        const float one = 1.f;
+        glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
+        glProgramUniformMatrix4fv(p->program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)m->frame.view_proj[face]);
+        gpu_scene_draw(gs, s, p->program, DRAW_SKIP_EMITTERS);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void pass_shadow_bind(const PassShadow *p, const ShadowMap *m)
+{
+    glBindTextureUnit(TEX_SHADOW_2D, m->cube ? p->dummy_2d : m->texture);
+    glBindTextureUnit(TEX_SHADOW_CUBE, m->cube ? m->texture : p->dummy_cube);
+}

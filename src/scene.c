@@ -1,0 +1,271 @@
+#include "scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+
+void shadow_params_default(ShadowParams *p)
+{
+    p->map_size = 1024;
+    p->bias_const = 0.0005f;
+    p->bias_slope = 1.5f;
+    p->normal_offset = 0.0f;
+    p->pcf_samples = 20;
+    p->pcf_radius = 2.0f;
+    p->blocker_samples = 20;
+    p->pcss_max_radius = 48.0f;
+}
+
+void scene_init(Scene *s)
+{
+    memset(s, 0, sizeof *s);
+    s->exposure = 1.0f;
+    shadow_params_default(&s->shadow);
+    glm_vec3_copy((vec3){0, 1, 5}, s->camera.position);
+    glm_vec3_copy((vec3){0, 0, -1}, s->camera.forward);
+    glm_vec3_copy((vec3){0, 1, 0}, s->camera.up);
+    s->camera.fov_y = glm_rad(60.0f);
+    s->camera.znear = 0.01f;
+    s->camera.zfar = 100.0f;
+    glm_vec3_fill(s->bounds_min, 0.f);
+    glm_vec3_fill(s->bounds_max, 0.f);
+}
+
+void scene_free(Scene *s)
+{
+    for (int i = 0; i < s->texture_count; i++)
+        free(s->textures[i].rgba);
+    free(s->textures);
+    free(s->vertices);
+    free(s->indices);
+    free(s->submeshes);
+    free(s->materials);
+    free(s->lights);
+    memset(s, 0, sizeof *s);
+}
+
+int scene_add_material(Scene *s, const char *name, const vec3 albedo)
+{
+    s->materials = realloc(s->materials, sizeof(Material) * (size_t)(s->material_count + 1));
+    Material *m = &s->materials[s->material_count];
+    memset(m, 0, sizeof *m);
+    snprintf(m->name, sizeof m->name, "%s", name);
+    glm_vec3_copy((float *)albedo, m->albedo);
+    m->albedo_tex = -1;
+    m->alpha_cutoff = 0.5f;
+    m->light_index = -1;
+    return s->material_count++;
+}
+
+/* Appends indices of one material, extending the last submesh if it matches. */
+static void add_indices(Scene *s, int material, const uint32_t *idx, uint32_t n)
+{
+    s->indices = realloc(s->indices, sizeof(uint32_t) * (s->index_count + n));
+    memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
+    Submesh *last = s->submesh_count ? &s->submeshes[s->submesh_count - 1] : NULL;
+    if (last && last->material == material && last->first_index + last->index_count == s->index_count) {
+        last->index_count += n;
+    } else {
+        s->submeshes = realloc(s->submeshes, sizeof(Submesh) * (size_t)(s->submesh_count + 1));
+        s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, material};
+    }
+    s->index_count += n;
+}
+
+void scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const vec3 p2, const vec3 p3)
+{
+    vec3 e1, e2, n;
+    glm_vec3_sub((float *)p1, (float *)p0, e1);
+    glm_vec3_sub((float *)p3, (float *)p0, e2);
+    glm_vec3_cross(e1, e2, n);
+    glm_vec3_normalize(n);
+    const float *p[4] = {p0, p1, p2, p3};
+    const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    uint32_t base = s->vertex_count;
+    s->vertices = realloc(s->vertices, sizeof(Vertex) * (s->vertex_count + 4));
+    for (int i = 0; i < 4; i++) {
+        Vertex *v = &s->vertices[s->vertex_count++];
+        memcpy(v->position, p[i], sizeof v->position);
+        memcpy(v->normal, n, sizeof v->normal);
+        v->uv[0] = uv[i][0];
+        v->uv[1] = uv[i][1];
+    }
+    uint32_t idx[6] = {base, base + 1, base + 2, base, base + 2, base + 3};
+    add_indices(s, material, idx, 6);
+}
+
+int scene_add_light(Scene *s, const Light *l)
+{
+    s->lights = realloc(s->lights, sizeof(Light) * (size_t)(s->light_count + 1));
+    s->lights[s->light_count] = *l;
+    glm_vec3_normalize(s->lights[s->light_count].direction);
+    return s->light_count++;
+}
+
+static void add_emitters(Scene *s);
+
+void scene_rescale_lights(Scene *s, float scale)
+{
+    /* Emitter materials, submeshes and vertices are the last ones added. */
+    int first_mat = s->material_count;
+    while (first_mat > 0 && s->materials[first_mat - 1].light_index >= 0)
+        first_mat--;
+    int first_sub = s->submesh_count;
+    while (first_sub > 0 && s->submeshes[first_sub - 1].material >= first_mat)
+        first_sub--;
+    if (first_sub < s->submesh_count) {
+        uint32_t first_index = s->submeshes[first_sub].first_index;
+        uint32_t first_vertex = s->vertex_count;
+        for (uint32_t i = first_index; i < s->index_count; i++)
+            if (s->indices[i] < first_vertex)
+                first_vertex = s->indices[i];
+        s->index_count = first_index;
+        s->vertex_count = first_vertex;
+    }
+    s->submesh_count = first_sub;
+    s->material_count = first_mat;
+    for (int i = 0; i < s->light_count; i++)
+        s->lights[i].size *= scale;
+    add_emitters(s);
+}
+
+static void compute_bounds(Scene *s)
+{
+    glm_vec3_fill(s->bounds_min, INFINITY);
+    glm_vec3_fill(s->bounds_max, -INFINITY);
+    for (int k = 0; k < s->submesh_count; k++) {
+        const Submesh *sm = &s->submeshes[k];
+        if (s->materials[sm->material].light_index >= 0)
+            continue;
+        for (uint32_t i = sm->first_index; i < sm->first_index + sm->index_count; i++) {
+            const float *p = s->vertices[s->indices[i]].position;
+            glm_vec3_minv(s->bounds_min, (float *)p, s->bounds_min);
+            glm_vec3_maxv(s->bounds_max, (float *)p, s->bounds_max);
+        }
+    }
+    if (s->bounds_min[0] > s->bounds_max[0]) {
+        glm_vec3_zero(s->bounds_min);
+        glm_vec3_zero(s->bounds_max);
+    }
+}
+
+void scene_finalize(Scene *s)
+{
+    add_emitters(s);
+    compute_bounds(s);
+}
+
+static void add_emitters(Scene *s)
+{
+    /* Emitter geometry for quad lights, so that the camera and the path
+     * tracer's BSDF rays see the light's surface. Same power at any size:
+     * L' = L / size². */
+    for (int i = 0; i < s->light_count; i++) {
+        Light *l = &s->lights[i];
+        if (l->type != LIGHT_QUAD || l->size <= 0.f)
+            continue;
+        char name[64];
+        snprintf(name, sizeof name, "emitter%d", i);
+        int m = scene_add_material(s, name, (vec3){0, 0, 0});
+        glm_vec3_scale(l->color, 1.f / (l->size * l->size), s->materials[m].emission);
+        s->materials[m].light_index = i;
+        vec3 hu, hv, p[4];
+        glm_vec3_scale(l->quad_u, 0.5f * l->size, hu);
+        glm_vec3_scale(l->quad_v, 0.5f * l->size, hv);
+        /* Wind so that the quad's normal (u×v order) is the emission direction. */
+        vec3 n;
+        glm_vec3_cross(hu, hv, n);
+        if (glm_vec3_dot(n, l->direction) < 0)
+            glm_vec3_negate(hv);
+        for (int c = 0; c < 4; c++) {
+            float su = (c == 0 || c == 3) ? -1.f : 1.f, sv = (c < 2) ? -1.f : 1.f;
+            glm_vec3_copy(l->position, p[c]);
+            glm_vec3_muladds(hu, su, p[c]);
+            glm_vec3_muladds(hv, sv, p[c]);
+        }
+        scene_add_quad(s, m, p[0], p[1], p[2], p[3]);
+    }
+}
+
+void scene_add_default_sun(Scene *s)
+{
+    Light sun = {0};
+    sun.type = LIGHT_DIRECTIONAL;
+    glm_vec3_copy((vec3){0.25f, -1.0f, 0.12f}, sun.direction);
+    glm_vec3_copy((vec3){4.0f, 3.9f, 3.6f}, sun.color);
+    sun.size = glm_rad(0.53f); /* the real sun's angular diameter */
+    scene_add_light(s, &sun);
+    log_info("scene", "%s has no lights: added a default sun", s->source);
+}
+
+void scene_default_camera(Scene *s)
+{
+    vec3 ext, c;
+    glm_vec3_sub(s->bounds_max, s->bounds_min, ext);
+    glm_vec3_center(s->bounds_min, s->bounds_max, c);
+    int axis = ext[0] >= ext[2] ? 0 : 2; /* look along the longer horizontal axis */
+    Camera *cam = &s->camera;
+    glm_vec3_copy(c, cam->position);
+    cam->position[axis] -= 0.38f * ext[axis];
+    cam->position[1] = s->bounds_min[1] + 0.22f * ext[1];
+    vec3 target;
+    glm_vec3_copy(c, target);
+    target[1] = s->bounds_min[1] + 0.3f * ext[1];
+    glm_vec3_sub(target, cam->position, cam->forward);
+    glm_vec3_normalize(cam->forward);
+    vec3 right;
+    glm_vec3_cross(cam->forward, (vec3){0, 1, 0}, right);
+    glm_vec3_normalize(right);
+    glm_vec3_cross(right, cam->forward, cam->up);
+    cam->fov_y = glm_rad(60.f);
+    float diag = glm_vec3_norm(ext);
+    cam->znear = fmaxf(1e-3f, diag * 1e-4f);
+    cam->zfar = diag * 2.f;
+}
+
+float light_quad_area(const Light *l)
+{
+    vec3 n;
+    glm_vec3_cross((float *)l->quad_u, (float *)l->quad_v, n);
+    return glm_vec3_norm(n) * l->size * l->size;
+}
+
+float light_spot_falloff(const Light *l, float cos_theta)
+{
+    float e0 = cosf(l->spot_outer), e1 = cosf(l->spot_inner);
+    float t = (cos_theta - e0) / fmaxf(e1 - e0, 1e-6f);
+    t = t < 0.f ? 0.f : (t > 1.f ? 1.f : t);
+    return t * t * (3.f - 2.f * t);
+}
+
+void light_intensity(const Light *l, const vec3 dir, vec3 out)
+{
+    float c = glm_vec3_dot((float *)dir, (float *)l->direction);
+    switch (l->type) {
+    case LIGHT_POINT:
+        glm_vec3_copy((float *)l->color, out);
+        break;
+    case LIGHT_SPOT:
+        glm_vec3_scale((float *)l->color, light_spot_falloff(l, c), out);
+        break;
+    case LIGHT_QUAD: {
+        /* L·A·cosθ with A at size 1: power is independent of size. */
+        vec3 n;
+        glm_vec3_cross((float *)l->quad_u, (float *)l->quad_v, n);
+        glm_vec3_scale((float *)l->color, glm_vec3_norm(n) * fmaxf(c, 0.f), out);
+        break;
+    }
+    default:
+        glm_vec3_zero(out);
+    }
+}
+
+float light_width(const Light *l)
+{
+    if (l->type == LIGHT_QUAD)
+        return 0.5f * (glm_vec3_norm((float *)l->quad_u) + glm_vec3_norm((float *)l->quad_v)) * l->size;
+    return l->size;
+}

@@ -1,0 +1,154 @@
+/* scene.h — the one scene description that the rasterizer and the path
+ * tracer both read: triangles with per-material albedo (constant or
+ * texture, with alpha masks), lights in physical units, a pinhole camera,
+ * and per-technique parameters that a scene file may set.
+ *
+ * Units: metres, +y up, radiance in W/(m²·sr). Light "power" quantities:
+ *   directional  color = irradiance E (W/m²) on a plane facing the light
+ *   spot, point  color = intensity I (W/sr) on the axis / in every direction
+ *   quad         color = emitted radiance L (W/(m²·sr)), one-sided along
+ *                direction; the rasterizer treats it as a point at its centre
+ *                with I(θ) = L·A·cosθ.
+ * Every light's `size` scales its emitter (quad extents, sphere/disk
+ * diameter, sun angular diameter); size 0 makes it a point with the same
+ * intensity distribution, on which both renderers must agree exactly. */
+#ifndef RTGI_SCENE_H
+#define RTGI_SCENE_H
+
+#include <cglm/cglm.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef enum LightType { LIGHT_DIRECTIONAL = 0, LIGHT_SPOT = 1, LIGHT_POINT = 2, LIGHT_QUAD = 3 } LightType;
+
+typedef struct Light {
+    LightType type;
+    vec3 position;    /* spot, point, quad: centre (m) */
+    vec3 direction;   /* unit; directional/spot: where light travels; quad: emitting normal */
+    vec3 color;       /* E, I or L per type, see above */
+    float size;       /* spot/point: emitter diameter (m); directional: angular diameter (rad); quad: scale of its extents (1 = as given) */
+    float spot_inner; /* spot: half-angle (rad) of full intensity */
+    float spot_outer; /* spot: half-angle (rad) beyond which intensity is 0 */
+    vec3 quad_u;      /* quad: full edge vectors at size 1; normal = direction */
+    vec3 quad_v;
+} Light;
+
+typedef struct Camera {
+    vec3 position;
+    vec3 forward; /* unit */
+    vec3 up;      /* unit, orthogonal to forward */
+    float fov_y;  /* vertical field of view, radians */
+    float znear, zfar;
+} Camera;
+
+typedef struct Texture {
+    int width, height;
+    uint8_t *rgba; /* sRGB-encoded RGBA8, row 0 = top, owned */
+    char name[256];
+} Texture;
+
+typedef struct Material {
+    char name[64];
+    vec3 albedo;        /* linear; multiplies the texture */
+    int albedo_tex;     /* index into Scene.textures or -1 */
+    bool alpha_mask;    /* texels with alpha < alpha_cutoff are holes */
+    float alpha_cutoff;
+    vec3 emission;      /* radiance of an emitter surface (front face only) */
+    int light_index;    /* emitter geometry of this light, or -1 */
+} Material;
+
+typedef struct Vertex {
+    float position[3];
+    float normal[3];
+    float uv[2];
+} Vertex;
+
+/* A run of triangles of one material: indices[first .. first+count). */
+typedef struct Submesh {
+    uint32_t first_index;
+    uint32_t index_count;
+    int material;
+} Submesh;
+
+/* Technique parameters a scene file may set and the CLI overrides. */
+typedef struct ShadowParams {
+    int map_size;          /* 2D shadow map / cube face resolution */
+    float bias_const;      /* world-space constant bias (m) */
+    float bias_slope;      /* slope-scaled bias, in shadow-map texels × tanθ */
+    float normal_offset;   /* receiver offset along the normal, in texels */
+    int pcf_samples;       /* Poisson disk samples (≤ 64) */
+    float pcf_radius;      /* PCF filter radius in texels */
+    int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
+    float pcss_max_radius; /* PCSS search/filter radius cap in texels */
+} ShadowParams;
+
+typedef struct Scene {
+    char source[512];      /* what it was loaded from, for messages */
+    Vertex *vertices;      /* owned */
+    uint32_t vertex_count;
+    uint32_t *indices;     /* owned, triangles */
+    uint32_t index_count;
+    Submesh *submeshes;    /* owned */
+    int submesh_count;
+    Material *materials;   /* owned */
+    int material_count;
+    Texture *textures;     /* owned, with their pixels */
+    int texture_count;
+    Light *lights;         /* owned */
+    int light_count;
+    Camera camera;
+    float exposure;        /* scene's default exposure */
+    ShadowParams shadow;   /* scene's default shadow parameters */
+    vec3 bounds_min, bounds_max; /* of all geometry but light emitters */
+} Scene;
+
+void shadow_params_default(ShadowParams *p);
+
+/* Empty scene with default camera/exposure/parameters. */
+void scene_init(Scene *s);
+void scene_free(Scene *s);
+
+/* Appends a material, returns its index. */
+int scene_add_material(Scene *s, const char *name, const vec3 albedo);
+/* Appends a planar quad (two triangles) p0,p1,p2,p3 in order, normal from
+ * (p1-p0)×(p3-p0). */
+void scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const vec3 p2, const vec3 p3);
+/* Appends a box-shaped hexahedron from its 8 corners is not needed: the
+ * Cornell blocks are lists of quads. */
+int scene_add_light(Scene *s, const Light *l);
+
+/* Call after geometry and lights are final: merges submeshes by material,
+ * adds emitter geometry for quad lights of size > 0, computes bounds. */
+void scene_finalize(Scene *s);
+
+/* The built-in Cornell box from ../shared/assets/cornell (metres). */
+void scene_build_cornell(Scene *s);
+
+/* Scales every light's emitter size (see header comment) and rebuilds the
+ * emitter geometry of a finalized scene. */
+void scene_rescale_lights(Scene *s, float scale);
+
+/* Loads a scene: "cornell", a .json scene file, or a mesh file (.gltf,
+ * .glb, .obj, ...) that gets a default sun and camera. false after logging
+ * one line naming the file and the problem. */
+bool scene_load(Scene *s, const char *what);
+/* Loads a mesh file through assimp, appending to `s`. */
+bool scene_load_mesh(Scene *s, const char *path, const mat4 transform);
+
+/* Default sun and camera for a scene without them, from its bounds. */
+void scene_add_default_sun(Scene *s);
+void scene_default_camera(Scene *s);
+
+/* ---- Light model shared by the rasterizer's shaders and the path tracer ---- */
+
+/* Quad area A at the light's current size. */
+float light_quad_area(const Light *l);
+/* Spot cone falloff: smoothstep(cos outer, cos inner, cosθ), as in GLSL. */
+float light_spot_falloff(const Light *l, float cos_theta);
+/* Radiant intensity (W/sr, RGB) of a spot/point/quad light toward unit
+ * direction `dir` (from the light outward). */
+void light_intensity(const Light *l, const vec3 dir, vec3 out);
+/* Width used by PCSS: spot/point diameter, quad mean edge length (m). */
+float light_width(const Light *l);
+
+#endif

@@ -1,0 +1,107 @@
+#include "shadow_frame.h"
+
+#include <math.h>
+#include <string.h>
+
+/* An up vector not parallel to d. */
+static void pick_up(const vec3 d, vec3 up)
+{
+    if (fabsf(d[1]) > 0.99f)
+        glm_vec3_copy((vec3){0, 0, 1}, up);
+    else
+        glm_vec3_copy((vec3){0, 1, 0}, up);
+}
+
+/* Distance from p to the farthest corner of the bounds. */
+static float farthest_corner(const vec3 p, const vec3 bmin, const vec3 bmax)
+{
+    float m = 0.f;
+    for (int c = 0; c < 8; c++) {
+        vec3 q = {(c & 1) ? bmax[0] : bmin[0], (c & 2) ? bmax[1] : bmin[1], (c & 4) ? bmax[2] : bmin[2]};
+        m = fmaxf(m, glm_vec3_distance((float *)p, q));
+    }
+    return m;
+}
+
+void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int res, ShadowFrame *f)
+{
+    memset(f, 0, sizeof *f);
+    vec3 up, target;
+    if (l->type == LIGHT_DIRECTIONAL) {
+        vec3 c;
+        glm_vec3_center((float *)bmin, (float *)bmax, c);
+        float r = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax) * 1.01f + 1e-3f;
+        glm_vec3_copy(c, f->origin);
+        glm_vec3_muladds((float *)l->direction, -r, f->origin);
+        glm_vec3_add(f->origin, (float *)l->direction, target);
+        pick_up(l->direction, up);
+        glm_lookat(f->origin, target, up, f->view[0]);
+        glm_ortho(-r, r, -r, r, 0.f, 2.f * r, f->proj[0]);
+        f->far = 2.f * r;
+        f->texel_k = 2.f * r / (float)res;
+        f->ortho = true;
+        f->face_count = 1;
+    } else if (l->type == LIGHT_SPOT) {
+        glm_vec3_copy((float *)l->position, f->origin);
+        f->far = farthest_corner(l->position, bmin, bmax) * 1.01f + 1e-3f;
+        float fov = fminf(2.f * l->spot_outer * 1.05f, glm_rad(170.f));
+        glm_vec3_add(f->origin, (float *)l->direction, target);
+        pick_up(l->direction, up);
+        glm_lookat(f->origin, target, up, f->view[0]);
+        glm_perspective(fov, 1.f, f->far * 1e-4f, f->far, f->proj[0]);
+        f->texel_k = 2.f * tanf(0.5f * fov) / (float)res;
+        f->face_count = 1;
+    } else {
+        /* Cube faces in GL's cube-map orientation (+X, −X, +Y, −Y, +Z, −Z). */
+        static const float dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        static const float ups[6][3] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+        glm_vec3_copy((float *)l->position, f->origin);
+        f->far = farthest_corner(l->position, bmin, bmax) * 1.01f + 1e-3f;
+        for (int i = 0; i < 6; i++) {
+            glm_vec3_add(f->origin, (float *)dirs[i], target);
+            glm_lookat(f->origin, target, (float *)ups[i], f->view[i]);
+            glm_perspective(glm_rad(90.f), 1.f, f->far * 1e-4f, f->far, f->proj[i]);
+        }
+        f->texel_k = 2.f / (float)res;
+        f->cube = true;
+        f->face_count = 6;
+    }
+    for (int i = 0; i < f->face_count; i++)
+        glm_mat4_mul(f->proj[i], f->view[i], f->view_proj[i]);
+}
+
+void shadow_frame_project(const ShadowFrame *f, const Light *l, const vec3 world, vec3 out)
+{
+    vec4 p = {world[0], world[1], world[2], 1.f};
+    glm_mat4_mulv((vec4 *)f->view_proj[0], p, p);
+    out[0] = 0.5f * p[0] / p[3] + 0.5f;
+    out[1] = 0.5f * p[1] / p[3] + 0.5f;
+    vec3 v;
+    glm_vec3_sub((float *)world, (float *)f->origin, v);
+    float d = f->ortho ? glm_vec3_dot(v, (float *)l->direction) : glm_vec3_norm(v);
+    out[2] = d / f->far;
+}
+
+void shadow_frame_to_gpu(const Light *l, const ShadowFrame *f, int res, GpuLight *g)
+{
+    memset(g, 0, sizeof *g);
+    memcpy(g->position_type, l->position, sizeof(vec3));
+    g->position_type[3] = (float)l->type;
+    memcpy(g->direction_width, l->direction, sizeof(vec3));
+    g->direction_width[3] = l->type == LIGHT_DIRECTIONAL ? tanf(l->size) : light_width(l);
+    if (l->type == LIGHT_QUAD) {
+        vec3 n;
+        glm_vec3_cross((float *)l->quad_u, (float *)l->quad_v, n);
+        glm_vec3_scale((float *)l->color, glm_vec3_norm(n), g->color); /* L·A */
+    } else {
+        memcpy(g->color, l->color, sizeof(vec3));
+    }
+    g->spot[0] = cosf(l->spot_outer);
+    g->spot[1] = cosf(l->spot_inner);
+    memcpy(g->shadow_view_proj, f->view_proj[0], sizeof(mat4));
+    memcpy(g->shadow_origin, f->origin, sizeof(vec3));
+    g->shadow_info[0] = f->far;
+    g->shadow_info[1] = f->texel_k;
+    g->shadow_info[2] = (float)res;
+    g->shadow_info[3] = f->cube ? 1.f : 0.f;
+}

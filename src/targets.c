@@ -1,0 +1,73 @@
+#include "targets.h"
+
+#include "log.h"
+
+static GLuint make_tex(GLenum fmt, int w, int h, const char *label)
+{
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_2D, 1, &t);
+    glTextureStorage2D(t, 1, fmt, w, h);
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glObjectLabel(GL_TEXTURE, t, -1, label);
+    return t;
+}
+
+static bool check_fbo(GLuint fbo, const char *label)
+{
+    GLenum st = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    if (st != GL_FRAMEBUFFER_COMPLETE) {
+        log_error("gl", "framebuffer %s incomplete (0x%x)", label, st);
+        return false;
+    }
+    glObjectLabel(GL_FRAMEBUFFER, fbo, -1, label);
+    return true;
+}
+
+bool gbuffer_create(GBuffer *g, int w, int h)
+{
+    g->width = w;
+    g->height = h;
+    g->position = make_tex(GL_RGBA32F, w, h, "gbuffer.position");
+    g->normal = make_tex(GL_RGBA16F, w, h, "gbuffer.normal");
+    g->albedo = make_tex(GL_RGBA16F, w, h, "gbuffer.albedo");
+    g->emission = make_tex(GL_RGBA16F, w, h, "gbuffer.emission");
+    g->depth = make_tex(GL_DEPTH_COMPONENT32F, w, h, "gbuffer.depth");
+    glCreateFramebuffers(1, &g->fbo);
+    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT0, g->position, 0);
+    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT1, g->normal, 0);
+    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT2, g->albedo, 0);
+    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT3, g->emission, 0);
+    glNamedFramebufferTexture(g->fbo, GL_DEPTH_ATTACHMENT, g->depth, 0);
+    const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                            GL_COLOR_ATTACHMENT3};
+    glNamedFramebufferDrawBuffers(g->fbo, 4, bufs);
+    return check_fbo(g->fbo, "gbuffer");
+}
+
+void gbuffer_destroy(GBuffer *g)
+{
+    GLuint tex[5] = {g->position, g->normal, g->albedo, g->emission, g->depth};
+    glDeleteTextures(5, tex);
+    glDeleteFramebuffers(1, &g->fbo);
+    *g = (GBuffer){0};
+}
+
+bool color_target_create(ColorTarget *t, GLenum fmt, int w, int h, const char *label)
+{
+    t->width = w;
+    t->height = h;
+    t->texture = make_tex(fmt, w, h, label);
+    glCreateFramebuffers(1, &t->fbo);
+    glNamedFramebufferTexture(t->fbo, GL_COLOR_ATTACHMENT0, t->texture, 0);
+    return check_fbo(t->fbo, label);
+}
+
+void color_target_destroy(ColorTarget *t)
+{
+    glDeleteTextures(1, &t->texture);
+    glDeleteFramebuffers(1, &t->fbo);
+    *t = (ColorTarget){0};
+}

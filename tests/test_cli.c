@@ -1,0 +1,148 @@
+/* test_cli.c — the CLI as users script it: bad input gives one clear
+ * message naming the file or option and a non-zero exit, never a crash;
+ * the default render has the red wall on the left, green on the right. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_util.h"
+
+static char g_path[512];
+
+static const char *tmp_file(const char *name, const char *content)
+{
+    snprintf(g_path, sizeof g_path, "%s/%s", RTGI_TEST_TMP, name);
+    FILE *f = fopen(g_path, "w");
+    assert_non_null(f);
+    fputs(content, f);
+    fclose(f);
+    return g_path;
+}
+
+/* Runs the CLI, expects exit status `want` (2 usage, 1 runtime) and every
+ * string in `needles` (NULL-terminated) on stderr. */
+static void expect_error(int rc, char *err, int want, const char *n1, const char *n2)
+{
+    if (rc != want || !err || (n1 && !strstr(err, n1)) || (n2 && !strstr(err, n2)))
+        fail_msg("exit %d (want %d), stderr: %s (want '%s' and '%s')", rc, want, err ? err : "(none)",
+                 n1 ? n1 : "", n2 ? n2 : "");
+    assert_true(strstr(err, "\n") == strrchr(err, '\n')); /* one line */
+    free(err);
+}
+
+static void missing_scene_file(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--scene", "/nonexistent/scene.json", "--size", "8x8", NULL);
+    expect_error(rc, err, 1, "/nonexistent/scene.json", "does not exist");
+}
+
+static void malformed_json_names_line(void **state)
+{
+    (void)state;
+    const char *p = tmp_file("bad.json", "{\n  \"builtin\": \"cornell\",\n  \"exposure\": 2,,\n}\n");
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
+    expect_error(rc, err, 1, "bad.json:3:", "malformed JSON");
+}
+
+static void wrong_json_types(void **state)
+{
+    (void)state;
+    const char *p = tmp_file("badlight.json",
+                             "{ \"builtin\": \"cornell\", \"lights\": [ { \"type\": \"laser\" } ] }\n");
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
+    expect_error(rc, err, 1, "badlight.json", "unknown light type \"laser\"");
+}
+
+static void missing_mesh_file(void **state)
+{
+    (void)state;
+    const char *p = tmp_file("nomesh.json", "{ \"mesh\": \"does_not_exist.obj\" }\n");
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
+    expect_error(rc, err, 1, "does_not_exist.obj", "does not exist");
+    rc = test_run_cli(&err, "render", "--scene", "/tmp/rtgi_no_such_mesh.gltf", NULL);
+    expect_error(rc, err, 1, "rtgi_no_such_mesh.gltf", "does not exist");
+}
+
+static void malformed_mesh_file(void **state)
+{
+    (void)state;
+    const char *p = tmp_file("garbage.gltf", "{ this is not gltf");
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
+    expect_error(rc, err, 1, "garbage.gltf", "cannot import mesh");
+}
+
+static void unknown_option_and_technique(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--bogus", NULL);
+    expect_error(rc, err, 2, "--bogus", "unknown option");
+    rc = test_run_cli(&err, "render", "--shadow", "vsm", NULL);
+    expect_error(rc, err, 2, "--shadow", "unknown value 'vsm'");
+    rc = test_run_cli(&err, "render", "--gi", "magic", NULL);
+    expect_error(rc, err, 2, "--gi", "'magic'");
+    rc = test_run_cli(&err, "frobnicate", NULL);
+    expect_error(rc, err, 2, "frobnicate", "unknown command");
+    rc = test_run_cli(&err, "render", "--exposure", NULL);
+    expect_error(rc, err, 2, "--exposure", "needs a value");
+    rc = test_run_cli(&err, "render", "--pcf-samples", "0", NULL);
+    expect_error(rc, err, 2, "--pcf-samples", "out of range");
+}
+
+static void zero_or_huge_size(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--size", "0x0", NULL);
+    expect_error(rc, err, 2, "--size", "between 1 and");
+    rc = test_run_cli(&err, "render", "--size", "100000x100000", NULL);
+    expect_error(rc, err, 2, "--size", "between 1 and");
+    rc = test_run_cli(&err, "render", "--size", "64", NULL);
+    expect_error(rc, err, 2, "--size", "not a size");
+    rc = test_run_cli(&err, "render", "--size", "-5x10", NULL);
+    expect_error(rc, err, 2, "--size", NULL);
+}
+
+/* The default render, read back from its PNG: a band along the left edge is
+ * red, one along the right edge green. */
+static void default_png_red_left_green_right(void **state)
+{
+    (void)state;
+    char out[512];
+    snprintf(out, sizeof out, "%s/default.png", RTGI_TEST_TMP);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--size", "96x96", "--out", out, NULL);
+    if (rc != 0)
+        fail_msg("render failed (%d): %s", rc, err ? err : "");
+    free(err);
+    ImageF img;
+    assert_true(image_read(out, &img));
+    assert_int_equal(img.width, 96);
+    double lr = test_mean(&img, 6, 48, 3, 0), lg = test_mean(&img, 6, 48, 3, 1);
+    double rr = test_mean(&img, 89, 48, 3, 0), rg = test_mean(&img, 89, 48, 3, 1);
+    print_message("left r %.3f g %.3f, right r %.3f g %.3f\n", lr, lg, rr, rg);
+    assert_true(lr > 3 * lg);
+    assert_true(rg > 3 * rr);
+    image_free(&img);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(missing_scene_file),
+        cmocka_unit_test(malformed_json_names_line),
+        cmocka_unit_test(wrong_json_types),
+        cmocka_unit_test(missing_mesh_file),
+        cmocka_unit_test(malformed_mesh_file),
+        cmocka_unit_test(unknown_option_and_technique),
+        cmocka_unit_test(zero_or_huge_size),
+        cmocka_unit_test(default_png_red_left_green_right),
+    };
+    return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
+}

@@ -1,0 +1,222 @@
+/* test_shadows.c — shadow maps on the Cornell box and PCSS vs PCF.
+ * All renders at small sizes on whatever GL 4.5 is present (llvmpipe). */
+#include <math.h>
+#include <string.h>
+
+#include "test_util.h"
+
+static GlContext *g_gl;
+
+static int setup(void **state)
+{
+    (void)state;
+    g_gl = gl_context_create(false);
+    return g_gl ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    gl_context_destroy(g_gl);
+    return 0;
+}
+
+enum { CW = 192, CH = 192 };
+
+static void render_cornell(ShadowMode mode, float bias_const, float bias_slope, ImageF *img)
+{
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    RenderSettings rs = test_settings(&s, CW, CH, mode);
+    if (bias_const >= 0) {
+        rs.shadow_params.bias_const = bias_const;
+        rs.shadow_params.bias_slope = bias_slope;
+    }
+    test_render(&s, &rs, img);
+    scene_free(&s);
+}
+
+/* Floor behind the tall block as seen from the light, and a lit floor point. */
+static const vec3 k_shadowed = {0.52f, 0.f, 0.35f};
+static const vec3 k_lit = {0.42f, 0.f, 0.12f};
+
+static void pixel_of(const vec3 p, int *x, int *y)
+{
+    Scene s;
+    scene_build_cornell(&s);
+    test_project(&s, CW, CH, p, x, y);
+    scene_free(&s);
+}
+
+/* The floor behind the tall block is far darker than lit floor, with hard
+ * shadows (no light: no GI yet) and with PCSS (inside the umbra). */
+static void tall_block_casts_shadow(void **state)
+{
+    (void)state;
+    int sx, sy, lx, ly;
+    pixel_of(k_shadowed, &sx, &sy);
+    pixel_of(k_lit, &lx, &ly);
+    ImageF none, hard, pcss;
+    render_cornell(SHADOW_MODE_NONE, -1, 0, &none);
+    render_cornell(SHADOW_MODE_HARD, -1, 0, &hard);
+    render_cornell(SHADOW_MODE_PCSS, -1, 0, &pcss);
+    double lit = test_mean(&hard, lx, ly, 1, 3);
+    double dark = test_mean(&hard, sx, sy, 1, 3);
+    double unshadowed = test_mean(&none, sx, sy, 1, 3);
+    print_message("lit %g, behind block %g (hard), %g (pcss), %g (no shadow)\n", lit, dark,
+                  test_mean(&pcss, sx, sy, 1, 3), unshadowed);
+    assert_true(lit > 0.05);
+    assert_true(dark < 0.01 * lit);                          /* umbra of a point light: black */
+    assert_true(test_mean(&pcss, sx, sy, 1, 3) < 0.1 * lit); /* inside PCSS umbra too */
+    assert_true(unshadowed > 0.3 * lit);                     /* it is the shadow, not the geometry */
+    image_free(&none);
+    image_free(&hard);
+    image_free(&pcss);
+}
+
+/* Acne: over a lit floor patch, hard-shadowed radiance divided by
+ * unshadowed radiance should be 1 everywhere. The ratio removes the smooth
+ * cosθ/d² variation, so its spread measures acne alone. Bound: mean ratio
+ * ≥ 0.995 and relative standard deviation ≤ 1% (binary acne gives a large
+ * fraction of black pixels, i.e. tens of percent). With zero bias the same
+ * measure must see acne, which shows the measure can fail. */
+static double acne_fraction(const ImageF *shadowed, const ImageF *none, int cx, int cy, int r, double *rel_std)
+{
+    double sum = 0, sum2 = 0;
+    int n = 0, dark = 0;
+    for (int y = cy - r; y <= cy + r; y++)
+        for (int x = cx - r; x <= cx + r; x++) {
+            double ratio = luminance(image_px(shadowed, x, y)) / luminance(image_px(none, x, y));
+            sum += ratio;
+            sum2 += ratio * ratio;
+            dark += ratio < 0.5;
+            n++;
+        }
+    double mean = sum / n;
+    *rel_std = sqrt(fmax(sum2 / n - mean * mean, 0.0)) / mean;
+    return (double)dark / n;
+}
+
+static void lit_floor_has_no_acne(void **state)
+{
+    (void)state;
+    int lx, ly;
+    pixel_of(k_lit, &lx, &ly);
+    ImageF none, hard, nobias;
+    render_cornell(SHADOW_MODE_NONE, -1, 0, &none);
+    render_cornell(SHADOW_MODE_HARD, -1, 0, &hard);
+    render_cornell(SHADOW_MODE_HARD, 0.f, 0.f, &nobias);
+    double rs_hard, rs_nobias;
+    double f_hard = acne_fraction(&hard, &none, lx, ly, 6, &rs_hard);
+    double f_nobias = acne_fraction(&nobias, &none, lx, ly, 6, &rs_nobias);
+    print_message("acne: biased %.3f dark, rel std %.4f; unbiased %.3f dark, rel std %.4f\n", f_hard, rs_hard,
+                  f_nobias, rs_nobias);
+    assert_true(f_hard == 0.0);
+    assert_true(rs_hard <= 0.01);
+    assert_true(f_nobias > 0.1); /* the measure detects acne when there is some */
+    image_free(&none);
+    image_free(&hard);
+    image_free(&nobias);
+}
+
+/* PCSS vs PCF: a spot light of diameter 0.4 m at 2.5 m over a floor, two
+ * 0.4 m square blockers at heights 0.3 m and 1.2 m. PCSS's penumbra is
+ * (d_r − d_b)·w/d_b: 0.055 m and 0.37 m; PCF's is fixed in texels and so
+ * the same for both. Widths are measured on the image as the number of
+ * pixels with visibility in (0.1, 0.9) across both edges of each shadow. */
+enum { PW = 256, PH = 256 };
+
+static void penumbra_scene(Scene *s)
+{
+    scene_init(s);
+    strcpy(s->source, "penumbra-test");
+    int floor = scene_add_material(s, "floor", (vec3){0.8f, 0.8f, 0.8f});
+    int blk = scene_add_material(s, "blocker", (vec3){0.5f, 0.5f, 0.5f});
+    test_add_square(s, floor, (vec3){0, 0, 0}, 6.f);
+    test_add_square(s, blk, (vec3){-0.8f, 0.3f, 0}, 0.4f);
+    test_add_square(s, blk, (vec3){0.8f, 1.2f, 0}, 0.4f);
+    Light l = {.type = LIGHT_SPOT, .position = {0, 2.5f, 0}, .direction = {0, -1, 0}, .color = {5, 5, 5},
+               .size = 0.4f, .spot_inner = glm_rad(55.f), .spot_outer = glm_rad(62.f)};
+    scene_add_light(s, &l);
+    glm_vec3_copy((vec3){0, 6.f, 0}, s->camera.position);
+    glm_vec3_copy((vec3){0, -1, 0}, s->camera.forward);
+    glm_vec3_copy((vec3){0, 0, -1}, s->camera.up);
+    s->camera.fov_y = glm_rad(40.f);
+    s->shadow.map_size = 1024;
+    scene_finalize(s);
+}
+
+/* Visibility along the image row through z = 0, averaged over 9 rows. */
+static void visibility_row(const ImageF *shadowed, const ImageF *none, double *v)
+{
+    for (int x = 0; x < PW; x++) {
+        double a = 0, b = 0;
+        for (int y = PH / 2 - 4; y <= PH / 2 + 4; y++) {
+            a += luminance(image_px(shadowed, x, y));
+            b += luminance(image_px(none, x, y));
+        }
+        v[x] = b > 0 ? a / b : 1.0;
+    }
+}
+
+/* Penumbra pixels (both edges) of the shadow within [x0, x1) of the row. */
+static int penumbra_width(const double *v, int x0, int x1)
+{
+    int n = 0;
+    for (int x = x0; x < x1; x++)
+        n += v[x] > 0.1 && v[x] < 0.9;
+    return n;
+}
+
+static void pcss_penumbra_grows_pcf_does_not(void **state)
+{
+    (void)state;
+    Scene s;
+    penumbra_scene(&s);
+    ImageF none, pcf, pcss;
+    RenderSettings rs = test_settings(&s, PW, PH, SHADOW_MODE_NONE);
+    test_render(&s, &rs, &none);
+    rs.shadow = SHADOW_MODE_PCF;
+    rs.shadow_params.pcf_samples = 32;
+    rs.shadow_params.pcf_radius = 6.f;
+    test_render(&s, &rs, &pcf);
+    rs.shadow = SHADOW_MODE_PCSS;
+    rs.shadow_params.blocker_samples = 32;
+    test_render(&s, &rs, &pcss);
+    double v_pcf[PW], v_pcss[PW];
+    visibility_row(&pcf, &none, v_pcf);
+    visibility_row(&pcss, &none, v_pcss);
+    /* The low blocker's shadow lies in the left half, the high one's in the right. */
+    int pcf_low = penumbra_width(v_pcf, 0, PW / 2), pcf_high = penumbra_width(v_pcf, PW / 2, PW);
+    int pcss_low = penumbra_width(v_pcss, 0, PW / 2), pcss_high = penumbra_width(v_pcss, PW / 2, PW);
+    print_message("penumbra px: PCF low %d high %d; PCSS low %d high %d\n", pcf_low, pcf_high, pcss_low,
+                  pcss_high);
+    /* PCSS: ratio of predicted widths is 0.37/0.055 ≈ 6.7; ask for > 2.5. */
+    assert_true(pcss_high > 2.5 * pcss_low);
+    assert_true(pcss_high >= 8);
+    /* PCF: the same width within a factor 1.5 (pixel quantisation). */
+    assert_true(pcf_low > 0 && pcf_high > 0);
+    assert_true(pcf_high <= 1.5 * pcf_low + 1 && pcf_low <= 1.5 * pcf_high + 1);
+    /* Both shadows exist under PCF: visibility reaches ~0 in each half. */
+    double min_l = 1, min_r = 1;
+    for (int x = 0; x < PW / 2; x++)
+        min_l = fmin(min_l, v_pcf[x]);
+    for (int x = PW / 2; x < PW; x++)
+        min_r = fmin(min_r, v_pcf[x]);
+    assert_true(min_l < 0.05 && min_r < 0.05);
+    image_free(&none);
+    image_free(&pcf);
+    image_free(&pcss);
+    scene_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(tall_block_casts_shadow),
+        cmocka_unit_test(lit_floor_has_no_acne),
+        cmocka_unit_test(pcss_penumbra_grows_pcf_does_not),
+    };
+    return cmocka_run_group_tests_name("shadows", tests, setup, teardown);
+}

@@ -1,0 +1,92 @@
+#include "test_util.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "camera.h"
+#include "util.h"
+
+RenderSettings test_settings(const Scene *s, int w, int h, ShadowMode mode)
+{
+    RenderSettings rs = {0};
+    rs.width = w;
+    rs.height = h;
+    rs.shadow = mode;
+    rs.gi = GI_NONE;
+    rs.exposure = s->exposure;
+    rs.shadow_params = s->shadow;
+    return rs;
+}
+
+void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
+{
+    Renderer r;
+    assert_true(renderer_create(&r, s, rs));
+    renderer_frame(&r, &s->camera);
+    assert_true(renderer_read_hdr(&r, out));
+    renderer_destroy(&r);
+}
+
+int test_run_cli(char **err, const char *arg0, ...)
+{
+    const char *argv[64];
+    int n = 0;
+    argv[n++] = RTGI_BINARY;
+    va_list ap;
+    va_start(ap, arg0);
+    for (const char *a = arg0; a && n < 63; a = va_arg(ap, const char *))
+        argv[n++] = a;
+    va_end(ap);
+    argv[n] = NULL;
+    char errpath[512];
+    snprintf(errpath, sizeof errpath, "%s/cli_stderr_%d.txt", RTGI_TEST_TMP, (int)getpid());
+    pid_t pid = fork();
+    if (pid == 0) {
+        if (!freopen(errpath, "w", stderr) || !freopen("/dev/null", "w", stdout))
+            _exit(127);
+        execv(RTGI_BINARY, (char *const *)argv);
+        _exit(127);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (err)
+        *err = util_read_file(errpath, NULL);
+    remove(errpath);
+    if (WIFSIGNALED(status))
+        return 128 + WTERMSIG(status); /* a crash: tests treat it as failure */
+    return WEXITSTATUS(status);
+}
+
+double test_mean(const ImageF *img, int cx, int cy, int r, int c)
+{
+    double sum = 0;
+    int n = 0;
+    for (int y = cy - r; y <= cy + r; y++)
+        for (int x = cx - r; x <= cx + r; x++) {
+            if (x < 0 || y < 0 || x >= img->width || y >= img->height)
+                continue;
+            const float *p = image_px(img, x, y);
+            sum += c == 3 ? luminance(p) : p[c];
+            n++;
+        }
+    return n ? sum / n : 0.0;
+}
+
+void test_project(const Scene *s, int w, int h, const vec3 p, int *x, int *y)
+{
+    float fx, fy;
+    assert_true(camera_project(&s->camera, w, h, p, &fx, &fy));
+    *x = (int)fx;
+    *y = (int)fy;
+}
+
+void test_add_square(Scene *s, int material, const vec3 c, float a)
+{
+    float h = 0.5f * a;
+    vec3 p0 = {c[0] - h, c[1], c[2] - h}, p1 = {c[0] - h, c[1], c[2] + h};
+    vec3 p2 = {c[0] + h, c[1], c[2] + h}, p3 = {c[0] + h, c[1], c[2] - h};
+    scene_add_quad(s, material, p0, p1, p2, p3);
+}

@@ -1,0 +1,36 @@
+/* test_util.h — helpers shared by the tests: rendering a scene to a float
+ * image in-process, running the CLI binary, and image statistics. */
+#ifndef RTGI_TEST_UTIL_H
+#define RTGI_TEST_UTIL_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "gl_context.h"
+#include "image.h"
+#include "renderer.h"
+#include "scene.h"
+
+/* Render settings for a test: w×h, shadow mode, default shadow params of s. */
+RenderSettings test_settings(const Scene *s, int w, int h, ShadowMode mode);
+/* Renders one frame of `s` from its camera into `out` (radiance). Needs a
+ * current context. Fails the test on error. */
+void test_render(const Scene *s, const RenderSettings *rs, ImageF *out);
+
+/* Runs build/rtgi with the given arguments (NULL-terminated); returns its
+ * exit status and, if `err` is not NULL, what it wrote on stderr (caller
+ * frees). */
+int test_run_cli(char **err, const char *arg0, ...);
+
+/* Mean of channel c (0..2, or 3 = luminance) over a (2r+1)² window. */
+double test_mean(const ImageF *img, int cx, int cy, int r, int c);
+/* Pixel of a world point in the scene camera's w×h image; fails if behind. */
+void test_project(const Scene *s, int w, int h, const vec3 p, int *x, int *y);
+/* Adds a flat square (normal +y) of side `a` centred on c, at height c[1]. */
+void test_add_square(Scene *s, int material, const vec3 c, float a);
+
+#endif

@@ -209,10 +209,15 @@ void scene_default_camera(Scene *s)
     int axis = ext[0] >= ext[2] ? 0 : 2; /* look along the longer horizontal axis */
     Camera *cam = &s->camera;
     glm_vec3_copy(c, cam->position);
-    cam->position[axis] -= 0.38f * ext[axis];
-    cam->position[1] = s->bounds_min[1] + 0.22f * ext[1];
+    /* Inside, a quarter of the way from one end, at a person's height
+     * relative to the model, looking down the long axis: for an interior
+     * such as Sponza this is its nave; for an object it is a view from its
+     * side. */
+    cam->position[axis] -= 0.28f * ext[axis];
+    cam->position[1] = s->bounds_min[1] + 0.2f * ext[1];
     vec3 target;
     glm_vec3_copy(c, target);
+    target[axis] += 0.5f * ext[axis];
     target[1] = s->bounds_min[1] + 0.3f * ext[1];
     glm_vec3_sub(target, cam->position, cam->forward);
     glm_vec3_normalize(cam->forward);

@@ -510,6 +510,7 @@ bool scene_load(Scene *s, const char *what)
         return false;
     }
     scene_add_default_sun(s);
+    s->shadow.map_size = 2048; /* a sun over a whole model needs the texels */
     scene_finalize(s);
     scene_default_camera(s);
     return true;

@@ -2,7 +2,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "cli.h"
 #include "commands.h"
@@ -188,16 +187,6 @@ static void apply_shadow_overrides(const RenderOptions *o, ShadowParams *p)
     if (o->sp_set & SP_MR) p->pcss_max_radius = o->sp.pcss_max_radius;
 }
 
-/* Creates the parent directory of `path` if it is missing (one level). */
-static void ensure_parent_dir(const char *path)
-{
-    char dir[1024];
-    util_dirname(path, dir, sizeof dir);
-    struct stat st;
-    if (stat(dir, &st) != 0)
-        mkdir(dir, 0777);
-}
-
 int cmd_render(int argc, char **argv)
 {
     RenderOptions o;
@@ -238,7 +227,7 @@ int cmd_render(int argc, char **argv)
                 renderer_frame(&r, &scene.camera);
         }
         double t1 = util_seconds();
-        ensure_parent_dir(o.out);
+        util_ensure_parent_dir(o.out);
         bool ok;
         if (util_ends_with(o.out, ".pfm")) {
             ImageF img = {0};

@@ -5,5 +5,9 @@
 
 int cmd_render(int argc, char **argv);
 void cmd_render_help(void);
+int cmd_reference(int argc, char **argv);
+void cmd_reference_help(void);
+int cmd_compare(int argc, char **argv);
+void cmd_compare_help(void);
 
 #endif

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 char *util_read_file(const char *path, size_t *size)
@@ -114,4 +115,13 @@ void strbuf_printf(StrBuf *b, const char *fmt, ...)
     va_end(ap);
     strbuf_append(b, big, (size_t)n);
     free(big);
+}
+
+void util_ensure_parent_dir(const char *path)
+{
+    char dir[1024];
+    util_dirname(path, dir, sizeof dir);
+    struct stat st;
+    if (stat(dir, &st) != 0)
+        mkdir(dir, 0777);
 }

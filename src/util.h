@@ -13,6 +13,8 @@ void util_dirname(const char *path, char *dir, size_t cap);
 /* Joins a path relative to `base_dir` (absolute paths are kept). */
 void util_join_path(const char *base_dir, const char *rel, char *out, size_t cap);
 bool util_ends_with(const char *s, const char *suffix);
+/* Creates the parent directory of `path` if it is missing (one level). */
+void util_ensure_parent_dir(const char *path);
 /* Monotonic wall-clock seconds. */
 double util_seconds(void);
 

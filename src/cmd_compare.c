@@ -1,0 +1,159 @@
+/* cmd_compare.c — `rtgi compare A B`: error of test image A against
+ * reference B, as text and JSON, with an optional heat map. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "commands.h"
+#include "image.h"
+#include "log.h"
+#include "metrics.h"
+#include "util.h"
+
+void cmd_compare_help(void)
+{
+    printf("usage: rtgi compare TEST REFERENCE [options]\n"
+           "  TEST, REFERENCE    .pfm (linear radiance) or .png (sRGB, decoded to linear)\n"
+           "  --metric rmse|relmse|ssim|flip|all   (default: all)\n"
+           "  --heatmap FILE.png per-pixel error of the first metric (FLIP map for all)\n"
+           "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"
+           "  --exposure E       display exposure for SSIM and FLIP (default: 1)\n"
+           "  --ppd P            FLIP pixels per degree (default: 67.02)\n"
+           "  --json FILE        also write the results as JSON ('-' for stdout)\n"
+           "Prints one 'metric: value' line per metric.\n");
+}
+
+static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all", NULL};
+
+int cmd_compare(int argc, char **argv)
+{
+    const char *files[2] = {NULL, NULL}, *heatmap = NULL, *mask_path = NULL, *json = NULL;
+    int metric = 4, nfiles = 0;
+    float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
+    CliArgs a = {argc, argv, 0, NULL};
+    const char *opt, *v;
+#define VALUE()               \
+    if (!(v = cli_value(&a))) \
+        return 2;
+    while ((opt = cli_next(&a))) {
+        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+            cmd_compare_help();
+            return 0;
+        } else if (!strcmp(opt, "--metric")) {
+            VALUE();
+            if ((metric = cli_choice(opt, v, k_metrics)) < 0)
+                return 2;
+        } else if (!strcmp(opt, "--heatmap")) {
+            VALUE();
+            heatmap = v;
+        } else if (!strcmp(opt, "--mask")) {
+            VALUE();
+            mask_path = v;
+        } else if (!strcmp(opt, "--json")) {
+            VALUE();
+            json = v;
+        } else if (!strcmp(opt, "--exposure")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
+                return 2;
+        } else if (!strcmp(opt, "--ppd")) {
+            VALUE();
+            if (!cli_float(opt, v, 1.f, 1000.f, &ppd))
+                return 2;
+        } else if (opt[0] == '-' && opt[1]) {
+            log_error("cli", "compare: unknown option '%s' (see rtgi compare --help)", opt);
+            return 2;
+        } else if (nfiles < 2) {
+            files[nfiles++] = opt;
+        } else {
+            log_error("cli", "compare: takes two images, got a third: '%s'", opt);
+            return 2;
+        }
+    }
+#undef VALUE
+    if (nfiles != 2) {
+        log_error("cli", "compare: needs two images, TEST and REFERENCE (see rtgi compare --help)");
+        return 2;
+    }
+    ImageF t = {0}, r = {0}, m = {0};
+    uint8_t *mask = NULL;
+    int rc = 1;
+    if (!image_read(files[0], &t) || !image_read(files[1], &r))
+        goto done;
+    if (t.width != r.width || t.height != r.height) {
+        log_error("compare", "%s is %dx%d but %s is %dx%d: sizes must match", files[0], t.width, t.height, files[1],
+                  r.width, r.height);
+        goto done;
+    }
+    if (mask_path) {
+        if (!image_read(mask_path, &m))
+            goto done;
+        if (m.width != t.width || m.height != t.height) {
+            log_error("compare", "%s: mask is %dx%d, images are %dx%d", mask_path, m.width, m.height, t.width,
+                      t.height);
+            goto done;
+        }
+        mask = malloc((size_t)t.width * t.height);
+        for (size_t i = 0; i < (size_t)t.width * t.height; i++)
+            mask[i] = luminance(m.rgb + 3 * i) > 0.5f;
+    }
+    size_t np = (size_t)t.width * t.height;
+    float *map = heatmap ? calloc(np, sizeof(float)) : NULL;
+    double val[4] = {0};
+    bool want[4];
+    for (int k = 0; k < 4; k++)
+        want[k] = metric == 4 || metric == k;
+    /* The heat map shows the first metric computed, or FLIP for "all". */
+    int map_metric = metric == 4 ? 3 : metric;
+    if (want[0])
+        val[0] = metric_rmse(&t, &r, mask, map_metric == 0 ? map : NULL);
+    if (want[1])
+        val[1] = metric_relmse(&t, &r, mask, map_metric == 1 ? map : NULL);
+    if (want[2])
+        val[2] = metric_ssim(&t, &r, exposure, mask, map_metric == 2 ? map : NULL);
+    if (want[3])
+        val[3] = metric_flip(&t, &r, exposure, ppd, mask, map_metric == 3 ? map : NULL);
+    for (int k = 0; k < 4; k++)
+        if (want[k])
+            printf("%s: %.6g\n", k_metrics[k], val[k]);
+    rc = 0;
+    if (map) {
+        if (map_metric == 0) { /* normalise RMSE by its maximum */
+            float mx = 0;
+            for (size_t i = 0; i < np; i++)
+                mx = map[i] > mx ? map[i] : mx;
+            for (size_t i = 0; mx > 0 && i < np; i++)
+                map[i] /= mx;
+        } else if (map_metric == 2) {
+            for (size_t i = 0; i < np; i++)
+                map[i] = 1.f - map[i];
+        }
+        util_ensure_parent_dir(heatmap);
+        if (!metric_write_heatmap(heatmap, map, t.width, t.height))
+            rc = 1;
+        free(map);
+    }
+    if (json) {
+        FILE *f = strcmp(json, "-") == 0 ? stdout : fopen(json, "w");
+        if (!f) {
+            log_error("compare", "%s: cannot open for writing", json);
+            rc = 1;
+        } else {
+            fprintf(f, "{\"test\": \"%s\", \"reference\": \"%s\", \"width\": %d, \"height\": %d", files[0], files[1],
+                    t.width, t.height);
+            for (int k = 0; k < 4; k++)
+                if (want[k])
+                    fprintf(f, ", \"%s\": %.8g", k_metrics[k], val[k]);
+            fprintf(f, "}\n");
+            if (f != stdout)
+                fclose(f);
+        }
+    }
+done:
+    free(mask);
+    image_free(&t);
+    image_free(&r);
+    image_free(&m);
+    return rc;
+}

@@ -1,0 +1,381 @@
+#include "metrics.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+static bool counts(const uint8_t *mask, size_t i) { return !mask || mask[i]; }
+
+double metric_rmse(const ImageF *t, const ImageF *r, const uint8_t *mask, float *map)
+{
+    double sum = 0;
+    size_t n = 0, np = (size_t)t->width * t->height;
+    for (size_t i = 0; i < np; i++) {
+        double e = 0;
+        for (int c = 0; c < 3; c++) {
+            double d = (double)t->rgb[3 * i + c] - r->rgb[3 * i + c];
+            e += d * d;
+        }
+        if (map)
+            map[i] = (float)sqrt(e / 3);
+        if (counts(mask, i)) {
+            sum += e;
+            n += 3;
+        }
+    }
+    return n ? sqrt(sum / n) : 0.0;
+}
+
+double metric_relmse(const ImageF *t, const ImageF *r, const uint8_t *mask, float *map)
+{
+    double sum = 0;
+    size_t n = 0, np = (size_t)t->width * t->height;
+    for (size_t i = 0; i < np; i++) {
+        double e = 0;
+        for (int c = 0; c < 3; c++) {
+            double d = (double)t->rgb[3 * i + c] - r->rgb[3 * i + c], ref = r->rgb[3 * i + c];
+            e += d * d / (ref * ref + 0.01);
+        }
+        if (map)
+            map[i] = (float)(e / 3);
+        if (counts(mask, i)) {
+            sum += e;
+            n += 3;
+        }
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* ------------------------------------------------------------ filtering */
+
+/* Separable convolution of a w×h float plane with a 1D kernel of radius r
+ * along x then (kernel ky) along y; borders replicate. */
+static void convolve_sep(const float *in, float *out, int w, int h, const float *kx, const float *ky, int r)
+{
+    float *tmp = malloc(sizeof(float) * (size_t)w * h);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            double s = 0;
+            for (int k = -r; k <= r; k++) {
+                int xx = x + k < 0 ? 0 : (x + k >= w ? w - 1 : x + k);
+                s += kx[k + r] * in[(size_t)y * w + xx];
+            }
+            tmp[(size_t)y * w + x] = (float)s;
+        }
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            double s = 0;
+            for (int k = -r; k <= r; k++) {
+                int yy = y + k < 0 ? 0 : (y + k >= h ? h - 1 : y + k);
+                s += ky[k + r] * tmp[(size_t)yy * w + x];
+            }
+            out[(size_t)y * w + x] = (float)s;
+        }
+    free(tmp);
+}
+
+/* Display-encoded (× exposure, clamped, sRGB) copy of a linear image. */
+static float *display(const ImageF *img, float exposure)
+{
+    size_t n = (size_t)img->width * img->height * 3;
+    float *d = malloc(sizeof(float) * n);
+    for (size_t i = 0; i < n; i++)
+        d[i] = srgb_encode(img->rgb[i] * exposure);
+    return d;
+}
+
+/* ------------------------------------------------------------------ SSIM */
+
+double metric_ssim(const ImageF *t, const ImageF *r, float exposure, const uint8_t *mask, float *map)
+{
+    int w = t->width, h = t->height;
+    size_t np = (size_t)w * h;
+    float *dt = display(t, exposure), *dr = display(r, exposure);
+    float *planes[5];
+    for (int k = 0; k < 5; k++)
+        planes[k] = malloc(sizeof(float) * np);
+    float *a = planes[0], *b = planes[1];
+    for (size_t i = 0; i < np; i++) {
+        a[i] = luminance(dt + 3 * i);
+        b[i] = luminance(dr + 3 * i);
+    }
+    const int rad = 5;
+    float g[11];
+    double gs = 0;
+    for (int k = -rad; k <= rad; k++)
+        gs += g[k + rad] = expf(-(float)(k * k) / (2.f * 1.5f * 1.5f));
+    for (int k = 0; k < 11; k++)
+        g[k] /= (float)gs;
+    float *mu_a = malloc(sizeof(float) * np), *mu_b = malloc(sizeof(float) * np);
+    convolve_sep(a, mu_a, w, h, g, g, rad);
+    convolve_sep(b, mu_b, w, h, g, g, rad);
+    for (size_t i = 0; i < np; i++) {
+        planes[2][i] = a[i] * a[i];
+        planes[3][i] = b[i] * b[i];
+        planes[4][i] = a[i] * b[i];
+    }
+    float *saa = malloc(sizeof(float) * np), *sbb = malloc(sizeof(float) * np), *sab = malloc(sizeof(float) * np);
+    convolve_sep(planes[2], saa, w, h, g, g, rad);
+    convolve_sep(planes[3], sbb, w, h, g, g, rad);
+    convolve_sep(planes[4], sab, w, h, g, g, rad);
+    const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03;
+    double sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < np; i++) {
+        double ma = mu_a[i], mb = mu_b[i];
+        double va = saa[i] - ma * ma, vb = sbb[i] - mb * mb, cov = sab[i] - ma * mb;
+        double s = ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
+        if (map)
+            map[i] = (float)s;
+        if (counts(mask, i)) {
+            sum += s;
+            n++;
+        }
+    }
+    for (int k = 0; k < 5; k++)
+        free(planes[k]);
+    free(mu_a);
+    free(mu_b);
+    free(saa);
+    free(sbb);
+    free(sab);
+    free(dt);
+    free(dr);
+    return n ? sum / n : 1.0;
+}
+
+/* ------------------------------------------------------------------ FLIP */
+
+/* D65 white and sRGB ↔ XYZ (linear). */
+static const double k_white[3] = {0.950428545, 1.0, 1.088900371};
+
+static void lin_to_xyz(const double *c, double *x)
+{
+    x[0] = 0.4123907993 * c[0] + 0.3575843394 * c[1] + 0.1804807884 * c[2];
+    x[1] = 0.2126390059 * c[0] + 0.7151686788 * c[1] + 0.0721923154 * c[2];
+    x[2] = 0.0193308187 * c[0] + 0.1191947798 * c[1] + 0.9505321522 * c[2];
+}
+
+static void xyz_to_lin(const double *x, double *c)
+{
+    c[0] = 3.241003275 * x[0] - 1.537398934 * x[1] - 0.498615861 * x[2];
+    c[1] = -0.969224334 * x[0] + 1.875930071 * x[1] + 0.041554224 * x[2];
+    c[2] = 0.055639423 * x[0] - 0.204011202 * x[1] + 1.057148933 * x[2];
+}
+
+/* Linearised CIELAB without the cube root (the paper's YCxCz). */
+static void xyz_to_ycxcz(const double *x, double *o)
+{
+    double xn = x[0] / k_white[0], yn = x[1] / k_white[1], zn = x[2] / k_white[2];
+    o[0] = 116 * yn - 16;
+    o[1] = 500 * (xn - yn);
+    o[2] = 200 * (yn - zn);
+}
+
+static void ycxcz_to_xyz(const double *o, double *x)
+{
+    double y = (o[0] + 16) / 116;
+    x[0] = (y + o[1] / 500) * k_white[0];
+    x[1] = y * k_white[1];
+    x[2] = (y - o[2] / 200) * k_white[2];
+}
+
+static double lab_f(double t)
+{
+    const double d = 6.0 / 29.0;
+    return t > d * d * d ? cbrt(t) : t / (3 * d * d) + 4.0 / 29.0;
+}
+
+/* Hunt-adjusted CIELAB of a linear RGB colour. */
+static void lin_to_hunt_lab(const double *c, double *lab)
+{
+    double x[3];
+    lin_to_xyz(c, x);
+    double fx = lab_f(x[0] / k_white[0]), fy = lab_f(x[1] / k_white[1]), fz = lab_f(x[2] / k_white[2]);
+    lab[0] = 116 * fy - 16;
+    lab[1] = 0.01 * lab[0] * 500 * (fx - fy);
+    lab[2] = 0.01 * lab[0] * 200 * (fy - fz);
+}
+
+static double hyab(const double *a, const double *b)
+{
+    return fabs(a[0] - b[0]) + hypot(a[1] - b[1], a[2] - b[2]);
+}
+
+/* The CSF filter of one opponent channel as a sum of two separable
+ * Gaussians: applies it to `in` into `out`. */
+static void csf_filter(const float *in, float *out, int w, int h, float ppd, double a1, double b1, double a2,
+                       double b2)
+{
+    const double bmax = 0.04; /* largest b over all three channels sets the support */
+    int r = (int)ceil(3 * sqrt(bmax / (2 * M_PI * M_PI)) * ppd);
+    int n = 2 * r + 1;
+    float *g1 = malloc(sizeof(float) * n), *g2 = malloc(sizeof(float) * n);
+    double s1 = 0, s2 = 0;
+    for (int k = -r; k <= r; k++) {
+        double x = k / (double)ppd;
+        g1[k + r] = (float)exp(-M_PI * M_PI * x * x / b1);
+        g2[k + r] = (float)exp(-M_PI * M_PI * x * x / b2);
+        s1 += g1[k + r];
+        s2 += g2[k + r];
+    }
+    double c1 = a1 * sqrt(M_PI / b1), c2 = a2 * sqrt(M_PI / b2);
+    double total = c1 * s1 * s1 + c2 * s2 * s2; /* sum of the 2D kernel */
+    convolve_sep(in, out, w, h, g1, g1, r);
+    if (c2 > 0) {
+        float *tmp = malloc(sizeof(float) * (size_t)w * h);
+        convolve_sep(in, tmp, w, h, g2, g2, r);
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            out[i] = (float)((c1 * out[i] + c2 * tmp[i]) / total);
+        free(tmp);
+    } else {
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            out[i] = (float)(c1 * out[i] / total);
+    }
+    free(g1);
+    free(g2);
+}
+
+/* Edge (first derivative) and point (second derivative) feature
+ * magnitudes of the normalised achromatic plane y. */
+static void features(const float *y, int w, int h, float ppd, float *edge, float *point)
+{
+    double sd = 0.5 * 0.082 * ppd;
+    int r = (int)ceil(3 * sd), n = 2 * r + 1;
+    float *g = malloc(sizeof(float) * n), *d1 = malloc(sizeof(float) * n), *d2 = malloc(sizeof(float) * n);
+    double gs = 0, p1 = 0, m1 = 0, p2 = 0, m2 = 0;
+    for (int k = -r; k <= r; k++) {
+        double gv = exp(-(k * k) / (2 * sd * sd));
+        g[k + r] = (float)gv;
+        d1[k + r] = (float)(-k * gv);
+        d2[k + r] = (float)((k * k) / (sd * sd) - 1) * (float)gv;
+        gs += gv;
+        if (d1[k + r] > 0) p1 += d1[k + r]; else m1 -= d1[k + r];
+        if (d2[k + r] > 0) p2 += d2[k + r]; else m2 -= d2[k + r];
+    }
+    /* Positive weights sum to 1, negative to −1 (of the 2D kernel). */
+    for (int k = 0; k < n; k++) {
+        g[k] = (float)(g[k] / gs);
+        d1[k] = (float)(d1[k] > 0 ? d1[k] / p1 : d1[k] / m1);
+        d2[k] = (float)(d2[k] > 0 ? d2[k] / p2 : d2[k] / m2);
+    }
+    size_t np = (size_t)w * h;
+    float *ex = malloc(sizeof(float) * np), *ey = malloc(sizeof(float) * np);
+    float *px = malloc(sizeof(float) * np), *py = malloc(sizeof(float) * np);
+    convolve_sep(y, ex, w, h, d1, g, r);
+    convolve_sep(y, ey, w, h, g, d1, r);
+    convolve_sep(y, px, w, h, d2, g, r);
+    convolve_sep(y, py, w, h, g, d2, r);
+    for (size_t i = 0; i < np; i++) {
+        edge[i] = hypotf(ex[i], ey[i]);
+        point[i] = hypotf(px[i], py[i]);
+    }
+    free(g);
+    free(d1);
+    free(d2);
+    free(ex);
+    free(ey);
+    free(px);
+    free(py);
+}
+
+double metric_flip(const ImageF *t, const ImageF *r, float exposure, float ppd, const uint8_t *mask, float *map)
+{
+    int w = t->width, h = t->height;
+    size_t np = (size_t)w * h;
+    const ImageF *imgs[2] = {r, t};
+    float *opp[2][3], *filt[2][3], *edge[2], *point[2];
+    for (int k = 0; k < 2; k++) {
+        float *disp = display(imgs[k], exposure);
+        for (int c = 0; c < 3; c++) {
+            opp[k][c] = malloc(sizeof(float) * np);
+            filt[k][c] = malloc(sizeof(float) * np);
+        }
+        for (size_t i = 0; i < np; i++) {
+            double lin[3], xyz[3], o[3];
+            for (int c = 0; c < 3; c++)
+                lin[c] = srgb_decode(disp[3 * i + c]);
+            lin_to_xyz(lin, xyz);
+            xyz_to_ycxcz(xyz, o);
+            for (int c = 0; c < 3; c++)
+                opp[k][c][i] = (float)o[c];
+        }
+        free(disp);
+        csf_filter(opp[k][0], filt[k][0], w, h, ppd, 1.0, 0.0047, 0.0, 1e-5);
+        csf_filter(opp[k][1], filt[k][1], w, h, ppd, 1.0, 0.0053, 0.0, 1e-5);
+        csf_filter(opp[k][2], filt[k][2], w, h, ppd, 34.1, 0.04, 13.5, 0.025);
+        float *ynorm = malloc(sizeof(float) * np);
+        for (size_t i = 0; i < np; i++)
+            ynorm[i] = (opp[k][0][i] + 16.f) / 116.f;
+        edge[k] = malloc(sizeof(float) * np);
+        point[k] = malloc(sizeof(float) * np);
+        features(ynorm, w, h, ppd, edge[k], point[k]);
+        free(ynorm);
+    }
+    const double qc = 0.7, qf = 0.5, pc = 0.4, pt = 0.95;
+    double green[3] = {0, 1, 0}, blue[3] = {0, 0, 1}, lg[3], lb[3];
+    lin_to_hunt_lab(green, lg);
+    lin_to_hunt_lab(blue, lb);
+    double cmax = pow(hyab(lg, lb), qc), pccmax = pc * cmax;
+    double sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < np; i++) {
+        double lab[2][3];
+        for (int k = 0; k < 2; k++) {
+            double o[3] = {filt[k][0][i], filt[k][1][i], filt[k][2][i]}, xyz[3], lin[3];
+            ycxcz_to_xyz(o, xyz);
+            xyz_to_lin(xyz, lin);
+            for (int c = 0; c < 3; c++)
+                lin[c] = lin[c] < 0 ? 0 : (lin[c] > 1 ? 1 : lin[c]);
+            lin_to_hunt_lab(lin, lab[k]);
+        }
+        double de = pow(hyab(lab[0], lab[1]), qc);
+        double dec = de < pccmax ? (pt / pccmax) * de : pt + (de - pccmax) / (cmax - pccmax) * (1 - pt);
+        double df = fmax(fabs(edge[0][i] - edge[1][i]), fabs(point[0][i] - point[1][i]));
+        df = pow(df / sqrt(2.0), qf);
+        double f = pow(dec, 1 - df);
+        if (map)
+            map[i] = (float)f;
+        if (counts(mask, i)) {
+            sum += f;
+            n++;
+        }
+    }
+    for (int k = 0; k < 2; k++) {
+        for (int c = 0; c < 3; c++) {
+            free(opp[k][c]);
+            free(filt[k][c]);
+        }
+        free(edge[k]);
+        free(point[k]);
+    }
+    return n ? sum / n : 0.0;
+}
+
+/* ------------------------------------------------------------ heat maps */
+
+int metric_write_heatmap(const char *path, const float *map, int w, int h)
+{
+    /* Approximate magma, 9 stops. */
+    static const float stops[9][3] = {{0, 0, 4},      {28, 16, 68},   {79, 18, 123},   {129, 37, 129}, {181, 54, 122},
+                                      {229, 80, 100}, {251, 135, 97}, {254, 194, 135}, {252, 253, 191}};
+    uint8_t *px = malloc((size_t)w * h * 3);
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        float v = map[i];
+        v = v < 0 || !isfinite(v) ? 0 : (v > 1 ? 1 : v);
+        float x = v * 8.f;
+        int k = (int)x;
+        if (k >= 8)
+            k = 7;
+        float f = x - k;
+        for (int c = 0; c < 3; c++)
+            px[3 * i + c] = (uint8_t)lrintf(stops[k][c] * (1 - f) + stops[k + 1][c] * f);
+    }
+    int ok = image_write_png8(path, w, h, px);
+    free(px);
+    return ok;
+}

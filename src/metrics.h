@@ -1,0 +1,29 @@
+/* metrics.h — image error metrics between a test image and a reference
+ * (SPEC §8). Inputs are linear RGB images of equal size; `mask` (may be
+ * NULL) selects the pixels that count (non-zero = counts).
+ *  - RMSE: sqrt of the mean over pixels and channels of (t − r)².
+ *  - relMSE: mean of (t − r)² / (r² + 0.01) over pixels and channels.
+ *  - SSIM (Wang et al. 2004) on the luminance of the display-encoded images
+ *    (× exposure, clamped, sRGB), Gaussian window σ = 1.5 px, C1 = 0.01²,
+ *    C2 = 0.03².
+ *  - FLIP (Andersson et al. 2020), LDR-FLIP on the display-encoded images at
+ *    `ppd` pixels per degree (67.0: a 0.7 m wide 4K monitor at 0.7 m).
+ * The *_map outputs (may be NULL) receive w·h per-pixel values. */
+#ifndef RTGI_METRICS_H
+#define RTGI_METRICS_H
+
+#include <stdint.h>
+
+#include "image.h"
+
+#define FLIP_DEFAULT_PPD 67.0205f /* 0.7·3840/0.7 · π/180 */
+
+double metric_rmse(const ImageF *test, const ImageF *ref, const uint8_t *mask, float *map);
+double metric_relmse(const ImageF *test, const ImageF *ref, const uint8_t *mask, float *map);
+double metric_ssim(const ImageF *test, const ImageF *ref, float exposure, const uint8_t *mask, float *map);
+double metric_flip(const ImageF *test, const ImageF *ref, float exposure, float ppd, const uint8_t *mask, float *map);
+
+/* Writes a heat map of values in [0,1] (clamped) as a PNG, magma-like colours. */
+int metric_write_heatmap(const char *path, const float *map, int width, int height);
+
+#endif

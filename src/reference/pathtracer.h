@@ -1,0 +1,58 @@
+/* pathtracer.h — the CPU reference: unidirectional path tracing on Embree 3
+ * over the same Scene the rasterizer draws (SPEC §7).
+ * Next-event estimation for every light type, MIS (power heuristic) with
+ * BSDF sampling for quad area lights, cosine-weighted diffuse bounces,
+ * Russian roulette after `rr_depth` bounces with survival probability from
+ * the path throughput (compensated by 1/p). Multithreaded over 16×16 tiles;
+ * every pixel has its own random stream from (seed, pixel), so the result is
+ * identical for a given seed whatever the thread count.
+ *
+ * Light models are those of the rasterizer (light_intensity in scene.c):
+ * size 0 gives point/directional lights with exactly the rasterizer's
+ * intensity; a size makes a real emitter: quad (hit by BSDF rays, MIS),
+ * sphere (point), disk facing the axis (spot), cone of directions (sun). */
+#ifndef RTGI_PATHTRACER_H
+#define RTGI_PATHTRACER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "image.h"
+#include "scene.h"
+
+typedef enum PtMode {
+    PT_FULL = 0,           /* all bounces */
+    PT_DIRECT,             /* emission + direct light */
+    PT_ONE_BOUNCE,         /* direct + exactly one indirect bounce */
+    PT_ONE_BOUNCE_NOVIS,   /* one-bounce with the bounce segment unoccluded (what RSM computes) */
+    PT_INDIRECT,           /* full minus direct */
+} PtMode;
+
+extern const char *const pt_mode_names[]; /* NULL-terminated, in PtMode order */
+
+typedef struct PtSettings {
+    int width, height;
+    int spp;               /* samples per pixel, ≥ 1 */
+    int threads;           /* ≥ 1 */
+    uint64_t seed;
+    PtMode mode;
+    int max_depth;         /* path vertices at most */
+    bool russian_roulette;
+    int rr_depth;          /* bounces before roulette starts */
+    bool pixel_jitter;     /* false: every sample through the pixel centre */
+    bool progress;         /* progress bar on stderr */
+} PtSettings;
+
+typedef struct PtStats {
+    double seconds;
+    uint64_t rays;         /* closest-hit, all-hit and shadow rays */
+} PtStats;
+
+void pt_settings_default(PtSettings *s);
+
+/* Renders `scene` from its camera. `mean` receives radiance; `variance`
+ * (optional) the per-pixel variance of that mean (sample variance / spp).
+ * false after logging. */
+bool pt_render(const Scene *scene, const PtSettings *ps, ImageF *mean, ImageF *variance, PtStats *stats);
+
+#endif

@@ -1,0 +1,51 @@
+/* pt_scene.h — the Scene as an Embree 3 ray-tracing scene for the
+ * reference path tracer: the very same triangles, materials, albedo
+ * textures and alpha masks the rasterizer draws (no copy of the scene, only
+ * Embree's BVH over its vertex array).
+ * Geometry 0 holds opaque triangles; geometry 1 the alpha-masked ones, with
+ * a filter function that rejects hits on transparent texels. */
+#ifndef RTGI_PT_SCENE_H
+#define RTGI_PT_SCENE_H
+
+#include <embree3/rtcore.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "scene.h"
+
+typedef struct PtScene {
+    const Scene *scene;     /* borrowed */
+    RTCDevice device;       /* owned */
+    RTCScene rtc;           /* owned */
+    uint32_t *prim_tri[2];  /* per geometry: primitive → global triangle index (owned) */
+    uint32_t *tri_material; /* global triangle → material (owned) */
+    float eps;              /* ray-origin offset, scaled to the scene */
+    float diag;             /* scene bounds diagonal */
+} PtScene;
+
+/* A ray's hit, with normals oriented toward the ray's origin. */
+typedef struct PtHit {
+    float t;
+    vec3 p;
+    vec3 ng;       /* unit geometric normal facing the ray origin */
+    vec3 ns;       /* unit shading normal, same side as ng */
+    float uv[2];
+    int material;
+    bool front;    /* hit the side the triangle's winding faces (emitters emit there) */
+} PtHit;
+
+bool pt_scene_create(PtScene *ps, const Scene *s);
+void pt_scene_destroy(PtScene *ps);
+
+/* Closest hit along o + t·d, t in (0, tmax); false if none. */
+bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h);
+/* Every hit along the ray (unordered), at most `max`; returns the count. */
+int pt_intersect_all(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *hits, int max);
+/* true if anything blocks o + t·d for t in (0, tmax). */
+bool pt_occluded(const PtScene *ps, const vec3 o, const vec3 d, float tmax);
+/* Linear albedo of the hit's material (texture × factor). */
+void pt_albedo(const PtScene *ps, const PtHit *h, vec3 out);
+/* Moves p off the surface along n, for a ray leaving on n's side. */
+void pt_offset(const PtScene *ps, const vec3 p, const vec3 n, vec3 out);
+
+#endif

@@ -132,6 +132,43 @@ static void default_png_red_left_green_right(void **state)
     image_free(&img);
 }
 
+static void reference_bad_input(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "reference", "--spp", "0", NULL);
+    expect_error(rc, err, 2, "--spp", "out of range");
+    rc = test_run_cli(&err, "reference", "--mode", "two-bounce", NULL);
+    expect_error(rc, err, 2, "--mode", "unknown value 'two-bounce'");
+    rc = test_run_cli(&err, "reference", "--scene", "/nonexistent/x.json", NULL);
+    expect_error(rc, err, 1, "/nonexistent/x.json", "does not exist");
+}
+
+static void compare_bad_input(void **state)
+{
+    (void)state;
+    char a[512], b[512];
+    snprintf(a, sizeof a, "%s/cmp_a.pfm", RTGI_TEST_TMP);
+    snprintf(b, sizeof b, "%s/cmp_b.pfm", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "reference", "--size", "8x8", "--spp", "1", "--out", a, "--quiet", NULL), 0);
+    assert_int_equal(test_run_cli(NULL, "reference", "--size", "8x6", "--spp", "1", "--out", b, "--quiet", NULL), 0);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "compare", a, b, NULL);
+    expect_error(rc, err, 1, "8x8", "sizes must match");
+    rc = test_run_cli(&err, "compare", a, "/nonexistent/ref.pfm", NULL);
+    expect_error(rc, err, 1, "/nonexistent/ref.pfm", "cannot read");
+    const char *junk = tmp_file("junk.pfm", "PF\n8 8\n-1.0\nshort");
+    rc = test_run_cli(&err, "compare", a, junk, NULL);
+    expect_error(rc, err, 1, "junk.pfm", "truncated");
+    junk = tmp_file("junk.png", "not a png at all");
+    rc = test_run_cli(&err, "compare", a, junk, NULL);
+    expect_error(rc, err, 1, "junk.png", "cannot read image");
+    rc = test_run_cli(&err, "compare", a, NULL);
+    expect_error(rc, err, 2, "needs two images", NULL);
+    rc = test_run_cli(&err, "compare", a, a, "--metric", "psnr", NULL);
+    expect_error(rc, err, 2, "--metric", "'psnr'");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -143,6 +180,8 @@ int main(void)
         cmocka_unit_test(unknown_option_and_technique),
         cmocka_unit_test(zero_or_huge_size),
         cmocka_unit_test(default_png_red_left_green_right),
+        cmocka_unit_test(reference_bad_input),
+        cmocka_unit_test(compare_bad_input),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

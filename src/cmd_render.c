@@ -24,7 +24,7 @@ void cmd_render_help(void)
         "usage: rtgi render [options]\n"
         "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
         "  --shadow none|hard|pcf|pcss   shadow technique (default: pcss)\n"
-        "  --gi none                     indirect light technique (default: none)\n"
+        "  --gi none|rsm|rsm-interp|rsm-interleaved   indirect light technique (default: none)\n"
         "  --size WxH                    image size (default: 512x512)\n"
         "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
         "  --out FILE.png|FILE.pfm       output; PNG tone-mapped sRGB, PFM linear radiance\n"
@@ -36,6 +36,18 @@ void cmd_render_help(void)
         "  --shadow-map-size N  --bias-const M  --bias-slope S  --normal-offset T\n"
         "  --pcf-samples N  --pcf-radius T  --blocker-samples N  --pcss-max-radius T\n"
         "  (M in metres, T in shadow-map texels, S in texels x tan(theta))\n"
+        "GI parameters (reflective shadow maps):\n"
+        "  --rsm-size N         RSM texels per side, per cube face for point/quad lights (512)\n"
+        "  --rsm-samples N      samples per gather (400)\n"
+        "  --rsm-rmax R         sampling radius in RSM widths (0.3)\n"
+        "  --rsm-weighting paper|unbiased   xi1^2 normalised, or unbiased for the polar pdf\n"
+        "  --rsm-exhaustive     sum over every RSM texel (tests, small maps)\n"
+        "  --interp-factor F    rsm-interp: gather at 1/F resolution (4)\n"
+        "  --interp-normal C    rsm-interp/blur: min cosine between normals (0.9)\n"
+        "  --interp-dist D      rsm-interp/blur: max distance, fraction of view distance (0.05)\n"
+        "  --interleave NxM     rsm-interleaved: sub-image pattern (4x4)\n"
+        "  --interleave-blur on|off   geometry-aware blur after reassembly (on)\n"
+        "  --gi-scale S         indirect intensity scale (1 = physical)\n"
         "other:\n"
         "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
         "  --debug            GL debug context, KHR_debug messages logged\n"
@@ -46,6 +58,7 @@ typedef struct RenderOptions {
     const char *scene;
     const char *out;
     int shadow;   /* -1: default */
+    int gi;       /* GiMode */
     int width, height;
     float exposure; /* < 0: scene's */
     float light_scale; /* < 0: unchanged */
@@ -54,12 +67,36 @@ typedef struct RenderOptions {
     /* Shadow overrides; NaN/-1 = keep the scene's. */
     ShadowParams sp;
     unsigned sp_set; /* bit per ShadowParams field given on the CLI */
+    GiParams gp;
+    unsigned gp_set; /* bit per GiParams field given on the CLI */
 } RenderOptions;
+
+enum { GP_SIZE = 1, GP_N = 2, GP_RMAX = 4, GP_W = 8, GP_EXH = 16, GP_IF = 32, GP_IN = 64, GP_ID = 128,
+       GP_IL = 256, GP_BLUR = 512, GP_SCALE = 1024 };
+static const char *const k_weightings[] = {"paper", "unbiased", NULL};
+static const char *const k_on_off[] = {"off", "on", NULL};
 
 enum { SP_MAP = 1, SP_BC = 2, SP_BS = 4, SP_NO = 8, SP_PS = 16, SP_PR = 32, SP_BL = 64, SP_MR = 128 };
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
-static const char *const k_gi_names[] = {"none", NULL};
+
+static void apply_gi_overrides(const RenderOptions *o, GiParams *p)
+{
+    if (o->gp_set & GP_SIZE) p->rsm_size = o->gp.rsm_size;
+    if (o->gp_set & GP_N) p->samples = o->gp.samples;
+    if (o->gp_set & GP_RMAX) p->r_max = o->gp.r_max;
+    if (o->gp_set & GP_W) p->weighting = o->gp.weighting;
+    if (o->gp_set & GP_EXH) p->exhaustive = o->gp.exhaustive;
+    if (o->gp_set & GP_IF) p->interp_factor = o->gp.interp_factor;
+    if (o->gp_set & GP_IN) p->interp_normal = o->gp.interp_normal;
+    if (o->gp_set & GP_ID) p->interp_dist = o->gp.interp_dist;
+    if (o->gp_set & GP_IL) {
+        p->interleave_n = o->gp.interleave_n;
+        p->interleave_m = o->gp.interleave_m;
+    }
+    if (o->gp_set & GP_BLUR) p->interleave_blur = o->gp.interleave_blur;
+    if (o->gp_set & GP_SCALE) p->scale = o->gp.scale;
+}
 
 /* Parses argv; returns 0 to go on, or an exit status. */
 static int parse(int argc, char **argv, RenderOptions *o)
@@ -97,7 +134,7 @@ static int parse(int argc, char **argv, RenderOptions *o)
                 return 2;
         } else if (!strcmp(opt, "--gi")) {
             VALUE();
-            if (cli_choice(opt, v, k_gi_names) < 0)
+            if ((o->gi = cli_choice(opt, v, gi_mode_names)) < 0)
                 return 2;
         } else if (!strcmp(opt, "--size")) {
             VALUE();
@@ -166,6 +203,63 @@ static int parse(int argc, char **argv, RenderOptions *o)
             if (!cli_float(opt, v, 1.f, 256.f, &o->sp.pcss_max_radius))
                 return 2;
             o->sp_set |= SP_MR;
+        } else if (!strcmp(opt, "--rsm-size")) {
+            VALUE();
+            if (!cli_int(opt, v, 4, 4096, &o->gp.rsm_size))
+                return 2;
+            o->gp_set |= GP_SIZE;
+        } else if (!strcmp(opt, "--rsm-samples")) {
+            VALUE();
+            if (!cli_int(opt, v, 1, 65536, &o->gp.samples))
+                return 2;
+            o->gp_set |= GP_N;
+        } else if (!strcmp(opt, "--rsm-rmax")) {
+            VALUE();
+            if (!cli_float(opt, v, 1e-4f, 4.f, &o->gp.r_max))
+                return 2;
+            o->gp_set |= GP_RMAX;
+        } else if (!strcmp(opt, "--rsm-weighting")) {
+            VALUE();
+            int w = cli_choice(opt, v, k_weightings);
+            if (w < 0)
+                return 2;
+            o->gp.weighting = (RsmWeighting)w;
+            o->gp_set |= GP_W;
+        } else if (!strcmp(opt, "--rsm-exhaustive")) {
+            o->gp.exhaustive = true;
+            o->gp_set |= GP_EXH;
+        } else if (!strcmp(opt, "--interp-factor")) {
+            VALUE();
+            if (!cli_int(opt, v, 1, 64, &o->gp.interp_factor))
+                return 2;
+            o->gp_set |= GP_IF;
+        } else if (!strcmp(opt, "--interp-normal")) {
+            VALUE();
+            if (!cli_float(opt, v, -1.f, 1.f, &o->gp.interp_normal))
+                return 2;
+            o->gp_set |= GP_IN;
+        } else if (!strcmp(opt, "--interp-dist")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 100.f, &o->gp.interp_dist))
+                return 2;
+            o->gp_set |= GP_ID;
+        } else if (!strcmp(opt, "--interleave")) {
+            VALUE();
+            if (!cli_size(opt, v, 16, &o->gp.interleave_n, &o->gp.interleave_m))
+                return 2;
+            o->gp_set |= GP_IL;
+        } else if (!strcmp(opt, "--interleave-blur")) {
+            VALUE();
+            int b = cli_choice(opt, v, k_on_off);
+            if (b < 0)
+                return 2;
+            o->gp.interleave_blur = b == 1;
+            o->gp_set |= GP_BLUR;
+        } else if (!strcmp(opt, "--gi-scale")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 1e6f, &o->gp.scale))
+                return 2;
+            o->gp_set |= GP_SCALE;
         } else {
             log_error("cli", "render: unknown option '%s' (see rtgi render --help)", opt);
             return 2;
@@ -204,7 +298,9 @@ int cmd_render(int argc, char **argv)
     rs.width = o.width;
     rs.height = o.height;
     rs.shadow = (ShadowMode)o.shadow;
-    rs.gi = GI_NONE;
+    rs.gi = (GiMode)o.gi;
+    rs.gi_params = scene.gi;
+    apply_gi_overrides(&o, &rs.gi_params);
     rs.exposure = o.exposure >= 0.f ? o.exposure : scene.exposure;
     rs.shadow_params = scene.shadow;
     apply_shadow_overrides(&o, &rs.shadow_params);
@@ -246,6 +342,13 @@ int cmd_render(int argc, char **argv)
                 printf("renderer: %s\n", gl_context_renderer(gl));
                 gpu_timer_print(&r.timer, stdout);
                 printf("frame_wall_ms: %.3f\n", 1e3 * (t1 - t0) / (o.frames + 1));
+                if (rs.gi != GI_NONE) {
+                    const RenderStats *st = &r.stats;
+                    printf("gathered_pixels: %u\n", st->gathered_pixels);
+                    if (rs.gi == GI_RSM_INTERP)
+                        printf("rsm_full_gather_fraction: %.4f\n",
+                               (double)st->full_gathers / ((double)rs.width * rs.height));
+                }
             }
         }
     }

@@ -10,6 +10,16 @@
 enum {
     UBO_LIGHT = 0,     /* GpuLight of the light being shaded */
     UBO_SHADOW = 1,    /* GpuShadowParams */
+    UBO_GI = 2,        /* GpuGiParams */
+    SSBO_PATTERN = 0,  /* RSM sample pattern: vec4 per sample */
+    SSBO_VPL = 1,      /* GpuVpl[] */
+    SSBO_COUNTERS = 2, /* uint counters: [0] VPLs, [1] full-gather pixels, [2..] list */
+    TEX_RSM_POSITION = 8,
+    TEX_RSM_NORMAL = 9,
+    TEX_RSM_FLUX = 10,
+    TEX_GI = 11,       /* indirect irradiance */
+    TEX_LOWRES = 12,   /* low-resolution indirect irradiance */
+    IMG_OUT = 0,       /* image unit written by GI compute passes */
     TEX_ALBEDO = 0,    /* material texture while drawing the scene */
     TEX_SHADOW_2D = 1, /* shadow map of a directional/spot light */
     TEX_SHADOW_CUBE = 2,
@@ -50,5 +60,24 @@ typedef struct GpuShadowParams {
     float poisson[64][4];/* xy: Poisson disk in the unit disk */
 } GpuShadowParams;
 static_assert(sizeof(GpuShadowParams) == 66 * 16, "GpuShadowParams must match types.glsl (std140)");
+
+/* Parameters of the RSM-based GI passes (std140). */
+typedef struct GpuGiParams {
+    float rsm[4];        /* x: r_max (map widths), y: samples N, z: weighting (0 paper ξ1², 1 unbiased), w: RSM resolution */
+    float rsm2[4];       /* x: texels in the sampling disk K, y: cube (1/0), z: VPL count, w: indirect scale */
+    float interp[4];     /* x: factor f, y: normal cos threshold, z: distance threshold (× view distance) */
+    float interleave[4]; /* x: n, y: m, z: sub-image width, w: sub-image height */
+    float camera[4];     /* xyz: camera position */
+    int size[4];         /* x, y: full resolution; z, w: low resolution */
+} GpuGiParams;
+static_assert(sizeof(GpuGiParams) == 6 * 16, "GpuGiParams must match types.glsl (std140)");
+
+/* One virtual point light (std430). */
+typedef struct GpuVpl {
+    float position_xi[4]; /* xyz: position; w: its fixed random ξ in (0,1] */
+    float normal[4];      /* xyz: unit normal (lit side) */
+    float flux[4];        /* rgb: reflected flux Φ (W) */
+} GpuVpl;
+static_assert(sizeof(GpuVpl) == 48, "GpuVpl must match types.glsl (std430)");
 
 #endif

@@ -3,7 +3,163 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cglm/cglm.h>
+
 #include "log.h"
+
+const char *const gi_mode_names[] = {"none", "rsm", "rsm-interp", "rsm-interleaved", NULL};
+
+static bool gi_create(Renderer *r, const Scene *s, const RenderSettings *rs)
+{
+    const GiParams *gp = &rs->gi_params;
+    if (!pass_rsm_create(&r->pass_rsm) || !pass_vpl_create(&r->pass_vpl) ||
+        !pass_rsm_gather_create(&r->pass_gather, gp, rs->width, rs->height) ||
+        !pass_composite_create(&r->pass_composite))
+        return false;
+    r->rsm_maps = calloc((size_t)(s->light_count ? s->light_count : 1), sizeof(RsmMap));
+    uint32_t capacity = 0;
+    for (int i = 0; i < s->light_count; i++) {
+        bool cube = s->lights[i].type == LIGHT_POINT || s->lights[i].type == LIGHT_QUAD;
+        if (!rsm_map_create(&r->rsm_maps[i], cube, gp->rsm_size))
+            return false;
+        uint32_t n = (uint32_t)gp->rsm_size * (uint32_t)gp->rsm_size * (cube ? 6u : 1u);
+        capacity = n > capacity ? n : capacity;
+    }
+    vpl_buffer_create(&r->vpls, capacity, (uint32_t)rs->width * (uint32_t)rs->height);
+    glCreateBuffers(1, &r->gi_ubo);
+    glNamedBufferStorage(r->gi_ubo, sizeof(GpuGiParams), NULL, GL_DYNAMIC_STORAGE_BIT);
+    glCreateTextures(GL_TEXTURE_2D, 1, &r->irradiance);
+    glTextureStorage2D(r->irradiance, 1, GL_RGBA32F, rs->width, rs->height);
+    glObjectLabel(GL_TEXTURE, r->irradiance, -1, "gi.irradiance");
+    return true;
+}
+
+static void gi_destroy(Renderer *r)
+{
+    if (r->rsm_maps)
+        for (int i = 0; i < r->scene->light_count; i++)
+            if (r->rsm_maps[i].fbo)
+                rsm_map_destroy(&r->rsm_maps[i]);
+    free(r->rsm_maps);
+    if (r->vpls.vpls)
+        vpl_buffer_destroy(&r->vpls);
+    glDeleteBuffers(1, &r->gi_ubo);
+    glDeleteTextures(1, &r->irradiance);
+    pass_composite_destroy(&r->pass_composite);
+    pass_rsm_gather_destroy(&r->pass_gather);
+    pass_vpl_destroy(&r->pass_vpl);
+    pass_rsm_destroy(&r->pass_rsm);
+}
+
+static void gi_upload_params(Renderer *r, const Camera *cam)
+{
+    const GiParams *gp = &r->settings.gi_params;
+    const PassRsmGather *g = &r->pass_gather;
+    GpuGiParams u = {0};
+    u.rsm[0] = gp->r_max;
+    u.rsm[1] = (float)gp->samples;
+    u.rsm[2] = gp->weighting == RSM_WEIGHT_UNBIASED ? 1.f : 0.f;
+    u.rsm[3] = (float)gp->rsm_size;
+    u.rsm2[0] = rsm_disk_texels(gp);
+    u.rsm2[3] = gp->scale;
+    u.interp[0] = (float)gp->interp_factor;
+    u.interp[1] = gp->interp_normal;
+    u.interp[2] = gp->interp_dist;
+    u.interleave[0] = (float)gp->interleave_n;
+    u.interleave[1] = (float)gp->interleave_m;
+    u.interleave[2] = (float)g->sub_w;
+    u.interleave[3] = (float)g->sub_h;
+    glm_vec3_copy((float *)cam->position, u.camera);
+    u.size[0] = r->settings.width;
+    u.size[1] = r->settings.height;
+    u.size[2] = g->low_w;
+    u.size[3] = g->low_h;
+    glNamedBufferSubData(r->gi_ubo, 0, sizeof u, &u);
+    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_GI, r->gi_ubo);
+}
+
+/* Exhaustive gathers read the VPLs of light i from the VPL buffer. */
+static void gi_prepare_light(Renderer *r, int i)
+{
+    if (!r->settings.gi_params.exhaustive)
+        return;
+    const uint32_t zero = 0;
+    glNamedBufferSubData(r->vpls.counters, 0, sizeof zero, &zero);
+    pass_vpl_run(&r->pass_vpl, &r->rsm_maps[i], 1, &r->vpls);
+}
+
+/* One bounce of indirect light into r->irradiance, by the chosen technique. */
+static void gi_gather(Renderer *r)
+{
+    const Scene *s = r->scene;
+    GpuTimer *t = &r->timer;
+    PassRsmGather *g = &r->pass_gather;
+    bool exh = r->settings.gi_params.exhaustive;
+    switch (r->settings.gi) {
+    case GI_RSM:
+        gpu_timer_begin(t, "rsm_gather");
+        for (int i = 0; i < s->light_count; i++) {
+            gi_prepare_light(r, i);
+            pass_rsm_gather_run(g, GATHER_FULL, &r->rsm_maps[i], exh, i > 0, &r->gbuffer, &r->vpls, r->irradiance);
+        }
+        gpu_timer_end(t);
+        break;
+    case GI_RSM_INTERP: {
+        gpu_timer_begin(t, "rsm_gather_lowres");
+        for (int i = 0; i < s->light_count; i++) {
+            gi_prepare_light(r, i);
+            pass_rsm_gather_run(g, GATHER_LOWRES, &r->rsm_maps[i], exh, i > 0, &r->gbuffer, &r->vpls, r->irradiance);
+        }
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "rsm_interp");
+        const uint32_t zero = 0;
+        glNamedBufferSubData(r->vpls.counters, sizeof(uint32_t), sizeof zero, &zero);
+        pass_rsm_interp_run(g, &r->gbuffer, &r->vpls, r->irradiance);
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "rsm_gather_full");
+        for (int i = 0; i < s->light_count; i++) {
+            gi_prepare_light(r, i);
+            pass_rsm_gather_run(g, GATHER_LIST, &r->rsm_maps[i], exh, i > 0, &r->gbuffer, &r->vpls, r->irradiance);
+        }
+        gpu_timer_end(t);
+        break;
+    }
+    case GI_RSM_INTERLEAVED:
+        gpu_timer_begin(t, "interleave_split");
+        pass_interleave_split(g, &r->gbuffer);
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "rsm_gather_interleaved");
+        for (int i = 0; i < s->light_count; i++) {
+            gi_prepare_light(r, i);
+            pass_rsm_gather_run(g, GATHER_INTERLEAVED, &r->rsm_maps[i], exh, i > 0, &r->gbuffer, &r->vpls,
+                                r->irradiance);
+        }
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "interleave_merge_blur");
+        pass_interleave_merge(g, &r->gbuffer, r->settings.gi_params.interleave_blur, r->irradiance);
+        gpu_timer_end(t);
+        break;
+    default:
+        break;
+    }
+}
+
+/* Counts of the last frame's GI work (waits for the GPU). */
+static void gi_collect_stats(Renderer *r)
+{
+    RenderStats *st = &r->stats;
+    memset(st, 0, sizeof *st);
+    if (r->settings.gi == GI_NONE)
+        return;
+    st->vpl_count = vpl_buffer_counter(&r->vpls, 0);
+    if (r->settings.gi == GI_RSM_INTERP) {
+        st->lowres_gathers = (uint32_t)(r->pass_gather.low_w * r->pass_gather.low_h);
+        st->full_gathers = vpl_buffer_counter(&r->vpls, 1);
+        st->gathered_pixels = st->lowres_gathers + st->full_gathers;
+    } else {
+        st->gathered_pixels = (uint32_t)(r->settings.width * r->settings.height);
+    }
+}
 
 bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
 {
@@ -25,6 +181,8 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
         ok = shadow_map_create(&r->shadow_maps[i], cube, rs->shadow_params.map_size);
     }
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
+    if (ok && rs->gi != GI_NONE)
+        ok = gi_create(r, s, rs);
     return ok;
 }
 
@@ -35,6 +193,8 @@ void renderer_destroy(Renderer *r)
             if (r->shadow_maps[i].fbo)
                 shadow_map_destroy(&r->shadow_maps[i]);
     free(r->shadow_maps);
+    if (r->settings.gi != GI_NONE)
+        gi_destroy(r);
     pass_tonemap_destroy(&r->pass_tonemap);
     pass_direct_destroy(&r->pass_direct);
     pass_gbuffer_destroy(&r->pass_gbuffer);
@@ -66,6 +226,13 @@ void renderer_frame(Renderer *r, const Camera *cam)
         }
     }
 
+    if (r->settings.gi != GI_NONE) {
+        gpu_timer_begin(t, "rsm");
+        for (int i = 0; i < s->light_count; i++)
+            pass_rsm_run(&r->pass_rsm, &r->rsm_maps[i], &r->gpu_scene, s, &s->lights[i]);
+        gpu_timer_end(t);
+    }
+
     gpu_timer_begin(t, "gbuffer");
     pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, s, cam, &r->gbuffer);
     gpu_timer_end(t);
@@ -81,11 +248,20 @@ void renderer_frame(Renderer *r, const Camera *cam)
         pass_direct_run(&r->pass_direct, &r->pass_shadow, &r->shadow_maps[i], &r->gbuffer, i == 0, &r->hdr);
     gpu_timer_end(t);
 
+    if (r->settings.gi != GI_NONE) {
+        gi_upload_params(r, cam);
+        gi_gather(r);
+        gpu_timer_begin(t, "composite");
+        pass_composite_run(&r->pass_composite, &r->gbuffer, r->irradiance, &r->hdr);
+        gpu_timer_end(t);
+    }
+
     gpu_timer_begin(t, "tonemap");
     pass_tonemap_run(&r->pass_tonemap, &r->hdr, r->settings.exposure, &r->ldr);
     gpu_timer_end(t);
 
     gpu_timer_end_frame(t);
+    gi_collect_stats(r);
 }
 
 bool renderer_read_hdr(Renderer *r, ImageF *out)

@@ -11,14 +11,26 @@
 #include "gpu_scene.h"
 #include "gpu_timer.h"
 #include "image.h"
+#include "passes/pass_composite.h"
 #include "passes/pass_direct.h"
 #include "passes/pass_gbuffer.h"
+#include "passes/pass_rsm.h"
+#include "passes/pass_rsm_gather.h"
+#include "passes/pass_vpl.h"
 #include "passes/pass_shadow.h"
 #include "passes/pass_tonemap.h"
 #include "scene.h"
 #include "targets.h"
 
-typedef enum GiMode { GI_NONE = 0 } GiMode;
+typedef enum GiMode {
+    GI_NONE = 0,
+    GI_RSM,             /* full-resolution RSM gather */
+    GI_RSM_INTERP,      /* low-res gather + screen-space interpolation */
+    GI_RSM_INTERLEAVED, /* interleaved sampling + geometry-aware blur */
+    GI_MODE_COUNT
+} GiMode;
+
+extern const char *const gi_mode_names[]; /* NULL-terminated, in GiMode order */
 
 typedef struct RenderSettings {
     int width, height;
@@ -26,9 +38,19 @@ typedef struct RenderSettings {
     GiMode gi;
     float exposure;
     ShadowParams shadow_params;
+    GiParams gi_params;
     bool timings;     /* per-pass GPU timer queries */
     bool timing_sync; /* also wall time per pass (glFinish around passes) */
 } RenderSettings;
+
+/* Counts from the last frame (read back from the GPU). */
+typedef struct RenderStats {
+    uint32_t vpl_count;          /* VPLs extracted (exhaustive gathers), last light */
+    uint32_t lowres_gathers;     /* GI_RSM_INTERP: low-resolution gathers */
+    uint32_t full_gathers;       /* GI_RSM_INTERP: pixels that needed a full gather */
+    uint32_t gathered_pixels;    /* pixels that ran a gather (any GI mode) */
+    uint32_t geometry_pixels;    /* pixels covered by geometry */
+} RenderStats;
 
 typedef struct Renderer {
     const Scene *scene;        /* borrowed */
@@ -39,10 +61,19 @@ typedef struct Renderer {
     ColorTarget hdr;           /* RGBA32F radiance */
     ColorTarget ldr;           /* SRGB8_ALPHA8 */
     ShadowMap *shadow_maps;    /* one per light */
+    RsmMap *rsm_maps;          /* one per light, when GI is on */
+    VplBuffer vpls;            /* VPLs and GI counters, when GI is on */
+    GLuint gi_ubo;             /* GpuGiParams */
+    GLuint irradiance;         /* RGBA32F indirect irradiance, full resolution */
+    RenderStats stats;
     PassShadow pass_shadow;
     PassGbuffer pass_gbuffer;
     PassDirect pass_direct;
     PassTonemap pass_tonemap;
+    PassRsm pass_rsm;
+    PassVpl pass_vpl;
+    PassRsmGather pass_gather;
+    PassComposite pass_composite;
 } Renderer;
 
 /* Needs a current GL 4.5 context. false after logging. */

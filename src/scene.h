@@ -82,6 +82,27 @@ typedef struct ShadowParams {
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
 } ShadowParams;
 
+typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1 } RsmWeighting;
+
+/* Parameters of the RSM family of GI techniques (SPEC §3). */
+typedef struct GiParams {
+    int rsm_size;          /* RSM texels per side (per cube face for point/quad lights) */
+    int samples;           /* N samples per gather (paper: ~400) */
+    float r_max;           /* sampling radius, in RSM widths (cube: face widths) */
+    RsmWeighting weighting;/* paper's ξ1² normalised, or unbiased for the polar pdf */
+    bool exhaustive;       /* sum over every RSM texel instead of sampling */
+    int interp_factor;     /* screen-space interpolation: low-res = full / factor */
+    float interp_normal;   /* min cosine between normals for a usable low-res sample */
+    float interp_dist;     /* max world distance, as a fraction of the view distance */
+    int interleave_n, interleave_m; /* interleaved sampling pattern n×m */
+    bool interleave_blur;  /* geometry-aware blur after reassembly */
+    float scale;           /* indirect intensity scale (1 = physical) */
+} GiParams;
+
+void gi_params_default(GiParams *p);
+/* false after logging "<where>: <what is wrong>" if a parameter is absurd. */
+bool gi_params_valid(const GiParams *p, const char *where);
+
 typedef struct Scene {
     char source[512];      /* what it was loaded from, for messages */
     Vertex *vertices;      /* owned */
@@ -99,6 +120,7 @@ typedef struct Scene {
     Camera camera;
     float exposure;        /* scene's default exposure */
     ShadowParams shadow;   /* scene's default shadow parameters */
+    GiParams gi;           /* scene's default GI parameters */
     vec3 bounds_min, bounds_max; /* of all geometry but light emitters */
 } Scene;
 

@@ -384,6 +384,56 @@ static void parse_shadow(Ctx *c, ShadowParams *p, const cJSON *j)
     get_num(c, j, "pcss_max_radius", &p->pcss_max_radius);
 }
 
+static void get_bool(Ctx *c, const cJSON *obj, const char *key, bool *out)
+{
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!a)
+        return;
+    if (!cJSON_IsBool(a)) {
+        log_error("scene", "%s: \"%s\" must be true or false", c->file, key);
+        c->ok = false;
+        return;
+    }
+    *out = cJSON_IsTrue(a);
+}
+
+static void parse_gi(Ctx *c, GiParams *p, const cJSON *j)
+{
+    get_int(c, j, "rsm_size", &p->rsm_size);
+    get_int(c, j, "samples", &p->samples);
+    get_num(c, j, "r_max", &p->r_max);
+    const cJSON *w = cJSON_GetObjectItemCaseSensitive(j, "weighting");
+    if (w) {
+        if (cJSON_IsString(w) && strcmp(w->valuestring, "paper") == 0)
+            p->weighting = RSM_WEIGHT_PAPER;
+        else if (cJSON_IsString(w) && strcmp(w->valuestring, "unbiased") == 0)
+            p->weighting = RSM_WEIGHT_UNBIASED;
+        else {
+            log_error("scene", "%s: gi.weighting must be \"paper\" or \"unbiased\"", c->file);
+            c->ok = false;
+        }
+    }
+    get_bool(c, j, "exhaustive", &p->exhaustive);
+    get_int(c, j, "interp_factor", &p->interp_factor);
+    get_num(c, j, "interp_normal", &p->interp_normal);
+    get_num(c, j, "interp_dist", &p->interp_dist);
+    const cJSON *il = cJSON_GetObjectItemCaseSensitive(j, "interleave");
+    if (il) {
+        if (!cJSON_IsArray(il) || cJSON_GetArraySize(il) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(il, 0)) ||
+            !cJSON_IsNumber(cJSON_GetArrayItem(il, 1))) {
+            log_error("scene", "%s: gi.interleave must be [n, m]", c->file);
+            c->ok = false;
+        } else {
+            p->interleave_n = cJSON_GetArrayItem(il, 0)->valueint;
+            p->interleave_m = cJSON_GetArrayItem(il, 1)->valueint;
+        }
+    }
+    get_bool(c, j, "interleave_blur", &p->interleave_blur);
+    get_num(c, j, "scale", &p->scale);
+    if (c->ok && !gi_params_valid(p, c->file))
+        c->ok = false;
+}
+
 static bool load_json(Scene *s, const char *path)
 {
     char *text = util_read_file(path, NULL);
@@ -473,6 +523,9 @@ static bool load_json(Scene *s, const char *path)
     const cJSON *shadow = cJSON_GetObjectItemCaseSensitive(root, "shadow");
     if (shadow)
         parse_shadow(&c, &s->shadow, shadow);
+    const cJSON *gi = cJSON_GetObjectItemCaseSensitive(root, "gi");
+    if (gi)
+        parse_gi(&c, &s->gi, gi);
     const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
     bool has_camera = cam != NULL || cJSON_IsString(builtin);
     if (cam)

@@ -44,3 +44,29 @@ layout(std140, binding = UBO_SHADOW) uniform ShadowBlock {
     vec4 filt;    // x PCF radius, y PCF samples, z blocker samples, w PCSS max radius
     vec4 poisson[64];
 } u_shadow;
+
+#define UBO_GI 2
+#define SSBO_PATTERN 0
+#define SSBO_VPL 1
+#define SSBO_COUNTERS 2
+#define TEX_RSM_POSITION 8
+#define TEX_RSM_NORMAL 9
+#define TEX_RSM_FLUX 10
+#define TEX_GI 11
+#define TEX_LOWRES 12
+#define IMG_OUT 0
+
+layout(std140, binding = UBO_GI) uniform GiBlock {
+    vec4 rsm;        // x r_max, y N, z weighting (0 paper, 1 unbiased), w RSM resolution
+    vec4 rsm2;       // x texels in disk K, y cube, z VPL count, w indirect scale
+    vec4 interp;     // x factor, y normal cos threshold, z distance threshold (× view distance)
+    vec4 interleave; // x n, y m, z sub-image width, w sub-image height
+    vec4 camera;     // xyz camera position
+    ivec4 size;      // xy full resolution, zw low resolution
+} u_gi;
+
+struct Vpl {
+    vec4 position_xi; // xyz position, w fixed random ξ
+    vec4 normal;
+    vec4 flux;        // rgb Φ
+};

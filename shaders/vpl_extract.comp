@@ -10,6 +10,7 @@ layout(binding = TEX_RSM_POSITION) uniform sampler2DArray r_position;
 layout(binding = TEX_RSM_NORMAL) uniform sampler2DArray r_normal;
 layout(binding = TEX_RSM_FLUX) uniform sampler2DArray r_flux;
 layout(location = 0) uniform int u_stride; // keep every stride-th texel per axis (subsampling)
+layout(location = 1) uniform uint u_seed;  // seed of the VPLs' random ξ
 
 layout(std430, binding = SSBO_VPL) writeonly buffer VplBlock { Vpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) buffer CounterBlock { uint counters[]; };
@@ -33,7 +34,7 @@ void main()
     if (p.w == 0.0 || max(flux.r, max(flux.g, flux.b)) <= 0.0)
         return;
     uint texel = uint(id.x + size.x * (id.y + size.y * id.z));
-    float xi = (float(hash_u32(texel) >> 8) + 1.0) / 16777216.0;
+    float xi = (float(hash_u32(texel ^ hash_u32(u_seed + 0x9e3779b9u)) >> 8) + 1.0) / 16777216.0;
     uint i = atomicAdd(counters[0], 1u);
     vpls[i].position_xi = vec4(p.xyz, xi);
     vpls[i].normal = vec4(texelFetch(r_normal, id, 0).xyz, 0.0);

@@ -24,7 +24,9 @@ void cmd_render_help(void)
         "usage: rtgi render [options]\n"
         "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
         "  --shadow none|hard|pcf|pcss   shadow technique (default: pcss)\n"
-        "  --gi none|rsm|rsm-interp|rsm-interleaved   indirect light technique (default: none)\n"
+        "  --gi TECHNIQUE                indirect light (default: none): none, rsm, rsm-interp,\n"
+        "                                rsm-interleaved, vpl-all, vpl-clamped, vpl-slc,\n"
+        "                                vpl-interleaved, vpl-metalights\n"
         "  --size WxH                    image size (default: 512x512)\n"
         "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
         "  --out FILE.png|FILE.pfm       output; PNG tone-mapped sRGB, PFM linear radiance\n"
@@ -48,6 +50,13 @@ void cmd_render_help(void)
         "  --interleave NxM     rsm-interleaved: sub-image pattern (4x4)\n"
         "  --interleave-blur on|off   geometry-aware blur after reassembly (on)\n"
         "  --gi-scale S         indirect intensity scale (1 = physical)\n"
+        "many-VPL parameters (vpl-*):\n"
+        "  --vpls N             VPLs per light (sets the RSM size; e.g. 4096 .. 1048576)\n"
+        "  --slc-emax E         stochastic light culling error bound e_max (0.0005)\n"
+        "  --vpl-near-clamp C   falloff 1/max(d^2, C), C in m^2 (notes: 0.1); default off\n"
+        "  --vpl-range R        vpl-clamped range in metres (default 0.15 x scene diagonal)\n"
+        "  --vpl-keep Q         vpl-all: keep a random fraction Q of the VPLs, weighted 1/Q\n"
+        "  --vpl-seed S         seed of the VPLs' random xi (SLC culling, subsets)\n"
         "other:\n"
         "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
         "  --debug            GL debug context, KHR_debug messages logged\n"
@@ -72,7 +81,8 @@ typedef struct RenderOptions {
 } RenderOptions;
 
 enum { GP_SIZE = 1, GP_N = 2, GP_RMAX = 4, GP_W = 8, GP_EXH = 16, GP_IF = 32, GP_IN = 64, GP_ID = 128,
-       GP_IL = 256, GP_BLUR = 512, GP_SCALE = 1024 };
+       GP_IL = 256, GP_BLUR = 512, GP_SCALE = 1024, GP_VPLS = 2048, GP_EMAX = 4096, GP_NEAR = 8192,
+       GP_RANGE = 16384, GP_KEEP = 32768, GP_SEED = 65536 };
 static const char *const k_weightings[] = {"paper", "unbiased", NULL};
 static const char *const k_on_off[] = {"off", "on", NULL};
 
@@ -96,6 +106,12 @@ static void apply_gi_overrides(const RenderOptions *o, GiParams *p)
     }
     if (o->gp_set & GP_BLUR) p->interleave_blur = o->gp.interleave_blur;
     if (o->gp_set & GP_SCALE) p->scale = o->gp.scale;
+    if (o->gp_set & GP_VPLS) p->vpl_count = o->gp.vpl_count;
+    if (o->gp_set & GP_EMAX) p->slc_emax = o->gp.slc_emax;
+    if (o->gp_set & GP_NEAR) p->vpl_near_clamp = o->gp.vpl_near_clamp;
+    if (o->gp_set & GP_RANGE) p->vpl_range = o->gp.vpl_range;
+    if (o->gp_set & GP_KEEP) p->vpl_keep = o->gp.vpl_keep;
+    if (o->gp_set & GP_SEED) p->vpl_seed = o->gp.vpl_seed;
 }
 
 /* Parses argv; returns 0 to go on, or an exit status. */
@@ -255,6 +271,38 @@ static int parse(int argc, char **argv, RenderOptions *o)
                 return 2;
             o->gp.interleave_blur = b == 1;
             o->gp_set |= GP_BLUR;
+        } else if (!strcmp(opt, "--vpls")) {
+            VALUE();
+            if (!cli_int(opt, v, 1, 1 << 24, &o->gp.vpl_count))
+                return 2;
+            o->gp_set |= GP_VPLS;
+        } else if (!strcmp(opt, "--slc-emax")) {
+            VALUE();
+            if (!cli_float(opt, v, 1e-12f, 1e6f, &o->gp.slc_emax))
+                return 2;
+            o->gp_set |= GP_EMAX;
+        } else if (!strcmp(opt, "--vpl-near-clamp")) {
+            VALUE();
+            if (!cli_float(opt, v, 0.f, 1e6f, &o->gp.vpl_near_clamp))
+                return 2;
+            o->gp_set |= GP_NEAR;
+        } else if (!strcmp(opt, "--vpl-range")) {
+            VALUE();
+            if (!cli_float(opt, v, 1e-6f, 1e6f, &o->gp.vpl_range))
+                return 2;
+            o->gp_set |= GP_RANGE;
+        } else if (!strcmp(opt, "--vpl-keep")) {
+            VALUE();
+            if (!cli_float(opt, v, 1e-6f, 1.f, &o->gp.vpl_keep))
+                return 2;
+            o->gp_set |= GP_KEEP;
+        } else if (!strcmp(opt, "--vpl-seed")) {
+            VALUE();
+            int seed;
+            if (!cli_int(opt, v, 0, 2147483647, &seed))
+                return 2;
+            o->gp.vpl_seed = (unsigned)seed;
+            o->gp_set |= GP_SEED;
         } else if (!strcmp(opt, "--gi-scale")) {
             VALUE();
             if (!cli_float(opt, v, 0.f, 1e6f, &o->gp.scale))
@@ -348,6 +396,14 @@ int cmd_render(int argc, char **argv)
                     if (rs.gi == GI_RSM_INTERP)
                         printf("rsm_full_gather_fraction: %.4f\n",
                                (double)st->full_gathers / ((double)rs.width * rs.height));
+                    if (rs.gi >= GI_VPL_ALL) {
+                        printf("vpl_count: %u\n", st->vpl_count);
+                        printf("vpl_evaluations: %llu\n", (unsigned long long)st->vpl_evaluations);
+                        printf("vpl_evaluations_per_pixel: %.1f\n",
+                               (double)st->vpl_evaluations / ((double)rs.width * rs.height));
+                        if (st->tile_overflow)
+                            printf("vpl_tile_overflow: %u\n", st->tile_overflow);
+                    }
                 }
             }
         }

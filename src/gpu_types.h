@@ -20,6 +20,12 @@ enum {
     TEX_GI = 11,       /* indirect irradiance */
     TEX_LOWRES = 12,   /* low-resolution indirect irradiance */
     IMG_OUT = 0,       /* image unit written by GI compute passes */
+    UBO_VPL = 3,       /* GpuVplParams */
+    SSBO_VPL_RANGE = 3,/* vec2 per VPL: α, culling range */
+    SSBO_TILES = 4,    /* per-tile VPL counts and lists */
+    SSBO_EVALS = 5,    /* VPL–pixel evaluations per work group */
+    SSBO_SUBSETS = 6,  /* interleaved VPL subsets; metalight signatures */
+    VPL_TILE = 16,     /* culling tile size in pixels */
     TEX_ALBEDO = 0,    /* material texture while drawing the scene */
     TEX_SHADOW_2D = 1, /* shadow map of a directional/spot light */
     TEX_SHADOW_CUBE = 2,
@@ -79,5 +85,14 @@ typedef struct GpuVpl {
     float flux[4];        /* rgb: reflected flux Φ (W) */
 } GpuVpl;
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl must match types.glsl (std430)");
+
+/* Parameters of the many-VPL passes (std140). */
+typedef struct GpuVplParams {
+    float slc[4];   /* x: e_max, y: exposure E, z: near clamp d² (0 = off), w: clamped range R */
+    float misc[4];  /* x: keep fraction q, y: tile list capacity, z: K = n·m, w: subset length L */
+    int tiles[4];   /* x, y: tile counts; z, w: interleave n, m */
+    int samples[4]; /* x, y: metalight signature grid */
+} GpuVplParams;
+static_assert(sizeof(GpuVplParams) == 4 * 16, "GpuVplParams must match types.glsl (std140)");
 
 #endif

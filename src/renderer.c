@@ -1,5 +1,6 @@
 #include "renderer.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -7,7 +8,20 @@
 
 #include "log.h"
 
-const char *const gi_mode_names[] = {"none", "rsm", "rsm-interp", "rsm-interleaved", NULL};
+const char *const gi_mode_names[] = {"none",        "rsm",       "rsm-interp",      "rsm-interleaved",
+                                     "vpl-all",     "vpl-clamped", "vpl-slc",       "vpl-interleaved",
+                                     "vpl-metalights", NULL};
+
+static bool is_vpl_mode(GiMode m) { return m >= GI_VPL_ALL && m <= GI_VPL_METALIGHTS; }
+
+int renderer_rsm_size_for_vpls(const Light *l, int vpls)
+{
+    /* Texels that can hold a lit surface: a 2D map, half a cube for a
+     * one-sided quad (one face and four half faces), a whole cube. */
+    float layers = l->type == LIGHT_QUAD ? 3.f : l->type == LIGHT_POINT ? 6.f : 1.f;
+    int size = (int)lrintf(sqrtf((float)vpls / layers));
+    return size < 4 ? 4 : size;
+}
 
 static bool gi_create(Renderer *r, const Scene *s, const RenderSettings *rs)
 {
@@ -17,15 +31,21 @@ static bool gi_create(Renderer *r, const Scene *s, const RenderSettings *rs)
         !pass_composite_create(&r->pass_composite))
         return false;
     r->rsm_maps = calloc((size_t)(s->light_count ? s->light_count : 1), sizeof(RsmMap));
-    uint32_t capacity = 0;
+    uint32_t capacity = 0, total = 0;
     for (int i = 0; i < s->light_count; i++) {
         bool cube = s->lights[i].type == LIGHT_POINT || s->lights[i].type == LIGHT_QUAD;
-        if (!rsm_map_create(&r->rsm_maps[i], cube, gp->rsm_size))
+        int size = is_vpl_mode(rs->gi) && gp->vpl_count > 0 ? renderer_rsm_size_for_vpls(&s->lights[i], gp->vpl_count)
+                                                           : gp->rsm_size;
+        if (!rsm_map_create(&r->rsm_maps[i], cube, size))
             return false;
-        uint32_t n = (uint32_t)gp->rsm_size * (uint32_t)gp->rsm_size * (cube ? 6u : 1u);
+        uint32_t n = (uint32_t)size * (uint32_t)size * (cube ? 6u : 1u);
         capacity = n > capacity ? n : capacity;
+        total += n;
     }
-    vpl_buffer_create(&r->vpls, capacity, (uint32_t)rs->width * (uint32_t)rs->height);
+    /* VPL techniques gather every light's VPLs into one buffer. */
+    vpl_buffer_create(&r->vpls, is_vpl_mode(rs->gi) ? total : capacity, (uint32_t)rs->width * (uint32_t)rs->height);
+    if (is_vpl_mode(rs->gi) && !pass_vpl_shade_create(&r->pass_vpl_shade, rs->width, rs->height, total))
+        return false;
     glCreateBuffers(1, &r->gi_ubo);
     glNamedBufferStorage(r->gi_ubo, sizeof(GpuGiParams), NULL, GL_DYNAMIC_STORAGE_BIT);
     glCreateTextures(GL_TEXTURE_2D, 1, &r->irradiance);
@@ -46,6 +66,8 @@ static void gi_destroy(Renderer *r)
     glDeleteBuffers(1, &r->gi_ubo);
     glDeleteTextures(1, &r->irradiance);
     pass_composite_destroy(&r->pass_composite);
+    if (is_vpl_mode(r->settings.gi))
+        pass_vpl_shade_destroy(&r->pass_vpl_shade);
     pass_rsm_gather_destroy(&r->pass_gather);
     pass_vpl_destroy(&r->pass_vpl);
     pass_rsm_destroy(&r->pass_rsm);
@@ -85,7 +107,7 @@ static void gi_prepare_light(Renderer *r, int i)
         return;
     const uint32_t zero = 0;
     glNamedBufferSubData(r->vpls.counters, 0, sizeof zero, &zero);
-    pass_vpl_run(&r->pass_vpl, &r->rsm_maps[i], 1, &r->vpls);
+    pass_vpl_run(&r->pass_vpl, &r->rsm_maps[i], 1, r->settings.gi_params.vpl_seed, &r->vpls);
 }
 
 /* One bounce of indirect light into r->irradiance, by the chosen technique. */
@@ -144,6 +166,56 @@ static void gi_gather(Renderer *r)
     }
 }
 
+/* What the metalight grouping depends on: lights, camera, VPL settings. */
+static uint64_t grouping_key(const Renderer *r, const Camera *cam)
+{
+    uint64_t h = 1469598103934665603ull;
+    const unsigned char *parts[3] = {(const unsigned char *)r->scene->lights, (const unsigned char *)cam,
+                                     (const unsigned char *)&r->settings.gi_params};
+    size_t sizes[3] = {sizeof(Light) * (size_t)r->scene->light_count, sizeof *cam, sizeof r->settings.gi_params};
+    for (int k = 0; k < 3; k++)
+        for (size_t i = 0; i < sizes[k]; i++)
+            h = (h ^ parts[k][i]) * 1099511628211ull;
+    return h;
+}
+
+/* Many-VPL techniques: VPLs of every light, then the chosen shading. */
+static void gi_vpl(Renderer *r, const Camera *cam)
+{
+    const Scene *s = r->scene;
+    const GiParams *gp = &r->settings.gi_params;
+    GpuTimer *t = &r->timer;
+    PassVplShade *v = &r->pass_vpl_shade;
+    VplMethod method = (VplMethod)(r->settings.gi - GI_VPL_ALL);
+    gpu_timer_begin(t, "vpl_generate");
+    vpl_buffer_reset(&r->vpls);
+    for (int i = 0; i < s->light_count; i++)
+        pass_vpl_run(&r->pass_vpl, &r->rsm_maps[i], 1, gp->vpl_seed, &r->vpls);
+    gpu_timer_end(t);
+    float range = gp->vpl_range > 0.f ? gp->vpl_range
+                                      : 0.15f * glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
+    pass_vpl_shade_set_params(v, gp, r->settings.exposure, range);
+    if (method == VPL_CLAMPED || method == VPL_SLC) {
+        gpu_timer_begin(t, method == VPL_SLC ? "slc_cull" : "vpl_cull");
+        pass_vpl_cull_run(v, method, &r->gbuffer, &r->vpls);
+        gpu_timer_end(t);
+    } else if (method == VPL_INTERLEAVED || method == VPL_METALIGHTS) {
+        gpu_timer_begin(t, method == VPL_METALIGHTS ? "metalights_group" : "vpl_subsets");
+        pass_vpl_subsets_run(v, method, grouping_key(r, cam), gp, &r->gbuffer, &r->vpls);
+        gpu_timer_end(t);
+    }
+    bool interleaved = method == VPL_INTERLEAVED || method == VPL_METALIGHTS;
+    gpu_timer_begin(t, "vpl_shade");
+    pass_vpl_shade_run(v, method, &r->gbuffer, &r->vpls,
+                       interleaved && gp->interleave_blur ? r->pass_gather.merged : r->irradiance);
+    gpu_timer_end(t);
+    if (interleaved && gp->interleave_blur) {
+        gpu_timer_begin(t, "interleave_blur");
+        pass_interleave_blur(&r->pass_gather, &r->gbuffer, r->pass_gather.merged, r->irradiance);
+        gpu_timer_end(t);
+    }
+}
+
 /* Counts of the last frame's GI work (waits for the GPU). */
 static void gi_collect_stats(Renderer *r)
 {
@@ -152,7 +224,13 @@ static void gi_collect_stats(Renderer *r)
     if (r->settings.gi == GI_NONE)
         return;
     st->vpl_count = vpl_buffer_counter(&r->vpls, 0);
-    if (r->settings.gi == GI_RSM_INTERP) {
+    if (is_vpl_mode(r->settings.gi)) {
+        st->vpl_evaluations = pass_vpl_shade_evaluations(&r->pass_vpl_shade);
+        st->gathered_pixels = (uint32_t)(r->settings.width * r->settings.height);
+        if (r->settings.gi == GI_VPL_SLC || r->settings.gi == GI_VPL_CLAMPED)
+            st->tile_overflow = pass_vpl_cull_overflow(&r->pass_vpl_shade);
+        st->metalight_regroups = r->pass_vpl_shade.regroups;
+    } else if (r->settings.gi == GI_RSM_INTERP) {
         st->lowres_gathers = (uint32_t)(r->pass_gather.low_w * r->pass_gather.low_h);
         st->full_gathers = vpl_buffer_counter(&r->vpls, 1);
         st->gathered_pixels = st->lowres_gathers + st->full_gathers;
@@ -250,7 +328,10 @@ void renderer_frame(Renderer *r, const Camera *cam)
 
     if (r->settings.gi != GI_NONE) {
         gi_upload_params(r, cam);
-        gi_gather(r);
+        if (is_vpl_mode(r->settings.gi))
+            gi_vpl(r, cam);
+        else
+            gi_gather(r);
         gpu_timer_begin(t, "composite");
         pass_composite_run(&r->pass_composite, &r->gbuffer, r->irradiance, &r->hdr);
         gpu_timer_end(t);

@@ -17,6 +17,7 @@
 #include "passes/pass_rsm.h"
 #include "passes/pass_rsm_gather.h"
 #include "passes/pass_vpl.h"
+#include "passes/pass_vpl_shade.h"
 #include "passes/pass_shadow.h"
 #include "passes/pass_tonemap.h"
 #include "scene.h"
@@ -27,6 +28,11 @@ typedef enum GiMode {
     GI_RSM,             /* full-resolution RSM gather */
     GI_RSM_INTERP,      /* low-res gather + screen-space interpolation */
     GI_RSM_INTERLEAVED, /* interleaved sampling + geometry-aware blur */
+    GI_VPL_ALL,         /* brute force over every VPL */
+    GI_VPL_CLAMPED,     /* VPLs cut at a fixed range (biased baseline) */
+    GI_VPL_SLC,         /* stochastic light culling, tiled */
+    GI_VPL_INTERLEAVED, /* interleaved shading, random VPL subsets */
+    GI_VPL_METALIGHTS,  /* interleaved shading, subsets dealt from metalights */
     GI_MODE_COUNT
 } GiMode;
 
@@ -49,7 +55,9 @@ typedef struct RenderStats {
     uint32_t lowres_gathers;     /* GI_RSM_INTERP: low-resolution gathers */
     uint32_t full_gathers;       /* GI_RSM_INTERP: pixels that needed a full gather */
     uint32_t gathered_pixels;    /* pixels that ran a gather (any GI mode) */
-    uint32_t geometry_pixels;    /* pixels covered by geometry */
+    uint64_t vpl_evaluations;    /* VPL–pixel evaluations in the shading pass (VPL modes) */
+    uint32_t tile_overflow;      /* tile-list entries dropped (should be 0) */
+    int metalight_regroups;      /* times the metalight grouping was computed */
 } RenderStats;
 
 typedef struct Renderer {
@@ -74,7 +82,11 @@ typedef struct Renderer {
     PassVpl pass_vpl;
     PassRsmGather pass_gather;
     PassComposite pass_composite;
+    PassVplShade pass_vpl_shade;
 } Renderer;
+
+/* RSM texels per side that give about `vpls` VPLs for light `l`. */
+int renderer_rsm_size_for_vpls(const Light *l, int vpls);
 
 /* Needs a current GL 4.5 context. false after logging. */
 bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs);

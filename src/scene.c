@@ -33,6 +33,12 @@ void gi_params_default(GiParams *p)
     p->interleave_m = 4;
     p->interleave_blur = true;
     p->scale = 1.f;
+    p->vpl_count = 0;
+    p->slc_emax = 0.0005f;
+    p->vpl_near_clamp = 0.f;
+    p->vpl_range = 0.f;
+    p->vpl_keep = 1.f;
+    p->vpl_seed = 0;
 }
 
 bool gi_params_valid(const GiParams *p, const char *where)
@@ -50,6 +56,14 @@ bool gi_params_valid(const GiParams *p, const char *where)
         bad = "gi.interleave must be n, m in [1, 16]";
     else if (!(p->scale >= 0.f))
         bad = "gi.scale must be >= 0";
+    else if (p->vpl_count < 0 || p->vpl_count > (1 << 24))
+        bad = "gi.vpls must be in [1, 16777216]";
+    else if (!(p->slc_emax > 0.f))
+        bad = "gi.slc_emax must be > 0";
+    else if (!(p->vpl_near_clamp >= 0.f) || !(p->vpl_range >= 0.f))
+        bad = "gi.vpl_near_clamp and gi.vpl_range must be >= 0";
+    else if (!(p->vpl_keep > 0.f) || p->vpl_keep > 1.f)
+        bad = "gi.vpl_keep must be in (0, 1]";
     if (bad)
         log_error("scene", "%s: %s", where, bad);
     return bad == NULL;

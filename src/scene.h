@@ -97,6 +97,13 @@ typedef struct GiParams {
     int interleave_n, interleave_m; /* interleaved sampling pattern n×m */
     bool interleave_blur;  /* geometry-aware blur after reassembly */
     float scale;           /* indirect intensity scale (1 = physical) */
+    /* Many-VPL techniques (SPEC §4). */
+    int vpl_count;         /* VPLs per light wanted (sets the RSM size); 0: the RSM size decides */
+    float slc_emax;        /* stochastic light culling error bound e_max (0.0005) */
+    float vpl_near_clamp;  /* falloff 1/max(d², c) with c in m²; 0 = off (the notes use 0.1) */
+    float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
+    float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
+    unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
 } GiParams;
 
 void gi_params_default(GiParams *p);

@@ -430,6 +430,14 @@ static void parse_gi(Ctx *c, GiParams *p, const cJSON *j)
     }
     get_bool(c, j, "interleave_blur", &p->interleave_blur);
     get_num(c, j, "scale", &p->scale);
+    get_int(c, j, "vpls", &p->vpl_count);
+    get_num(c, j, "slc_emax", &p->slc_emax);
+    get_num(c, j, "vpl_near_clamp", &p->vpl_near_clamp);
+    get_num(c, j, "vpl_range", &p->vpl_range);
+    get_num(c, j, "vpl_keep", &p->vpl_keep);
+    int seed = (int)p->vpl_seed;
+    get_int(c, j, "vpl_seed", &seed);
+    p->vpl_seed = (unsigned)seed;
     if (c->ok && !gi_params_valid(p, c->file))
         c->ok = false;
 }

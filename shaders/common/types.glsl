@@ -70,3 +70,17 @@ struct Vpl {
     vec4 normal;
     vec4 flux;        // rgb Φ
 };
+
+#define UBO_VPL 3
+#define SSBO_VPL_RANGE 3
+#define SSBO_TILES 4
+#define SSBO_EVALS 5
+#define SSBO_SUBSETS 6
+#define VPL_TILE 16
+
+layout(std140, binding = UBO_VPL) uniform VplParamBlock {
+    vec4 slc;        // x e_max, y exposure E, z near clamp d² (0 = off), w clamped range R
+    vec4 misc;       // x keep fraction q (vpl-all subsampling), y tile list capacity, z K = n·m, w subset length L
+    ivec4 tiles;     // x, y tile counts; z, w interleave n, m
+    ivec4 samples;   // x, y metalight signature grid
+} u_vpl;

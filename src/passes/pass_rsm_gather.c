@@ -177,11 +177,15 @@ void pass_interleave_merge(PassRsmGather *p, const GBuffer *gb, bool blur, GLuin
     glBindImageTexture(IMG_OUT, blur ? p->merged : out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glUseProgram(p->merge);
     dispatch(p->width, p->height);
-    if (!blur)
-        return;
+    if (blur)
+        pass_interleave_blur(p, gb, p->merged, out);
+}
+
+void pass_interleave_blur(PassRsmGather *p, const GBuffer *gb, GLuint in, GLuint out)
+{
     glBindTextureUnit(TEX_GB_POSITION, gb->position);
     glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
-    glBindTextureUnit(TEX_LOWRES, p->merged);
+    glBindTextureUnit(TEX_LOWRES, in);
     glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glUseProgram(p->blur);
     dispatch(p->width, p->height);

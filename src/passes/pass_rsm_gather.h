@@ -59,5 +59,7 @@ void pass_rsm_interp_run(PassRsmGather *p, const GBuffer *gb, const VplBuffer *v
 void pass_interleave_split(PassRsmGather *p, const GBuffer *gb);
 /* Reassembles the sub-images into `out`, then blurs (if `blur`) in place via the merged texture. */
 void pass_interleave_merge(PassRsmGather *p, const GBuffer *gb, bool blur, GLuint out);
+/* Geometry-aware blur over the n×m window of `in` into `out` (in ≠ out). */
+void pass_interleave_blur(PassRsmGather *p, const GBuffer *gb, GLuint in, GLuint out);
 
 #endif

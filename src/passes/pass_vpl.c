@@ -55,11 +55,12 @@ void pass_vpl_destroy(PassVpl *p)
     p->program = 0;
 }
 
-void pass_vpl_run(PassVpl *p, const RsmMap *m, int stride, VplBuffer *out)
+void pass_vpl_run(PassVpl *p, const RsmMap *m, int stride, unsigned seed, VplBuffer *out)
 {
     rsm_map_bind_views(m);
     vpl_buffer_bind(out);
     glProgramUniform1i(p->program, 0, stride);
+    glProgramUniform1ui(p->program, 1, seed);
     glUseProgram(p->program);
     GLuint n = (GLuint)((m->size + stride - 1) / stride);
     glDispatchCompute((n + 7) / 8, (n + 7) / 8, m->cube ? 6 : 1);

@@ -36,7 +36,7 @@ uint32_t vpl_buffer_counter(const VplBuffer *b, int i);
 
 bool pass_vpl_create(PassVpl *p);
 void pass_vpl_destroy(PassVpl *p);
-/* Appends the VPLs of `m` (counters[0] grows). */
-void pass_vpl_run(PassVpl *p, const RsmMap *m, int stride, VplBuffer *out);
+/* Appends the VPLs of `m` (counters[0] grows); their ξ come from `seed`. */
+void pass_vpl_run(PassVpl *p, const RsmMap *m, int stride, unsigned seed, VplBuffer *out);
 
 #endif

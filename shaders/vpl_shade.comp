@@ -1,0 +1,88 @@
+// vpl_shade.comp — indirect irradiance from many VPLs (SPEC §3-4), no
+// visibility, counting VPL–pixel evaluations (per work group, SSBO_EVALS):
+//   MODE_ALL          every VPL; with u_vpl.misc.x = q < 1 only those with
+//                     ξ < q, weighted 1/q (uniform subsampling)
+//   MODE_TILED        the pixel's tile list; a VPL counts inside its range
+//                     r_i with falloff max(α_i, 1/d²) (stochastic light
+//                     culling, unbiased) or 1/d² (clamped range, α = 0)
+//   MODE_INTERLEAVED  sub-image k = (x mod n) + n·(y mod m) sums its VPL
+//                     subset (SSBO_SUBSETS, length L each), weighted by K = n·m
+#include "common/types.glsl"
+#include "common/math.glsl"
+#include "common/vpl_falloff.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
+layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
+layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_irradiance;
+layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { Vpl vpls[]; };
+layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
+layout(std430, binding = SSBO_VPL_RANGE) readonly buffer RangeBlock { vec2 ranges[]; };
+layout(std430, binding = SSBO_TILES) readonly buffer TileBlock { uint tiles[]; };
+layout(std430, binding = SSBO_EVALS) writeonly buffer EvalBlock { uint evals[]; };
+layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { uint subsets[]; };
+
+shared uint s_evals;
+
+void main()
+{
+    if (gl_LocalInvocationIndex == 0u)
+        s_evals = 0u;
+    barrier();
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = textureSize(g_position, 0);
+    bool inside = all(lessThan(px, size));
+    vec4 p = inside ? texelFetch(g_position, px, 0) : vec4(0.0);
+    vec3 e = vec3(0.0);
+    uint count = 0u;
+    if (p.w > 0.0) {
+        vec3 x = p.xyz, n = texelFetch(g_normal, px, 0).xyz;
+        float d2;
+#if defined(MODE_ALL)
+        float q = u_vpl.misc.x;
+        uint nv = counters[0];
+        for (uint i = 0u; i < nv; i++) {
+            if (q < 1.0 && vpls[i].position_xi.w >= q)
+                continue;
+            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
+            e += ic * vpl_falloff(d2);
+            count++;
+        }
+        e /= q;
+#elif defined(MODE_TILED)
+        uint ntiles = uint(u_vpl.tiles.x * u_vpl.tiles.y);
+        uint tile = uint(px.y / VPL_TILE) * uint(u_vpl.tiles.x) + uint(px.x / VPL_TILE);
+        uint cap = uint(u_vpl.misc.y), nt = tiles[tile];
+        for (uint k = 0u; k < nt; k++) {
+            uint i = tiles[ntiles + 1u + tile * cap + k];
+            vec2 ar = ranges[i];
+            vec3 d = x - vpls[i].position_xi.xyz;
+            if (dot(d, d) >= ar.y * ar.y)
+                continue;
+            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
+            e += ic * max(ar.x, vpl_falloff(d2));
+            count++;
+        }
+#elif defined(MODE_INTERLEAVED)
+        int nn = u_vpl.tiles.z, mm = u_vpl.tiles.w;
+        uint k = uint(px.x % nn + nn * (px.y % mm));
+        uint len = uint(u_vpl.misc.w);
+        for (uint j = k * len; j < (k + 1u) * len; j++) {
+            uint i = subsets[j];
+            if (i == 0xffffffffu)
+                continue;
+            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
+            e += ic * vpl_falloff(d2);
+            count++;
+        }
+        e *= u_vpl.misc.z;
+#endif
+    }
+    if (inside)
+        imageStore(o_irradiance, px, vec4(e, 1.0));
+    atomicAdd(s_evals, count);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u)
+        evals[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = s_evals;
+}

@@ -23,4 +23,10 @@ typedef struct CliArgs {
 const char *cli_next(CliArgs *a);
 const char *cli_value(CliArgs *a);
 
+/* Inside an option loop: fetch the option's value into `v`, or return 2
+ * (usage error, already logged) from the enclosing function. */
+#define CLI_VALUE(args, v)            \
+    if (!((v) = cli_value(args)))     \
+        return 2;
+
 #endif

@@ -33,32 +33,29 @@ int cmd_compare(int argc, char **argv)
     float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
     CliArgs a = {argc, argv, 0, NULL};
     const char *opt, *v;
-#define VALUE()               \
-    if (!(v = cli_value(&a))) \
-        return 2;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_compare_help();
             return 0;
         } else if (!strcmp(opt, "--metric")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if ((metric = cli_choice(opt, v, k_metrics)) < 0)
                 return 2;
         } else if (!strcmp(opt, "--heatmap")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             heatmap = v;
         } else if (!strcmp(opt, "--mask")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             mask_path = v;
         } else if (!strcmp(opt, "--json")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             json = v;
         } else if (!strcmp(opt, "--exposure")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
                 return 2;
         } else if (!strcmp(opt, "--ppd")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1.f, 1000.f, &ppd))
                 return 2;
         } else if (opt[0] == '-' && opt[1]) {
@@ -71,7 +68,6 @@ int cmd_compare(int argc, char **argv)
             return 2;
         }
     }
-#undef VALUE
     if (nfiles != 2) {
         log_error("cli", "compare: needs two images, TEST and REFERENCE (see rtgi compare --help)");
         return 2;

@@ -42,64 +42,61 @@ int cmd_reference(int argc, char **argv)
     bool quiet = false;
     CliArgs a = {argc, argv, 0, NULL};
     const char *opt, *v;
-#define VALUE()               \
-    if (!(v = cli_value(&a))) \
-        return 2;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_reference_help();
             return 0;
         } else if (!strcmp(opt, "--scene")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             scene_name = v;
         } else if (!strcmp(opt, "--mode")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             int m = cli_choice(opt, v, pt_mode_names);
             if (m < 0)
                 return 2;
             set.mode = (PtMode)m;
         } else if (!strcmp(opt, "--spp")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1 << 24, &set.spp))
                 return 2;
         } else if (!strcmp(opt, "--seed")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             int s;
             if (!cli_int(opt, v, 0, 2147483647, &s))
                 return 2;
             set.seed = (uint64_t)s;
         } else if (!strcmp(opt, "--threads")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1024, &set.threads))
                 return 2;
         } else if (!strcmp(opt, "--size")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_size(opt, v, 16384, &set.width, &set.height))
                 return 2;
         } else if (!strcmp(opt, "--out")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
                 log_error("cli", "--out: '%s' must end in .png or .pfm", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--variance")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             var_out = v;
         } else if (!strcmp(opt, "--exposure")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
                 return 2;
         } else if (!strcmp(opt, "--light-scale")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e3f, &light_scale))
                 return 2;
         } else if (!strcmp(opt, "--max-depth")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 100000, &set.max_depth))
                 return 2;
         } else if (!strcmp(opt, "--rr-depth")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 100000, &set.rr_depth))
                 return 2;
         } else if (!strcmp(opt, "--no-rr")) {
@@ -116,7 +113,6 @@ int cmd_reference(int argc, char **argv)
             return 2;
         }
     }
-#undef VALUE
     set.progress = !quiet && isatty(STDERR_FILENO);
 
     Scene scene;

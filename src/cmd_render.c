@@ -32,7 +32,8 @@ void cmd_render_help(void)
         "  --out FILE.png|FILE.pfm       output; PNG tone-mapped sRGB, PFM linear radiance\n"
         "                                (default: out/render.png)\n"
         "  --timings                     print per-pass GPU (and wall) times\n"
-        "  --frames N                    frames to time after one warm-up (default: 3)\n"
+        "  --frames N                    frames to time after the warm-up (default: 3)\n"
+        "  --warmup N                    untimed frames first (default: 1)\n"
         "  --light-scale S               scale every light's emitter size (0: point lights)\n"
         "shadow parameters (default: scene file's, else built-in):\n"
         "  --shadow-map-size N  --bias-const M  --bias-slope S  --normal-offset T\n"
@@ -72,6 +73,7 @@ typedef struct RenderOptions {
     float exposure; /* < 0: scene's */
     float light_scale; /* < 0: unchanged */
     int frames;
+    int warmup;
     bool timings, debug;
     /* Shadow overrides; NaN/-1 = keep the scene's. */
     ShadowParams sp;
@@ -125,48 +127,50 @@ static int parse(int argc, char **argv, RenderOptions *o)
     o->exposure = -1.f;
     o->light_scale = -1.f;
     o->frames = 3;
+    o->warmup = 1;
     CliArgs a = {argc, argv, 0, NULL};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
-#define VALUE()                    \
-    if (!(v = cli_value(&a)))      \
-        return 2;
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_render_help();
             return -1;
         } else if (!strcmp(opt, "--scene")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             o->scene = v;
         } else if (!strcmp(opt, "--out")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             o->out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
                 log_error("cli", "--out: '%s' must end in .png or .pfm", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--shadow")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if ((o->shadow = cli_choice(opt, v, k_shadow_names)) < 0)
                 return 2;
         } else if (!strcmp(opt, "--gi")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if ((o->gi = cli_choice(opt, v, gi_mode_names)) < 0)
                 return 2;
         } else if (!strcmp(opt, "--size")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_size(opt, v, MAX_IMAGE_SIZE, &o->width, &o->height))
                 return 2;
         } else if (!strcmp(opt, "--exposure")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e9f, &o->exposure))
                 return 2;
         } else if (!strcmp(opt, "--light-scale")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e3f, &o->light_scale))
                 return 2;
         } else if (!strcmp(opt, "--frames")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 10000, &o->frames))
+                return 2;
+        } else if (!strcmp(opt, "--warmup")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 0, 10000, &o->warmup))
                 return 2;
         } else if (!strcmp(opt, "--timings")) {
             o->timings = true;
@@ -177,65 +181,65 @@ static int parse(int argc, char **argv, RenderOptions *o)
         } else if (!strcmp(opt, "--verbose")) {
             log_set_level(LOG_DEBUG);
         } else if (!strcmp(opt, "--shader-dir")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             shader_set_directory(v);
         } else if (!strcmp(opt, "--shadow-map-size")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 16, 8192, &o->sp.map_size))
                 return 2;
             o->sp_set |= SP_MAP;
         } else if (!strcmp(opt, "--bias-const")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 10.f, &o->sp.bias_const))
                 return 2;
             o->sp_set |= SP_BC;
         } else if (!strcmp(opt, "--bias-slope")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 100.f, &o->sp.bias_slope))
                 return 2;
             o->sp_set |= SP_BS;
         } else if (!strcmp(opt, "--normal-offset")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 100.f, &o->sp.normal_offset))
                 return 2;
             o->sp_set |= SP_NO;
         } else if (!strcmp(opt, "--pcf-samples")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 64, &o->sp.pcf_samples))
                 return 2;
             o->sp_set |= SP_PS;
         } else if (!strcmp(opt, "--pcf-radius")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 256.f, &o->sp.pcf_radius))
                 return 2;
             o->sp_set |= SP_PR;
         } else if (!strcmp(opt, "--blocker-samples")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 64, &o->sp.blocker_samples))
                 return 2;
             o->sp_set |= SP_BL;
         } else if (!strcmp(opt, "--pcss-max-radius")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1.f, 256.f, &o->sp.pcss_max_radius))
                 return 2;
             o->sp_set |= SP_MR;
         } else if (!strcmp(opt, "--rsm-size")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 4, 4096, &o->gp.rsm_size))
                 return 2;
             o->gp_set |= GP_SIZE;
         } else if (!strcmp(opt, "--rsm-samples")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 65536, &o->gp.samples))
                 return 2;
             o->gp_set |= GP_N;
         } else if (!strcmp(opt, "--rsm-rmax")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1e-4f, 4.f, &o->gp.r_max))
                 return 2;
             o->gp_set |= GP_RMAX;
         } else if (!strcmp(opt, "--rsm-weighting")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             int w = cli_choice(opt, v, k_weightings);
             if (w < 0)
                 return 2;
@@ -245,66 +249,66 @@ static int parse(int argc, char **argv, RenderOptions *o)
             o->gp.exhaustive = true;
             o->gp_set |= GP_EXH;
         } else if (!strcmp(opt, "--interp-factor")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 64, &o->gp.interp_factor))
                 return 2;
             o->gp_set |= GP_IF;
         } else if (!strcmp(opt, "--interp-normal")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, -1.f, 1.f, &o->gp.interp_normal))
                 return 2;
             o->gp_set |= GP_IN;
         } else if (!strcmp(opt, "--interp-dist")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 100.f, &o->gp.interp_dist))
                 return 2;
             o->gp_set |= GP_ID;
         } else if (!strcmp(opt, "--interleave")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_size(opt, v, 16, &o->gp.interleave_n, &o->gp.interleave_m))
                 return 2;
             o->gp_set |= GP_IL;
         } else if (!strcmp(opt, "--interleave-blur")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             int b = cli_choice(opt, v, k_on_off);
             if (b < 0)
                 return 2;
             o->gp.interleave_blur = b == 1;
             o->gp_set |= GP_BLUR;
         } else if (!strcmp(opt, "--vpls")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1 << 24, &o->gp.vpl_count))
                 return 2;
             o->gp_set |= GP_VPLS;
         } else if (!strcmp(opt, "--slc-emax")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1e-12f, 1e6f, &o->gp.slc_emax))
                 return 2;
             o->gp_set |= GP_EMAX;
         } else if (!strcmp(opt, "--vpl-near-clamp")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e6f, &o->gp.vpl_near_clamp))
                 return 2;
             o->gp_set |= GP_NEAR;
         } else if (!strcmp(opt, "--vpl-range")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1e-6f, 1e6f, &o->gp.vpl_range))
                 return 2;
             o->gp_set |= GP_RANGE;
         } else if (!strcmp(opt, "--vpl-keep")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1e-6f, 1.f, &o->gp.vpl_keep))
                 return 2;
             o->gp_set |= GP_KEEP;
         } else if (!strcmp(opt, "--vpl-seed")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             int seed;
             if (!cli_int(opt, v, 0, 2147483647, &seed))
                 return 2;
             o->gp.vpl_seed = (unsigned)seed;
             o->gp_set |= GP_SEED;
         } else if (!strcmp(opt, "--gi-scale")) {
-            VALUE();
+            CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e6f, &o->gp.scale))
                 return 2;
             o->gp_set |= GP_SCALE;
@@ -312,7 +316,6 @@ static int parse(int argc, char **argv, RenderOptions *o)
             log_error("cli", "render: unknown option '%s' (see rtgi render --help)", opt);
             return 2;
         }
-#undef VALUE
     }
     return 0;
 }
@@ -363,13 +366,17 @@ int cmd_render(int argc, char **argv)
     rc = 1;
     Renderer r;
     if (renderer_create(&r, &scene, &rs)) {
+        int frames = 1;
         double t0 = util_seconds();
-        renderer_frame(&r, &scene.camera);
-        if (o.timings) { /* first frame warms up; time the next ones */
-            gpu_timer_reset(&r.timer);
-            for (int f = 0; f < o.frames; f++)
+        if (o.timings) { /* untimed warm-up frames, then the timed ones */
+            for (int f = 0; f < o.warmup; f++)
                 renderer_frame(&r, &scene.camera);
+            gpu_timer_reset(&r.timer);
+            t0 = util_seconds();
+            frames = o.frames;
         }
+        for (int f = 0; f < frames; f++)
+            renderer_frame(&r, &scene.camera);
         double t1 = util_seconds();
         util_ensure_parent_dir(o.out);
         bool ok;
@@ -389,7 +396,7 @@ int cmd_render(int argc, char **argv)
             if (o.timings) {
                 printf("renderer: %s\n", gl_context_renderer(gl));
                 gpu_timer_print(&r.timer, stdout);
-                printf("frame_wall_ms: %.3f\n", 1e3 * (t1 - t0) / (o.frames + 1));
+                printf("frame_wall_ms: %.3f\n", 1e3 * (t1 - t0) / frames);
                 if (rs.gi != GI_NONE) {
                     const RenderStats *st = &r.stats;
                     printf("gathered_pixels: %u\n", st->gathered_pixels);

@@ -2,17 +2,37 @@
 
 #include "log.h"
 
-static GLuint make_tex(GLenum fmt, int w, int h, const char *label)
+GLuint gl_texture_make(GLenum target, GLenum fmt, int w, int h, const char *label)
 {
     GLuint t;
-    glCreateTextures(GL_TEXTURE_2D, 1, &t);
+    glCreateTextures(target, 1, &t);
     glTextureStorage2D(t, 1, fmt, w, h);
     glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     glObjectLabel(GL_TEXTURE, t, -1, label);
     return t;
+}
+
+void fullscreen_draw(GLuint program, GLuint vao, GLuint fbo, int w, int h, bool additive)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, w, h);
+    glDisable(GL_DEPTH_TEST);
+    if (additive) {
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_ONE, GL_ONE);
+    } else {
+        glDisable(GL_BLEND);
+    }
+    glUseProgram(program);
+    glBindVertexArray(vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glDisable(GL_BLEND);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 static bool check_fbo(GLuint fbo, const char *label)
@@ -30,11 +50,11 @@ bool gbuffer_create(GBuffer *g, int w, int h)
 {
     g->width = w;
     g->height = h;
-    g->position = make_tex(GL_RGBA32F, w, h, "gbuffer.position");
-    g->normal = make_tex(GL_RGBA16F, w, h, "gbuffer.normal");
-    g->albedo = make_tex(GL_RGBA16F, w, h, "gbuffer.albedo");
-    g->emission = make_tex(GL_RGBA16F, w, h, "gbuffer.emission");
-    g->depth = make_tex(GL_DEPTH_COMPONENT32F, w, h, "gbuffer.depth");
+    g->position = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gbuffer.position");
+    g->normal = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.normal");
+    g->albedo = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.albedo");
+    g->emission = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.emission");
+    g->depth = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, w, h, "gbuffer.depth");
     glCreateFramebuffers(1, &g->fbo);
     glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT0, g->position, 0);
     glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT1, g->normal, 0);
@@ -59,7 +79,7 @@ bool color_target_create(ColorTarget *t, GLenum fmt, int w, int h, const char *l
 {
     t->width = w;
     t->height = h;
-    t->texture = make_tex(fmt, w, h, label);
+    t->texture = gl_texture_make(GL_TEXTURE_2D, fmt, w, h, label);
     glCreateFramebuffers(1, &t->fbo);
     glNamedFramebufferTexture(t->fbo, GL_COLOR_ATTACHMENT0, t->texture, 0);
     return check_fbo(t->fbo, label);

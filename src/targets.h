@@ -22,6 +22,14 @@ typedef struct ColorTarget {
     GLuint texture;
 } ColorTarget;
 
+/* An immutable texture (2D or cube) with nearest filtering and clamped
+ * edges, labelled for debuggers. Caller deletes it. */
+GLuint gl_texture_make(GLenum target, GLenum format, int width, int height, const char *label);
+
+/* Draws the full-screen triangle with `program` into `target`'s framebuffer,
+ * blending additively when `additive`. `vao` is an empty vertex array. */
+void fullscreen_draw(GLuint program, GLuint vao, GLuint fbo, int width, int height, bool additive);
+
 bool gbuffer_create(GBuffer *g, int width, int height);
 void gbuffer_destroy(GBuffer *g);
 bool color_target_create(ColorTarget *t, GLenum format, int width, int height, const char *label);

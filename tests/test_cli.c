@@ -19,23 +19,12 @@ static const char *tmp_file(const char *name, const char *content)
     return g_path;
 }
 
-/* Runs the CLI, expects exit status `want` (2 usage, 1 runtime) and every
- * string in `needles` (NULL-terminated) on stderr. */
-static void expect_error(int rc, char *err, int want, const char *n1, const char *n2)
-{
-    if (rc != want || !err || (n1 && !strstr(err, n1)) || (n2 && !strstr(err, n2)))
-        fail_msg("exit %d (want %d), stderr: %s (want '%s' and '%s')", rc, want, err ? err : "(none)",
-                 n1 ? n1 : "", n2 ? n2 : "");
-    assert_true(strstr(err, "\n") == strrchr(err, '\n')); /* one line */
-    free(err);
-}
-
 static void missing_scene_file(void **state)
 {
     (void)state;
     char *err = NULL;
     int rc = test_run_cli(&err, "render", "--scene", "/nonexistent/scene.json", "--size", "8x8", NULL);
-    expect_error(rc, err, 1, "/nonexistent/scene.json", "does not exist");
+    test_expect_cli_error(rc, err, 1, "/nonexistent/scene.json", "does not exist");
 }
 
 static void malformed_json_names_line(void **state)
@@ -44,7 +33,7 @@ static void malformed_json_names_line(void **state)
     const char *p = tmp_file("bad.json", "{\n  \"builtin\": \"cornell\",\n  \"exposure\": 2,,\n}\n");
     char *err = NULL;
     int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
-    expect_error(rc, err, 1, "bad.json:3:", "malformed JSON");
+    test_expect_cli_error(rc, err, 1, "bad.json:3:", "malformed JSON");
 }
 
 static void wrong_json_types(void **state)
@@ -54,7 +43,7 @@ static void wrong_json_types(void **state)
                              "{ \"builtin\": \"cornell\", \"lights\": [ { \"type\": \"laser\" } ] }\n");
     char *err = NULL;
     int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
-    expect_error(rc, err, 1, "badlight.json", "unknown light type \"laser\"");
+    test_expect_cli_error(rc, err, 1, "badlight.json", "unknown light type \"laser\"");
 }
 
 static void missing_mesh_file(void **state)
@@ -63,9 +52,9 @@ static void missing_mesh_file(void **state)
     const char *p = tmp_file("nomesh.json", "{ \"mesh\": \"does_not_exist.obj\" }\n");
     char *err = NULL;
     int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
-    expect_error(rc, err, 1, "does_not_exist.obj", "does not exist");
+    test_expect_cli_error(rc, err, 1, "does_not_exist.obj", "does not exist");
     rc = test_run_cli(&err, "render", "--scene", "/tmp/rtgi_no_such_mesh.gltf", NULL);
-    expect_error(rc, err, 1, "rtgi_no_such_mesh.gltf", "does not exist");
+    test_expect_cli_error(rc, err, 1, "rtgi_no_such_mesh.gltf", "does not exist");
 }
 
 static void malformed_mesh_file(void **state)
@@ -74,7 +63,7 @@ static void malformed_mesh_file(void **state)
     const char *p = tmp_file("garbage.gltf", "{ this is not gltf");
     char *err = NULL;
     int rc = test_run_cli(&err, "render", "--scene", p, "--size", "8x8", NULL);
-    expect_error(rc, err, 1, "garbage.gltf", "cannot import mesh");
+    test_expect_cli_error(rc, err, 1, "garbage.gltf", "cannot import mesh");
 }
 
 static void unknown_option_and_technique(void **state)
@@ -82,17 +71,17 @@ static void unknown_option_and_technique(void **state)
     (void)state;
     char *err = NULL;
     int rc = test_run_cli(&err, "render", "--bogus", NULL);
-    expect_error(rc, err, 2, "--bogus", "unknown option");
+    test_expect_cli_error(rc, err, 2, "--bogus", "unknown option");
     rc = test_run_cli(&err, "render", "--shadow", "vsm", NULL);
-    expect_error(rc, err, 2, "--shadow", "unknown value 'vsm'");
+    test_expect_cli_error(rc, err, 2, "--shadow", "unknown value 'vsm'");
     rc = test_run_cli(&err, "render", "--gi", "magic", NULL);
-    expect_error(rc, err, 2, "--gi", "'magic'");
+    test_expect_cli_error(rc, err, 2, "--gi", "'magic'");
     rc = test_run_cli(&err, "frobnicate", NULL);
-    expect_error(rc, err, 2, "frobnicate", "unknown command");
+    test_expect_cli_error(rc, err, 2, "frobnicate", "unknown command");
     rc = test_run_cli(&err, "render", "--exposure", NULL);
-    expect_error(rc, err, 2, "--exposure", "needs a value");
+    test_expect_cli_error(rc, err, 2, "--exposure", "needs a value");
     rc = test_run_cli(&err, "render", "--pcf-samples", "0", NULL);
-    expect_error(rc, err, 2, "--pcf-samples", "out of range");
+    test_expect_cli_error(rc, err, 2, "--pcf-samples", "out of range");
 }
 
 static void zero_or_huge_size(void **state)
@@ -100,13 +89,13 @@ static void zero_or_huge_size(void **state)
     (void)state;
     char *err = NULL;
     int rc = test_run_cli(&err, "render", "--size", "0x0", NULL);
-    expect_error(rc, err, 2, "--size", "between 1 and");
+    test_expect_cli_error(rc, err, 2, "--size", "between 1 and");
     rc = test_run_cli(&err, "render", "--size", "100000x100000", NULL);
-    expect_error(rc, err, 2, "--size", "between 1 and");
+    test_expect_cli_error(rc, err, 2, "--size", "between 1 and");
     rc = test_run_cli(&err, "render", "--size", "64", NULL);
-    expect_error(rc, err, 2, "--size", "not a size");
+    test_expect_cli_error(rc, err, 2, "--size", "not a size");
     rc = test_run_cli(&err, "render", "--size", "-5x10", NULL);
-    expect_error(rc, err, 2, "--size", NULL);
+    test_expect_cli_error(rc, err, 2, "--size", NULL);
 }
 
 /* The default render, read back from its PNG: a band along the left edge is
@@ -137,11 +126,11 @@ static void reference_bad_input(void **state)
     (void)state;
     char *err = NULL;
     int rc = test_run_cli(&err, "reference", "--spp", "0", NULL);
-    expect_error(rc, err, 2, "--spp", "out of range");
+    test_expect_cli_error(rc, err, 2, "--spp", "out of range");
     rc = test_run_cli(&err, "reference", "--mode", "two-bounce", NULL);
-    expect_error(rc, err, 2, "--mode", "unknown value 'two-bounce'");
+    test_expect_cli_error(rc, err, 2, "--mode", "unknown value 'two-bounce'");
     rc = test_run_cli(&err, "reference", "--scene", "/nonexistent/x.json", NULL);
-    expect_error(rc, err, 1, "/nonexistent/x.json", "does not exist");
+    test_expect_cli_error(rc, err, 1, "/nonexistent/x.json", "does not exist");
 }
 
 static void compare_bad_input(void **state)
@@ -154,19 +143,19 @@ static void compare_bad_input(void **state)
     assert_int_equal(test_run_cli(NULL, "reference", "--size", "8x6", "--spp", "1", "--out", b, "--quiet", NULL), 0);
     char *err = NULL;
     int rc = test_run_cli(&err, "compare", a, b, NULL);
-    expect_error(rc, err, 1, "8x8", "sizes must match");
+    test_expect_cli_error(rc, err, 1, "8x8", "sizes must match");
     rc = test_run_cli(&err, "compare", a, "/nonexistent/ref.pfm", NULL);
-    expect_error(rc, err, 1, "/nonexistent/ref.pfm", "cannot read");
+    test_expect_cli_error(rc, err, 1, "/nonexistent/ref.pfm", "cannot read");
     const char *junk = tmp_file("junk.pfm", "PF\n8 8\n-1.0\nshort");
     rc = test_run_cli(&err, "compare", a, junk, NULL);
-    expect_error(rc, err, 1, "junk.pfm", "truncated");
+    test_expect_cli_error(rc, err, 1, "junk.pfm", "truncated");
     junk = tmp_file("junk.png", "not a png at all");
     rc = test_run_cli(&err, "compare", a, junk, NULL);
-    expect_error(rc, err, 1, "junk.png", "cannot read image");
+    test_expect_cli_error(rc, err, 1, "junk.png", "cannot read image");
     rc = test_run_cli(&err, "compare", a, NULL);
-    expect_error(rc, err, 2, "needs two images", NULL);
+    test_expect_cli_error(rc, err, 2, "needs two images", NULL);
     rc = test_run_cli(&err, "compare", a, a, "--metric", "psnr", NULL);
-    expect_error(rc, err, 2, "--metric", "'psnr'");
+    test_expect_cli_error(rc, err, 2, "--metric", "'psnr'");
 }
 
 int main(void)

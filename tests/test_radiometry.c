@@ -8,22 +8,6 @@
 #include "test_util.h"
 #include "camera.h"
 
-static GlContext *g_gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    g_gl = gl_context_create(false);
-    return g_gl ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    gl_context_destroy(g_gl);
-    return 0;
-}
-
 static const float k_rho = 0.5f;
 enum { W = 128, H = 128 };
 
@@ -168,5 +152,5 @@ int main(void)
         cmocka_unit_test(point_plane),
         cmocka_unit_test(quad_light_as_point),
     };
-    return cmocka_run_group_tests_name("radiometry", tests, setup, teardown);
+    return cmocka_run_group_tests_name("radiometry", tests, test_gl_setup, test_gl_teardown);
 }

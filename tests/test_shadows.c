@@ -5,22 +5,6 @@
 
 #include "test_util.h"
 
-static GlContext *g_gl;
-
-static int setup(void **state)
-{
-    (void)state;
-    g_gl = gl_context_create(false);
-    return g_gl ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    gl_context_destroy(g_gl);
-    return 0;
-}
-
 enum { CW = 192, CH = 192 };
 
 static void render_cornell(ShadowMode mode, float bias_const, float bias_slope, ImageF *img)
@@ -218,5 +202,5 @@ int main(void)
         cmocka_unit_test(lit_floor_has_no_acne),
         cmocka_unit_test(pcss_penumbra_grows_pcf_does_not),
     };
-    return cmocka_run_group_tests_name("shadows", tests, setup, teardown);
+    return cmocka_run_group_tests_name("shadows", tests, test_gl_setup, test_gl_teardown);
 }

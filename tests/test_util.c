@@ -9,6 +9,23 @@
 #include "camera.h"
 #include "util.h"
 
+static GlContext *g_test_gl;
+
+int test_gl_setup(void **state)
+{
+    (void)state;
+    g_test_gl = gl_context_create(false);
+    return g_test_gl ? 0 : -1;
+}
+
+int test_gl_teardown(void **state)
+{
+    (void)state;
+    gl_context_destroy(g_test_gl);
+    g_test_gl = NULL;
+    return 0;
+}
+
 RenderSettings test_settings(const Scene *s, int w, int h, ShadowMode mode)
 {
     RenderSettings rs = {0};
@@ -58,6 +75,15 @@ int test_run_cli(char **err, const char *arg0, ...)
     if (WIFSIGNALED(status))
         return 128 + WTERMSIG(status); /* a crash: tests treat it as failure */
     return WEXITSTATUS(status);
+}
+
+void test_expect_cli_error(int rc, char *err, int want, const char *n1, const char *n2)
+{
+    if (rc != want || !err || (n1 && !strstr(err, n1)) || (n2 && !strstr(err, n2)))
+        fail_msg("exit %d (want %d), stderr: %s (want '%s' and '%s')", rc, want, err ? err : "(none)",
+                 n1 ? n1 : "", n2 ? n2 : "");
+    assert_true(strstr(err, "\n") == strrchr(err, '\n')); /* one line */
+    free(err);
 }
 
 double test_mean(const ImageF *img, int cx, int cy, int r, int c)

@@ -15,6 +15,10 @@
 #include "renderer.h"
 #include "scene.h"
 
+/* cmocka group setup/teardown that create and destroy a GL context. */
+int test_gl_setup(void **state);
+int test_gl_teardown(void **state);
+
 /* Render settings for a test: w×h, shadow mode, default shadow params of s. */
 RenderSettings test_settings(const Scene *s, int w, int h, ShadowMode mode);
 /* Renders one frame of `s` from its camera into `out` (radiance). Needs a
@@ -25,6 +29,10 @@ void test_render(const Scene *s, const RenderSettings *rs, ImageF *out);
  * exit status and, if `err` is not NULL, what it wrote on stderr (caller
  * frees). */
 int test_run_cli(char **err, const char *arg0, ...);
+
+/* Fails unless the CLI exited with `want` and its stderr (freed here) is a
+ * single line holding n1 and n2 (either may be NULL). */
+void test_expect_cli_error(int rc, char *err, int want, const char *n1, const char *n2);
 
 /* Mean of channel c (0..2, or 3 = luminance) over a (2r+1)² window. */
 double test_mean(const ImageF *img, int cx, int cy, int r, int c);

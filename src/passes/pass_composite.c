@@ -21,15 +21,5 @@ void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, 
 {
     glBindTextureUnit(TEX_GB_ALBEDO, gb->albedo);
     glBindTextureUnit(TEX_GI, irradiance);
-    glBindFramebuffer(GL_FRAMEBUFFER, hdr->fbo);
-    glViewport(0, 0, hdr->width, hdr->height);
-    glDisable(GL_DEPTH_TEST);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
-    glUseProgram(p->program);
-    glBindVertexArray(p->vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
-    glDisable(GL_BLEND);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    fullscreen_draw(p->program, p->vao, hdr->fbo, hdr->width, hdr->height, true);
 }

@@ -4,20 +4,7 @@
 
 #include "log.h"
 #include "shader.h"
-
-static GLuint make_tex(GLenum target, GLenum fmt, int size, const char *label)
-{
-    GLuint t;
-    glCreateTextures(target, 1, &t);
-    glTextureStorage2D(t, 1, fmt, size, size);
-    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glObjectLabel(GL_TEXTURE, t, -1, label);
-    return t;
-}
+#include "targets.h"
 
 bool pass_rsm_create(PassRsm *p)
 {
@@ -41,10 +28,10 @@ bool rsm_map_create(RsmMap *m, bool cube, int size)
     GLenum target = cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
     m->size = size;
     m->cube = cube;
-    m->position = make_tex(target, GL_RGBA32F, size, "rsm.position");
-    m->normal = make_tex(target, GL_RGBA16F, size, "rsm.normal");
-    m->flux = make_tex(target, GL_RGBA32F, size, "rsm.flux");
-    m->depth = make_tex(target, GL_DEPTH_COMPONENT32F, size, "rsm.depth");
+    m->position = gl_texture_make(target, GL_RGBA32F, size, size, "rsm.position");
+    m->normal = gl_texture_make(target, GL_RGBA16F, size, size, "rsm.normal");
+    m->flux = gl_texture_make(target, GL_RGBA32F, size, size, "rsm.flux");
+    m->depth = gl_texture_make(target, GL_DEPTH_COMPONENT32F, size, size, "rsm.depth");
     const GLuint src[3] = {m->position, m->normal, m->flux};
     const GLenum fmt[3] = {GL_RGBA32F, GL_RGBA16F, GL_RGBA32F};
     glGenTextures(3, m->view); /* views need names that were never bound */

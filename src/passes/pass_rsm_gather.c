@@ -36,17 +36,6 @@ float rsm_disk_texels(const GiParams *gp)
     return GLM_PIf * r * r;
 }
 
-static GLuint make_tex(int w, int h, const char *label)
-{
-    GLuint t;
-    glCreateTextures(GL_TEXTURE_2D, 1, &t);
-    glTextureStorage2D(t, 1, GL_RGBA32F, w, h);
-    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glObjectLabel(GL_TEXTURE, t, -1, label);
-    return t;
-}
-
 bool pass_rsm_gather_create(PassRsmGather *p, const GiParams *gp, int w, int h)
 {
     static const char *layout_def[GATHER_LAYOUTS] = {"#define MODE_FULL\n", "#define MODE_LOWRES\n",
@@ -82,13 +71,13 @@ bool pass_rsm_gather_create(PassRsmGather *p, const GiParams *gp, int w, int h)
     p->low_h = (h + gp->interp_factor - 1) / gp->interp_factor;
     p->sub_w = (w + gp->interleave_n - 1) / gp->interleave_n;
     p->sub_h = (h + gp->interleave_m - 1) / gp->interleave_m;
-    p->lowres = make_tex(p->low_w, p->low_h, "gi.lowres");
+    p->lowres = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, p->low_w, p->low_h, "gi.lowres");
     p->di_w = p->sub_w * gp->interleave_n;
     p->di_h = p->sub_h * gp->interleave_m;
-    p->di_position = make_tex(p->di_w, p->di_h, "gi.di_position");
-    p->di_normal = make_tex(p->di_w, p->di_h, "gi.di_normal");
-    p->di_irradiance = make_tex(p->di_w, p->di_h, "gi.di_irradiance");
-    p->merged = make_tex(w, h, "gi.merged");
+    p->di_position = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, p->di_w, p->di_h, "gi.di_position");
+    p->di_normal = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, p->di_w, p->di_h, "gi.di_normal");
+    p->di_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, p->di_w, p->di_h, "gi.di_irradiance");
+    p->merged = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.merged");
     return true;
 }
 

@@ -2,20 +2,7 @@
 
 #include "log.h"
 #include "shader.h"
-
-static GLuint make_depth(GLenum target, int size, const char *label)
-{
-    GLuint t;
-    glCreateTextures(target, 1, &t);
-    glTextureStorage2D(t, 1, GL_DEPTH_COMPONENT32F, size, size);
-    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(t, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    glObjectLabel(GL_TEXTURE, t, -1, label);
-    return t;
-}
+#include "targets.h"
 
 bool pass_shadow_create(PassShadow *p)
 {
@@ -24,8 +11,8 @@ bool pass_shadow_create(PassShadow *p)
         return false;
     glCreateBuffers(1, &p->light_ubo);
     glNamedBufferStorage(p->light_ubo, sizeof(GpuLight), NULL, GL_DYNAMIC_STORAGE_BIT);
-    p->dummy_2d = make_depth(GL_TEXTURE_2D, 1, "shadow.dummy2d");
-    p->dummy_cube = make_depth(GL_TEXTURE_CUBE_MAP, 1, "shadow.dummycube");
+    p->dummy_2d = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummy2d");
+    p->dummy_cube = gl_texture_make(GL_TEXTURE_CUBE_MAP, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummycube");
     return true;
 }
 
@@ -42,7 +29,8 @@ bool shadow_map_create(ShadowMap *m, bool cube, int size)
 {
     m->size = size;
     m->cube = cube;
-    m->texture = make_depth(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, size, cube ? "shadow.cube" : "shadow.2d");
+    m->texture = gl_texture_make(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, size, size,
+                                 cube ? "shadow.cube" : "shadow.2d");
     glCreateFramebuffers(1, &m->fbo);
     glNamedFramebufferDrawBuffer(m->fbo, GL_NONE);
     glNamedFramebufferReadBuffer(m->fbo, GL_NONE);

@@ -21,15 +21,7 @@ void pass_tonemap_run(PassTonemap *p, const ColorTarget *hdr, float exposure, Co
 {
     glProgramUniform1f(p->program, 0, exposure);
     glBindTextureUnit(TEX_HDR, hdr->texture);
-    glBindFramebuffer(GL_FRAMEBUFFER, ldr->fbo);
     glEnable(GL_FRAMEBUFFER_SRGB);
-    glViewport(0, 0, ldr->width, ldr->height);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
-    glUseProgram(p->program);
-    glBindVertexArray(p->vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
+    fullscreen_draw(p->program, p->vao, ldr->fbo, ldr->width, ldr->height, false);
     glDisable(GL_FRAMEBUFFER_SRGB);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

@@ -1,5 +1,7 @@
 // vpl_shade.comp — indirect irradiance from many VPLs (SPEC §3-4), no
-// visibility, counting VPL–pixel evaluations (per work group, SSBO_EVALS):
+// visibility, counting VPL–pixel evaluations (per work group, SSBO_EVALS;
+// the second half counts candidates visited: tile-list entries for the
+// tiled modes, the same as evaluations otherwise):
 //   MODE_ALL          every VPL; with u_vpl.misc.x = q < 1 only those with
 //                     ξ < q, weighted 1/q (uniform subsampling)
 //   MODE_TILED        the pixel's tile list; a VPL counts inside its range
@@ -24,18 +26,21 @@ layout(std430, binding = SSBO_EVALS) writeonly buffer EvalBlock { uint evals[]; 
 layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { uint subsets[]; };
 
 shared uint s_evals;
+shared uint s_visits;
 
 void main()
 {
-    if (gl_LocalInvocationIndex == 0u)
+    if (gl_LocalInvocationIndex == 0u) {
         s_evals = 0u;
+        s_visits = 0u;
+    }
     barrier();
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     ivec2 size = textureSize(g_position, 0);
     bool inside = all(lessThan(px, size));
     vec4 p = inside ? texelFetch(g_position, px, 0) : vec4(0.0);
     vec3 e = vec3(0.0);
-    uint count = 0u;
+    uint count = 0u, visits = 0u;
     if (p.w > 0.0) {
         vec3 x = p.xyz, n = texelFetch(g_normal, px, 0).xyz;
         float d2;
@@ -54,6 +59,7 @@ void main()
         uint ntiles = uint(u_vpl.tiles.x * u_vpl.tiles.y);
         uint tile = uint(px.y / VPL_TILE) * uint(u_vpl.tiles.x) + uint(px.x / VPL_TILE);
         uint cap = uint(u_vpl.misc.y), nt = tiles[tile];
+        visits = nt;
         for (uint k = 0u; k < nt; k++) {
             uint i = tiles[ntiles + 1u + tile * cap + k];
             vec2 ar = ranges[i];
@@ -79,10 +85,17 @@ void main()
         e *= u_vpl.misc.z;
 #endif
     }
+#if !defined(MODE_TILED)
+    visits = count;
+#endif
     if (inside)
         imageStore(o_irradiance, px, vec4(e, 1.0));
     atomicAdd(s_evals, count);
+    atomicAdd(s_visits, visits);
     barrier();
-    if (gl_LocalInvocationIndex == 0u)
-        evals[gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x] = s_evals;
+    if (gl_LocalInvocationIndex == 0u) {
+        uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+        evals[g] = s_evals;
+        evals[gl_NumWorkGroups.x * gl_NumWorkGroups.y + g] = s_visits;
+    }
 }

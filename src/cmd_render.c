@@ -408,6 +408,7 @@ int cmd_render(int argc, char **argv)
                         printf("vpl_evaluations: %llu\n", (unsigned long long)st->vpl_evaluations);
                         printf("vpl_evaluations_per_pixel: %.1f\n",
                                (double)st->vpl_evaluations / ((double)rs.width * rs.height));
+                        printf("vpl_candidates: %llu\n", (unsigned long long)st->vpl_candidates);
                         if (st->tile_overflow)
                             printf("vpl_tile_overflow: %u\n", st->tile_overflow);
                     }

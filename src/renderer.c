@@ -225,7 +225,7 @@ static void gi_collect_stats(Renderer *r)
         return;
     st->vpl_count = vpl_buffer_counter(&r->vpls, 0);
     if (is_vpl_mode(r->settings.gi)) {
-        st->vpl_evaluations = pass_vpl_shade_evaluations(&r->pass_vpl_shade);
+        st->vpl_evaluations = pass_vpl_shade_evaluations(&r->pass_vpl_shade, &st->vpl_candidates);
         st->gathered_pixels = (uint32_t)(r->settings.width * r->settings.height);
         if (r->settings.gi == GI_VPL_SLC || r->settings.gi == GI_VPL_CLAMPED)
             st->tile_overflow = pass_vpl_cull_overflow(&r->pass_vpl_shade);

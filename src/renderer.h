@@ -56,6 +56,7 @@ typedef struct RenderStats {
     uint32_t full_gathers;       /* GI_RSM_INTERP: pixels that needed a full gather */
     uint32_t gathered_pixels;    /* pixels that ran a gather (any GI mode) */
     uint64_t vpl_evaluations;    /* VPL–pixel evaluations in the shading pass (VPL modes) */
+    uint64_t vpl_candidates;     /* VPL–pixel pairs visited (tile-list entries for tiled modes) */
     uint32_t tile_overflow;      /* tile-list entries dropped (should be 0) */
     int metalight_regroups;      /* times the metalight grouping was computed */
 } RenderStats;

@@ -125,9 +125,15 @@ static void slc_work_is_sublinear(void **state)
     print_message("VPLs %u -> %u (x%.1f): brute evaluations x%.2f, SLC x%.2f (%llu -> %llu)\n", b1.vpl_count,
                   b16.vpl_count, vr, br, sr, (unsigned long long)s1.vpl_evaluations,
                   (unsigned long long)s16.vpl_evaluations);
+    double cr = (double)s16.vpl_candidates / s1.vpl_candidates;
+    print_message("SLC tile-list candidates x%.2f (%llu -> %llu)\n", cr, (unsigned long long)s1.vpl_candidates,
+                  (unsigned long long)s16.vpl_candidates);
     assert_true(vr > 14.0);
     assert_float_equal(br, vr, 1e-9 * vr);
+    assert_true(b16.vpl_candidates == b16.vpl_evaluations);
     assert_true(sr < 0.25 * vr);
+    assert_true(cr < 0.5 * vr); /* the culling work is sublinear too */
+    assert_true(s16.vpl_candidates >= s16.vpl_evaluations);
     scene_free(&s);
 }
 

@@ -41,7 +41,7 @@ bool pass_vpl_shade_create(PassVplShade *p, int w, int h, uint32_t vpl_capacity)
     glNamedBufferStorage(p->tiles, (GLsizeiptr)(sizeof(uint32_t) * (ntiles + 1 + (size_t)ntiles * p->tile_capacity)),
                          NULL, GL_DYNAMIC_STORAGE_BIT);
     glCreateBuffers(1, &p->evals);
-    glNamedBufferStorage(p->evals, (GLsizeiptr)(sizeof(uint32_t) * (size_t)p->groups), NULL, 0);
+    glNamedBufferStorage(p->evals, (GLsizeiptr)(sizeof(uint32_t) * 2 * (size_t)p->groups), NULL, 0);
     glCreateBuffers(1, &p->subsets);
     size_t subset_bytes = sizeof(float) * 4 * (size_t)p->vpl_capacity + sizeof(uint32_t) * 256;
     glNamedBufferStorage(p->subsets, (GLsizeiptr)subset_bytes, NULL, GL_DYNAMIC_STORAGE_BIT);
@@ -224,13 +224,17 @@ void pass_vpl_shade_run(PassVplShade *p, VplMethod method, const GBuffer *gb, co
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 
-uint64_t pass_vpl_shade_evaluations(const PassVplShade *p)
+uint64_t pass_vpl_shade_evaluations(const PassVplShade *p, uint64_t *candidates)
 {
-    uint32_t *e = malloc(sizeof(uint32_t) * (size_t)p->groups);
-    glGetNamedBufferSubData(p->evals, 0, (GLsizeiptr)(sizeof(uint32_t) * (size_t)p->groups), e);
-    uint64_t sum = 0;
-    for (int i = 0; i < p->groups; i++)
+    uint32_t *e = malloc(sizeof(uint32_t) * 2 * (size_t)p->groups);
+    glGetNamedBufferSubData(p->evals, 0, (GLsizeiptr)(sizeof(uint32_t) * 2 * (size_t)p->groups), e);
+    uint64_t sum = 0, visits = 0;
+    for (int i = 0; i < p->groups; i++) {
         sum += e[i];
+        visits += e[p->groups + i];
+    }
     free(e);
+    if (candidates)
+        *candidates = visits;
     return sum;
 }

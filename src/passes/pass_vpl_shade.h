@@ -61,8 +61,10 @@ void pass_vpl_cull_run(PassVplShade *p, VplMethod method, const GBuffer *gb, con
 void pass_vpl_subsets_run(PassVplShade *p, VplMethod method, uint64_t key, const GiParams *gp, const GBuffer *gb,
                           const VplBuffer *vb);
 void pass_vpl_shade_run(PassVplShade *p, VplMethod method, const GBuffer *gb, const VplBuffer *vb, GLuint out);
-/* VPL–pixel evaluations of the last shading run (waits for the GPU). */
-uint64_t pass_vpl_shade_evaluations(const PassVplShade *p);
+/* VPL–pixel evaluations of the last shading run (waits for the GPU);
+ * `candidates` (may be NULL) receives the VPL–pixel pairs visited, which
+ * for the tiled modes includes tile-list entries out of the pixel's range. */
+uint64_t pass_vpl_shade_evaluations(const PassVplShade *p, uint64_t *candidates);
 /* Tile-list entries dropped for lack of room in the last culling run. */
 uint32_t pass_vpl_cull_overflow(const PassVplShade *p);
 

@@ -7,6 +7,8 @@ int cmd_render(int argc, char **argv);
 void cmd_render_help(void);
 int cmd_reference(int argc, char **argv);
 void cmd_reference_help(void);
+int cmd_view(int argc, char **argv);
+void cmd_view_help(void);
 int cmd_compare(int argc, char **argv);
 void cmd_compare_help(void);
 

@@ -13,6 +13,7 @@ static void usage(FILE *f)
             "usage: rtgi <command> [options]\n"
             "commands:\n"
             "  render      rasterize a scene (shadows, GI) to PNG or PFM\n"
+            "  view        the renderer in a window, with a camera and toggles\n"
             "  reference   path-trace the same scene on the CPU (Embree): ground truth\n"
             "  compare     error metrics between two images (RMSE, relMSE, SSIM, FLIP)\n"
             "run 'rtgi <command> --help' for a command's options\n");
@@ -31,6 +32,8 @@ int main(int argc, char **argv)
     }
     if (!strcmp(cmd, "render"))
         return cmd_render(argc - 2, argv + 2);
+    if (!strcmp(cmd, "view"))
+        return cmd_view(argc - 2, argv + 2);
     if (!strcmp(cmd, "reference"))
         return cmd_reference(argc - 2, argv + 2);
     if (!strcmp(cmd, "compare"))

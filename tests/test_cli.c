@@ -1,6 +1,7 @@
 /* test_cli.c — the CLI as users script it: bad input gives one clear
  * message naming the file or option and a non-zero exit, never a crash;
  * the default render has the red wall on the left, green on the right. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -121,6 +122,36 @@ static void default_png_red_left_green_right(void **state)
     image_free(&img);
 }
 
+/* The window: `rtgi view` under a virtual X server (xvfb-run, installed by
+ * scripts/install-deps.sh) renders through GLFW's GL 4.5 context exactly
+ * the image `rtgi render` makes headless through EGL. */
+static void view_matches_headless_render(void **state)
+{
+    (void)state;
+    char view[512], headless[512];
+    snprintf(view, sizeof view, "%s/view.png", RTGI_TEST_TMP);
+    snprintf(headless, sizeof headless, "%s/headless.png", RTGI_TEST_TMP);
+    char *err = NULL;
+    int rc = test_run_exe(&err, "xvfb-run", "-a", RTGI_BINARY, "view", "--size", "64x64", "--shadow", "hard",
+                          "--frames", "2", "--out", view, NULL);
+    if (rc != 0)
+        fail_msg("rtgi view under xvfb-run failed (%d): %s", rc, err ? err : "");
+    free(err);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "64x64", "--shadow", "hard", "--out", headless, NULL), 0);
+    ImageF a, b;
+    assert_true(image_read(view, &a));
+    assert_true(image_read(headless, &b));
+    assert_int_equal(a.width, 64);
+    assert_int_equal(b.height, 64);
+    int differ = 0;
+    for (int i = 0; i < 64 * 64 * 3; i++)
+        differ += fabsf(a.rgb[i] - b.rgb[i]) > 2.f / 255.f;
+    assert_int_equal(differ, 0);
+    assert_true(test_mean(&a, 4, 32, 2, 0) > 3 * test_mean(&a, 4, 32, 2, 1)); /* and it is the Cornell box */
+    image_free(&a);
+    image_free(&b);
+}
+
 static void reference_bad_input(void **state)
 {
     (void)state;
@@ -169,6 +200,7 @@ int main(void)
         cmocka_unit_test(unknown_option_and_technique),
         cmocka_unit_test(zero_or_huge_size),
         cmocka_unit_test(default_png_red_left_green_right),
+        cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(reference_bad_input),
         cmocka_unit_test(compare_bad_input),
     };

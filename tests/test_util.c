@@ -47,16 +47,13 @@ void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
     renderer_destroy(&r);
 }
 
-int test_run_cli(char **err, const char *arg0, ...)
+static int run_argv(char **err, const char *exe, const char *first, va_list ap)
 {
     const char *argv[64];
     int n = 0;
-    argv[n++] = RTGI_BINARY;
-    va_list ap;
-    va_start(ap, arg0);
-    for (const char *a = arg0; a && n < 63; a = va_arg(ap, const char *))
+    argv[n++] = exe;
+    for (const char *a = first; a && n < 63; a = va_arg(ap, const char *))
         argv[n++] = a;
-    va_end(ap);
     argv[n] = NULL;
     char errpath[512];
     snprintf(errpath, sizeof errpath, "%s/cli_stderr_%d.txt", RTGI_TEST_TMP, (int)getpid());
@@ -64,7 +61,7 @@ int test_run_cli(char **err, const char *arg0, ...)
     if (pid == 0) {
         if (!freopen(errpath, "w", stderr) || !freopen("/dev/null", "w", stdout))
             _exit(127);
-        execv(RTGI_BINARY, (char *const *)argv);
+        execvp(exe, (char *const *)argv);
         _exit(127);
     }
     int status = 0;
@@ -75,6 +72,24 @@ int test_run_cli(char **err, const char *arg0, ...)
     if (WIFSIGNALED(status))
         return 128 + WTERMSIG(status); /* a crash: tests treat it as failure */
     return WEXITSTATUS(status);
+}
+
+int test_run_cli(char **err, const char *arg0, ...)
+{
+    va_list ap;
+    va_start(ap, arg0);
+    int rc = run_argv(err, RTGI_BINARY, arg0, ap);
+    va_end(ap);
+    return rc;
+}
+
+int test_run_exe(char **err, const char *exe, const char *arg0, ...)
+{
+    va_list ap;
+    va_start(ap, arg0);
+    int rc = run_argv(err, exe, arg0, ap);
+    va_end(ap);
+    return rc;
 }
 
 void test_expect_cli_error(int rc, char *err, int want, const char *n1, const char *n2)

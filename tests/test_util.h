@@ -29,6 +29,8 @@ void test_render(const Scene *s, const RenderSettings *rs, ImageF *out);
  * exit status and, if `err` is not NULL, what it wrote on stderr (caller
  * frees). */
 int test_run_cli(char **err, const char *arg0, ...);
+/* Same, for any executable (argv[0] = exe). */
+int test_run_exe(char **err, const char *exe, const char *arg0, ...);
 
 /* Fails unless the CLI exited with `want` and its stderr (freed here) is a
  * single line holding n1 and n2 (either may be NULL). */

@@ -1,0 +1,41 @@
+/* render_options.h — the options `rtgi render` and `rtgi view` share:
+ * scene, size, techniques and every parameter, parsed strictly, then
+ * applied over the scene's own defaults. */
+#ifndef RTGI_RENDER_OPTIONS_H
+#define RTGI_RENDER_OPTIONS_H
+
+#include <stdbool.h>
+
+#include "renderer.h"
+#include "scene.h"
+
+typedef struct RenderOptions {
+    const char *scene;
+    const char *out;   /* output image (render) or screenshot (view), may be NULL */
+    int shadow;        /* ShadowMode */
+    int gi;            /* GiMode */
+    int width, height;
+    float exposure;    /* < 0: scene's */
+    float light_scale; /* < 0: unchanged */
+    int frames;        /* render: timed frames; view: frames before exiting (0 = until closed) */
+    int warmup;        /* render: untimed frames before the timed ones */
+    bool timings, debug;
+    ShadowParams sp;   /* shadow overrides ... */
+    unsigned sp_set;   /* ... one bit per field given */
+    GiParams gp;       /* GI overrides ... */
+    unsigned gp_set;   /* ... one bit per field given */
+} RenderOptions;
+
+/* Defaults for `rtgi render` (out = out/render.png, 3 timed frames) or
+ * `rtgi view` (no screenshot, runs until closed). */
+void render_options_init(RenderOptions *o, bool view);
+/* Parses argv. 0: go on; -1: --help was shown; else an exit status (2). */
+int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void));
+/* Prints the shared options' help. */
+void render_options_help(void);
+/* Render settings from the scene's defaults and the options. */
+void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs);
+/* Prints the --timings report (per-pass times, GI counters). */
+void render_options_print_timings(const Renderer *r, const char *gl_renderer, double frame_ms);
+
+#endif

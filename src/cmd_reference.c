@@ -28,6 +28,7 @@ void cmd_reference_help(void)
            "  --no-jitter        sample pixel centres only (no anti-aliasing)\n"
            "  --light-scale S    scale every light's emitter size (0: point lights)\n"
            "  --variance FILE.pfm  also write the per-pixel variance of the mean\n"
+           "  --png FILE.png     also write the tone-mapped PNG\n"
            "  --quiet            no progress bar\n");
 }
 
@@ -37,7 +38,7 @@ int cmd_reference(int argc, char **argv)
     pt_settings_default(&set);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     set.threads = cores > 0 ? (int)cores : 1;
-    const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL;
+    const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL, *png = NULL;
     float exposure = -1.f, light_scale = -1.f;
     bool quiet = false;
     CliArgs a = {argc, argv, 0, NULL};
@@ -78,6 +79,13 @@ int cmd_reference(int argc, char **argv)
             out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
                 log_error("cli", "--out: '%s' must end in .png or .pfm", v);
+                return 2;
+            }
+        } else if (!strcmp(opt, "--png")) {
+            CLI_VALUE(&a, v);
+            png = v;
+            if (!util_ends_with(v, ".png")) {
+                log_error("cli", "--png: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--variance")) {
@@ -125,7 +133,12 @@ int cmd_reference(int argc, char **argv)
     int rc = 1;
     if (pt_render(&scene, &set, &mean, var_out ? &var : NULL, &st)) {
         util_ensure_parent_dir(out);
-        bool ok = image_write(out, &mean, exposure >= 0.f ? exposure : scene.exposure);
+        float e = exposure >= 0.f ? exposure : scene.exposure;
+        bool ok = image_write(out, &mean, e);
+        if (ok && png) {
+            util_ensure_parent_dir(png);
+            ok = image_write_png(png, &mean, e);
+        }
         if (ok && var_out)
             ok = image_write_pfm(var_out, &var);
         if (ok) {

@@ -70,6 +70,12 @@ int cmd_render(int argc, char **argv)
             ok = image_write_png8(o.out, rs.width, rs.height, rgb);
             free(rgb);
         }
+        if (ok && o.png) {
+            uint8_t *rgb = renderer_read_ldr(&r);
+            util_ensure_parent_dir(o.png);
+            ok = image_write_png8(o.png, rs.width, rs.height, rgb);
+            free(rgb);
+        }
         if (ok) {
             rc = 0;
             log_info("render", "wrote %s (%dx%d, %s, %s)", o.out, rs.width, rs.height, scene.source,

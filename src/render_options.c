@@ -23,6 +23,7 @@ void render_options_help(void)
         "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
         "  --out FILE.png|FILE.pfm       output; PNG tone-mapped sRGB, PFM linear radiance\n"
         "                                (default: out/render.png)\n"
+        "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
         "  --timings                     print per-pass GPU (and wall) times\n"
         "  --frames N                    frames to time after the warm-up (default: 3)\n"
         "  --warmup N                    untimed frames first (default: 1)\n"
@@ -119,6 +120,13 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             o->out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
                 log_error("cli", "--out: '%s' must end in .png or .pfm", v);
+                return 2;
+            }
+        } else if (!strcmp(opt, "--png")) {
+            CLI_VALUE(&a, v);
+            o->png = v;
+            if (!util_ends_with(v, ".png")) {
+                log_error("cli", "--png: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--shadow")) {

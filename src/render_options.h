@@ -12,6 +12,7 @@
 typedef struct RenderOptions {
     const char *scene;
     const char *out;   /* output image (render) or screenshot (view), may be NULL */
+    const char *png;   /* render: also a tone-mapped PNG, may be NULL */
     int shadow;        /* ShadowMode */
     int gi;            /* GiMode */
     int width, height;

@@ -122,6 +122,36 @@ static void default_png_red_left_green_right(void **state)
     image_free(&img);
 }
 
+/* --out FILE.pfm --png FILE.png writes one frame twice: the PNG is the PFM
+ * through exposure, clamp and sRGB (the GPU's tone map and the CPU's agree
+ * to rounding); the reference does the same on the CPU. */
+static void png_beside_pfm(void **state)
+{
+    (void)state;
+    char pfm[512], png[512];
+    snprintf(pfm, sizeof pfm, "%s/both.pfm", RTGI_TEST_TMP);
+    snprintf(png, sizeof png, "%s/both.png", RTGI_TEST_TMP);
+    for (int pass = 0; pass < 2; pass++) {
+        int rc = pass == 0 ? test_run_cli(NULL, "render", "--size", "32x32", "--shadow", "hard", "--exposure", "2",
+                                          "--out", pfm, "--png", png, NULL)
+                           : test_run_cli(NULL, "reference", "--size", "32x32", "--spp", "2", "--exposure", "2",
+                                          "--out", pfm, "--png", png, "--quiet", NULL);
+        assert_int_equal(rc, 0);
+        ImageF lin, ldr;
+        assert_true(image_read(pfm, &lin));
+        assert_true(image_read(png, &ldr));
+        float worst = 0;
+        for (int i = 0; i < 32 * 32 * 3; i++) {
+            float want = srgb_encode(lin.rgb[i] * 2.f), got = srgb_encode(ldr.rgb[i]);
+            worst = fmaxf(worst, fabsf(want - got));
+        }
+        print_message("%s: PNG vs tone-mapped PFM, worst %.4f\n", pass ? "reference" : "render", worst);
+        assert_true(worst <= 1.01f / 255.f);
+        image_free(&lin);
+        image_free(&ldr);
+    }
+}
+
 /* The window: `rtgi view` under a virtual X server (xvfb-run, installed by
  * scripts/install-deps.sh) renders through GLFW's GL 4.5 context exactly
  * the image `rtgi render` makes headless through EGL. */
@@ -200,6 +230,7 @@ int main(void)
         cmocka_unit_test(unknown_option_and_technique),
         cmocka_unit_test(zero_or_huge_size),
         cmocka_unit_test(default_png_red_left_green_right),
+        cmocka_unit_test(png_beside_pfm),
         cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(reference_bad_input),
         cmocka_unit_test(compare_bad_input),

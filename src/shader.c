@@ -131,6 +131,8 @@ static void log_compile_errors(const char *label, const char *log, const FileTab
             const char *msg = end + 1;
             while (msg < p + len && *msg != ' ')
                 msg++;
+            while (msg < p + len && *msg == ' ')
+                msg++;
             log_error("shader", "%s:%d: %.*s (program %s)", files->names[id], lno,
                       (int)(p + len - msg), msg, label);
         } else if (len > 0) {

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "test_util.h"
+#include "util.h"
 
 static char g_path[512];
 
@@ -122,6 +123,47 @@ static void default_png_red_left_green_right(void **state)
     image_free(&img);
 }
 
+/* A driver below the required OpenGL version: one clear line, exit 1. */
+static void unsupported_gl_version(void **state)
+{
+    (void)state;
+    setenv("RTGI_REQUIRE_GL", "99", 1);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--size", "8x8", NULL);
+    unsetenv("RTGI_REQUIRE_GL");
+    test_expect_cli_error(rc, err, 1, "OpenGL 9.9 is required", "gives 4.");
+}
+
+/* A shader that fails to compile is reported by file and line, through
+ * #include, when shaders come from disk (RTGI_SHADER_DIR). */
+static void shader_error_names_file_and_line(void **state)
+{
+    (void)state;
+    char dir[512], cmd[2048];
+    snprintf(dir, sizeof dir, "%s/shaders_broken", RTGI_TEST_TMP);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' && cp -r '%s/shaders' '%s' && printf '\nvec3 broken( {\n' >> '%s/common/lights.glsl'",
+             dir, RTGI_SOURCE_DIR, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    /* After the append, the file's last line is the broken one. */
+    char path[600];
+    snprintf(path, sizeof path, "%s/common/lights.glsl", dir);
+    char *text = util_read_file(path, NULL);
+    assert_non_null(text);
+    int lines = 0;
+    for (char *c = text; *c; c++)
+        lines += *c == '\n';
+    free(text);
+    char want[64];
+    snprintf(want, sizeof want, "common/lights.glsl:%d:", lines);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--size", "8x8", "--shader-dir", dir, NULL);
+    assert_int_equal(rc, 1);
+    assert_non_null(err);
+    if (!strstr(err, want))
+        fail_msg("expected '%s' in: %s", want, err);
+    free(err);
+}
+
 /* --out FILE.pfm --png FILE.png writes one frame twice: the PNG is the PFM
  * through exposure, clamp and sRGB (the GPU's tone map and the CPU's agree
  * to rounding); the reference does the same on the CPU. */
@@ -230,6 +272,8 @@ int main(void)
         cmocka_unit_test(unknown_option_and_technique),
         cmocka_unit_test(zero_or_huge_size),
         cmocka_unit_test(default_png_red_left_green_right),
+        cmocka_unit_test(unsupported_gl_version),
+        cmocka_unit_test(shader_error_names_file_and_line),
         cmocka_unit_test(png_beside_pfm),
         cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(reference_bad_input),

@@ -142,8 +142,7 @@ int scene_add_material(Scene *s, const char *name, const vec3 albedo);
 /* Appends a planar quad (two triangles) p0,p1,p2,p3 in order, normal from
  * (p1-p0)×(p3-p0). */
 void scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const vec3 p2, const vec3 p3);
-/* Appends a box-shaped hexahedron from its 8 corners is not needed: the
- * Cornell blocks are lists of quads. */
+/* Appends a light (its direction is normalised); returns its index. */
 int scene_add_light(Scene *s, const Light *l);
 
 /* Call after geometry and lights are final: merges submeshes by material,

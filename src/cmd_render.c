@@ -31,10 +31,8 @@ int cmd_render(int argc, char **argv)
         return rc < 0 ? 0 : rc;
 
     Scene scene;
-    if (!scene_load(&scene, o.scene))
+    if (!render_options_load_scene(&o, &scene))
         return 1;
-    if (o.light_scale >= 0.f)
-        scene_rescale_lights(&scene, o.light_scale);
 
     RenderSettings rs;
     render_options_settings(&o, &scene, &rs);

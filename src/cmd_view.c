@@ -164,10 +164,8 @@ int cmd_view(int argc, char **argv)
     if (rc != 0)
         return rc < 0 ? 0 : rc;
     Scene scene;
-    if (!scene_load(&scene, o.scene))
+    if (!render_options_load_scene(&o, &scene))
         return 1;
-    if (o.light_scale >= 0.f)
-        scene_rescale_lights(&scene, o.light_scale);
 
     glfwSetErrorCallback(on_glfw_error);
     if (!glfwInit()) {

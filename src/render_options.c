@@ -318,6 +318,15 @@ static void apply_shadow_overrides(const RenderOptions *o, ShadowParams *p)
 }
 
 
+bool render_options_load_scene(const RenderOptions *o, Scene *scene)
+{
+    if (!scene_load(scene, o->scene))
+        return false;
+    if (o->light_scale >= 0.f)
+        scene_rescale_lights(scene, o->light_scale);
+    return true;
+}
+
 void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs)
 {
     memset(rs, 0, sizeof *rs);

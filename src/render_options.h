@@ -32,6 +32,9 @@ typedef struct RenderOptions {
 void render_options_init(RenderOptions *o, bool view);
 /* Parses argv. 0: go on; -1: --help was shown; else an exit status (2). */
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void));
+/* Loads the scene the options name, with their light scale applied.
+ * false after logging. */
+bool render_options_load_scene(const RenderOptions *o, Scene *scene);
 /* Prints the shared options' help. */
 void render_options_help(void);
 /* Render settings from the scene's defaults and the options. */

@@ -35,7 +35,15 @@ void fullscreen_draw(GLuint program, GLuint vao, GLuint fbo, int w, int h, bool 
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-static bool check_fbo(GLuint fbo, const char *label)
+void fbo_attach(GLuint fbo, GLenum attachment, GLuint tex, bool cube, int face)
+{
+    if (cube)
+        glNamedFramebufferTextureLayer(fbo, attachment, tex, 0, face);
+    else
+        glNamedFramebufferTexture(fbo, attachment, tex, 0);
+}
+
+bool fbo_check(GLuint fbo, const char *label)
 {
     GLenum st = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
     if (st != GL_FRAMEBUFFER_COMPLETE) {
@@ -64,7 +72,7 @@ bool gbuffer_create(GBuffer *g, int w, int h)
     const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
                             GL_COLOR_ATTACHMENT3};
     glNamedFramebufferDrawBuffers(g->fbo, 4, bufs);
-    return check_fbo(g->fbo, "gbuffer");
+    return fbo_check(g->fbo, "gbuffer");
 }
 
 void gbuffer_destroy(GBuffer *g)
@@ -82,7 +90,7 @@ bool color_target_create(ColorTarget *t, GLenum fmt, int w, int h, const char *l
     t->texture = gl_texture_make(GL_TEXTURE_2D, fmt, w, h, label);
     glCreateFramebuffers(1, &t->fbo);
     glNamedFramebufferTexture(t->fbo, GL_COLOR_ATTACHMENT0, t->texture, 0);
-    return check_fbo(t->fbo, label);
+    return fbo_check(t->fbo, label);
 }
 
 void color_target_destroy(ColorTarget *t)

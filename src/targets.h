@@ -26,6 +26,11 @@ typedef struct ColorTarget {
  * edges, labelled for debuggers. Caller deletes it. */
 GLuint gl_texture_make(GLenum target, GLenum format, int width, int height, const char *label);
 
+/* Attaches `tex` to `fbo`: the whole 2D texture, or face `face` of a cube. */
+void fbo_attach(GLuint fbo, GLenum attachment, GLuint tex, bool cube, int face);
+/* true if `fbo` is complete; else logs one line naming it and returns false. */
+bool fbo_check(GLuint fbo, const char *label);
+
 /* Draws the full-screen triangle with `program` into `target`'s framebuffer,
  * blending additively when `additive`. `vao` is an empty vertex array. */
 void fullscreen_draw(GLuint program, GLuint vao, GLuint fbo, int width, int height, bool additive);

@@ -2,7 +2,6 @@
 
 #include <math.h>
 
-#include "log.h"
 #include "shader.h"
 #include "targets.h"
 
@@ -43,21 +42,10 @@ bool rsm_map_create(RsmMap *m, bool cube, int size)
     glCreateFramebuffers(1, &m->fbo);
     const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     glNamedFramebufferDrawBuffers(m->fbo, 3, bufs);
-    if (cube) {
-        for (int i = 0; i < 3; i++)
-            glNamedFramebufferTextureLayer(m->fbo, bufs[i], src[i], 0, 0);
-        glNamedFramebufferTextureLayer(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, 0, 0);
-    } else {
-        for (int i = 0; i < 3; i++)
-            glNamedFramebufferTexture(m->fbo, bufs[i], src[i], 0);
-        glNamedFramebufferTexture(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, 0);
-    }
-    GLenum st = glCheckNamedFramebufferStatus(m->fbo, GL_FRAMEBUFFER);
-    if (st != GL_FRAMEBUFFER_COMPLETE) {
-        log_error("rsm", "RSM framebuffer incomplete (0x%x, size %d)", st, size);
-        return false;
-    }
-    return true;
+    for (int i = 0; i < 3; i++)
+        fbo_attach(m->fbo, bufs[i], src[i], cube, 0);
+    fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, cube, 0);
+    return fbo_check(m->fbo, "rsm");
 }
 
 void rsm_map_destroy(RsmMap *m)
@@ -91,8 +79,8 @@ void pass_rsm_run(PassRsm *p, RsmMap *m, const GpuScene *gs, const Scene *s, con
     for (int face = 0; face < m->frame.face_count; face++) {
         if (m->cube) {
             for (int i = 0; i < 3; i++)
-                glNamedFramebufferTextureLayer(m->fbo, GL_COLOR_ATTACHMENT0 + i, src[i], 0, face);
-            glNamedFramebufferTextureLayer(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, 0, face);
+                fbo_attach(m->fbo, GL_COLOR_ATTACHMENT0 + (GLenum)i, src[i], true, face);
+            fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, true, face);
         }
         for (int i = 0; i < 3; i++)
             glClearNamedFramebufferfv(m->fbo, GL_COLOR, i, zero);

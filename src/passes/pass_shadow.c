@@ -1,6 +1,5 @@
 #include "passes/pass_shadow.h"
 
-#include "log.h"
 #include "shader.h"
 #include "targets.h"
 
@@ -34,16 +33,8 @@ bool shadow_map_create(ShadowMap *m, bool cube, int size)
     glCreateFramebuffers(1, &m->fbo);
     glNamedFramebufferDrawBuffer(m->fbo, GL_NONE);
     glNamedFramebufferReadBuffer(m->fbo, GL_NONE);
-    if (cube)
-        glNamedFramebufferTextureLayer(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, 0, 0);
-    else
-        glNamedFramebufferTexture(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, 0);
-    GLenum st = glCheckNamedFramebufferStatus(m->fbo, GL_FRAMEBUFFER);
-    if (st != GL_FRAMEBUFFER_COMPLETE) {
-        log_error("shadow", "shadow map framebuffer incomplete (0x%x, size %d)", st, size);
-        return false;
-    }
-    return true;
+    fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, cube, 0);
+    return fbo_check(m->fbo, "shadow map");
 }
 
 void shadow_map_destroy(ShadowMap *m)
@@ -69,7 +60,7 @@ void pass_shadow_run(PassShadow *p, ShadowMap *m, const GpuScene *gs, const Scen
     glBindFramebuffer(GL_FRAMEBUFFER, m->fbo);
     for (int face = 0; face < m->frame.face_count; face++) {
         if (m->cube)
-            glNamedFramebufferTextureLayer(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, 0, face);
+            fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, true, face);
         const float one = 1.f;
         glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
         glProgramUniformMatrix4fv(p->program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)m->frame.view_proj[face]);

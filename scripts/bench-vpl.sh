@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Benchmarks the many-VPL techniques at several VPL counts: per-pass GPU
 # time (one frame, no warm-up: brute force takes minutes on llvmpipe),
-# VPL–pixel evaluations per pixel, RMSE against brute force at the same
+# VPL–pixel evaluations and candidates (tile-list entries visited) per
+# pixel, RMSE against brute force at the same
 # VPLs, relMSE against the path-traced one-bounce-novis reference.
 # Prints a Markdown table. Usage: scripts/bench-vpl.sh [SCENE] [WxH] [SPP] [COUNTS...]
 set -euo pipefail
@@ -21,8 +22,8 @@ if [ ! -f "$ref" ]; then
   echo "rendering reference one-bounce-novis ($SPP spp)..." >&2
   $RTGI reference --scene "$SCENE" --size "$SIZE" --mode one-bounce-novis --spp "$SPP" --out "$ref" --quiet >&2
 fi
-echo "| VPLs (asked → made) | technique | GPU ms per pass | total ms | evaluations/pixel | RMSE vs brute force | relMSE vs one-bounce-novis |"
-echo "|---|---|---|---|---|---|---|"
+echo "| VPLs (asked → made) | technique | GPU ms per pass | total ms | evaluations/pixel | candidates/pixel | RMSE vs brute force | relMSE vs one-bounce-novis |"
+echo "|---|---|---|---|---|---|---|---|"
 for n in "${COUNTS[@]}"; do
   brute="$OUT/${tag}_vpl-all_$n.pfm"
   for gi in vpl-all vpl-clamped vpl-slc vpl-interleaved vpl-metalights; do
@@ -33,8 +34,10 @@ for n in "${COUNTS[@]}"; do
     total=$(echo "$timing" | awk '$1 == "total" {printf "%.1f", $2}')
     made=$(echo "$timing" | awk '$1 == "vpl_count:" {print $2}')
     epp=$(echo "$timing" | awk '$1 == "vpl_evaluations_per_pixel:" {print $2}')
+    pixels=$(echo "$SIZE" | awk -Fx '{print $1 * $2}')
+    cpp=$(echo "$timing" | awk -v n="$pixels" '$1 == "vpl_candidates:" {printf "%.1f", $2 / n}')
     rmse=$($RTGI compare "$img" "$brute" --metric rmse | awk '{printf "%.5f", $2}')
     rel=$($RTGI compare "$img" "$ref" --metric relmse | awk '{printf "%.4f", $2}')
-    echo "| $n → $made | $gi | $passes | $total | $epp | $rmse | $rel |"
+    echo "| $n → $made | $gi | $passes | $total | $epp | $cpp | $rmse | $rel |"
   done
 done

@@ -18,8 +18,7 @@ deps:
 
 run: build
 	mkdir -p out
-	$(BUILD)/rtgi render --shadow pcss --size 512x512 --out out/cornell.png --timings
-	$(BUILD)/rtgi render --shadow pcss --size 512x512 --out out/cornell.pfm
+	$(BUILD)/rtgi render --shadow pcss --size 512x512 --out out/cornell.pfm --png out/cornell.png --timings
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "test_util.h"
 #include "util.h"
 
@@ -224,6 +226,54 @@ static void view_matches_headless_render(void **state)
     image_free(&b);
 }
 
+/* compare --json writes the metrics; --mask restricts them to the mask's
+ * white pixels (here: the half of the image where the two agree). */
+static void compare_json_and_mask(void **state)
+{
+    (void)state;
+    char a[512], b[512], mask[512], json[512];
+    snprintf(a, sizeof a, "%s/cmp_j_a.pfm", RTGI_TEST_TMP);
+    snprintf(b, sizeof b, "%s/cmp_j_b.pfm", RTGI_TEST_TMP);
+    snprintf(mask, sizeof mask, "%s/cmp_j_mask.png", RTGI_TEST_TMP);
+    snprintf(json, sizeof json, "%s/cmp_j.json", RTGI_TEST_TMP);
+    ImageF ia, ib;
+    assert_true(image_alloc(&ia, 16, 8));
+    assert_true(image_alloc(&ib, 16, 8));
+    uint8_t m[16 * 8 * 3];
+    for (int y = 0; y < 8; y++)
+        for (int x = 0; x < 16; x++) {
+            for (int c = 0; c < 3; c++) {
+                image_px(&ia, x, y)[c] = 0.5f;
+                image_px(&ib, x, y)[c] = x < 8 ? 0.5f : 0.7f; /* the right half differs */
+                m[3 * (y * 16 + x) + c] = x < 8 ? 255 : 0;
+            }
+        }
+    assert_true(image_write_pfm(a, &ia) && image_write_pfm(b, &ib));
+    assert_true(image_write_png8(mask, 16, 8, m));
+    assert_int_equal(test_run_cli(NULL, "compare", a, b, "--json", json, NULL), 0);
+    char *text = util_read_file(json, NULL);
+    assert_non_null(text);
+    cJSON *j = cJSON_Parse(text);
+    free(text);
+    assert_non_null(j);
+    /* RMSE over all pixels: half of them differ by 0.2 → sqrt(0.02);
+     * relMSE: half of 0.04 / (0.49 + 0.01) = 0.04. */
+    assert_float_equal(cJSON_GetObjectItem(j, "rmse")->valuedouble, sqrt(0.02), 1e-6);
+    assert_float_equal(cJSON_GetObjectItem(j, "relmse")->valuedouble, 0.04, 1e-6);
+    assert_true(cJSON_IsNumber(cJSON_GetObjectItem(j, "ssim")) && cJSON_IsNumber(cJSON_GetObjectItem(j, "flip")));
+    cJSON_Delete(j);
+    assert_int_equal(test_run_cli(NULL, "compare", a, b, "--mask", mask, "--metric", "rmse", "--json", json, NULL), 0);
+    text = util_read_file(json, NULL);
+    j = cJSON_Parse(text);
+    free(text);
+    assert_non_null(j);
+    assert_float_equal(cJSON_GetObjectItem(j, "rmse")->valuedouble, 0.0, 0);
+    assert_null(cJSON_GetObjectItem(j, "ssim")); /* only the metric asked for */
+    cJSON_Delete(j);
+    image_free(&ia);
+    image_free(&ib);
+}
+
 static void reference_bad_input(void **state)
 {
     (void)state;
@@ -276,6 +326,7 @@ int main(void)
         cmocka_unit_test(shader_error_names_file_and_line),
         cmocka_unit_test(png_beside_pfm),
         cmocka_unit_test(view_matches_headless_render),
+        cmocka_unit_test(compare_json_and_mask),
         cmocka_unit_test(reference_bad_input),
         cmocka_unit_test(compare_bad_input),
     };

@@ -187,11 +187,15 @@ static void gi_vpl(Renderer *r, const Camera *cam)
     GpuTimer *t = &r->timer;
     PassVplShade *v = &r->pass_vpl_shade;
     VplMethod method = (VplMethod)(r->settings.gi - GI_VPL_ALL);
-    gpu_timer_begin(t, "vpl_generate");
-    vpl_buffer_reset(&r->vpls);
-    for (int i = 0; i < s->light_count; i++)
-        pass_vpl_run(&r->pass_vpl, &r->rsm_maps[i], 1, gp->vpl_seed, &r->vpls);
-    gpu_timer_end(t);
+    uint64_t key = grouping_key(r, cam);
+    /* A kept metalight grouping indexes the VPL buffer it was made from. */
+    if (!pass_vpl_grouping_current(v, method, key)) {
+        gpu_timer_begin(t, "vpl_generate");
+        vpl_buffer_reset(&r->vpls);
+        for (int i = 0; i < s->light_count; i++)
+            pass_vpl_run(&r->pass_vpl, &r->rsm_maps[i], 1, gp->vpl_seed, &r->vpls);
+        gpu_timer_end(t);
+    }
     float range = gp->vpl_range > 0.f ? gp->vpl_range
                                       : 0.15f * glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
     pass_vpl_shade_set_params(v, gp, r->settings.exposure, range);
@@ -201,7 +205,7 @@ static void gi_vpl(Renderer *r, const Camera *cam)
         gpu_timer_end(t);
     } else if (method == VPL_INTERLEAVED || method == VPL_METALIGHTS) {
         gpu_timer_begin(t, method == VPL_METALIGHTS ? "metalights_group" : "vpl_subsets");
-        pass_vpl_subsets_run(v, method, grouping_key(r, cam), gp, &r->gbuffer, &r->vpls);
+        pass_vpl_subsets_run(v, method, key, gp, &r->gbuffer, &r->vpls);
         gpu_timer_end(t);
     }
     bool interleaved = method == VPL_INTERLEAVED || method == VPL_METALIGHTS;

@@ -203,8 +203,18 @@ static void metalights(void **state)
     assert_true(renderer_create(&r, &s, &set));
     renderer_frame(&r, &s.camera);
     assert_int_equal(r.stats.metalight_regroups, 1);
+    ImageF first, second;
+    assert_true(renderer_read_hdr(&r, &first));
     renderer_frame(&r, &s.camera);
     assert_int_equal(r.stats.metalight_regroups, 1);
+    /* A kept grouping must still describe the VPLs it was made for: the
+     * second frame equals the first. */
+    assert_true(renderer_read_hdr(&r, &second));
+    double e_again = metric_relmse(&second, &first, NULL, NULL);
+    print_message("metalights, second frame vs first: relMSE %.3g\n", e_again);
+    assert_true(e_again < 1e-10);
+    image_free(&first);
+    image_free(&second);
     s.lights[0].position[0] -= 0.1f;
     renderer_frame(&r, &s.camera);
     assert_int_equal(r.stats.metalight_regroups, 2);

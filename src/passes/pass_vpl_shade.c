@@ -141,10 +141,15 @@ static int cmp_item(const void *a, const void *b)
     return 0;
 }
 
+bool pass_vpl_grouping_current(const PassVplShade *p, VplMethod method, uint64_t key)
+{
+    return method == VPL_METALIGHTS && p->regroups > 0 && key == p->grouping_key;
+}
+
 void pass_vpl_subsets_run(PassVplShade *p, VplMethod method, uint64_t key, const GiParams *gp, const GBuffer *gb,
                           const VplBuffer *vb)
 {
-    if (method == VPL_METALIGHTS && key == p->grouping_key && p->regroups > 0)
+    if (pass_vpl_grouping_current(p, method, key))
         return; /* nothing changed: keep the grouping */
     uint32_t n = vpl_buffer_counter(vb, 0);
     uint32_t K = (uint32_t)(gp->interleave_n * gp->interleave_m);

@@ -56,6 +56,10 @@ void pass_vpl_shade_destroy(PassVplShade *p);
 void pass_vpl_shade_set_params(PassVplShade *p, const GiParams *gp, float exposure, float range);
 /* Per-VPL ranges and tiled culling (clamped and slc). */
 void pass_vpl_cull_run(PassVplShade *p, VplMethod method, const GBuffer *gb, const VplBuffer *vb);
+/* true if the metalight grouping was made for `key` and still holds: the
+ * caller must then keep the VPL buffer as it is, since the grouping refers
+ * to VPLs by their place in it (and the GPU appends them in no fixed order). */
+bool pass_vpl_grouping_current(const PassVplShade *p, VplMethod method, uint64_t key);
 /* Builds the interleaved subsets: random (interleaved) or from metalights
  * (recomputed only when `key` differs from the last grouping's). */
 void pass_vpl_subsets_run(PassVplShade *p, VplMethod method, uint64_t key, const GiParams *gp, const GBuffer *gb,

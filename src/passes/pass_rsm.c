@@ -1,4 +1,5 @@
 #include "passes/pass_rsm.h"
+#include "passes/pass_shadow.h"
 
 #include <math.h>
 
@@ -59,10 +60,7 @@ void rsm_map_destroy(RsmMap *m)
 
 void pass_rsm_run(PassRsm *p, RsmMap *m, const GpuScene *gs, const Scene *s, const Light *l)
 {
-    shadow_frame_compute(l, s->bounds_min, s->bounds_max, m->size, &m->frame);
-    shadow_frame_to_gpu(l, &m->frame, m->size, &m->gpu);
-    glNamedBufferSubData(p->light_ubo, 0, sizeof(GpuLight), &m->gpu);
-    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LIGHT, p->light_ubo);
+    light_frame_bind(l, s, m->size, p->light_ubo, &m->frame, &m->gpu);
     /* Texel area on the projection plane: ortho (2r/res)², perspective at
      * distance 1: (k)² with k = 2·tan(fov/2)/res. */
     float a = m->frame.texel_k * m->frame.texel_k;

@@ -44,12 +44,17 @@ void shadow_map_destroy(ShadowMap *m)
     *m = (ShadowMap){0};
 }
 
+void light_frame_bind(const Light *l, const Scene *s, int size, GLuint ubo, ShadowFrame *frame, GpuLight *gpu)
+{
+    shadow_frame_compute(l, s->bounds_min, s->bounds_max, size, frame);
+    shadow_frame_to_gpu(l, frame, size, gpu);
+    glNamedBufferSubData(ubo, 0, sizeof(GpuLight), gpu);
+    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LIGHT, ubo);
+}
+
 void pass_shadow_run(PassShadow *p, ShadowMap *m, const GpuScene *gs, const Scene *s, const Light *l)
 {
-    shadow_frame_compute(l, s->bounds_min, s->bounds_max, m->size, &m->frame);
-    shadow_frame_to_gpu(l, &m->frame, m->size, &m->gpu);
-    glNamedBufferSubData(p->light_ubo, 0, sizeof(GpuLight), &m->gpu);
-    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LIGHT, p->light_ubo);
+    light_frame_bind(l, s, m->size, p->light_ubo, &m->frame, &m->gpu);
 
     glUseProgram(p->program);
     glEnable(GL_DEPTH_TEST);

@@ -36,6 +36,11 @@ void pass_shadow_destroy(PassShadow *p);
 bool shadow_map_create(ShadowMap *m, bool cube, int size);
 void shadow_map_destroy(ShadowMap *m);
 
+/* Computes light `l`'s projection for a `size`² map over scene `s`, fills
+ * the shaders' light block from it, uploads that to `ubo` and binds it to
+ * UBO_LIGHT. Shared by the shadow and RSM passes. */
+void light_frame_bind(const Light *l, const Scene *s, int size, GLuint ubo, ShadowFrame *frame, GpuLight *gpu);
+
 /* Renders light `l` of scene `s` into `m`. */
 void pass_shadow_run(PassShadow *p, ShadowMap *m, const GpuScene *gs, const Scene *s, const Light *l);
 /* Binds `m` (and a dummy for the other map type) to TEX_SHADOW_2D/CUBE. */

@@ -12,7 +12,7 @@ if [ "${1:-}" = "--compare" ]; then
   for f in "$A"/*.pfm; do
     n=$(basename "$f")
     if [ ! -f "$B/$n" ]; then printf '%-40s missing in %s\n' "$n" "$B"; continue; fi
-    m=$($RTGI compare "$B/$n" "$f" --metric all --quiet 2>&1 || true)
+    m=$($RTGI compare "$B/$n" "$f" --metric all 2>&1 || true)
     rel=$(echo "$m" | awk '/^relmse:/ {print $2}')
     rmse=$(echo "$m" | awk '/^rmse:/ {print $2}')
     printf '%-40s %12s %12s\n' "${n%.pfm}" "${rel:-error}" "${rmse:-error}"

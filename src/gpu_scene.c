@@ -3,7 +3,7 @@
 #include <stddef.h>
 #include <stdlib.h>
 
-#include "gpu_types.h"
+#include "shared/gpu_types.h"
 
 bool gpu_scene_create(GpuScene *g, const Scene *s)
 {

@@ -135,7 +135,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
         } else if (!strcmp(opt, "--gi")) {
             CLI_VALUE(&a, v);
-            if ((o->gi = cli_choice(opt, v, gi_mode_names)) < 0)
+            if ((o->gi = cli_choice(opt, v, gi_technique_names)) < 0)
                 return 2;
         } else if (!strcmp(opt, "--size")) {
             CLI_VALUE(&a, v);
@@ -343,7 +343,7 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->timing_sync = o->timings;
 }
 
-void render_options_print_timings(const Renderer *r, const char *gl_renderer, double frame_ms)
+void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)
 {
     const RenderSettings *rs = &r->settings;
     printf("renderer: %s\n", gl_renderer);
@@ -351,7 +351,7 @@ void render_options_print_timings(const Renderer *r, const char *gl_renderer, do
     printf("frame_wall_ms: %.3f\n", frame_ms);
     if (rs->gi == GI_NONE)
         return;
-    const RenderStats *st = &r->stats;
+    const RenderStats *st = renderer_collect_stats(r);
     double pixels = (double)rs->width * rs->height;
     printf("gathered_pixels: %u\n", st->gathered_pixels);
     if (rs->gi == GI_RSM_INTERP)

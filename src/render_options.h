@@ -40,6 +40,6 @@ void render_options_help(void);
 /* Render settings from the scene's defaults and the options. */
 void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs);
 /* Prints the --timings report (per-pass times, GI counters). */
-void render_options_print_timings(const Renderer *r, const char *gl_renderer, double frame_ms);
+void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms);
 
 #endif

@@ -94,7 +94,14 @@ static bool expand(const char *path, FileTable *files, StrBuf *out, int depth)
         const char *q = p;
         while (*q == ' ' || *q == '\t')
             q++;
-        if (strncmp(q, "#include", 8) == 0) {
+        const char *r = q + 8;
+        while (*r == ' ' || *r == '\t')
+            r++;
+        if (strncmp(q, "#include", 8) == 0 && *r == '<') {
+            /* A C system header in a file shared with C (shaders/shared/):
+             * GLSL has none, and such lines sit in the C-only branch. */
+            strbuf_append(out, "\n", 1);
+        } else if (strncmp(q, "#include", 8) == 0) {
             const char *a = strchr(q, '"');
             const char *b = a ? strchr(a + 1, '"') : NULL;
             if (!a || !b || b > p + len) {

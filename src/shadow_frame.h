@@ -9,7 +9,7 @@
 #include <cglm/cglm.h>
 #include <stdbool.h>
 
-#include "gpu_types.h"
+#include "shared/gpu_types.h"
 #include "scene.h"
 
 typedef struct ShadowFrame {

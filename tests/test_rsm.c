@@ -28,7 +28,7 @@ static RenderStats render_gi(const Scene *s, int w, int h, GiMode gi, const GiPa
     assert_true(renderer_create(&r, s, &rs));
     renderer_frame(&r, &s->camera);
     assert_true(renderer_read_hdr(&r, out));
-    RenderStats st = r.stats;
+    RenderStats st = *renderer_collect_stats(&r);
     renderer_destroy(&r);
     return st;
 }

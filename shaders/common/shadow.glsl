@@ -63,7 +63,7 @@ float shadow_fetch(ShadowCoord sc, vec2 o)
 float shadow_bias(float d, float cos_theta, float radius)
 {
     float tan_theta = min(sqrt(max(1.0 - cos_theta * cos_theta, 0.0)) / max(cos_theta, 1e-3), 100.0);
-    return u_shadow.bias.x + u_shadow.bias.y * shadow_texel(d) * tan_theta * max(radius, 1.0);
+    return u_shadow.bias_const + u_shadow.bias_slope * shadow_texel(d) * tan_theta * max(radius, 1.0);
 }
 
 vec2 shadow_poisson(int i, float angle)
@@ -75,7 +75,7 @@ vec2 shadow_poisson(int i, float angle)
 
 float shadow_pcf(ShadowCoord sc, float radius, float cos_theta, float angle)
 {
-    int n = int(u_shadow.filt.y);
+    int n = u_shadow.pcf_samples;
     float ref = sc.d - shadow_bias(sc.d, cos_theta, radius);
     float lit = 0.0;
     for (int i = 0; i < n; i++)
@@ -88,14 +88,14 @@ float shadow_pcf(ShadowCoord sc, float radius, float cos_theta, float angle)
 float shadow_pcss(ShadowCoord sc, float cos_theta, float angle)
 {
     float w = u_light.direction_width.w;
-    float max_r = u_shadow.filt.w;
+    float max_r = u_shadow.pcss_max_radius;
     // (1) Blocker search: the light's footprint through the receiver, taken at
     // a tenth of the receiver distance (blockers nearer the light than that
     // give penumbrae wider than the cap anyway), in texels, capped.
     float d_min = shadow_is_ortho() ? 0.0 : 0.1 * sc.d;
     float search_world = shadow_is_ortho() ? w * sc.d : w * (sc.d - d_min) / sc.d;
     float search = clamp(0.5 * search_world / shadow_texel(max(d_min, 1e-4)), 1.0, max_r);
-    int nb = int(u_shadow.filt.z);
+    int nb = u_shadow.blocker_samples;
     float ref = sc.d - shadow_bias(sc.d, cos_theta, search);
     float sum = 0.0;
     int count = 0;
@@ -119,18 +119,18 @@ float shadow_pcss(ShadowCoord sc, float cos_theta, float angle)
 // Visibility in [0,1] of the light from x (normal n, unit direction to light l).
 float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
 {
-    int mode = int(u_shadow.bias.w);
+    int mode = u_shadow.mode;
     if (mode == SHADOW_NONE)
         return 1.0;
     float cos_theta = max(dot(n, l), 0.0);
     ShadowCoord sc0 = shadow_coord(x);
     // Normal offset: move the receiver along n by a few texels before lookup.
-    vec3 xo = x + n * u_shadow.bias.z * shadow_texel(sc0.d);
+    vec3 xo = x + n * u_shadow.normal_offset * shadow_texel(sc0.d);
     ShadowCoord sc = shadow_coord(xo);
     float angle = TWO_PI * ign(pixel);
     if (mode == SHADOW_HARD)
         return shadow_fetch(sc, vec2(0.0)) >= sc.d - shadow_bias(sc.d, cos_theta, 1.0) ? 1.0 : 0.0;
     if (mode == SHADOW_PCF)
-        return shadow_pcf(sc, u_shadow.filt.x, cos_theta, angle);
+        return shadow_pcf(sc, u_shadow.pcf_radius, cos_theta, angle);
     return shadow_pcss(sc, cos_theta, angle);
 }

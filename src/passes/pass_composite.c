@@ -1,11 +1,11 @@
 #include "passes/pass_composite.h"
 
-#include "gpu_types.h"
 #include "shader.h"
+#include "shared/gpu_types.h"
 
 bool pass_composite_create(PassComposite *p)
 {
-    p->program = shader_program_make("composite", "fullscreen.vert", "composite.frag", NULL);
+    p->program = shader_program_make("composite", "frame/fullscreen.vert", "frame/composite.frag", NULL);
     glCreateVertexArrays(1, &p->vao);
     return p->program != 0;
 }
@@ -17,9 +17,11 @@ void pass_composite_destroy(PassComposite *p)
     *p = (PassComposite){0};
 }
 
-void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, ColorTarget *hdr)
+void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, GLuint specular, ColorTarget *hdr)
 {
     glBindTextureUnit(TEX_GB_ALBEDO, gb->albedo);
     glBindTextureUnit(TEX_GI, irradiance);
+    glBindTextureUnit(TEX_SPECULAR, specular ? specular : irradiance);
+    glProgramUniform1i(p->program, LOC_COMPOSITE_SPECULAR, specular ? 1 : 0);
     fullscreen_draw(p->program, p->vao, hdr->fbo, hdr->width, hdr->height, true);
 }

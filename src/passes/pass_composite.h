@@ -1,6 +1,8 @@
-/* pass_composite.h — adds indirect radiance ρ/π · E · scale to the HDR
- * target. Inputs: GBuffer albedo, an irradiance texture, UBO_GI (scale).
- * Output: HDR target (additive). Owns: its program. */
+/* pass_composite.h — adds the GI technique's result to the HDR target:
+ * ρ/π · E · indirect_scale from its irradiance image, plus its specular
+ * radiance image (× indirect_scale) when it has one.
+ * Inputs: GBuffer albedo, the irradiance (and specular) image, UBO_FRAME.
+ * Output: HDR target (additive). Owns: its program and an empty VAO. */
 #ifndef RTGI_PASS_COMPOSITE_H
 #define RTGI_PASS_COMPOSITE_H
 
@@ -15,6 +17,7 @@ typedef struct PassComposite {
 
 bool pass_composite_create(PassComposite *p);
 void pass_composite_destroy(PassComposite *p);
-void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, ColorTarget *hdr);
+/* `specular` may be 0 (the technique has none). */
+void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, GLuint specular, ColorTarget *hdr);
 
 #endif

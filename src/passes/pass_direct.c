@@ -1,22 +1,22 @@
 #include "passes/pass_direct.h"
 
+#include <assert.h>
 #include <math.h>
 #include <string.h>
 
 #include <cglm/cglm.h>
 
-#include "gpu_types.h"
+#include "log.h"
+#include "shared/gpu_types.h"
 #include "shader.h"
 
 bool pass_direct_create(PassDirect *p)
 {
-    p->program = shader_program_make("direct", "fullscreen.vert", "direct.frag", NULL);
+    p->program = shader_program_make("direct", "frame/fullscreen.vert", "frame/direct.frag", NULL);
     if (!p->program)
         return false;
     glCreateBuffers(1, &p->shadow_ubo);
     glNamedBufferStorage(p->shadow_ubo, sizeof(GpuShadowParams), NULL, GL_DYNAMIC_STORAGE_BIT);
-    glCreateBuffers(1, &p->light_ubo);
-    glNamedBufferStorage(p->light_ubo, sizeof(GpuLight), NULL, GL_DYNAMIC_STORAGE_BIT);
     glCreateVertexArrays(1, &p->vao);
     return true;
 }
@@ -24,8 +24,7 @@ bool pass_direct_create(PassDirect *p)
 void pass_direct_destroy(PassDirect *p)
 {
     glDeleteProgram(p->program);
-    GLuint b[2] = {p->shadow_ubo, p->light_ubo};
-    glDeleteBuffers(2, b);
+    glDeleteBuffers(1, &p->shadow_ubo);
     glDeleteVertexArrays(1, &p->vao);
     *p = (PassDirect){0};
 }
@@ -47,30 +46,41 @@ void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *
 {
     GpuShadowParams g;
     memset(&g, 0, sizeof g);
-    g.bias[0] = sp->bias_const;
-    g.bias[1] = sp->bias_slope;
-    g.bias[2] = sp->normal_offset;
-    g.bias[3] = (float)mode;
-    g.filter[0] = sp->pcf_radius;
-    g.filter[1] = (float)sp->pcf_samples;
-    g.filter[2] = (float)sp->blocker_samples;
-    g.filter[3] = sp->pcss_max_radius;
+    g.bias_const = sp->bias_const;
+    g.bias_slope = sp->bias_slope;
+    g.normal_offset = sp->normal_offset;
+    g.mode = (int)mode;
+    g.pcf_radius = sp->pcf_radius;
+    g.pcf_samples = sp->pcf_samples;
+    g.blocker_samples = sp->blocker_samples;
+    g.pcss_max_radius = sp->pcss_max_radius;
+    /* The settings table bounds both counts by SHADOW_MAX_SAMPLES. */
     int n = sp->pcf_samples > sp->blocker_samples ? sp->pcf_samples : sp->blocker_samples;
+    assert(n >= 1 && n <= SHADOW_MAX_SAMPLES);
     poisson_disk_spiral(n, 10, g.poisson);
     glNamedBufferSubData(p->shadow_ubo, 0, sizeof g, &g);
 }
 
-void pass_direct_run(PassDirect *p, const PassShadow *ps, const ShadowMap *sm, const GBuffer *gb,
-                     bool add_emission, ColorTarget *hdr)
+void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, ColorTarget *hdr)
 {
-    glNamedBufferSubData(p->light_ubo, 0, sizeof(GpuLight), &sm->gpu);
-    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LIGHT, p->light_ubo);
+    const float black[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(hdr->fbo, GL_COLOR, 0, black);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_SHADOW, p->shadow_ubo);
-    pass_shadow_bind(ps, sm);
     glBindTextureUnit(TEX_GB_POSITION, gb->position);
     glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
     glBindTextureUnit(TEX_GB_ALBEDO, gb->albedo);
     glBindTextureUnit(TEX_GB_EMISSION, gb->emission);
-    glProgramUniform1i(p->program, 10, add_emission ? 1 : 0);
-    fullscreen_draw(p->program, p->vao, hdr->fbo, hdr->width, hdr->height, true);
+    if (ls->light_count == 0) {
+        /* No light: slot 0 of the light array is all zero (zero light
+         * colour), so the draw adds emission only. */
+        light_stage_bind_shadow(ls, 0);
+        glProgramUniform1i(p->program, LOC_DIRECT_EMISSION, 1);
+        fullscreen_draw(p->program, p->vao, hdr->fbo, hdr->width, hdr->height, true);
+        return;
+    }
+    for (int i = 0; i < ls->light_count; i++) {
+        light_stage_bind_shadow(ls, i);
+        glProgramUniform1i(p->program, LOC_DIRECT_EMISSION, i == 0 ? 1 : 0);
+        fullscreen_draw(p->program, p->vao, hdr->fbo, hdr->width, hdr->height, true);
+    }
 }

@@ -2,15 +2,16 @@
  * physical light model (common/lights.glsl), shadow visibility (hard, PCF,
  * PCSS; common/shadow.glsl). Adds into the HDR target; the first call of a
  * frame also adds emitted radiance.
- * Inputs: GBuffer, ShadowMap of the light, shadow parameters.
+ * Inputs: GBuffer, the light stage (light block and shadow map of each
+ * light), shadow parameters.
  * Output: HDR radiance target (RGBA32F), blended additively.
- * Owns: its program and the shadow-parameter uniform buffer. */
+ * Owns: its program, the shadow-parameter uniform buffer, an empty VAO. */
 #ifndef RTGI_PASS_DIRECT_H
 #define RTGI_PASS_DIRECT_H
 
 #include <stdbool.h>
 
-#include "passes/pass_shadow.h"
+#include "light_stage.h"
 #include "scene.h"
 #include "targets.h"
 
@@ -19,7 +20,6 @@ typedef enum ShadowMode { SHADOW_MODE_NONE = 0, SHADOW_MODE_HARD = 1, SHADOW_MOD
 typedef struct PassDirect {
     GLuint program;
     GLuint shadow_ubo; /* GpuShadowParams */
-    GLuint light_ubo;  /* GpuLight */
     GLuint vao;        /* empty, for the full-screen triangle */
 } PassDirect;
 
@@ -27,11 +27,11 @@ bool pass_direct_create(PassDirect *p);
 void pass_direct_destroy(PassDirect *p);
 /* Uploads the shadow parameters (call when they change). */
 void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *sp);
-void pass_direct_run(PassDirect *p, const PassShadow *ps, const ShadowMap *sm, const GBuffer *gb,
-                     bool add_emission, ColorTarget *hdr);
+/* Clears `hdr` and adds every light's direct radiance and the emission. */
+void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, ColorTarget *hdr);
 
-/* The Poisson disk of the notes: `n` samples on a spiral of `rings` turns
- * (radius grows as ((i+1)/n)^0.75), in the unit disk. */
+/* The Poisson disk of the notes: `n` (≤ SHADOW_MAX_SAMPLES) samples on a
+ * spiral of `rings` turns (radius grows as ((i+1)/n)^0.75), in the unit disk. */
 void poisson_disk_spiral(int n, int rings, float out[][4]);
 
 #endif

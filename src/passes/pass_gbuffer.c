@@ -1,12 +1,12 @@
 #include "passes/pass_gbuffer.h"
 
 #include "camera.h"
-#include "gpu_types.h"
+#include "shared/gpu_types.h"
 #include "shader.h"
 
 bool pass_gbuffer_create(PassGbuffer *p)
 {
-    p->program = shader_program_make("gbuffer", "scene.vert", "gbuffer.frag", NULL);
+    p->program = shader_program_make("gbuffer", "frame/scene.vert", "frame/gbuffer.frag", NULL);
     return p->program != 0;
 }
 

@@ -1,11 +1,11 @@
 #include "passes/pass_tonemap.h"
 
-#include "gpu_types.h"
+#include "shared/gpu_types.h"
 #include "shader.h"
 
 bool pass_tonemap_create(PassTonemap *p)
 {
-    p->program = shader_program_make("tonemap", "fullscreen.vert", "tonemap.frag", NULL);
+    p->program = shader_program_make("tonemap", "frame/fullscreen.vert", "frame/tonemap.frag", NULL);
     glCreateVertexArrays(1, &p->vao);
     return p->program != 0;
 }
@@ -19,7 +19,7 @@ void pass_tonemap_destroy(PassTonemap *p)
 
 void pass_tonemap_run(PassTonemap *p, const ColorTarget *hdr, float exposure, ColorTarget *ldr)
 {
-    glProgramUniform1f(p->program, 0, exposure);
+    glProgramUniform1f(p->program, LOC_TONEMAP_EXPOSURE, exposure);
     glBindTextureUnit(TEX_HDR, hdr->texture);
     glEnable(GL_FRAMEBUFFER_SRGB);
     fullscreen_draw(p->program, p->vao, ldr->fbo, ldr->width, ldr->height, false);

@@ -1,0 +1,59 @@
+// gi/interleave.comp — interleaved sampling (Keller & Heidrich 2001;
+// Segovia et al. 2006) around the shading in gi/rsm/gather.comp and gi/vpl/shade.comp:
+//   MODE_SPLIT  G-buffer → n×m de-interleaved sub-images (pixel (x, y) goes
+//               to sub-image (x mod n, y mod m) at (x / n, y / m))
+//   MODE_MERGE  the shaded sub-images back to the interleaved layout
+//   MODE_BLUR   geometry-aware blur over the n×m window: neighbours whose
+//               normal and position agree (thresholds of the interpolation)
+#include "shared/gpu_types.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
+layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
+layout(binding = TEX_INPUT) uniform sampler2D u_input; // MERGE: de-interleaved irradiance; BLUR: merged
+#if defined(MODE_SPLIT)
+layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_position;
+layout(rgba32f, binding = IMG_OUT2) uniform writeonly image2D o_normal;
+#else
+layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_irradiance;
+#endif
+
+void main()
+{
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, ivec2(u_frame.width, u_frame.height))))
+        return;
+    int n = u_gi.interleave_n, m = u_gi.interleave_m;
+    ivec2 sub = ivec2(u_gi.sub_width, u_gi.sub_height);
+    ivec2 di = (px % ivec2(n, m)) * sub + px / ivec2(n, m);
+#if defined(MODE_SPLIT)
+    imageStore(o_position, di, texelFetch(g_position, px, 0));
+    imageStore(o_normal, di, texelFetch(g_normal, px, 0));
+#elif defined(MODE_MERGE)
+    imageStore(o_irradiance, px, texelFetch(u_input, di, 0));
+#else
+    vec4 p = texelFetch(g_position, px, 0);
+    if (p.w == 0.0) {
+        imageStore(o_irradiance, px, vec4(0.0));
+        return;
+    }
+    vec3 nrm = texelFetch(g_normal, px, 0).xyz;
+    float max_dist = u_gi.interp_dist * distance(p.xyz, u_frame.camera.xyz);
+    vec3 sum = vec3(0.0);
+    float count = 0.0;
+    for (int dy = -m / 2; dy < m - m / 2; dy++)
+        for (int dx = -n / 2; dx < n - n / 2; dx++) {
+            ivec2 q = px + ivec2(dx, dy);
+            if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(u_frame.width, u_frame.height))))
+                continue;
+            vec4 qp = texelFetch(g_position, q, 0);
+            if (qp.w == 0.0 || dot(nrm, texelFetch(g_normal, q, 0).xyz) < u_gi.interp_normal ||
+                distance(qp.xyz, p.xyz) > max_dist)
+                continue;
+            sum += texelFetch(u_input, q, 0).rgb;
+            count += 1.0;
+        }
+    imageStore(o_irradiance, px, vec4(count > 0.0 ? sum / count : vec3(0.0), 1.0));
+#endif
+}

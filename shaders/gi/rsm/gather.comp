@@ -1,0 +1,89 @@
+// gi/rsm/gather.comp — one bounce from the RSM into an irradiance image, in
+// one of four layouts chosen by a define:
+//   MODE_FULL         every full-resolution pixel
+//   MODE_LOWRES       one pixel per interp_factor² block (screen-space interpolation, step 1)
+//   MODE_LIST         the pixels listed by interp.comp (step 3: full gathers)
+//   MODE_INTERLEAVED  the de-interleaved G-buffer (bound as g_position/g_normal);
+//                     sub-image k uses the disjoint
+//                     sample subset k, k + n·m, k + 2·n·m, ...
+// With u_exhaustive the sum runs over every VPL of SSBO_VPL instead.
+// u_accumulate adds to the image (one dispatch per light).
+#include "shared/gpu_types.h"
+#include "common/math.glsl"
+#include "common/vpl.glsl"
+#include "gi/rsm/sampling.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
+layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
+layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
+layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
+layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
+#ifdef MODE_LIST
+layout(std430, binding = SSBO_PIXEL_LIST) readonly buffer PixelList { uint list_count; uint list[]; };
+#endif
+layout(location = LOC_GATHER_EXHAUSTIVE) uniform int u_exhaustive;
+layout(location = LOC_GATHER_ACCUMULATE) uniform int u_accumulate;
+
+vec3 gather(vec3 x, vec3 n, int first, int stride, int count)
+{
+    if (u_exhaustive == 0)
+        return rsm_gather(x, n, first, stride, count);
+    vec3 e = vec3(0.0);
+    uint nv = counters[0];
+    for (uint i = 0u; i < nv; i++)
+        e += vpl_irradiance(x, n, vpls[i].position_xi.xyz, vpls[i].normal.xyz, vpls[i].flux.rgb);
+    return e;
+}
+
+void store(ivec2 at, vec3 e)
+{
+    if (u_accumulate != 0)
+        e += imageLoad(o_irradiance, at).rgb;
+    imageStore(o_irradiance, at, vec4(e, 1.0));
+}
+
+void main()
+{
+    ivec2 gid = ivec2(gl_GlobalInvocationID.xy);
+    int N = u_gi.samples;
+#if defined(MODE_FULL)
+    if (any(greaterThanEqual(gid, ivec2(u_frame.width, u_frame.height))))
+        return;
+    ivec2 px = gid, at = gid;
+    int first = 0, stride = 1, count = N;
+#elif defined(MODE_LOWRES)
+    if (any(greaterThanEqual(gid, ivec2(u_gi.low_width, u_gi.low_height))))
+        return;
+    int f = u_gi.interp_factor;
+    ivec2 px = min(gid * f + f / 2, ivec2(u_frame.width, u_frame.height) - 1), at = gid;
+    int first = 0, stride = 1, count = N;
+#elif defined(MODE_LIST)
+    uint index = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    if (index >= list_count)
+        return;
+    uint code = list[index];
+    ivec2 px = ivec2(code & 0xffffu, code >> 16), at = px;
+    int first = 0, stride = 1, count = N;
+#elif defined(MODE_INTERLEAVED)
+    int n = u_gi.interleave_n, m = u_gi.interleave_m;
+    ivec2 sub = ivec2(u_gi.sub_width, u_gi.sub_height);
+    ivec2 k2 = gid / sub;
+    if (k2.x >= n || k2.y >= m)
+        return;
+    // g_position/g_normal are the de-interleaved copies here (gi/interleave.comp).
+    ivec2 px = gid, at = gid;
+    if (any(greaterThanEqual((gid % sub) * ivec2(n, m) + k2, ivec2(u_frame.width, u_frame.height))))
+        return; // padding texel of a sub-image: no pixel maps here
+    int first = k2.x + n * k2.y, stride = n * m, count = max(N / (n * m), 1);
+#endif
+    vec4 p = texelFetch(g_position, px, 0);
+    if (p.w == 0.0) {
+        if (u_accumulate == 0)
+            imageStore(o_irradiance, at, vec4(0.0));
+        return;
+    }
+    vec3 nrm = texelFetch(g_normal, px, 0).xyz;
+    store(at, gather(p.xyz, nrm, first, stride, count));
+}

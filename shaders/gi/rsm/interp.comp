@@ -1,0 +1,55 @@
+// gi/rsm/interp.comp — screen-space interpolation (Dachsbacher & Stamminger
+// 2005, §4): each full-resolution pixel looks at its four surrounding
+// low-resolution samples; a sample is usable if its normal and world
+// position agree with the pixel's. With three or four usable samples the
+// pixel takes their bilinear-weighted mean; otherwise it is appended to the
+// list of pixels that get a full gather (SSBO_PIXEL_LIST).
+#include "shared/gpu_types.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
+layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
+layout(binding = TEX_INPUT) uniform sampler2D u_lowres;
+layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
+layout(std430, binding = SSBO_PIXEL_LIST) buffer PixelList { uint list_count; uint list[]; };
+
+void main()
+{
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, ivec2(u_frame.width, u_frame.height))))
+        return;
+    vec4 p = texelFetch(g_position, px, 0);
+    if (p.w == 0.0) {
+        imageStore(o_irradiance, px, vec4(0.0));
+        return;
+    }
+    vec3 n = texelFetch(g_normal, px, 0).xyz;
+    int f = u_gi.interp_factor;
+    float max_dist = u_gi.interp_dist * distance(p.xyz, u_frame.camera.xyz);
+    vec2 u = (vec2(px) + 0.5) / float(f) - 0.5;
+    ivec2 i0 = ivec2(floor(u));
+    vec2 t = u - vec2(i0);
+    vec3 sum = vec3(0.0);
+    float wsum = 0.0;
+    int usable = 0;
+    for (int k = 0; k < 4; k++) {
+        ivec2 o = ivec2(k & 1, k >> 1);
+        ivec2 s = clamp(i0 + o, ivec2(0), ivec2(u_gi.low_width, u_gi.low_height) - 1);
+        ivec2 sp = min(s * f + f / 2, ivec2(u_frame.width, u_frame.height) - 1);
+        vec4 q = texelFetch(g_position, sp, 0);
+        vec3 qn = texelFetch(g_normal, sp, 0).xyz;
+        if (q.w == 0.0 || dot(n, qn) < u_gi.interp_normal || distance(p.xyz, q.xyz) > max_dist)
+            continue;
+        float w = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y) + 1e-4;
+        sum += w * texelFetch(u_lowres, s, 0).rgb;
+        wsum += w;
+        usable++;
+    }
+    if (usable >= 3) {
+        imageStore(o_irradiance, px, vec4(sum / wsum, 1.0));
+    } else {
+        uint i = atomicAdd(list_count, 1u);
+        list[i] = uint(px.x) | (uint(px.y) << 16);
+    }
+}

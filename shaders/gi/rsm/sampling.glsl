@@ -1,0 +1,93 @@
+// rsm.glsl — gathering one bounce from a reflective shadow map
+// (Dachsbacher & Stamminger 2005), SPEC §3.
+// Project x into the RSM at (s, t); take samples at (s, t) + r_max·ξ1·
+// (sin 2πξ2, cos 2πξ2) from a pattern precomputed once (SSBO_PATTERN:
+// xy = ξ1·(sin, cos), z = ξ1, w = ξ2). Weighting:
+//  - paper: Σ ξ1²·E_p / Σ ξ1², times K, the number of texels in the disk
+//    (so that a constant field sums exactly);
+//  - unbiased: Σ E_p / (N·P(texel)), P = texel area × polar pdf
+//    1/(2π r_max² ξ1), i.e. a weight 2·ξ1·K/N per sample: converges to the sum
+//    over the disk's texels. On a cube RSM, samples that leave the face go
+//    through the face plane; a Jacobian ratio (texels per plane area there
+//    relative to the face's own) keeps the estimate unbiased, and also keeps
+//    the paper's normalisation from counting texels the disk does not cover.
+// Requires: shared/gpu_types.h, math.glsl, vpl.glsl; RSM_CUBE defined for point and
+// quad lights (cube RSM), undefined for directional and spot lights.
+
+layout(std430, binding = SSBO_PATTERN) readonly buffer PatternBlock { vec4 pattern[]; };
+
+#ifdef RSM_CUBE
+layout(binding = TEX_RSM_POSITION) uniform samplerCube rsm_position;
+layout(binding = TEX_RSM_NORMAL) uniform samplerCube rsm_normal;
+layout(binding = TEX_RSM_FLUX) uniform samplerCube rsm_flux;
+#else
+layout(binding = TEX_RSM_POSITION) uniform sampler2D rsm_position;
+layout(binding = TEX_RSM_NORMAL) uniform sampler2D rsm_normal;
+layout(binding = TEX_RSM_FLUX) uniform sampler2D rsm_flux;
+#endif
+
+// Signed major axis of d.
+vec3 major_axis(vec3 d)
+{
+    vec3 a = abs(d);
+    if (a.x >= a.y && a.x >= a.z)
+        return vec3(sign(d.x), 0.0, 0.0);
+    if (a.y >= a.z)
+        return vec3(0.0, sign(d.y), 0.0);
+    return vec3(0.0, 0.0, sign(d.z));
+}
+
+// Sums E over samples first, first+stride, ... (count of them).
+vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count)
+{
+    float r_max = u_gi.r_max;
+    bool unbiased = u_gi.weighting != 0;
+    float K = u_gi.disk_texels;
+    vec3 sum = vec3(0.0);
+    float wsum = 0.0;
+#ifdef RSM_CUBE
+    vec3 dir = x - u_light.position_type.xyz;
+    vec3 a = major_axis(dir);
+    vec3 r = abs(a.y) > 0.5 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    vec3 u = cross(a, r);
+    float inv_ma = 1.0 / abs(dot(dir, a));
+    vec2 st = vec2(dot(dir, r), dot(dir, u)) * inv_ma; // face plane at distance 1, in [-1, 1]
+    float scale = 2.0 * r_max;                          // face width is 2 in these units
+#else
+    vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
+    vec2 st = c.xy / c.w * 0.5 + 0.5;
+    float scale = r_max;
+#endif
+    for (int k = 0; k < count; k++) {
+        vec4 smp = pattern[first + k * stride];
+        vec2 q = st + scale * smp.xy;
+#ifdef RSM_CUBE
+        vec3 D = a + q.x * r + q.y * u;
+        vec3 xp = textureLod(rsm_position, D, 0.0).xyz;
+        vec4 np = textureLod(rsm_normal, D, 0.0);
+        vec3 flux = textureLod(rsm_flux, D, 0.0).rgb;
+        vec3 Dn = normalize(D);
+        float jac = pow(abs(dot(Dn, a)) / abs(dot(Dn, major_axis(D))), 3.0);
+#else
+        if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, vec2(1.0)))) {
+            if (!unbiased)
+                wsum += smp.z * smp.z; // a sample of empty space still counts in the average
+            continue;
+        }
+        vec3 xp = textureLod(rsm_position, q, 0.0).xyz;
+        vec4 np = textureLod(rsm_normal, q, 0.0);
+        vec3 flux = textureLod(rsm_flux, q, 0.0).rgb;
+        float jac = 1.0;
+#endif
+        vec3 e = vpl_irradiance(x, n, xp, np.xyz, flux);
+        if (unbiased) {
+            sum += e * (2.0 * smp.z * jac);
+        } else {
+            sum += e * (smp.z * smp.z * jac);
+            wsum += smp.z * smp.z;
+        }
+    }
+    if (unbiased)
+        return sum * (K / float(max(count, 1)));
+    return wsum > 0.0 ? sum * (K / wsum) : vec3(0.0);
+}

@@ -1,0 +1,101 @@
+// gi/vpl/shade.comp — indirect irradiance from many VPLs (SPEC §3-4), no
+// visibility, counting VPL–pixel evaluations (per work group, SSBO_EVALS;
+// the second half counts candidates visited: tile-list entries for the
+// tiled modes, the same as evaluations otherwise):
+//   MODE_ALL          every VPL; with u_vpl.keep = q < 1 only those with
+//                     ξ < q, weighted 1/q (uniform subsampling)
+//   MODE_TILED        the pixel's tile list; a VPL counts inside its range
+//                     r_i with falloff max(α_i, 1/d²) (stochastic light
+//                     culling, unbiased) or 1/d² (clamped range, α = 0)
+//   MODE_INTERLEAVED  sub-image k = (x mod n) + n·(y mod m) sums its VPL
+//                     subset (SSBO_SUBSETS, length L each), weighted by K = n·m
+#include "shared/gpu_types.h"
+#include "common/math.glsl"
+#include "gi/vpl/falloff.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
+layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
+layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_irradiance;
+layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
+layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
+layout(std430, binding = SSBO_VPL_RANGE) readonly buffer RangeBlock { vec2 ranges[]; };
+layout(std430, binding = SSBO_TILES) readonly buffer TileBlock { uint tiles[]; };
+layout(std430, binding = SSBO_EVALS) writeonly buffer EvalBlock { uint evals[]; };
+layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { uint subsets[]; };
+
+shared uint s_evals;
+shared uint s_visits;
+
+void main()
+{
+    if (gl_LocalInvocationIndex == 0u) {
+        s_evals = 0u;
+        s_visits = 0u;
+    }
+    barrier();
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = textureSize(g_position, 0);
+    bool inside = all(lessThan(px, size));
+    vec4 p = inside ? texelFetch(g_position, px, 0) : vec4(0.0);
+    vec3 e = vec3(0.0);
+    uint count = 0u, visits = 0u;
+    if (p.w > 0.0) {
+        vec3 x = p.xyz, n = texelFetch(g_normal, px, 0).xyz;
+        float d2;
+#if defined(MODE_ALL)
+        float q = u_vpl.keep;
+        uint nv = counters[0];
+        for (uint i = 0u; i < nv; i++) {
+            if (q < 1.0 && vpls[i].position_xi.w >= q)
+                continue;
+            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
+            e += ic * vpl_falloff(d2);
+            count++;
+        }
+        e /= q;
+#elif defined(MODE_TILED)
+        uint ntiles = uint(u_vpl.tiles_x * u_vpl.tiles_y);
+        uint tile = uint(px.y / VPL_TILE) * uint(u_vpl.tiles_x) + uint(px.x / VPL_TILE);
+        uint cap = u_vpl.tile_capacity, nt = tiles[tile];
+        visits = nt;
+        for (uint k = 0u; k < nt; k++) {
+            uint i = tiles[ntiles + 1u + tile * cap + k];
+            vec2 ar = ranges[i];
+            vec3 d = x - vpls[i].position_xi.xyz;
+            if (dot(d, d) >= ar.y * ar.y)
+                continue;
+            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
+            e += ic * max(ar.x, vpl_falloff(d2));
+            count++;
+        }
+#elif defined(MODE_INTERLEAVED)
+        int nn = u_vpl.interleave_n, mm = u_vpl.interleave_m;
+        uint k = uint(px.x % nn + nn * (px.y % mm));
+        uint len = u_vpl.subset_len;
+        for (uint j = k * len; j < (k + 1u) * len; j++) {
+            uint i = subsets[j];
+            if (i == 0xffffffffu)
+                continue;
+            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
+            e += ic * vpl_falloff(d2);
+            count++;
+        }
+        e *= float(u_vpl.subset_count);
+#endif
+    }
+#if !defined(MODE_TILED)
+    visits = count;
+#endif
+    if (inside)
+        imageStore(o_irradiance, px, vec4(e, 1.0));
+    atomicAdd(s_evals, count);
+    atomicAdd(s_visits, visits);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u) {
+        uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+        evals[g] = s_evals;
+        evals[gl_NumWorkGroups.x * gl_NumWorkGroups.y + g] = s_visits;
+    }
+}

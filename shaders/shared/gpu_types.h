@@ -1,0 +1,198 @@
+/* gpu_types.h — every block, binding point and uniform location shared by
+ * the C code and the shaders, declared once. C includes it as
+ * "shared/gpu_types.h"; GLSL through the shader loader's #include. Each
+ * block is an X-macro list of (type, name) fields, so the C struct, the GLSL
+ * struct and the layout test's reflection table (tests/test_layout.c) all
+ * come from the same lines. Types are GLSL's; only 4-byte scalars, vec4,
+ * ivec4, mat4 and arrays of vec4 are used, so std140 and C agree without
+ * hand-placed padding (the layout test checks every offset).
+ * Comments inside the lists must be block comments (line continuation). */
+#ifndef RTGI_SHARED_GPU_TYPES_H
+#define RTGI_SHARED_GPU_TYPES_H
+
+/* ---- Binding points ---------------------------------------------------- */
+/* Uniform blocks */
+#define UBO_LIGHT 0   /* GpuLight of the light being shaded (a range of the light stage's array) */
+#define UBO_SHADOW 1  /* GpuShadowParams */
+#define UBO_GI 2      /* GpuGiParams (RSM family, interleaving) */
+#define UBO_VPL 3     /* GpuVplParams (many-VPL family) */
+#define UBO_FRAME 4   /* GpuFrame: camera, sizes, indirect scale */
+/* Shader storage blocks */
+#define SSBO_PATTERN 0   /* RSM sample pattern: vec4 per sample */
+#define SSBO_VPL 1       /* GpuVpl[] */
+#define SSBO_COUNTERS 2  /* VPL buffer counters: [0] VPL count */
+#define SSBO_VPL_RANGE 3 /* vec2 per VPL: α, culling range */
+#define SSBO_TILES 4     /* per-tile VPL counts and lists */
+#define SSBO_EVALS 5     /* VPL–pixel evaluations per work group */
+#define SSBO_SUBSETS 6   /* interleaved VPL subsets; metalight signatures */
+#define SSBO_PIXEL_LIST 7 /* rsm-interp: [0] count, [1..] pixels that need a full gather */
+/* Texture units */
+#define TEX_ALBEDO 0     /* material texture while drawing the scene */
+#define TEX_SHADOW_2D 1  /* shadow map of a directional/spot light */
+#define TEX_SHADOW_CUBE 2
+#define TEX_GB_POSITION 3
+#define TEX_GB_NORMAL 4
+#define TEX_GB_ALBEDO 5
+#define TEX_GB_EMISSION 6
+#define TEX_HDR 7
+#define TEX_RSM_POSITION 8
+#define TEX_RSM_NORMAL 9
+#define TEX_RSM_FLUX 10
+#define TEX_GI 11        /* indirect irradiance */
+#define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
+#define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
+/* Image units */
+#define IMG_OUT 0        /* image written by GI compute passes */
+#define IMG_OUT2 1       /* second image (de-interleaving writes two) */
+/* Sizes */
+#define VPL_TILE 16          /* culling tile size in pixels */
+#define SHADOW_MAX_SAMPLES 64 /* Poisson disk entries */
+
+/* ---- Uniform locations -------------------------------------------------- */
+/* Every program that draws the scene's meshes (scene.vert + a fragment shader). */
+#define LOC_MATERIAL_ALBEDO 0   /* vec3 */
+#define LOC_MATERIAL_HAS_TEX 1  /* int */
+#define LOC_MATERIAL_CUTOFF 2   /* float; < 0: no alpha mask */
+#define LOC_MATERIAL_EMISSION 3 /* vec3 */
+#define LOC_VIEW_PROJ 4         /* mat4 */
+#define LOC_EYE 5               /* vec3: camera or light position (for facing) */
+/* Per-program uniforms (each program's own locations, from 10 up). */
+#define LOC_RSM_FACE_AXIS 10    /* rsm.frag: vec3 unit axis of the face / spot */
+#define LOC_RSM_TEXEL_AREA 11   /* rsm.frag: float texel area on the projection plane */
+#define LOC_DIRECT_EMISSION 10  /* direct.frag: int, add emitted radiance */
+#define LOC_TONEMAP_EXPOSURE 10 /* tonemap.frag: float */
+#define LOC_COMPOSITE_SPECULAR 10 /* composite.frag: int, add the specular image */
+#define LOC_VPL_STRIDE 10       /* vpl_extract.comp: int, keep every stride-th texel per axis */
+#define LOC_VPL_SEED 11         /* vpl_extract.comp: uint, seed of the VPLs' random ξ */
+#define LOC_GATHER_EXHAUSTIVE 10 /* rsm gather: int, sum every VPL instead of sampling */
+#define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
+
+/* ---- Constants ------------------------------------------------------------ */
+#ifdef GL_core_profile
+/* C has these as enums: LightType (scene.h) and ShadowMode (pass_direct.h),
+ * with the same values (checked in tests/test_layout.c). */
+#define LIGHT_DIRECTIONAL 0
+#define LIGHT_SPOT 1
+#define LIGHT_POINT 2
+#define LIGHT_QUAD 3
+#define SHADOW_NONE 0
+#define SHADOW_HARD 1
+#define SHADOW_PCF 2
+#define SHADOW_PCSS 3
+#endif
+
+/* ---- Blocks ------------------------------------------------------------- */
+
+/* One light as the shaders see it (std140; also the light stage's array). */
+#define GPU_LIGHT_FIELDS(F, A)                                                                        \
+    F(vec4, position_type)    /* xyz: position; w: LightType */                                      \
+    F(vec4, direction_width)  /* xyz: unit direction; w: PCSS width (m), or tan of the sun's angular diameter */ \
+    F(vec4, color)            /* rgb: E (directional), I (spot, point), L·A (quad) */                \
+    F(vec4, spot)             /* x: cos outer, y: cos inner */                                       \
+    F(mat4, shadow_view_proj) /* directional/spot: world → shadow clip space */                      \
+    F(vec4, shadow_origin)    /* directional: point on the ortho near plane; others: light position */ \
+    F(vec4, shadow_info)      /* x: far (stored depth × far = m), y: texel factor k, z: map resolution, w: 1 for a cube */
+
+/* Shadow filtering (std140). */
+#define GPU_SHADOW_PARAMS_FIELDS(F, A)                                          \
+    F(float, bias_const)      /* constant bias (m) */                          \
+    F(float, bias_slope)      /* slope-scaled bias (texels × tanθ) */          \
+    F(float, normal_offset)   /* receiver offset along the normal (texels) */  \
+    F(int, mode)              /* SHADOW_NONE .. SHADOW_PCSS */                 \
+    F(float, pcf_radius)      /* PCF filter radius (texels) */                 \
+    F(int, pcf_samples)       /* Poisson samples of the PCF filter */          \
+    F(int, blocker_samples)   /* PCSS blocker-search samples */                \
+    F(float, pcss_max_radius) /* PCSS search/filter radius cap (texels) */     \
+    A(vec4, poisson, SHADOW_MAX_SAMPLES) /* xy: Poisson disk in the unit disk */
+
+/* Per-frame values every screen-space pass may read (std140). */
+#define GPU_FRAME_FIELDS(F, A)                                              \
+    F(vec4, camera)          /* xyz: camera position */                    \
+    F(int, width)            /* output size in pixels */                   \
+    F(int, height)                                                         \
+    F(float, indirect_scale) /* multiplies the GI technique's irradiance */ \
+    F(float, exposure)       /* radiance multiplier before tone mapping */
+
+/* RSM gathers and the screen-space interpolation / interleaving (std140). */
+#define GPU_GI_PARAMS_FIELDS(F, A)                                                  \
+    F(float, r_max)         /* sampling radius, RSM widths (cube: face widths) */  \
+    F(int, samples)         /* N samples per gather */                             \
+    F(int, weighting)       /* 0: paper's ξ1², 1: unbiased for the polar pdf */     \
+    F(int, rsm_size)        /* RSM resolution */                                   \
+    F(float, disk_texels)   /* texels in the sampling disk, K = π (r_max·res)² */   \
+    F(int, interp_factor)   /* rsm-interp: low-res = full / factor */              \
+    F(float, interp_normal) /* min cosine between normals of usable samples */     \
+    F(float, interp_dist)   /* max distance, fraction of the view distance */      \
+    F(int, low_width)       /* rsm-interp low-resolution size */                   \
+    F(int, low_height)                                                             \
+    F(int, interleave_n)    /* interleaving pattern n × m */                       \
+    F(int, interleave_m)                                                           \
+    F(int, sub_width)       /* de-interleaved sub-image size */                    \
+    F(int, sub_height)
+
+/* One virtual point light (std430). */
+#define GPU_VPL_FIELDS(F, A)                                          \
+    F(vec4, position_xi) /* xyz: position; w: its fixed random ξ in (0,1] */ \
+    F(vec4, normal)      /* xyz: unit normal (lit side) */            \
+    F(vec4, flux)        /* rgb: reflected flux Φ (W) */
+
+/* Many-VPL shading (std140). */
+#define GPU_VPL_PARAMS_FIELDS(F, A)                                               \
+    F(float, slc_emax)      /* stochastic light culling error bound e_max */     \
+    F(float, slc_exposure)  /* exposure E of the SLC error bound */              \
+    F(float, near_clamp)    /* falloff 1/max(d², c), c in m²; 0 = off */         \
+    F(float, clamp_range)   /* vpl-clamped range R (m) */                        \
+    F(float, keep)          /* vpl-all: kept fraction q */                       \
+    F(uint, tile_capacity)  /* list entries per culling tile */                  \
+    F(uint, subset_count)   /* K = n·m interleaved subsets */                    \
+    F(uint, subset_len)     /* L VPLs per subset */                              \
+    F(int, tiles_x)         /* culling tile counts */                            \
+    F(int, tiles_y)                                                              \
+    F(int, interleave_n)    /* interleaving pattern n × m */                     \
+    F(int, interleave_m)                                                         \
+    F(int, signature_w)     /* metalight signature grid */                       \
+    F(int, signature_h)
+
+/* ---- Declarations --------------------------------------------------------- */
+#ifdef GL_core_profile /* GLSL */
+#define GPU_MEMBER(t, n) t n;
+#define GPU_ARRAY(t, n, c) t n[c];
+#define GPU_STRUCT(name, LIST) struct name { LIST(GPU_MEMBER, GPU_ARRAY) };
+#else /* C */
+#include <assert.h>
+#include <stdint.h>
+typedef float GPU_C_float;
+typedef int32_t GPU_C_int;
+typedef uint32_t GPU_C_uint;
+typedef float GPU_C_vec4[4] __attribute__((aligned(16)));
+typedef int32_t GPU_C_ivec4[4] __attribute__((aligned(16)));
+typedef float GPU_C_mat4[16] __attribute__((aligned(16)));
+#define GPU_MEMBER(t, n) GPU_C_##t n;
+#define GPU_ARRAY(t, n, c) GPU_C_##t n[c];
+#define GPU_STRUCT(name, LIST) typedef struct name { LIST(GPU_MEMBER, GPU_ARRAY) } name;
+#endif
+
+GPU_STRUCT(GpuLight, GPU_LIGHT_FIELDS)
+GPU_STRUCT(GpuShadowParams, GPU_SHADOW_PARAMS_FIELDS)
+GPU_STRUCT(GpuFrame, GPU_FRAME_FIELDS)
+GPU_STRUCT(GpuGiParams, GPU_GI_PARAMS_FIELDS)
+GPU_STRUCT(GpuVpl, GPU_VPL_FIELDS)
+GPU_STRUCT(GpuVplParams, GPU_VPL_PARAMS_FIELDS)
+
+#ifdef GL_core_profile
+/* The blocks, as every shader names them. */
+layout(std140, binding = UBO_LIGHT) uniform LightBlock { GpuLight u_light; };
+layout(std140, binding = UBO_SHADOW) uniform ShadowBlock { GpuShadowParams u_shadow; };
+layout(std140, binding = UBO_FRAME) uniform FrameBlock { GpuFrame u_frame; };
+layout(std140, binding = UBO_GI) uniform GiBlock { GpuGiParams u_gi; };
+layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
+#else
+static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight: std140 size");
+static_assert(sizeof(GpuShadowParams) == 2 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
+static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
+static_assert(sizeof(GpuGiParams) == 14 * 4, "GpuGiParams: 14 scalars (std140 rounds the block to 64)");
+static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
+static_assert(sizeof(GpuVplParams) == 14 * 4, "GpuVplParams: 14 scalars (std140 rounds the block to 64)");
+#endif
+
+#endif

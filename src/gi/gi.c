@@ -1,0 +1,91 @@
+/* gi.c — the technique table, and "none". */
+#include "gi/gi.h"
+
+#include <stddef.h>
+#include <string.h>
+
+const GiTechnique *const gi_techniques[] = {
+    &gi_none,
+    &gi_rsm,
+    &gi_rsm_interp,
+    &gi_rsm_interleaved,
+    &gi_vpl_all,
+    &gi_vpl_clamped,
+    &gi_vpl_slc,
+    &gi_vpl_interleaved,
+    &gi_vpl_metalights,
+    NULL,
+};
+
+/* In table order (tests/test_settings.c checks it). */
+const char *const gi_technique_names[] = {
+    "none",    "rsm",     "rsm-interp",      "rsm-interleaved", "vpl-all",
+    "vpl-clamped", "vpl-slc", "vpl-interleaved", "vpl-metalights", NULL,
+};
+
+int gi_technique_count(void)
+{
+    int n = 0;
+    while (gi_techniques[n])
+        n++;
+    return n;
+}
+
+int gi_technique_find(const char *name)
+{
+    for (int i = 0; gi_techniques[i]; i++)
+        if (!strcmp(gi_techniques[i]->name, name))
+            return i;
+    return -1;
+}
+
+void gi_dispatch_pixels(int w, int h)
+{
+    glDispatchCompute((GLuint)(w + 7) / 8, (GLuint)(h + 7) / 8, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
+{
+    memset(u, 0, sizeof *u);
+    float r = p->r_max * (float)p->rsm_size;
+    u->r_max = p->r_max;
+    u->samples = p->samples;
+    u->weighting = p->weighting == RSM_WEIGHT_UNBIASED ? 1 : 0;
+    u->rsm_size = p->rsm_size;
+    u->disk_texels = 3.14159265358979f * r * r;
+    u->interp_factor = p->interp_factor;
+    u->interp_normal = p->interp_normal;
+    u->interp_dist = p->interp_dist;
+    u->low_width = (w + p->interp_factor - 1) / p->interp_factor;
+    u->low_height = (h + p->interp_factor - 1) / p->interp_factor;
+    u->interleave_n = p->interleave_n;
+    u->interleave_m = p->interleave_m;
+    u->sub_width = (w + p->interleave_n - 1) / p->interleave_n;
+    u->sub_height = (h + p->interleave_m - 1) / p->interleave_m;
+}
+
+GLuint gi_ubo_make(GLsizeiptr size, const char *label)
+{
+    GLuint b;
+    glCreateBuffers(1, &b);
+    glNamedBufferStorage(b, size, NULL, GL_DYNAMIC_STORAGE_BIT);
+    glObjectLabel(GL_BUFFER, b, -1, label);
+    return b;
+}
+
+/* ---- none: direct light only --------------------------------------------- */
+
+static unsigned none_needs(const GiParams *p)
+{
+    (void)p;
+    return 0;
+}
+
+const GiTechnique gi_none = {
+    .name = "none",
+    .paper = "-",
+    .summary = "direct light only",
+    .needs = none_needs,
+};

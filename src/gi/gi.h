@@ -1,0 +1,103 @@
+/* gi.h — the global-illumination technique table. One row per `--gi`
+ * value; a technique is its row, its C file under src/gi/, its shaders under
+ * shaders/gi/, its settings rows (settings.c) and its tests.
+ *
+ * Contract: each frame, after the light stage and the G-buffer, `run`
+ * writes the indirect diffuse irradiance E (W/m², RGBA32F, full output
+ * resolution) into `GiFrame.irradiance`; the composite adds ρ/π · E ·
+ * indirect_scale. A technique with a specular image (`GI_HAS_SPECULAR`)
+ * writes outgoing indirect radiance into `GiFrame.specular`, which the
+ * composite adds as it is. A technique declares which light products it
+ * needs (`needs`), and the light stage makes exactly those.
+ *
+ * Lifetime: `create` when the technique is selected (and on a settings
+ * change it depends on), `resize` when the output size changes, `destroy`
+ * when another is selected. `stats` reads counters back from the GPU and is
+ * only called when statistics are asked for. */
+#ifndef RTGI_GI_H
+#define RTGI_GI_H
+
+#include <epoxy/gl.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "gpu_timer.h"
+#include "light_stage.h"
+#include "scene.h"
+#include "shared/gpu_types.h"
+#include "targets.h"
+
+/* Counters of a frame's GI work (read back on request). */
+typedef struct GiStats {
+    uint32_t vpl_count;       /* VPLs in the buffer (VPL techniques, exhaustive gathers) */
+    uint32_t lowres_gathers;  /* rsm-interp: low-resolution gathers */
+    uint32_t full_gathers;    /* rsm-interp: pixels that needed a full gather */
+    uint32_t gathered_pixels; /* pixels that ran a gather */
+    uint64_t vpl_evaluations; /* VPL–pixel evaluations in the shading pass */
+    uint64_t vpl_candidates;  /* VPL–pixel pairs visited (tile-list entries for tiled modes) */
+    uint32_t tile_overflow;   /* tile-list entries dropped (should be 0) */
+    int metalight_regroups;   /* times the metalight grouping was computed */
+} GiStats;
+
+/* What a technique is given at creation. */
+typedef struct GiCreateInfo {
+    const Scene *scene;      /* borrowed, outlives the technique */
+    const GiParams *params;  /* the settings it was created with (copied by the technique if kept) */
+    const LightStage *lights;/* already configured with the technique's needs (sizes its buffers) */
+    int width, height;       /* output size */
+} GiCreateInfo;
+
+/* What a technique reads and writes each frame. */
+typedef struct GiFrame {
+    const Scene *scene;
+    const Camera *camera;
+    const GiParams *params;
+    float exposure;           /* the frame's exposure (SLC's error bound is relative to it) */
+    const GBuffer *gbuffer;
+    const LightStage *lights; /* the products declared in `needs` */
+    GpuTimer *timer;
+    GLuint irradiance;        /* out: RGBA32F E, full resolution */
+    GLuint specular;          /* out: RGBA32F radiance, when GI_HAS_SPECULAR */
+} GiFrame;
+
+enum { GI_HAS_SPECULAR = 1u << 0 };
+
+typedef struct GiTechnique {
+    const char *name;        /* the --gi value */
+    const char *paper;       /* what it implements */
+    const char *summary;     /* one line for --help and the UI */
+    unsigned flags;          /* GI_HAS_SPECULAR */
+    bool rsm_from_vpl_count; /* its RSM size comes from --vpls */
+    /* Light products (LightNeeds) for these settings. */
+    unsigned (*needs)(const GiParams *p);
+    void *(*create)(const GiCreateInfo *ci); /* NULL after logging */
+    bool (*resize)(void *state, int width, int height);
+    void (*run)(void *state, const GiFrame *f);
+    void (*stats)(void *state, const GiFrame *f, GiStats *out);
+    void (*destroy)(void *state);
+} GiTechnique;
+
+/* The table, in --gi order; NULL-terminated. Row 0 is "none". */
+extern const GiTechnique *const gi_techniques[];
+/* The names, NULL-terminated, in table order (for option parsing). */
+extern const char *const gi_technique_names[];
+int gi_technique_count(void);
+/* Index of `name`, or -1. */
+int gi_technique_find(const char *name);
+
+/* Rows, defined in their technique's file. */
+extern const GiTechnique gi_none;
+extern const GiTechnique gi_rsm, gi_rsm_interp, gi_rsm_interleaved;
+extern const GiTechnique gi_vpl_all, gi_vpl_clamped, gi_vpl_slc, gi_vpl_interleaved, gi_vpl_metalights;
+
+/* The GpuGiParams block (RSM gathers, interpolation, interleaving) for
+ * these settings at an output of width × height. */
+void gi_params_to_gpu(const GiParams *p, int width, int height, GpuGiParams *out);
+/* A uniform buffer of `size` bytes updatable with glNamedBufferSubData. */
+GLuint gi_ubo_make(GLsizeiptr size, const char *label);
+
+/* Dispatches a compute pass over w×h pixels in 8×8 groups and makes its
+ * image and storage writes visible to what follows. */
+void gi_dispatch_pixels(int w, int h);
+
+#endif

@@ -1,0 +1,75 @@
+/* interleave.c — de-interleaving, reassembly and the geometry-aware blur. */
+#include "gi/interleave.h"
+
+#include <string.h>
+
+#include "gi/gi.h"
+#include "shader.h"
+#include "shared/gpu_types.h"
+
+bool gi_interleave_create(GiInterleave *g, int n, int m, int w, int h, bool deinterleave)
+{
+    memset(g, 0, sizeof *g);
+    g->n = n;
+    g->m = m;
+    g->width = w;
+    g->height = h;
+    g->sub_w = (w + n - 1) / n;
+    g->sub_h = (h + m - 1) / m;
+    g->di_w = g->sub_w * n;
+    g->di_h = g->sub_h * m;
+    g->blur = shader_compute_make("interleave_blur", "gi/interleave.comp", "#define MODE_BLUR\n");
+    g->merged = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.merged");
+    if (!g->blur)
+        return false;
+    if (!deinterleave)
+        return true;
+    g->split = shader_compute_make("interleave_split", "gi/interleave.comp", "#define MODE_SPLIT\n");
+    g->merge = shader_compute_make("interleave_merge", "gi/interleave.comp", "#define MODE_MERGE\n");
+    g->di_position = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_position");
+    g->di_normal = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_normal");
+    g->di_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_irradiance");
+    return g->split && g->merge;
+}
+
+void gi_interleave_destroy(GiInterleave *g)
+{
+    glDeleteProgram(g->split);
+    glDeleteProgram(g->merge);
+    glDeleteProgram(g->blur);
+    GLuint t[4] = {g->di_position, g->di_normal, g->di_irradiance, g->merged};
+    glDeleteTextures(4, t);
+    memset(g, 0, sizeof *g);
+}
+
+void gi_interleave_split(GiInterleave *g, const GBuffer *gb)
+{
+    glBindTextureUnit(TEX_GB_POSITION, gb->position);
+    glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
+    const float zero[4] = {0, 0, 0, 0};
+    glClearTexImage(g->di_position, 0, GL_RGBA, GL_FLOAT, zero);
+    glBindImageTexture(IMG_OUT, g->di_position, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(IMG_OUT2, g->di_normal, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(g->split);
+    gi_dispatch_pixels(g->width, g->height);
+}
+
+void gi_interleave_merge(GiInterleave *g, const GBuffer *gb, bool blur, GLuint out)
+{
+    glBindTextureUnit(TEX_INPUT, g->di_irradiance);
+    glBindImageTexture(IMG_OUT, blur ? g->merged : out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(g->merge);
+    gi_dispatch_pixels(g->width, g->height);
+    if (blur)
+        gi_interleave_blur(g, gb, g->merged, out);
+}
+
+void gi_interleave_blur(GiInterleave *g, const GBuffer *gb, GLuint in, GLuint out)
+{
+    glBindTextureUnit(TEX_GB_POSITION, gb->position);
+    glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
+    glBindTextureUnit(TEX_INPUT, in);
+    glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(g->blur);
+    gi_dispatch_pixels(g->width, g->height);
+}

@@ -1,0 +1,39 @@
+/* interleave.h — interleaved sampling around a GI pass (Keller & Heidrich
+ * 2001; Segovia et al. 2006), shared by rsm-interleaved and the interleaved
+ * VPL techniques:
+ *   split  G-buffer → n×m de-interleaved sub-images (pixel (x, y) goes to
+ *          sub-image (x mod n, y mod m) at (x / n, y / m))
+ *   merge  the shaded sub-images back to the interleaved layout
+ *   blur   geometry-aware blur over the n×m window: neighbours whose normal
+ *          and position agree (the interpolation's thresholds, GpuGiParams)
+ * Reads UBO_GI (interleave_n/m, sub size, thresholds) and UBO_FRAME.
+ * Owns: its programs, the de-interleaved textures (when made with
+ * `deinterleave`) and the pre-blur image. Shader: shaders/gi/interleave.comp. */
+#ifndef RTGI_GI_INTERLEAVE_H
+#define RTGI_GI_INTERLEAVE_H
+
+#include <epoxy/gl.h>
+#include <stdbool.h>
+
+#include "targets.h"
+
+typedef struct GiInterleave {
+    GLuint split, merge, blur;     /* programs (split/merge only with de-interleaving) */
+    int n, m;                      /* pattern */
+    int width, height;             /* full resolution */
+    int sub_w, sub_h;              /* sub-image size */
+    int di_w, di_h;                /* de-interleaved layout: n·sub_w × m·sub_h */
+    GLuint di_position, di_normal; /* de-interleaved G-buffer */
+    GLuint di_irradiance;          /* de-interleaved result */
+    GLuint merged;                 /* reassembled (or shaded), before the blur */
+} GiInterleave;
+
+bool gi_interleave_create(GiInterleave *g, int n, int m, int width, int height, bool deinterleave);
+void gi_interleave_destroy(GiInterleave *g);
+void gi_interleave_split(GiInterleave *g, const GBuffer *gb);
+/* Reassembles di_irradiance into `out`; with `blur`, through `merged` and the blur. */
+void gi_interleave_merge(GiInterleave *g, const GBuffer *gb, bool blur, GLuint out);
+/* Geometry-aware blur of `in` into `out` (in ≠ out). */
+void gi_interleave_blur(GiInterleave *g, const GBuffer *gb, GLuint in, GLuint out);
+
+#endif

@@ -1,0 +1,290 @@
+/* rsm.c — one-bounce gathering from reflective shadow maps (Dachsbacher &
+ * Stamminger 2005), SPEC §3, and its two accelerations; three rows of the
+ * technique table:
+ *   rsm              N samples per pixel on the paper's polar pattern
+ *                    (--rsm-exhaustive: every VPL of the light stage)
+ *   rsm-interp       gather at 1/f resolution, interpolate where 3–4 of the
+ *                    4 surrounding low-res samples agree in normal and
+ *                    position, full gather for the listed rest (the paper's
+ *                    screen-space interpolation)
+ *   rsm-interleaved  n×m de-interleaved sub-images with disjoint sample
+ *                    subsets, reassembled, then a geometry-aware blur
+ * Inputs: G-buffer, the light stage's RSMs (and VPLs when exhaustive).
+ * Output: irradiance. Owns: its programs, the sample pattern, the low-res
+ * image and pixel list (interp), the interleaving helper (interleaved).
+ * Shaders: shaders/gi/rsm/ (gather.comp, sampling.glsl, interp.comp). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gi/gi.h"
+#include "gi/interleave.h"
+#include "log.h"
+#include "shader.h"
+
+typedef enum RsmVariant { RSM_FULL, RSM_INTERP, RSM_INTERLEAVED } RsmVariant;
+typedef enum GatherLayout { GATHER_FULL, GATHER_LOWRES, GATHER_LIST, GATHER_INTERLEAVED, GATHER_LAYOUTS } GatherLayout;
+
+typedef struct RsmGi {
+    RsmVariant variant;
+    GiParams params;
+    int width, height;
+    GLuint gather[GATHER_LAYOUTS][2]; /* [layout][cube], those the variant uses */
+    GLuint interp;                    /* interp.comp */
+    GLuint pattern;                   /* SSBO: vec4 per sample */
+    GLuint ubo;                       /* GpuGiParams */
+    GLuint lowres;                    /* interp: RGBA32F low-res irradiance */
+    GLuint list;                      /* interp: SSBO {count, pixels[]} */
+    GiInterleave il;                  /* interleaved */
+} RsmGi;
+
+/* Van der Corput radical inverse in base 2. */
+static float radical_inverse2(uint32_t i)
+{
+    i = (i << 16u) | (i >> 16u);
+    i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
+    i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
+    i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
+    i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
+    return (float)i * 2.3283064365386963e-10f;
+}
+
+/* The N-sample pattern: ξ1 = (i + ½)/N, ξ2 = radical inverse of i (a
+ * Hammersley set), as vec4(ξ1·sin 2πξ2, ξ1·cos 2πξ2, ξ1, ξ2). */
+static void rsm_pattern(int n, float (*out)[4])
+{
+    for (int i = 0; i < n; i++) {
+        float xi1 = ((float)i + 0.5f) / (float)n, xi2 = radical_inverse2((uint32_t)i);
+        out[i][0] = xi1 * sinf(2.f * GLM_PIf * xi2);
+        out[i][1] = xi1 * cosf(2.f * GLM_PIf * xi2);
+        out[i][2] = xi1;
+        out[i][3] = xi2;
+    }
+}
+
+static unsigned rsm_needs(const GiParams *p)
+{
+    return LIGHT_NEEDS_RSM | (p->exhaustive ? LIGHT_NEEDS_VPLS : 0u);
+}
+
+static bool make_gather(RsmGi *g, GatherLayout layout)
+{
+    static const char *const layout_def[GATHER_LAYOUTS] = {"#define MODE_FULL\n", "#define MODE_LOWRES\n",
+                                                           "#define MODE_LIST\n", "#define MODE_INTERLEAVED\n"};
+    char defs[128];
+    for (int c = 0; c < 2; c++) {
+        snprintf(defs, sizeof defs, "%s%s", layout_def[layout], c ? "#define RSM_CUBE\n" : "");
+        g->gather[layout][c] = shader_compute_make("rsm_gather", "gi/rsm/gather.comp", defs);
+        if (!g->gather[layout][c])
+            return false;
+    }
+    return true;
+}
+
+static void rsm_free_sized(RsmGi *g)
+{
+    glDeleteTextures(1, &g->lowres);
+    glDeleteBuffers(1, &g->list);
+    g->lowres = g->list = 0;
+    if (g->il.blur)
+        gi_interleave_destroy(&g->il);
+}
+
+static bool rsm_resize(void *state, int w, int h)
+{
+    RsmGi *g = state;
+    rsm_free_sized(g);
+    g->width = w;
+    g->height = h;
+    GpuGiParams u;
+    gi_params_to_gpu(&g->params, w, h, &u);
+    glNamedBufferSubData(g->ubo, 0, sizeof u, &u);
+    if (g->variant == RSM_INTERP) {
+        g->lowres = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, u.low_width, u.low_height, "gi.lowres");
+        glCreateBuffers(1, &g->list);
+        glNamedBufferStorage(g->list, (GLsizeiptr)(sizeof(uint32_t) * (1 + (size_t)w * h)), NULL,
+                             GL_DYNAMIC_STORAGE_BIT);
+        glObjectLabel(GL_BUFFER, g->list, -1, "gi.pixel_list");
+    } else if (g->variant == RSM_INTERLEAVED) {
+        return gi_interleave_create(&g->il, g->params.interleave_n, g->params.interleave_m, w, h, true);
+    }
+    return true;
+}
+
+static void rsm_destroy(void *state)
+{
+    RsmGi *g = state;
+    if (!g)
+        return;
+    rsm_free_sized(g);
+    for (int l = 0; l < GATHER_LAYOUTS; l++)
+        for (int c = 0; c < 2; c++)
+            glDeleteProgram(g->gather[l][c]);
+    glDeleteProgram(g->interp);
+    GLuint b[2] = {g->pattern, g->ubo};
+    glDeleteBuffers(2, b);
+    free(g);
+}
+
+static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
+{
+    RsmGi *g = calloc(1, sizeof *g);
+    if (!g) {
+        log_error("rsm", "out of memory");
+        return NULL;
+    }
+    g->variant = variant;
+    g->params = *ci->params;
+    bool ok;
+    switch (variant) {
+    case RSM_FULL:
+        ok = make_gather(g, GATHER_FULL);
+        break;
+    case RSM_INTERP:
+        ok = make_gather(g, GATHER_LOWRES) && make_gather(g, GATHER_LIST) &&
+             (g->interp = shader_compute_make("rsm_interp", "gi/rsm/interp.comp", NULL)) != 0;
+        break;
+    default:
+        ok = make_gather(g, GATHER_INTERLEAVED);
+        break;
+    }
+    int n = g->params.samples;
+    float(*pat)[4] = malloc(sizeof(float) * 4 * (size_t)n);
+    if (!pat) {
+        log_error("rsm", "out of memory for a %d-sample pattern", n);
+        rsm_destroy(g);
+        return NULL;
+    }
+    rsm_pattern(n, pat);
+    glCreateBuffers(1, &g->pattern);
+    glNamedBufferStorage(g->pattern, (GLsizeiptr)(sizeof(float) * 4 * (size_t)n), pat, 0);
+    glObjectLabel(GL_BUFFER, g->pattern, -1, "rsm.pattern");
+    free(pat);
+    g->ubo = gi_ubo_make(sizeof(GpuGiParams), "gi.params");
+    if (!ok || !rsm_resize(g, ci->width, ci->height)) {
+        rsm_destroy(g);
+        return NULL;
+    }
+    return g;
+}
+
+static void *rsm_create(const GiCreateInfo *ci) { return rsm_create_variant(ci, RSM_FULL); }
+static void *rsm_interp_create(const GiCreateInfo *ci) { return rsm_create_variant(ci, RSM_INTERP); }
+static void *rsm_interleaved_create(const GiCreateInfo *ci) { return rsm_create_variant(ci, RSM_INTERLEAVED); }
+
+/* Gathers every light into `out` (the first light writes, the rest add). An
+ * exhaustive gather sums the whole VPL buffer, every light's, at once. */
+static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuint out)
+{
+    const LightStage *ls = f->lights;
+    bool exh = g->params.exhaustive;
+    if (exh)
+        light_stage_bind_vpls(ls);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PATTERN, g->pattern);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PIXEL_LIST, g->list);
+    bool di = layout == GATHER_INTERLEAVED;
+    glBindTextureUnit(TEX_GB_POSITION, di ? g->il.di_position : f->gbuffer->position);
+    glBindTextureUnit(TEX_GB_NORMAL, di ? g->il.di_normal : f->gbuffer->normal);
+    GLuint target = layout == GATHER_LOWRES ? g->lowres : di ? g->il.di_irradiance : out;
+    glBindImageTexture(IMG_OUT, target, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    int lights = exh && ls->light_count > 0 ? 1 : ls->light_count;
+    for (int i = 0; i < lights; i++) {
+        GLuint prog = g->gather[layout][ls->rsm[i].cube ? 1 : 0];
+        light_stage_bind_rsm(ls, i);
+        glProgramUniform1i(prog, LOC_GATHER_EXHAUSTIVE, exh ? 1 : 0);
+        glProgramUniform1i(prog, LOC_GATHER_ACCUMULATE, i > 0 ? 1 : 0);
+        glUseProgram(prog);
+        switch (layout) {
+        case GATHER_LOWRES:
+            gi_dispatch_pixels((g->width + g->params.interp_factor - 1) / g->params.interp_factor,
+                               (g->height + g->params.interp_factor - 1) / g->params.interp_factor);
+            break;
+        case GATHER_INTERLEAVED:
+            gi_dispatch_pixels(g->il.di_w, g->il.di_h);
+            break;
+        default: /* FULL; LIST: one thread per possible entry, those past the count return at once */
+            gi_dispatch_pixels(g->width, g->height);
+            break;
+        }
+    }
+}
+
+static void rsm_run(void *state, const GiFrame *f)
+{
+    RsmGi *g = state;
+    GpuTimer *t = f->timer;
+    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_GI, g->ubo);
+    switch (g->variant) {
+    case RSM_FULL:
+        gpu_timer_begin(t, "rsm_gather");
+        gather_lights(g, f, GATHER_FULL, f->irradiance);
+        gpu_timer_end(t);
+        break;
+    case RSM_INTERP: {
+        gpu_timer_begin(t, "rsm_gather_lowres");
+        gather_lights(g, f, GATHER_LOWRES, f->irradiance);
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "rsm_interp");
+        const uint32_t zero = 0;
+        glNamedBufferSubData(g->list, 0, sizeof zero, &zero);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PIXEL_LIST, g->list);
+        glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
+        glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+        glBindTextureUnit(TEX_INPUT, g->lowres);
+        glBindImageTexture(IMG_OUT, f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glUseProgram(g->interp);
+        gi_dispatch_pixels(g->width, g->height);
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "rsm_gather_full");
+        gather_lights(g, f, GATHER_LIST, f->irradiance);
+        gpu_timer_end(t);
+        break;
+    }
+    case RSM_INTERLEAVED:
+        gpu_timer_begin(t, "interleave_split");
+        gi_interleave_split(&g->il, f->gbuffer);
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "rsm_gather_interleaved");
+        gather_lights(g, f, GATHER_INTERLEAVED, f->irradiance);
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "interleave_merge_blur");
+        gi_interleave_merge(&g->il, f->gbuffer, g->params.interleave_blur, f->irradiance);
+        gpu_timer_end(t);
+        break;
+    }
+}
+
+static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
+{
+    RsmGi *g = state;
+    st->vpl_count = g->params.exhaustive ? light_stage_vpl_count(f->lights) : 0;
+    if (g->variant == RSM_INTERP) {
+        int f_ = g->params.interp_factor;
+        st->lowres_gathers = (uint32_t)(((g->width + f_ - 1) / f_) * ((g->height + f_ - 1) / f_));
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(g->list, 0, sizeof st->full_gathers, &st->full_gathers);
+        st->gathered_pixels = st->lowres_gathers + st->full_gathers;
+    } else {
+        st->gathered_pixels = (uint32_t)(g->width * g->height);
+    }
+}
+
+#define RSM_ROW(id, variant_name, create_fn, text)                                                     \
+    const GiTechnique id = {                                                                           \
+        .name = variant_name,                                                                          \
+        .paper = "Dachsbacher & Stamminger 2005, Reflective Shadow Maps",                              \
+        .summary = text,                                                                               \
+        .needs = rsm_needs,                                                                            \
+        .create = create_fn,                                                                           \
+        .resize = rsm_resize,                                                                          \
+        .run = rsm_run,                                                                                \
+        .stats = rsm_stats,                                                                            \
+        .destroy = rsm_destroy,                                                                        \
+    };
+
+RSM_ROW(gi_rsm, "rsm", rsm_create, "RSM gather, N samples per pixel on the paper's polar pattern")
+RSM_ROW(gi_rsm_interp, "rsm-interp", rsm_interp_create,
+        "RSM gather at 1/f resolution + the paper's screen-space interpolation")
+RSM_ROW(gi_rsm_interleaved, "rsm-interleaved", rsm_interleaved_create,
+        "RSM gather with interleaved sampling and a geometry-aware blur")

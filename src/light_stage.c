@@ -1,0 +1,373 @@
+/* light_stage.c — light frames, the GPU light array, shadow maps, RSMs and
+ * the VPL buffer (see light_stage.h). */
+#include "light_stage.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "log.h"
+#include "shader.h"
+#include "shared/gpu_types.h"
+#include "targets.h"
+
+enum { SLOT_SHADOW = 0, SLOT_RSM = 1, SLOTS_PER_LIGHT = 2 };
+
+static bool light_is_cube(const Light *l) { return l->type == LIGHT_POINT || l->type == LIGHT_QUAD; }
+
+int light_stage_rsm_size_for_vpls(const Light *l, int vpls)
+{
+    /* Texels that can hold a lit surface: a 2D map, half a cube for a
+     * one-sided quad (one face and four half faces), a whole cube. */
+    float layers = l->type == LIGHT_QUAD ? 3.f : l->type == LIGHT_POINT ? 6.f : 1.f;
+    int size = (int)lrintf(sqrtf((float)vpls / layers));
+    return size < 4 ? 4 : size;
+}
+
+static int rsm_size_for(const LightStageDesc *d, const Light *l)
+{
+    return d->vpl_count > 0 ? light_stage_rsm_size_for_vpls(l, d->vpl_count) : d->rsm_size;
+}
+
+/* ---- Products ------------------------------------------------------------ */
+
+static bool shadow_map_create(ShadowMap *m, bool cube, int size)
+{
+    m->size = size;
+    m->cube = cube;
+    m->texture = gl_texture_make(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, size, size,
+                                 cube ? "shadow.cube" : "shadow.2d");
+    glCreateFramebuffers(1, &m->fbo);
+    glNamedFramebufferDrawBuffer(m->fbo, GL_NONE);
+    glNamedFramebufferReadBuffer(m->fbo, GL_NONE);
+    fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, cube, 0);
+    return fbo_check(m->fbo, "shadow map");
+}
+
+static void shadow_map_destroy(ShadowMap *m)
+{
+    glDeleteTextures(1, &m->texture);
+    glDeleteFramebuffers(1, &m->fbo);
+    *m = (ShadowMap){0};
+}
+
+static bool rsm_map_create(RsmMap *m, bool cube, int size)
+{
+    GLenum target = cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
+    m->size = size;
+    m->cube = cube;
+    m->position = gl_texture_make(target, GL_RGBA32F, size, size, "rsm.position");
+    m->normal = gl_texture_make(target, GL_RGBA16F, size, size, "rsm.normal");
+    m->flux = gl_texture_make(target, GL_RGBA32F, size, size, "rsm.flux");
+    m->depth = gl_texture_make(target, GL_DEPTH_COMPONENT32F, size, size, "rsm.depth");
+    const GLuint src[3] = {m->position, m->normal, m->flux};
+    const GLenum fmt[3] = {GL_RGBA32F, GL_RGBA16F, GL_RGBA32F};
+    glGenTextures(3, m->view); /* views need names that were never bound */
+    for (int i = 0; i < 3; i++) {
+        glTextureView(m->view[i], GL_TEXTURE_2D_ARRAY, src[i], fmt[i], 0, 1, 0, cube ? 6 : 1);
+        glTextureParameteri(m->view[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTextureParameteri(m->view[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    glCreateFramebuffers(1, &m->fbo);
+    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glNamedFramebufferDrawBuffers(m->fbo, 3, bufs);
+    for (int i = 0; i < 3; i++)
+        fbo_attach(m->fbo, bufs[i], src[i], cube, 0);
+    fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, cube, 0);
+    return fbo_check(m->fbo, "rsm");
+}
+
+static void rsm_map_destroy(RsmMap *m)
+{
+    GLuint t[4] = {m->position, m->normal, m->flux, m->depth};
+    glDeleteTextures(4, t);
+    glDeleteTextures(3, m->view);
+    glDeleteFramebuffers(1, &m->fbo);
+    *m = (RsmMap){0};
+}
+
+static void vpl_buffer_create(VplBuffer *b, uint32_t capacity)
+{
+    b->capacity = capacity;
+    glCreateBuffers(1, &b->vpls);
+    glNamedBufferStorage(b->vpls, (GLsizeiptr)sizeof(GpuVpl) * (capacity ? capacity : 1), NULL, 0);
+    glObjectLabel(GL_BUFFER, b->vpls, -1, "vpls");
+    glCreateBuffers(1, &b->counters);
+    glNamedBufferStorage(b->counters, sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT);
+    glObjectLabel(GL_BUFFER, b->counters, -1, "vpl.counters");
+}
+
+static void vpl_buffer_destroy(VplBuffer *b)
+{
+    glDeleteBuffers(1, &b->vpls);
+    glDeleteBuffers(1, &b->counters);
+    *b = (VplBuffer){0};
+}
+
+/* ---- Lifetime ------------------------------------------------------------ */
+
+static void free_products(LightStage *ls)
+{
+    if (ls->shadow)
+        for (int i = 0; i < ls->light_count; i++)
+            shadow_map_destroy(&ls->shadow[i]);
+    if (ls->rsm)
+        for (int i = 0; i < ls->light_count; i++)
+            rsm_map_destroy(&ls->rsm[i]);
+    free(ls->shadow);
+    free(ls->rsm);
+    ls->shadow = NULL;
+    ls->rsm = NULL;
+    if (ls->vpls.vpls)
+        vpl_buffer_destroy(&ls->vpls);
+    ls->vpl_key = 0;
+}
+
+static bool make_products(LightStage *ls)
+{
+    const LightStageDesc *d = &ls->desc;
+    const Scene *s = ls->scene;
+    bool ok = true;
+    if (d->needs & LIGHT_NEEDS_SHADOW_MAPS) {
+        ls->shadow = calloc((size_t)ls->light_count + 1, sizeof(ShadowMap));
+        if (!ls->shadow) {
+            log_error("lights", "out of memory for %d shadow maps", ls->light_count);
+            return false;
+        }
+        for (int i = 0; i < ls->light_count && ok; i++)
+            ok = shadow_map_create(&ls->shadow[i], light_is_cube(&s->lights[i]), d->shadow_map_size);
+    }
+    if (ok && (d->needs & (LIGHT_NEEDS_RSM | LIGHT_NEEDS_VPLS))) {
+        ls->rsm = calloc((size_t)ls->light_count + 1, sizeof(RsmMap));
+        if (!ls->rsm) {
+            log_error("lights", "out of memory for %d RSMs", ls->light_count);
+            return false;
+        }
+        uint32_t total = 0;
+        for (int i = 0; i < ls->light_count && ok; i++) {
+            bool cube = light_is_cube(&s->lights[i]);
+            int size = rsm_size_for(d, &s->lights[i]);
+            ok = rsm_map_create(&ls->rsm[i], cube, size);
+            total += (uint32_t)size * (uint32_t)size * (cube ? 6u : 1u);
+        }
+        if (ok && (d->needs & LIGHT_NEEDS_VPLS))
+            vpl_buffer_create(&ls->vpls, total);
+    }
+    return ok;
+}
+
+bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc)
+{
+    memset(ls, 0, sizeof *ls);
+    ls->scene = s;
+    ls->desc = *desc;
+    ls->light_count = s->light_count;
+    ls->shadow_program = shader_program_make("shadow", "frame/scene.vert", "light/shadow_depth.frag", NULL);
+    ls->rsm_program = shader_program_make("rsm", "frame/scene.vert", "light/rsm.frag", NULL);
+    ls->vpl_program = shader_compute_make("vpl_extract", "light/vpl_extract.comp", NULL);
+    if (!ls->shadow_program || !ls->rsm_program || !ls->vpl_program)
+        return false;
+    GLint align = 256;
+    glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
+    ls->slot_stride = (int)((sizeof(GpuLight) + (size_t)align - 1) / (size_t)align * (size_t)align);
+    int slots = SLOTS_PER_LIGHT * (ls->light_count > 0 ? ls->light_count : 1);
+    glCreateBuffers(1, &ls->light_array);
+    glNamedBufferStorage(ls->light_array, (GLsizeiptr)ls->slot_stride * slots, NULL, GL_DYNAMIC_STORAGE_BIT);
+    const uint32_t zero = 0; /* a scene without lights reads slot 0 as a zero light */
+    glClearNamedBufferData(ls->light_array, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+    glObjectLabel(GL_BUFFER, ls->light_array, -1, "lights");
+    ls->dummy_2d = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummy2d");
+    ls->dummy_cube = gl_texture_make(GL_TEXTURE_CUBE_MAP, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummycube");
+    return make_products(ls);
+}
+
+void light_stage_destroy(LightStage *ls)
+{
+    free_products(ls);
+    glDeleteProgram(ls->shadow_program);
+    glDeleteProgram(ls->rsm_program);
+    glDeleteProgram(ls->vpl_program);
+    glDeleteBuffers(1, &ls->light_array);
+    GLuint t[2] = {ls->dummy_2d, ls->dummy_cube};
+    glDeleteTextures(2, t);
+    memset(ls, 0, sizeof *ls);
+}
+
+bool light_stage_configure(LightStage *ls, const LightStageDesc *desc)
+{
+    if (!memcmp(desc, &ls->desc, sizeof *desc))
+        return true;
+    free_products(ls);
+    ls->desc = *desc;
+    return make_products(ls);
+}
+
+/* ---- The frame ----------------------------------------------------------- */
+
+static void upload_slot(LightStage *ls, int light, int slot, const GpuLight *g)
+{
+    GLintptr at = (GLintptr)ls->slot_stride * (SLOTS_PER_LIGHT * light + slot);
+    glNamedBufferSubData(ls->light_array, at, sizeof *g, g);
+}
+
+static void bind_slot(const LightStage *ls, int light, int slot)
+{
+    GLintptr at = (GLintptr)ls->slot_stride * (SLOTS_PER_LIGHT * light + slot);
+    glBindBufferRange(GL_UNIFORM_BUFFER, UBO_LIGHT, ls->light_array, at, sizeof(GpuLight));
+}
+
+/* Draws the scene (emitters skipped) into each face of a map. */
+static void draw_faces(const LightStage *ls, GLuint program, const ShadowFrame *f, int size, GLuint fbo,
+                       const GpuScene *gs, void (*per_face)(const LightStage *, int face, void *), void *user)
+{
+    glUseProgram(program);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glViewport(0, 0, size, size);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    for (int face = 0; face < f->face_count; face++) {
+        per_face(ls, face, user);
+        glProgramUniformMatrix4fv(program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
+        gpu_scene_draw(gs, ls->scene, program, DRAW_SKIP_EMITTERS);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+static void shadow_face(const LightStage *ls, int face, void *user)
+{
+    (void)ls;
+    ShadowMap *m = user;
+    if (m->cube)
+        fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, true, face);
+    const float one = 1.f;
+    glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
+}
+
+static void rsm_face(const LightStage *ls, int face, void *user)
+{
+    RsmMap *m = user;
+    const GLuint src[3] = {m->position, m->normal, m->flux};
+    if (m->cube) {
+        for (int i = 0; i < 3; i++)
+            fbo_attach(m->fbo, GL_COLOR_ATTACHMENT0 + (GLenum)i, src[i], true, face);
+        fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, true, face);
+    }
+    const float zero[4] = {0, 0, 0, 0}, one = 1.f;
+    for (int i = 0; i < 3; i++)
+        glClearNamedFramebufferfv(m->fbo, GL_COLOR, i, zero);
+    glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
+    /* The face (or spot) axis is the view's −z row. */
+    const float *v = (const float *)m->frame.view[face];
+    vec3 axis = {-v[2], -v[6], -v[10]};
+    glProgramUniform3fv(ls->rsm_program, LOC_RSM_FACE_AXIS, 1, axis);
+}
+
+/* What the VPLs depend on: the lights, the RSM sizes and the seed. */
+static uint64_t vpl_key(const LightStage *ls)
+{
+    uint64_t h = 1469598103934665603ull;
+    const unsigned char *parts[2] = {(const unsigned char *)ls->scene->lights, (const unsigned char *)&ls->desc};
+    size_t sizes[2] = {sizeof(Light) * (size_t)ls->light_count, sizeof ls->desc};
+    for (int k = 0; k < 2; k++)
+        for (size_t i = 0; i < sizes[k]; i++)
+            h = (h ^ parts[k][i]) * 1099511628211ull;
+    return h ? h : 1;
+}
+
+void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
+{
+    const Scene *s = ls->scene;
+    const LightStageDesc *d = &ls->desc;
+    /* Frames: every light's shadow-lookup block, whether or not maps are drawn. */
+    bool maps = (d->needs & LIGHT_NEEDS_SHADOW_MAPS) != 0;
+    if (maps)
+        gpu_timer_begin(t, "shadow");
+    for (int i = 0; i < ls->light_count; i++) {
+        ShadowMap none = {0}, *m = maps ? &ls->shadow[i] : &none;
+        GpuLight g;
+        shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, d->shadow_map_size, &m->frame);
+        shadow_frame_to_gpu(&s->lights[i], &m->frame, d->shadow_map_size, &g);
+        upload_slot(ls, i, SLOT_SHADOW, &g);
+        if (!maps)
+            continue;
+        bind_slot(ls, i, SLOT_SHADOW);
+        draw_faces(ls, ls->shadow_program, &m->frame, m->size, m->fbo, gs, shadow_face, m);
+    }
+    if (maps)
+        gpu_timer_end(t);
+    if (!ls->rsm)
+        return;
+
+    gpu_timer_begin(t, "rsm");
+    for (int i = 0; i < ls->light_count; i++) {
+        RsmMap *m = &ls->rsm[i];
+        GpuLight g;
+        shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, m->size, &m->frame);
+        shadow_frame_to_gpu(&s->lights[i], &m->frame, m->size, &g);
+        upload_slot(ls, i, SLOT_RSM, &g);
+        bind_slot(ls, i, SLOT_RSM);
+        /* Texel area on the projection plane: ortho (2r/res)², perspective at
+         * distance 1: k² with k = 2·tan(fov/2)/res. */
+        glProgramUniform1f(ls->rsm_program, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
+        draw_faces(ls, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face, m);
+    }
+    gpu_timer_end(t);
+
+    uint64_t key = vpl_key(ls);
+    if (!(d->needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)
+        return;
+    gpu_timer_begin(t, "vpl_generate");
+    const uint32_t zero = 0;
+    glNamedBufferSubData(ls->vpls.counters, 0, sizeof zero, &zero);
+    light_stage_bind_vpls(ls);
+    glProgramUniform1i(ls->vpl_program, LOC_VPL_STRIDE, 1);
+    glProgramUniform1ui(ls->vpl_program, LOC_VPL_SEED, d->vpl_seed);
+    glUseProgram(ls->vpl_program);
+    for (int i = 0; i < ls->light_count; i++) {
+        const RsmMap *m = &ls->rsm[i];
+        glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
+        glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
+        glBindTextureUnit(TEX_RSM_FLUX, m->view[2]);
+        GLuint n = (GLuint)m->size;
+        glDispatchCompute((n + 7) / 8, (n + 7) / 8, m->cube ? 6 : 1);
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    gpu_timer_end(t);
+    ls->vpl_key = key;
+    ls->vpl_extractions++;
+}
+
+void light_stage_bind_shadow(const LightStage *ls, int i)
+{
+    bind_slot(ls, i, SLOT_SHADOW);
+    const ShadowMap *m = ls->shadow && i < ls->light_count ? &ls->shadow[i] : NULL;
+    glBindTextureUnit(TEX_SHADOW_2D, m && !m->cube ? m->texture : ls->dummy_2d);
+    glBindTextureUnit(TEX_SHADOW_CUBE, m && m->cube ? m->texture : ls->dummy_cube);
+}
+
+void light_stage_bind_rsm(const LightStage *ls, int i)
+{
+    const RsmMap *m = &ls->rsm[i];
+    bind_slot(ls, i, SLOT_RSM);
+    glBindTextureUnit(TEX_RSM_POSITION, m->position);
+    glBindTextureUnit(TEX_RSM_NORMAL, m->normal);
+    glBindTextureUnit(TEX_RSM_FLUX, m->flux);
+}
+
+void light_stage_bind_vpls(const LightStage *ls)
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VPL, ls->vpls.vpls);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_COUNTERS, ls->vpls.counters);
+}
+
+uint32_t light_stage_vpl_count(const LightStage *ls)
+{
+    if (!ls->vpls.counters)
+        return 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    uint32_t v = 0;
+    glGetNamedBufferSubData(ls->vpls.counters, 0, sizeof v, &v);
+    return v;
+}

@@ -1,0 +1,105 @@
+/* light_stage.h — everything the frame derives from its lights, made once
+ * per frame in one place:
+ *   - each light's frame (shadow projection) into one GPU light array (a
+ *     uniform buffer of GpuLight, one aligned slot per light and product),
+ *   - shadow maps (Williams 1978; bias/PCF/PCSS are applied where the map is
+ *     read, shaders/common/shadow.glsl) when shadows are on,
+ *   - reflective shadow maps (Dachsbacher & Stamminger 2005) when the GI
+ *     technique declares LIGHT_NEEDS_RSM,
+ *   - the VPL buffer (every lit RSM texel a VPL, SPEC §3–4) when it declares
+ *     LIGHT_NEEDS_VPLS; re-extracted only when a light or an RSM setting
+ *     changes, so its order is stable for techniques that index it.
+ * Maps are 2D for directional/spot lights and cubes for point/quad lights.
+ * Inputs: the scene (borrowed), its GpuScene. Owns: every map, the light
+ * array, the VPL buffer, its programs. Shaders: shaders/light/. */
+#ifndef RTGI_LIGHT_STAGE_H
+#define RTGI_LIGHT_STAGE_H
+
+#include <epoxy/gl.h>
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "gpu_scene.h"
+#include "gpu_timer.h"
+#include "scene.h"
+#include "shadow_frame.h"
+
+typedef enum LightNeeds {
+    LIGHT_NEEDS_SHADOW_MAPS = 1u << 0, /* direct light with shadows */
+    LIGHT_NEEDS_RSM = 1u << 1,         /* reflective shadow maps */
+    LIGHT_NEEDS_VPLS = 1u << 2,        /* VPL buffer (implies RSM) */
+} LightNeeds;
+
+typedef struct ShadowMap {
+    int size;          /* texels per side (per cube face) */
+    bool cube;
+    GLuint texture;    /* DEPTH32F 2D or cube: distance to the light / far */
+    GLuint fbo;
+    ShadowFrame frame; /* projection of the last frame */
+} ShadowMap;
+
+typedef struct RsmMap {
+    int size;          /* texels per side (per face) */
+    bool cube;
+    GLuint position;   /* RGBA32F: xyz, w = 1 where a surface */
+    GLuint normal;     /* RGBA16F: normal of the lit side */
+    GLuint flux;       /* RGBA32F: reflected flux Φ (W) */
+    GLuint depth;      /* DEPTH32F */
+    GLuint view[3];    /* 2D-array views of position, normal, flux (compute passes) */
+    GLuint fbo;
+    ShadowFrame frame; /* projection of the last frame */
+} RsmMap;
+
+typedef struct VplBuffer {
+    GLuint vpls;       /* GpuVpl[capacity] */
+    GLuint counters;   /* uint[1]: VPL count */
+    uint32_t capacity;
+} VplBuffer;
+
+/* What the stage must make; fixed until light_stage_configure. */
+typedef struct LightStageDesc {
+    unsigned needs;       /* LightNeeds */
+    int shadow_map_size;  /* per side */
+    int rsm_size;         /* per side, when vpl_count is 0 */
+    int vpl_count;        /* > 0: RSM size per light from this VPL budget */
+    unsigned vpl_seed;    /* seed of the VPLs' fixed random ξ */
+} LightStageDesc;
+
+typedef struct LightStage {
+    const Scene *scene;   /* borrowed */
+    LightStageDesc desc;
+    int light_count;
+    GLuint light_array;   /* UBO: GpuLight per light and product, `slot_stride` apart */
+    int slot_stride;      /* bytes between slots (UBO offset alignment) */
+    ShadowMap *shadow;    /* [light_count] when LIGHT_NEEDS_SHADOW_MAPS */
+    RsmMap *rsm;          /* [light_count] when LIGHT_NEEDS_RSM */
+    VplBuffer vpls;       /* when LIGHT_NEEDS_VPLS */
+    uint64_t vpl_key;     /* what the VPLs were extracted from (0: none yet) */
+    int vpl_extractions;  /* how many times VPLs were extracted */
+    GLuint shadow_program, rsm_program, vpl_program;
+    GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
+} LightStage;
+
+/* RSM texels per side that give about `vpls` VPLs for light `l`. */
+int light_stage_rsm_size_for_vpls(const Light *l, int vpls);
+
+bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc);
+void light_stage_destroy(LightStage *ls);
+/* Remakes what differs between the current and the new description. */
+bool light_stage_configure(LightStage *ls, const LightStageDesc *desc);
+
+/* Computes every light's frames into the light array and builds the
+ * products of the description (timer scopes "shadow", "rsm", "vpl_generate"). */
+void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t);
+
+/* Binds light i's shadow-lookup block to UBO_LIGHT and its shadow map (or a
+ * dummy) to TEX_SHADOW_2D/CUBE. */
+void light_stage_bind_shadow(const LightStage *ls, int i);
+/* Binds light i's RSM block to UBO_LIGHT and the RSM to TEX_RSM_*. */
+void light_stage_bind_rsm(const LightStage *ls, int i);
+/* Binds the VPL buffer to SSBO_VPL and SSBO_COUNTERS. */
+void light_stage_bind_vpls(const LightStage *ls);
+/* The VPL count of the last extraction (waits for the GPU). */
+uint32_t light_stage_vpl_count(const LightStage *ls);
+
+#endif

@@ -19,7 +19,7 @@ GLuint gl_texture3d_make(GLenum format, int w, int h, int d, int levels, TexFilt
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max_size);
     if (w < 1 || h < 1 || d < 1 || w > max_size || h > max_size || d > max_size) {
-        log_error("gl", "3D texture %s: size %dx%dx%d outside 1..%d", label, w, h, d, max_size);
+        log_error("gl", "3D texture %s: size %d, %d, %d outside 1..%d", label, w, h, d, max_size);
         return 0;
     }
     int full = gl_mip_levels(w, h, d);
@@ -109,8 +109,10 @@ GLuint gl_fbo_empty_make(int w, int h, int layers, int samples, const char *labe
     glGetIntegerv(GL_MAX_FRAMEBUFFER_SAMPLES, &max_samples);
     if (w < 1 || h < 1 || w > max_w || h > max_h || layers < 0 || layers > max_layers || samples < 0 ||
         samples > max_samples) {
-        log_error("gl", "empty framebuffer %s: %dx%d, %d layers, %d samples exceeds %dx%d, %d, %d", label, w, h,
-                  layers, samples, max_w, max_h, max_layers, max_samples);
+        log_error("gl",
+                  "empty framebuffer %s: width %d, height %d, %d layers, %d samples outside the limits "
+                  "(1..%d, 1..%d, 0..%d, 0..%d)",
+                  label, w, h, layers, samples, max_w, max_h, max_layers, max_samples);
         return 0;
     }
     GLuint fbo;

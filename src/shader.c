@@ -306,7 +306,7 @@ static bool shader_program_rebuild(GLuint prog, const ShaderProgramDesc *d)
         for (int i = 0; i < n; i++)
             glDeleteShader(st[i]);
     }
-    glDeleteProgram(scratch); /* detaches and so frees the new shaders */
+    glDeleteProgram(scratch); /* the new shaders live on only where attached: in prog on success */
     return ok;
 }
 

@@ -36,6 +36,8 @@ static int pass_index(GpuTimer *t, const char *name)
 
 void gpu_timer_begin(GpuTimer *t, const char *pass)
 {
+    glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, (GLuint)t->debug_groups, -1, pass);
+    t->debug_groups++;
     if (!t->enabled || t->query_count + 2 > GPU_TIMER_MAX_QUERIES)
         return;
     t->open_pass = pass_index(t, pass);
@@ -49,15 +51,19 @@ void gpu_timer_begin(GpuTimer *t, const char *pass)
 
 void gpu_timer_end(GpuTimer *t)
 {
-    if (!t->enabled || t->open_pass < 0)
-        return;
-    glQueryCounter(t->queries[t->query_count + 1], GL_TIMESTAMP);
-    t->query_count += 2;
-    if (t->sync) {
-        glFinish();
-        t->passes[t->open_pass].cpu_ms += 1e3 * (util_seconds() - t->cpu_begin);
+    if (t->enabled && t->open_pass >= 0) {
+        glQueryCounter(t->queries[t->query_count + 1], GL_TIMESTAMP);
+        t->query_count += 2;
+        if (t->sync) {
+            glFinish();
+            t->passes[t->open_pass].cpu_ms += 1e3 * (util_seconds() - t->cpu_begin);
+        }
+        t->open_pass = -1;
     }
-    t->open_pass = -1;
+    if (t->debug_groups > 0) { /* an unmatched end must not underflow the GL stack */
+        glPopDebugGroup();
+        t->debug_groups--;
+    }
 }
 
 void gpu_timer_end_frame(GpuTimer *t)

@@ -3,7 +3,13 @@
  * GPU time; when `sync` is set the CPU waits for the GPU at both ends
  * (glFinish) and the wall time is recorded too, which is the meaningful
  * number on software rasterizers such as llvmpipe. Times accumulate by pass
- * name over frames until gpu_timer_reset. */
+ * name over frames until gpu_timer_reset.
+ *
+ * Every begin/end pair also pushes/pops a debug group (GL 4.3 / KHR_debug)
+ * named after the pass, whether timing is enabled or not, so RenderDoc and
+ * apitrace captures show the frame as its passes. A disabled timer creates
+ * no queries, never waits on the GPU and reads nothing back. Passes do not
+ * nest: end the open one before the next begin. */
 #ifndef RTGI_GPU_TIMER_H
 #define RTGI_GPU_TIMER_H
 
@@ -28,6 +34,7 @@ typedef struct GpuTimer {
     int query_count;                       /* pairs in flight ×2 */
     double cpu_begin;
     int open_pass;                         /* pass between begin/end or -1 */
+    int debug_groups;                      /* debug groups pushed and not yet popped */
     GpuTimerPass passes[GPU_TIMER_MAX_PASSES];
     int pass_count;
     int frames;
@@ -35,7 +42,10 @@ typedef struct GpuTimer {
 
 void gpu_timer_create(GpuTimer *t, bool enabled, bool sync);
 void gpu_timer_destroy(GpuTimer *t);
+/* Opens pass `pass`: pushes its debug group, and when enabled starts its
+ * timestamp (after a glFinish when `sync`). */
 void gpu_timer_begin(GpuTimer *t, const char *pass);
+/* Closes the open pass: ends its timestamp and pops its debug group. */
 void gpu_timer_end(GpuTimer *t);
 /* Collects this frame's queries (waits for them). */
 void gpu_timer_end_frame(GpuTimer *t);

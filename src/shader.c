@@ -177,20 +177,90 @@ static GLuint compile_stage(const char *label, GLenum stage, const char *path, c
     return sh;
 }
 
-static GLuint link_program(const char *label, GLuint *stages, int n)
+/* Compiles every stage of `d` into `st` (count in *n). On failure deletes
+ * what it compiled and returns false; the log lines name file and line. */
+static bool compile_stages(const ShaderProgramDesc *d, const char *label, GLuint st[4], int *n)
 {
-    GLuint prog = glCreateProgram();
+    const struct { GLenum stage; const char *path; } stages[4] = {
+        {GL_VERTEX_SHADER, d->vert}, {GL_GEOMETRY_SHADER, d->geom},
+        {GL_FRAGMENT_SHADER, d->frag}, {GL_COMPUTE_SHADER, d->comp}};
+    *n = 0;
+    for (int i = 0; i < 4; i++) {
+        if (!stages[i].path)
+            continue;
+        GLuint sh = compile_stage(label, stages[i].stage, stages[i].path, d->defines);
+        if (!sh) {
+            for (int k = 0; k < *n; k++)
+                glDeleteShader(st[k]);
+            *n = 0;
+            return false;
+        }
+        st[(*n)++] = sh;
+    }
+    return true;
+}
+
+/* true if `prog` linked; else logs its info log on one line. */
+static bool link_ok(GLuint prog, const char *label, const char *note)
+{
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (ok)
+        return true;
+    char log[8192] = "";
+    glGetProgramInfoLog(prog, sizeof log, NULL, log);
+    for (char *c = log; *c; c++)
+        if (*c == '\n')
+            *c = ' ';
+    log_error("shader", "program %s failed to link%s: %s", label, note, log);
+    return false;
+}
+
+/* Attaches `stages` to `prog` and links it. The shaders are flagged for
+ * deletion, so they go away with the program or when detached. */
+static bool link_into(GLuint prog, const char *label, const GLuint *stages, int n)
+{
     for (int i = 0; i < n; i++)
         glAttachShader(prog, stages[i]);
     glLinkProgram(prog);
     for (int i = 0; i < n; i++)
         glDeleteShader(stages[i]);
-    GLint ok = 0;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[8192];
-        glGetProgramInfoLog(prog, sizeof log, NULL, log);
-        log_error("shader", "program %s failed to link: %s", label, log);
+    return link_ok(prog, label, "");
+}
+
+static const char *desc_label(const ShaderProgramDesc *d)
+{
+    if (d->label)
+        return d->label;
+    return d->comp ? d->comp : d->vert ? d->vert : "(unnamed)";
+}
+
+/* Environment-independent checks on a desc; logs and returns false. */
+static bool desc_valid(const ShaderProgramDesc *d, const char *label)
+{
+    bool graphics = d->vert || d->geom || d->frag;
+    if (d->comp && graphics) {
+        log_error("shader", "program %s: a compute stage cannot be combined with graphics stages", label);
+        return false;
+    }
+    if (!d->comp && !d->vert) {
+        log_error("shader", "program %s: needs a vertex or a compute stage", label);
+        return false;
+    }
+    return true;
+}
+
+GLuint shader_program_build(const ShaderProgramDesc *d)
+{
+    const char *label = desc_label(d);
+    if (!desc_valid(d, label))
+        return 0;
+    GLuint st[4];
+    int n = 0;
+    if (!compile_stages(d, label, st, &n))
+        return 0;
+    GLuint prog = glCreateProgram();
+    if (!link_into(prog, label, st, n)) {
         glDeleteProgram(prog);
         return 0;
     }
@@ -200,20 +270,134 @@ static GLuint link_program(const char *label, GLuint *stages, int n)
 
 GLuint shader_program_make(const char *label, const char *vert, const char *frag, const char *defines)
 {
-    GLuint st[2];
-    st[0] = compile_stage(label, GL_VERTEX_SHADER, vert, defines);
-    if (!st[0])
-        return 0;
-    st[1] = compile_stage(label, GL_FRAGMENT_SHADER, frag, defines);
-    if (!st[1]) {
-        glDeleteShader(st[0]);
-        return 0;
-    }
-    return link_program(label, st, 2);
+    return shader_program_build(
+        &(ShaderProgramDesc){.label = label, .vert = vert, .frag = frag, .defines = defines});
+}
+
+GLuint shader_program_make_vgf(const char *label, const char *vert, const char *geom, const char *frag,
+                               const char *defines)
+{
+    return shader_program_build(
+        &(ShaderProgramDesc){.label = label, .vert = vert, .geom = geom, .frag = frag, .defines = defines});
 }
 
 GLuint shader_compute_make(const char *label, const char *comp, const char *defines)
 {
-    GLuint st = compile_stage(label, GL_COMPUTE_SHADER, comp, defines);
-    return st ? link_program(label, &st, 1) : 0;
+    return shader_program_build(&(ShaderProgramDesc){.label = label, .comp = comp, .defines = defines});
 }
+
+/* Rebuilds `prog` in place from `d`, keeping its name. The new sources are
+ * first linked into a scratch program: a failed link loses a program's
+ * executable, so `prog` is relinked only once the sources are known good. */
+static bool shader_program_rebuild(GLuint prog, const ShaderProgramDesc *d)
+{
+    const char *label = desc_label(d);
+    GLuint st[4];
+    int n = 0;
+    if (!compile_stages(d, label, st, &n))
+        return false;
+    GLuint scratch = glCreateProgram();
+    for (int i = 0; i < n; i++)
+        glAttachShader(scratch, st[i]);
+    glLinkProgram(scratch);
+    bool ok = link_ok(scratch, label, ", keeping the previous build");
+    /* Swap the stages of `prog` for the new ones and relink it. */
+    if (ok) {
+        GLuint old[8];
+        GLsizei nold = 0;
+        glGetAttachedShaders(prog, 8, &nold, old);
+        for (int i = 0; i < nold; i++)
+            glDetachShader(prog, old[i]);
+        ok = link_into(prog, label, st, n);
+    } else {
+        for (int i = 0; i < n; i++)
+            glDeleteShader(st[i]);
+    }
+    glDeleteProgram(scratch); /* the new shaders live on only where attached: in prog on success */
+    return ok;
+}
+
+/* --- Program cache ------------------------------------------------------ */
+
+struct ProgramCacheEntry {
+    ShaderProgramDesc desc; /* every string an owned copy */
+    GLuint program;         /* owned; 0 if the last build failed */
+};
+
+static char *dup_or_null(const char *s) { return s ? util_strndup(s, strlen(s)) : NULL; }
+
+static bool same_str(const char *a, const char *b)
+{
+    return (a == NULL || b == NULL) ? a == b : strcmp(a, b) == 0;
+}
+
+static bool same_key(const ShaderProgramDesc *a, const ShaderProgramDesc *b)
+{
+    const char *da = a->defines ? a->defines : "", *db = b->defines ? b->defines : "";
+    return same_str(a->vert, b->vert) && same_str(a->geom, b->geom) && same_str(a->frag, b->frag) &&
+           same_str(a->comp, b->comp) && strcmp(da, db) == 0;
+}
+
+void program_cache_create(ProgramCache *c) { memset(c, 0, sizeof *c); }
+
+void program_cache_destroy(ProgramCache *c)
+{
+    for (int i = 0; i < c->count; i++) {
+        ProgramCacheEntry *e = &c->entries[i];
+        if (e->program)
+            glDeleteProgram(e->program);
+        free((char *)e->desc.label);
+        free((char *)e->desc.vert);
+        free((char *)e->desc.geom);
+        free((char *)e->desc.frag);
+        free((char *)e->desc.comp);
+        free((char *)e->desc.defines);
+    }
+    free(c->entries);
+    memset(c, 0, sizeof *c);
+}
+
+GLuint program_cache_get(ProgramCache *c, const ShaderProgramDesc *desc)
+{
+    for (int i = 0; i < c->count; i++)
+        if (same_key(&c->entries[i].desc, desc))
+            return c->entries[i].program;
+    if (c->count == c->capacity) {
+        int cap = c->capacity ? 2 * c->capacity : 16;
+        ProgramCacheEntry *grown = realloc(c->entries, (size_t)cap * sizeof *grown);
+        if (!grown) {
+            log_error("shader", "program cache: out of memory for %s", desc_label(desc));
+            return 0;
+        }
+        c->entries = grown;
+        c->capacity = cap;
+    }
+    ProgramCacheEntry *e = &c->entries[c->count++];
+    e->desc = (ShaderProgramDesc){
+        .label = dup_or_null(desc_label(desc)), .vert = dup_or_null(desc->vert),
+        .geom = dup_or_null(desc->geom), .frag = dup_or_null(desc->frag),
+        .comp = dup_or_null(desc->comp), .defines = dup_or_null(desc->defines)};
+    e->program = shader_program_build(&e->desc);
+    return e->program;
+}
+
+bool program_cache_reload(ProgramCache *c)
+{
+    int failed = 0;
+    for (int i = 0; i < c->count; i++) {
+        ProgramCacheEntry *e = &c->entries[i];
+        bool ok;
+        if (e->program) {
+            ok = shader_program_rebuild(e->program, &e->desc);
+        } else {
+            e->program = shader_program_build(&e->desc);
+            ok = e->program != 0;
+        }
+        failed += !ok;
+    }
+    if (failed)
+        log_error("shader", "reload: %d of %d programs failed, kept their previous builds", failed, c->count);
+    return failed == 0;
+}
+
+int program_cache_count(const ProgramCache *c) { return c->count; }

@@ -1,0 +1,162 @@
+#include "gl_resources.h"
+
+#include "log.h"
+
+int gl_mip_levels(int w, int h, int d)
+{
+    int m = w > h ? w : h;
+    m = m > d ? m : d;
+    int levels = 1;
+    while (m > 1) {
+        m >>= 1;
+        levels++;
+    }
+    return levels;
+}
+
+GLuint gl_texture3d_make(GLenum format, int w, int h, int d, int levels, TexFilter filter, const char *label)
+{
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max_size);
+    if (w < 1 || h < 1 || d < 1 || w > max_size || h > max_size || d > max_size) {
+        log_error("gl", "3D texture %s: size %d, %d, %d outside 1..%d", label, w, h, d, max_size);
+        return 0;
+    }
+    int full = gl_mip_levels(w, h, d);
+    if (levels == 0)
+        levels = full;
+    if (levels < 0 || levels > full) {
+        log_error("gl", "3D texture %s: %d mip levels asked, %dx%dx%d has 1..%d", label, levels, w, h, d, full);
+        return 0;
+    }
+    GLuint t;
+    glCreateTextures(GL_TEXTURE_3D, 1, &t);
+    glTextureStorage3D(t, levels, format, w, h, d);
+    /* A failed glTextureStorage3D (unsized or unknown format, out of
+     * memory) leaves the texture mutable: check that instead of glGetError,
+     * which would also swallow other code's errors. */
+    GLint immutable = GL_FALSE;
+    glGetTextureParameteriv(t, GL_TEXTURE_IMMUTABLE_FORMAT, &immutable);
+    if (!immutable) {
+        log_error("gl", "3D texture %s: no storage for format 0x%x at %dx%dx%d, %d levels", label, format, w, h,
+                  d, levels);
+        glDeleteTextures(1, &t);
+        return 0;
+    }
+    bool linear = filter == TEX_FILTER_LINEAR;
+    GLenum min = levels > 1 ? (linear ? GL_LINEAR_MIPMAP_LINEAR : GL_NEAREST_MIPMAP_NEAREST)
+                            : (linear ? GL_LINEAR : GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, (GLint)min);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, linear ? GL_LINEAR : GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_BORDER);
+    const float border[4] = {0.f, 0.f, 0.f, 0.f};
+    glTextureParameterfv(t, GL_TEXTURE_BORDER_COLOR, border);
+    glObjectLabel(GL_TEXTURE, t, -1, label);
+    return t;
+}
+
+void gl_texture3d_destroy(GLuint *tex)
+{
+    if (*tex)
+        glDeleteTextures(1, tex);
+    *tex = 0;
+}
+
+void gl_texture_level_size(GLuint tex, int level, int size[3])
+{
+    glGetTextureLevelParameteriv(tex, level, GL_TEXTURE_WIDTH, &size[0]);
+    glGetTextureLevelParameteriv(tex, level, GL_TEXTURE_HEIGHT, &size[1]);
+    glGetTextureLevelParameteriv(tex, level, GL_TEXTURE_DEPTH, &size[2]);
+}
+
+void gl_texture3d_bind_image(GLuint unit, GLuint tex, int level, GLenum access, GLenum format)
+{
+    glBindImageTexture(unit, tex, level, GL_TRUE, 0, access, format);
+}
+
+void gl_texture_generate_mips(GLuint tex)
+{
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glGenerateTextureMipmap(tex);
+}
+
+void gl_texture3d_build_mips(GLuint tex, GLuint program, GLenum format, int local_size)
+{
+    GLint levels = 1;
+    glGetTextureParameteriv(tex, GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
+    glUseProgram(program);
+    for (int l = 1; l < levels; l++) {
+        int s[3];
+        gl_texture_level_size(tex, l, s);
+        gl_texture3d_bind_image(0, tex, l - 1, GL_READ_ONLY, format);
+        gl_texture3d_bind_image(1, tex, l, GL_WRITE_ONLY, format);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+        glDispatchCompute((GLuint)((s[0] + local_size - 1) / local_size),
+                          (GLuint)((s[1] + local_size - 1) / local_size),
+                          (GLuint)((s[2] + local_size - 1) / local_size));
+    }
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+GLuint gl_fbo_empty_make(int w, int h, int layers, int samples, const char *label)
+{
+    GLint max_w = 0, max_h = 0, max_layers = 0, max_samples = 0;
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &max_w);
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &max_h);
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_LAYERS, &max_layers);
+    glGetIntegerv(GL_MAX_FRAMEBUFFER_SAMPLES, &max_samples);
+    if (w < 1 || h < 1 || w > max_w || h > max_h || layers < 0 || layers > max_layers || samples < 0 ||
+        samples > max_samples) {
+        log_error("gl",
+                  "empty framebuffer %s: width %d, height %d, %d layers, %d samples outside the limits "
+                  "(1..%d, 1..%d, 0..%d, 0..%d)",
+                  label, w, h, layers, samples, max_w, max_h, max_layers, max_samples);
+        return 0;
+    }
+    GLuint fbo;
+    glCreateFramebuffers(1, &fbo);
+    glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_WIDTH, w);
+    glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_HEIGHT, h);
+    glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_LAYERS, layers);
+    glNamedFramebufferParameteri(fbo, GL_FRAMEBUFFER_DEFAULT_SAMPLES, samples);
+    GLenum st = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    if (st != GL_FRAMEBUFFER_COMPLETE) {
+        log_error("gl", "empty framebuffer %s incomplete (0x%x)", label, st);
+        glDeleteFramebuffers(1, &fbo);
+        return 0;
+    }
+    glObjectLabel(GL_FRAMEBUFFER, fbo, -1, label);
+    return fbo;
+}
+
+void gl_fbo_destroy(GLuint *fbo)
+{
+    if (*fbo)
+        glDeleteFramebuffers(1, fbo);
+    *fbo = 0;
+}
+
+GlObjectCounts gl_count_live_objects(GLuint max_name)
+{
+    GlObjectCounts c = {0};
+    for (GLuint n = 1; n <= max_name; n++) {
+        c.textures += glIsTexture(n) == GL_TRUE;
+        c.buffers += glIsBuffer(n) == GL_TRUE;
+        c.framebuffers += glIsFramebuffer(n) == GL_TRUE;
+        c.renderbuffers += glIsRenderbuffer(n) == GL_TRUE;
+        c.programs += glIsProgram(n) == GL_TRUE;
+        c.shaders += glIsShader(n) == GL_TRUE;
+        c.vertex_arrays += glIsVertexArray(n) == GL_TRUE;
+        c.queries += glIsQuery(n) == GL_TRUE;
+        c.samplers += glIsSampler(n) == GL_TRUE;
+    }
+    return c;
+}
+
+int gl_object_counts_total(const GlObjectCounts *c)
+{
+    return c->textures + c->buffers + c->framebuffers + c->renderbuffers + c->programs + c->shaders +
+           c->vertex_arrays + c->queries + c->samplers;
+}

@@ -156,15 +156,15 @@ static bool make_products(LightStage *ls)
     return ok;
 }
 
-bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc)
+bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc, ProgramCache *pc)
 {
     memset(ls, 0, sizeof *ls);
     ls->scene = s;
     ls->desc = *desc;
     ls->light_count = s->light_count;
-    ls->shadow_program = shader_program_make("shadow", "frame/scene.vert", "light/shadow_depth.frag", NULL);
-    ls->rsm_program = shader_program_make("rsm", "frame/scene.vert", "light/rsm.frag", NULL);
-    ls->vpl_program = shader_compute_make("vpl_extract", "light/vpl_extract.comp", NULL);
+    ls->shadow_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "shadow", .vert = "frame/scene.vert", .frag = "light/shadow_depth.frag", .defines = NULL});
+    ls->rsm_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm", .vert = "frame/scene.vert", .frag = "light/rsm.frag", .defines = NULL});
+    ls->vpl_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "vpl_extract", .comp = "light/vpl_extract.comp", .defines = NULL});
     if (!ls->shadow_program || !ls->rsm_program || !ls->vpl_program)
         return false;
     GLint align = 256;
@@ -184,9 +184,6 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
 void light_stage_destroy(LightStage *ls)
 {
     free_products(ls);
-    glDeleteProgram(ls->shadow_program);
-    glDeleteProgram(ls->rsm_program);
-    glDeleteProgram(ls->vpl_program);
     glDeleteBuffers(1, &ls->light_array);
     GLuint t[2] = {ls->dummy_2d, ls->dummy_cube};
     glDeleteTextures(2, t);

@@ -11,7 +11,7 @@
  *     changes, so its order is stable for techniques that index it.
  * Maps are 2D for directional/spot lights and cubes for point/quad lights.
  * Inputs: the scene (borrowed), its GpuScene. Owns: every map, the light
- * array, the VPL buffer, its programs. Shaders: shaders/light/. */
+ * array, the VPL buffer. Shaders: shaders/light/. */
 #ifndef RTGI_LIGHT_STAGE_H
 #define RTGI_LIGHT_STAGE_H
 
@@ -22,6 +22,7 @@
 #include "gpu_scene.h"
 #include "gpu_timer.h"
 #include "scene.h"
+#include "shader.h"
 #include "shadow_frame.h"
 
 typedef enum LightNeeds {
@@ -76,14 +77,15 @@ typedef struct LightStage {
     VplBuffer vpls;       /* when LIGHT_NEEDS_VPLS */
     uint64_t vpl_key;     /* what the VPLs were extracted from (0: none yet) */
     int vpl_extractions;  /* how many times VPLs were extracted */
-    GLuint shadow_program, rsm_program, vpl_program;
+    GLuint shadow_program, rsm_program, vpl_program; /* from the program cache */
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
 } LightStage;
 
 /* RSM texels per side that give about `vpls` VPLs for light `l`. */
 int light_stage_rsm_size_for_vpls(const Light *l, int vpls);
 
-bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc);
+/* Programs come from `pc` (owned by the caller, outlives the stage). */
+bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc, ProgramCache *pc);
 void light_stage_destroy(LightStage *ls);
 /* Remakes what differs between the current and the new description. */
 bool light_stage_configure(LightStage *ls, const LightStageDesc *desc);

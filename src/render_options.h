@@ -8,6 +8,7 @@
 
 #include "renderer.h"
 #include "scene.h"
+#include "settings.h"
 
 typedef struct RenderOptions {
     const char *scene;
@@ -21,10 +22,8 @@ typedef struct RenderOptions {
     int frames;        /* render: timed frames; view: frames before exiting (0 = until closed) */
     int warmup;        /* render: untimed frames before the timed ones */
     bool timings, debug;
-    ShadowParams sp;   /* shadow overrides ... */
-    unsigned sp_set;   /* ... one bit per field given */
-    GiParams gp;       /* GI overrides ... */
-    unsigned gp_set;   /* ... one bit per field given */
+    Settings set;      /* technique settings given on the command line ... */
+    bool given[64];    /* ... by settings-table row */
 } RenderOptions;
 
 /* Defaults for `rtgi render` (out = out/render.png, 3 timed frames) or

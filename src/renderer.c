@@ -63,7 +63,7 @@ static bool technique_create(Renderer *r)
     r->gi = gi_techniques[rs->gi];
     if (!r->gi->create)
         return true;
-    GiCreateInfo ci = {r->scene, &rs->gi_params, &r->lights, rs->width, rs->height};
+    GiCreateInfo ci = {r->scene, &rs->gi_params, &r->lights, &r->programs, rs->width, rs->height};
     r->gi_state = r->gi->create(&ci);
     return r->gi_state != NULL;
 }
@@ -76,11 +76,15 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
     r->scene = s;
     r->settings = *rs;
     gpu_timer_create(&r->timer, rs->timings, rs->timing_sync);
+    program_cache_create(&r->programs);
     LightStageDesc ld = light_desc(rs);
-    if (!gpu_scene_create(&r->gpu_scene, s) || !light_stage_create(&r->lights, s, &ld) ||
-        !targets_create(r, rs->width, rs->height) || !pass_gbuffer_create(&r->pass_gbuffer) ||
-        !pass_direct_create(&r->pass_direct) || !pass_composite_create(&r->pass_composite) ||
-        !pass_tonemap_create(&r->pass_tonemap))
+    ProgramCache *pc = &r->programs;
+    glCreateVertexArrays(1, &r->empty_vao);
+    if (!gpu_scene_create(&r->gpu_scene, s) || !light_stage_create(&r->lights, s, &ld, pc) ||
+        !targets_create(r, rs->width, rs->height) || !pass_gbuffer_create(&r->pass_gbuffer, pc) ||
+        !pass_direct_create(&r->pass_direct, pc, r->empty_vao) ||
+        !pass_composite_create(&r->pass_composite, pc, r->empty_vao) ||
+        !pass_tonemap_create(&r->pass_tonemap, pc, r->empty_vao))
         return false;
     r->frame_ubo = gi_ubo_make(sizeof(GpuFrame), "frame");
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
@@ -95,9 +99,11 @@ void renderer_destroy(Renderer *r)
     pass_direct_destroy(&r->pass_direct);
     pass_gbuffer_destroy(&r->pass_gbuffer);
     glDeleteBuffers(1, &r->frame_ubo);
+    glDeleteVertexArrays(1, &r->empty_vao);
     targets_destroy(r);
     light_stage_destroy(&r->lights);
     gpu_scene_destroy(&r->gpu_scene);
+    program_cache_destroy(&r->programs);
     gpu_timer_destroy(&r->timer);
     memset(r, 0, sizeof *r);
 }

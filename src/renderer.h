@@ -54,6 +54,7 @@ typedef struct Renderer {
     RenderSettings settings;
     GpuScene gpu_scene;
     GpuTimer timer;
+    ProgramCache programs;     /* every program of the passes, stage and technique */
     LightStage lights;
     GBuffer gbuffer;
     ColorTarget hdr;           /* RGBA32F radiance */
@@ -61,6 +62,7 @@ typedef struct Renderer {
     GLuint irradiance;         /* RGBA32F indirect irradiance of the technique */
     GLuint specular;           /* RGBA32F indirect specular radiance, techniques with GI_HAS_SPECULAR */
     GLuint frame_ubo;          /* GpuFrame */
+    GLuint empty_vao;          /* for the full-screen passes */
     const GiTechnique *gi;     /* the selected row */
     void *gi_state;            /* its state (NULL for "none") */
     RenderStats stats;         /* filled by renderer_collect_stats */

@@ -1,4 +1,5 @@
 #include "scene.h"
+#include "settings.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -7,74 +8,14 @@
 
 #include "log.h"
 
-void shadow_params_default(ShadowParams *p)
-{
-    p->map_size = 1024;
-    p->bias_const = 0.0005f;
-    p->bias_slope = 1.5f;
-    p->normal_offset = 0.0f;
-    p->pcf_samples = 20;
-    p->pcf_radius = 2.0f;
-    p->blocker_samples = 20;
-    p->pcss_max_radius = 48.0f;
-}
-
-void gi_params_default(GiParams *p)
-{
-    p->rsm_size = 512;
-    p->samples = 400;
-    p->r_max = 0.3f;
-    p->weighting = RSM_WEIGHT_PAPER;
-    p->exhaustive = false;
-    p->interp_factor = 4;
-    p->interp_normal = 0.9f;
-    p->interp_dist = 0.05f;
-    p->interleave_n = 4;
-    p->interleave_m = 4;
-    p->interleave_blur = true;
-    p->scale = 1.f;
-    p->vpl_count = 0;
-    p->slc_emax = 0.0005f;
-    p->vpl_near_clamp = 0.f;
-    p->vpl_range = 0.f;
-    p->vpl_keep = 1.f;
-    p->vpl_seed = 0;
-}
-
-bool gi_params_valid(const GiParams *p, const char *where)
-{
-    const char *bad = NULL;
-    if (p->rsm_size < 4 || p->rsm_size > 4096)
-        bad = "gi.rsm_size must be in [4, 4096]";
-    else if (p->samples < 1 || p->samples > 65536)
-        bad = "gi.samples must be in [1, 65536]";
-    else if (!(p->r_max > 0.f) || p->r_max > 4.f)
-        bad = "gi.r_max must be in (0, 4]";
-    else if (p->interp_factor < 1 || p->interp_factor > 64)
-        bad = "gi.interp_factor must be in [1, 64]";
-    else if (p->interleave_n < 1 || p->interleave_m < 1 || p->interleave_n > 16 || p->interleave_m > 16)
-        bad = "gi.interleave must be n, m in [1, 16]";
-    else if (!(p->scale >= 0.f))
-        bad = "gi.scale must be >= 0";
-    else if (p->vpl_count < 0 || p->vpl_count > (1 << 24))
-        bad = "gi.vpls must be in [1, 16777216]";
-    else if (!(p->slc_emax > 0.f))
-        bad = "gi.slc_emax must be > 0";
-    else if (!(p->vpl_near_clamp >= 0.f) || !(p->vpl_range >= 0.f))
-        bad = "gi.vpl_near_clamp and gi.vpl_range must be >= 0";
-    else if (!(p->vpl_keep > 0.f) || p->vpl_keep > 1.f)
-        bad = "gi.vpl_keep must be in (0, 1]";
-    if (bad)
-        log_error("scene", "%s: %s", where, bad);
-    return bad == NULL;
-}
-
 void scene_init(Scene *s)
 {
     memset(s, 0, sizeof *s);
     s->exposure = 1.0f;
-    shadow_params_default(&s->shadow);
-    gi_params_default(&s->gi);
+    Settings defaults; /* the settings table's */
+    settings_default(&defaults);
+    s->shadow = defaults.shadow;
+    s->gi = defaults.gi;
     glm_vec3_copy((vec3){0, 1, 5}, s->camera.position);
     glm_vec3_copy((vec3){0, 0, -1}, s->camera.forward);
     glm_vec3_copy((vec3){0, 1, 0}, s->camera.up);

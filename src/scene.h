@@ -70,7 +70,9 @@ typedef struct Submesh {
     int material;
 } Submesh;
 
-/* Technique parameters a scene file may set and the CLI overrides. */
+/* Technique parameters a scene file may set and the CLI overrides; their
+ * keys, options, ranges and defaults are rows of the settings table
+ * (settings.c). */
 typedef struct ShadowParams {
     int map_size;          /* 2D shadow map / cube face resolution */
     float bias_const;      /* world-space constant bias (m) */
@@ -106,9 +108,6 @@ typedef struct GiParams {
     unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
 } GiParams;
 
-void gi_params_default(GiParams *p);
-/* false after logging "<where>: <what is wrong>" if a parameter is absurd. */
-bool gi_params_valid(const GiParams *p, const char *where);
 
 typedef struct Scene {
     char source[512];      /* what it was loaded from, for messages */
@@ -131,7 +130,6 @@ typedef struct Scene {
     vec3 bounds_min, bounds_max; /* of all geometry but light emitters */
 } Scene;
 
-void shadow_params_default(ShadowParams *p);
 
 /* Empty scene with default camera/exposure/parameters. */
 void scene_init(Scene *s);

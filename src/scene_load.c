@@ -16,6 +16,7 @@
 
 #include "log.h"
 #include "scene.h"
+#include "settings.h"
 #include "util.h"
 
 /* ------------------------------------------------------------------ mesh */
@@ -237,13 +238,6 @@ static bool get_num(Ctx *c, const cJSON *obj, const char *key, float *out)
     return true;
 }
 
-static void get_int(Ctx *c, const cJSON *obj, const char *key, int *out)
-{
-    float v;
-    if (get_num(c, obj, key, &v))
-        *out = (int)lrintf(v);
-}
-
 static void parse_light(Ctx *c, Scene *s, const cJSON *j, int index)
 {
     Light l = {0};
@@ -372,74 +366,16 @@ static void parse_quads(Ctx *c, Scene *s, const cJSON *arr)
     }
 }
 
-static void parse_shadow(Ctx *c, ShadowParams *p, const cJSON *j)
+/* The "shadow" and "gi" objects: the settings table's one parser. */
+static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
 {
-    get_int(c, j, "map_size", &p->map_size);
-    get_num(c, j, "bias_const", &p->bias_const);
-    get_num(c, j, "bias_slope", &p->bias_slope);
-    get_num(c, j, "normal_offset", &p->normal_offset);
-    get_int(c, j, "pcf_samples", &p->pcf_samples);
-    get_num(c, j, "pcf_radius", &p->pcf_radius);
-    get_int(c, j, "blocker_samples", &p->blocker_samples);
-    get_num(c, j, "pcss_max_radius", &p->pcss_max_radius);
-}
-
-static void get_bool(Ctx *c, const cJSON *obj, const char *key, bool *out)
-{
-    const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, key);
-    if (!a)
-        return;
-    if (!cJSON_IsBool(a)) {
-        log_error("scene", "%s: \"%s\" must be true or false", c->file, key);
+    Settings set = {s->shadow, s->gi};
+    if (!settings_parse_json(j, group, c->file, &set)) {
         c->ok = false;
         return;
     }
-    *out = cJSON_IsTrue(a);
-}
-
-static void parse_gi(Ctx *c, GiParams *p, const cJSON *j)
-{
-    get_int(c, j, "rsm_size", &p->rsm_size);
-    get_int(c, j, "samples", &p->samples);
-    get_num(c, j, "r_max", &p->r_max);
-    const cJSON *w = cJSON_GetObjectItemCaseSensitive(j, "weighting");
-    if (w) {
-        if (cJSON_IsString(w) && strcmp(w->valuestring, "paper") == 0)
-            p->weighting = RSM_WEIGHT_PAPER;
-        else if (cJSON_IsString(w) && strcmp(w->valuestring, "unbiased") == 0)
-            p->weighting = RSM_WEIGHT_UNBIASED;
-        else {
-            log_error("scene", "%s: gi.weighting must be \"paper\" or \"unbiased\"", c->file);
-            c->ok = false;
-        }
-    }
-    get_bool(c, j, "exhaustive", &p->exhaustive);
-    get_int(c, j, "interp_factor", &p->interp_factor);
-    get_num(c, j, "interp_normal", &p->interp_normal);
-    get_num(c, j, "interp_dist", &p->interp_dist);
-    const cJSON *il = cJSON_GetObjectItemCaseSensitive(j, "interleave");
-    if (il) {
-        if (!cJSON_IsArray(il) || cJSON_GetArraySize(il) != 2 || !cJSON_IsNumber(cJSON_GetArrayItem(il, 0)) ||
-            !cJSON_IsNumber(cJSON_GetArrayItem(il, 1))) {
-            log_error("scene", "%s: gi.interleave must be [n, m]", c->file);
-            c->ok = false;
-        } else {
-            p->interleave_n = cJSON_GetArrayItem(il, 0)->valueint;
-            p->interleave_m = cJSON_GetArrayItem(il, 1)->valueint;
-        }
-    }
-    get_bool(c, j, "interleave_blur", &p->interleave_blur);
-    get_num(c, j, "scale", &p->scale);
-    get_int(c, j, "vpls", &p->vpl_count);
-    get_num(c, j, "slc_emax", &p->slc_emax);
-    get_num(c, j, "vpl_near_clamp", &p->vpl_near_clamp);
-    get_num(c, j, "vpl_range", &p->vpl_range);
-    get_num(c, j, "vpl_keep", &p->vpl_keep);
-    int seed = (int)p->vpl_seed;
-    get_int(c, j, "vpl_seed", &seed);
-    p->vpl_seed = (unsigned)seed;
-    if (c->ok && !gi_params_valid(p, c->file))
-        c->ok = false;
+    s->shadow = set.shadow;
+    s->gi = set.gi;
 }
 
 static bool load_json(Scene *s, const char *path)
@@ -530,10 +466,10 @@ static bool load_json(Scene *s, const char *path)
     get_num(&c, root, "exposure", &s->exposure);
     const cJSON *shadow = cJSON_GetObjectItemCaseSensitive(root, "shadow");
     if (shadow)
-        parse_shadow(&c, &s->shadow, shadow);
+        parse_settings(&c, s, shadow, "shadow");
     const cJSON *gi = cJSON_GetObjectItemCaseSensitive(root, "gi");
     if (gi)
-        parse_gi(&c, &s->gi, gi);
+        parse_settings(&c, s, gi, "gi");
     const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
     bool has_camera = cam != NULL || cJSON_IsString(builtin);
     if (cam)

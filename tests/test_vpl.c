@@ -251,7 +251,7 @@ static void bad_vpl_parameters(void **state)
     test_expect_cli_error(rc, err, 2, "--slc-emax", NULL);
     rc = test_run_cli(&err, "render", "--gi", "vpl-slc", "--slc-emax", "-1", NULL);
     test_expect_cli_error(rc, err, 2, "--slc-emax", "out of range");
-    rc = test_run_cli(&err, "render", "--gi", "vpl-all", "--vpls", "0", NULL);
+    rc = test_run_cli(&err, "render", "--gi", "vpl-all", "--vpls", "-1", NULL);
     test_expect_cli_error(rc, err, 2, "--vpls", NULL);
     char path[512];
     snprintf(path, sizeof path, "%s/badvpl.json", RTGI_TEST_TMP);

@@ -24,6 +24,7 @@
 #include "gpu_timer.h"
 #include "light_stage.h"
 #include "scene.h"
+#include "shader.h"
 #include "shared/gpu_types.h"
 #include "targets.h"
 
@@ -44,6 +45,7 @@ typedef struct GiCreateInfo {
     const Scene *scene;      /* borrowed, outlives the technique */
     const GiParams *params;  /* the settings it was created with (copied by the technique if kept) */
     const LightStage *lights;/* already configured with the technique's needs (sizes its buffers) */
+    ProgramCache *programs;  /* where its programs come from (the cache owns them) */
     int width, height;       /* output size */
 } GiCreateInfo;
 

@@ -7,7 +7,7 @@
 #include "shader.h"
 #include "shared/gpu_types.h"
 
-bool gi_interleave_create(GiInterleave *g, int n, int m, int w, int h, bool deinterleave)
+bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int w, int h, bool deinterleave)
 {
     memset(g, 0, sizeof *g);
     g->n = n;
@@ -18,14 +18,14 @@ bool gi_interleave_create(GiInterleave *g, int n, int m, int w, int h, bool dein
     g->sub_h = (h + m - 1) / m;
     g->di_w = g->sub_w * n;
     g->di_h = g->sub_h * m;
-    g->blur = shader_compute_make("interleave_blur", "gi/interleave.comp", "#define MODE_BLUR\n");
+    g->blur = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_blur", .comp = "gi/interleave.comp", .defines = "#define MODE_BLUR\n"});
     g->merged = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.merged");
     if (!g->blur)
         return false;
     if (!deinterleave)
         return true;
-    g->split = shader_compute_make("interleave_split", "gi/interleave.comp", "#define MODE_SPLIT\n");
-    g->merge = shader_compute_make("interleave_merge", "gi/interleave.comp", "#define MODE_MERGE\n");
+    g->split = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_split", .comp = "gi/interleave.comp", .defines = "#define MODE_SPLIT\n"});
+    g->merge = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_merge", .comp = "gi/interleave.comp", .defines = "#define MODE_MERGE\n"});
     g->di_position = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_position");
     g->di_normal = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_normal");
     g->di_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_irradiance");
@@ -34,9 +34,6 @@ bool gi_interleave_create(GiInterleave *g, int n, int m, int w, int h, bool dein
 
 void gi_interleave_destroy(GiInterleave *g)
 {
-    glDeleteProgram(g->split);
-    glDeleteProgram(g->merge);
-    glDeleteProgram(g->blur);
     GLuint t[4] = {g->di_position, g->di_normal, g->di_irradiance, g->merged};
     glDeleteTextures(4, t);
     memset(g, 0, sizeof *g);

@@ -7,7 +7,7 @@
  *   blur   geometry-aware blur over the n×m window: neighbours whose normal
  *          and position agree (the interpolation's thresholds, GpuGiParams)
  * Reads UBO_GI (interleave_n/m, sub size, thresholds) and UBO_FRAME.
- * Owns: its programs, the de-interleaved textures (when made with
+ * Owns: the de-interleaved textures (when made with
  * `deinterleave`) and the pre-blur image. Shader: shaders/gi/interleave.comp. */
 #ifndef RTGI_GI_INTERLEAVE_H
 #define RTGI_GI_INTERLEAVE_H
@@ -15,10 +15,11 @@
 #include <epoxy/gl.h>
 #include <stdbool.h>
 
+#include "shader.h"
 #include "targets.h"
 
 typedef struct GiInterleave {
-    GLuint split, merge, blur;     /* programs (split/merge only with de-interleaving) */
+    GLuint split, merge, blur;     /* programs from the cache (split/merge only with de-interleaving) */
     int n, m;                      /* pattern */
     int width, height;             /* full resolution */
     int sub_w, sub_h;              /* sub-image size */
@@ -28,7 +29,8 @@ typedef struct GiInterleave {
     GLuint merged;                 /* reassembled (or shaded), before the blur */
 } GiInterleave;
 
-bool gi_interleave_create(GiInterleave *g, int n, int m, int width, int height, bool deinterleave);
+/* Programs come from `pc`. */
+bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int width, int height, bool deinterleave);
 void gi_interleave_destroy(GiInterleave *g);
 void gi_interleave_split(GiInterleave *g, const GBuffer *gb);
 /* Reassembles di_irradiance into `out`; with `blur`, through `merged` and the blur. */

@@ -3,17 +3,15 @@
 #include "shader.h"
 #include "shared/gpu_types.h"
 
-bool pass_composite_create(PassComposite *p)
+bool pass_composite_create(PassComposite *p, ProgramCache *pc, GLuint vao)
 {
-    p->program = shader_program_make("composite", "frame/fullscreen.vert", "frame/composite.frag", NULL);
-    glCreateVertexArrays(1, &p->vao);
+    p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "composite", .vert = "frame/fullscreen.vert", .frag = "frame/composite.frag"});
+    p->vao = vao;
     return p->program != 0;
 }
 
 void pass_composite_destroy(PassComposite *p)
 {
-    glDeleteProgram(p->program);
-    glDeleteVertexArrays(1, &p->vao);
     *p = (PassComposite){0};
 }
 

@@ -10,22 +10,20 @@
 #include "shared/gpu_types.h"
 #include "shader.h"
 
-bool pass_direct_create(PassDirect *p)
+bool pass_direct_create(PassDirect *p, ProgramCache *pc, GLuint vao)
 {
-    p->program = shader_program_make("direct", "frame/fullscreen.vert", "frame/direct.frag", NULL);
+    p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert", .frag = "frame/direct.frag"});
     if (!p->program)
         return false;
     glCreateBuffers(1, &p->shadow_ubo);
     glNamedBufferStorage(p->shadow_ubo, sizeof(GpuShadowParams), NULL, GL_DYNAMIC_STORAGE_BIT);
-    glCreateVertexArrays(1, &p->vao);
+    p->vao = vao;
     return true;
 }
 
 void pass_direct_destroy(PassDirect *p)
 {
-    glDeleteProgram(p->program);
     glDeleteBuffers(1, &p->shadow_ubo);
-    glDeleteVertexArrays(1, &p->vao);
     *p = (PassDirect){0};
 }
 

@@ -5,7 +5,8 @@
  * Inputs: GBuffer, the light stage (light block and shadow map of each
  * light), shadow parameters.
  * Output: HDR radiance target (RGBA32F), blended additively.
- * Owns: its program, the shadow-parameter uniform buffer, an empty VAO. */
+ * Owns: the shadow-parameter uniform buffer (its program is the program
+ * cache's, its empty VAO the renderer's). */
 #ifndef RTGI_PASS_DIRECT_H
 #define RTGI_PASS_DIRECT_H
 
@@ -13,6 +14,7 @@
 
 #include "light_stage.h"
 #include "scene.h"
+#include "shader.h"
 #include "targets.h"
 
 typedef enum ShadowMode { SHADOW_MODE_NONE = 0, SHADOW_MODE_HARD = 1, SHADOW_MODE_PCF = 2, SHADOW_MODE_PCSS = 3 } ShadowMode;
@@ -20,10 +22,11 @@ typedef enum ShadowMode { SHADOW_MODE_NONE = 0, SHADOW_MODE_HARD = 1, SHADOW_MOD
 typedef struct PassDirect {
     GLuint program;
     GLuint shadow_ubo; /* GpuShadowParams */
-    GLuint vao;        /* empty, for the full-screen triangle */
+    GLuint vao; /* borrowed empty vertex array */
 } PassDirect;
 
-bool pass_direct_create(PassDirect *p);
+/* Its program comes from `pc`; `vao` is an empty vertex array (borrowed). */
+bool pass_direct_create(PassDirect *p, ProgramCache *pc, GLuint vao);
 void pass_direct_destroy(PassDirect *p);
 /* Uploads the shadow parameters (call when they change). */
 void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *sp);

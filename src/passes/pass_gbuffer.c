@@ -4,15 +4,14 @@
 #include "shared/gpu_types.h"
 #include "shader.h"
 
-bool pass_gbuffer_create(PassGbuffer *p)
+bool pass_gbuffer_create(PassGbuffer *p, ProgramCache *pc)
 {
-    p->program = shader_program_make("gbuffer", "frame/scene.vert", "frame/gbuffer.frag", NULL);
+    p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer", .vert = "frame/scene.vert", .frag = "frame/gbuffer.frag"});
     return p->program != 0;
 }
 
 void pass_gbuffer_destroy(PassGbuffer *p)
 {
-    glDeleteProgram(p->program);
     p->program = 0;
 }
 

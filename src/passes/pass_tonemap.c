@@ -3,17 +3,15 @@
 #include "shared/gpu_types.h"
 #include "shader.h"
 
-bool pass_tonemap_create(PassTonemap *p)
+bool pass_tonemap_create(PassTonemap *p, ProgramCache *pc, GLuint vao)
 {
-    p->program = shader_program_make("tonemap", "frame/fullscreen.vert", "frame/tonemap.frag", NULL);
-    glCreateVertexArrays(1, &p->vao);
+    p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "tonemap", .vert = "frame/fullscreen.vert", .frag = "frame/tonemap.frag"});
+    p->vao = vao;
     return p->program != 0;
 }
 
 void pass_tonemap_destroy(PassTonemap *p)
 {
-    glDeleteProgram(p->program);
-    glDeleteVertexArrays(1, &p->vao);
     *p = (PassTonemap){0};
 }
 

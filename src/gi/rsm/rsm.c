@@ -11,7 +11,8 @@
  *                    subsets, reassembled, then a geometry-aware blur
  * Inputs: G-buffer, the light stage's RSMs (and VPLs when exhaustive).
  * Output: irradiance. Owns: its programs, the sample pattern, the low-res
- * image and pixel list (interp), the interleaving helper (interleaved).
+ * image and pixel list (interp), the interleaving helper (interleaved);
+ * its programs come from the renderer's cache.
  * Shaders: shaders/gi/rsm/ (gather.comp, sampling.glsl, interp.comp). */
 #include <math.h>
 #include <stdio.h>
@@ -29,6 +30,7 @@ typedef enum GatherLayout { GATHER_FULL, GATHER_LOWRES, GATHER_LIST, GATHER_INTE
 typedef struct RsmGi {
     RsmVariant variant;
     GiParams params;
+    ProgramCache *pc;                 /* borrowed: owns the programs */
     int width, height;
     GLuint gather[GATHER_LAYOUTS][2]; /* [layout][cube], those the variant uses */
     GLuint interp;                    /* interp.comp */
@@ -75,7 +77,7 @@ static bool make_gather(RsmGi *g, GatherLayout layout)
     char defs[128];
     for (int c = 0; c < 2; c++) {
         snprintf(defs, sizeof defs, "%s%s", layout_def[layout], c ? "#define RSM_CUBE\n" : "");
-        g->gather[layout][c] = shader_compute_make("rsm_gather", "gi/rsm/gather.comp", defs);
+        g->gather[layout][c] = program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_gather", .comp = "gi/rsm/gather.comp", .defines = defs});
         if (!g->gather[layout][c])
             return false;
     }
@@ -107,7 +109,7 @@ static bool rsm_resize(void *state, int w, int h)
                              GL_DYNAMIC_STORAGE_BIT);
         glObjectLabel(GL_BUFFER, g->list, -1, "gi.pixel_list");
     } else if (g->variant == RSM_INTERLEAVED) {
-        return gi_interleave_create(&g->il, g->params.interleave_n, g->params.interleave_m, w, h, true);
+        return gi_interleave_create(&g->il, g->pc, g->params.interleave_n, g->params.interleave_m, w, h, true);
     }
     return true;
 }
@@ -118,10 +120,6 @@ static void rsm_destroy(void *state)
     if (!g)
         return;
     rsm_free_sized(g);
-    for (int l = 0; l < GATHER_LAYOUTS; l++)
-        for (int c = 0; c < 2; c++)
-            glDeleteProgram(g->gather[l][c]);
-    glDeleteProgram(g->interp);
     GLuint b[2] = {g->pattern, g->ubo};
     glDeleteBuffers(2, b);
     free(g);
@@ -136,6 +134,7 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
     }
     g->variant = variant;
     g->params = *ci->params;
+    g->pc = ci->programs;
     bool ok;
     switch (variant) {
     case RSM_FULL:
@@ -143,7 +142,7 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
         break;
     case RSM_INTERP:
         ok = make_gather(g, GATHER_LOWRES) && make_gather(g, GATHER_LIST) &&
-             (g->interp = shader_compute_make("rsm_interp", "gi/rsm/interp.comp", NULL)) != 0;
+             (g->interp = program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_interp", .comp = "gi/rsm/interp.comp", .defines = NULL})) != 0;
         break;
     default:
         ok = make_gather(g, GATHER_INTERLEAVED);

@@ -15,8 +15,7 @@
  *                    setting changes.
  * clamped and slc bin VPL spheres into 16×16 screen tiles (a per-tile world
  * box from the G-buffer) in a culling pass before shading.
- * Inputs: G-buffer, VPL buffer. Output: irradiance. Owns: its programs, the
- * range, tile, evaluation and subset buffers, the blur (interleaved).
+ * Inputs: G-buffer, VPL buffer. Output: irradiance. Owns: the range, tile, evaluation and subset buffers, the blur (interleaved).
  * Shaders: shaders/gi/vpl/. */
 #include <math.h>
 #include <stdlib.h>
@@ -36,6 +35,7 @@ enum { LIST_BUDGET = 32 * 1024 * 1024 }; /* tile-list entries in all (128 MiB) *
 typedef struct VplGi {
     VplMethod method;
     GiParams params;
+    ProgramCache *pc;     /* borrowed: owns the programs */
     GLuint params_prog, cull, shade, signature; /* those the method uses */
     GLuint ubo;           /* GpuVplParams */
     GLuint gi_ubo;        /* GpuGiParams (the blur's thresholds) */
@@ -96,7 +96,7 @@ static bool vpl_resize(void *state, int w, int h)
     gi_params_to_gpu(&v->params, w, h, &g);
     glNamedBufferSubData(v->gi_ubo, 0, sizeof g, &g);
     if (interleaved(v))
-        return gi_interleave_create(&v->il, v->params.interleave_n, v->params.interleave_m, w, h, false);
+        return gi_interleave_create(&v->il, v->pc, v->params.interleave_n, v->params.interleave_m, w, h, false);
     return true;
 }
 
@@ -106,12 +106,14 @@ static void vpl_destroy(void *state)
     if (!v)
         return;
     vpl_free_sized(v);
-    GLuint progs[4] = {v->params_prog, v->cull, v->shade, v->signature};
-    for (int i = 0; i < 4; i++)
-        glDeleteProgram(progs[i]);
     GLuint bufs[4] = {v->ubo, v->gi_ubo, v->ranges, v->subsets};
     glDeleteBuffers(4, bufs);
     free(v);
+}
+
+static GLuint cached(VplGi *v, const char *label, const char *comp, const char *defines)
+{
+    return program_cache_get(v->pc, &(ShaderProgramDesc){.label = label, .comp = comp, .defines = defines});
 }
 
 static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
@@ -123,21 +125,22 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
     }
     v->method = method;
     v->params = *ci->params;
+    v->pc = ci->programs;
     v->vpl_capacity = ci->lights->vpls.capacity ? ci->lights->vpls.capacity : 1;
     bool ok = true;
     if (tiled(v)) {
         v->params_prog = method == VPL_SLC
-                             ? shader_compute_make("vpl_params_slc", "gi/vpl/params.comp", "#define MODE_SLC\n")
-                             : shader_compute_make("vpl_params_clamped", "gi/vpl/params.comp", NULL);
-        v->cull = shader_compute_make("vpl_cull", "gi/vpl/cull.comp", NULL);
-        v->shade = shader_compute_make("vpl_shade_tiled", "gi/vpl/shade.comp", "#define MODE_TILED\n");
+                             ? cached(v, "vpl_params_slc", "gi/vpl/params.comp", "#define MODE_SLC\n")
+                             : cached(v, "vpl_params_clamped", "gi/vpl/params.comp", NULL);
+        v->cull = cached(v, "vpl_cull", "gi/vpl/cull.comp", NULL);
+        v->shade = cached(v, "vpl_shade_tiled", "gi/vpl/shade.comp", "#define MODE_TILED\n");
         ok = v->params_prog && v->cull && v->shade;
     } else if (method == VPL_ALL) {
-        ok = (v->shade = shader_compute_make("vpl_shade_all", "gi/vpl/shade.comp", "#define MODE_ALL\n")) != 0;
+        ok = (v->shade = cached(v, "vpl_shade_all", "gi/vpl/shade.comp", "#define MODE_ALL\n")) != 0;
     } else {
-        v->shade = shader_compute_make("vpl_shade_interleaved", "gi/vpl/shade.comp", "#define MODE_INTERLEAVED\n");
+        v->shade = cached(v, "vpl_shade_interleaved", "gi/vpl/shade.comp", "#define MODE_INTERLEAVED\n");
         if (method == VPL_METALIGHTS)
-            v->signature = shader_compute_make("metalight_signature", "gi/vpl/metalight_signature.comp", NULL);
+            v->signature = cached(v, "metalight_signature", "gi/vpl/metalight_signature.comp", NULL);
         ok = v->shade && (method != VPL_METALIGHTS || v->signature);
     }
     v->ubo = gi_ubo_make(sizeof(GpuVplParams), "vpl.params");

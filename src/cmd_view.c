@@ -75,7 +75,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_G:
         s->gi = (GiMode)((s->gi + ((mods & GLFW_MOD_SHIFT) ? GI_MODE_COUNT - 1 : 1)) % GI_MODE_COUNT);
         v->dirty = true;
-        log_info("view", "GI: %s", gi_technique_names[s->gi]);
+        log_info("view", "GI: %s", gi_technique_names()[s->gi]);
         break;
     case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD:
         s->exposure *= 1.25f;
@@ -246,7 +246,7 @@ int cmd_view(int argc, char **argv)
             char title[768];
             snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms GPU", scene.source,
                      (const char *[]){"none", "hard", "pcf", "pcss"}[v.settings.shadow],
-                     gi_technique_names[v.settings.gi], total);
+                     gi_technique_names()[v.settings.gi], total);
             glfwSetWindowTitle(win, title);
             gpu_timer_reset(&r.timer);
             title_time = now;

@@ -90,7 +90,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
         } else if (!strcmp(opt, "--gi")) {
             CLI_VALUE(&a, v);
-            if ((o->gi = cli_choice(opt, v, gi_technique_names)) < 0)
+            if ((o->gi = cli_choice(opt, v, gi_technique_names())) < 0)
                 return 2;
         } else if (!strcmp(opt, "--size")) {
             CLI_VALUE(&a, v);

@@ -17,11 +17,14 @@ const GiTechnique *const gi_techniques[] = {
     NULL,
 };
 
-/* In table order (tests/test_settings.c checks it). */
-const char *const gi_technique_names[] = {
-    "none",    "rsm",     "rsm-interp",      "rsm-interleaved", "vpl-all",
-    "vpl-clamped", "vpl-slc", "vpl-interleaved", "vpl-metalights", NULL,
-};
+const char *const *gi_technique_names(void)
+{
+    static const char *names[64];
+    if (!names[0])
+        for (int i = 0; gi_techniques[i] && i < 63; i++)
+            names[i] = gi_techniques[i]->name;
+    return names;
+}
 
 int gi_technique_count(void)
 {

@@ -82,7 +82,7 @@ typedef struct GiTechnique {
 /* The table, in --gi order; NULL-terminated. Row 0 is "none". */
 extern const GiTechnique *const gi_techniques[];
 /* The names, NULL-terminated, in table order (for option parsing). */
-extern const char *const gi_technique_names[];
+const char *const *gi_technique_names(void);
 int gi_technique_count(void);
 /* Index of `name`, or -1. */
 int gi_technique_find(const char *name);

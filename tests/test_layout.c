@@ -1,0 +1,147 @@
+/* test_layout.c — every block of shaders/shared/gpu_types.h has the same
+ * size and field offsets in C and in the linked GLSL program (program
+ * interface query), and the GLSL-only constants equal C's enums. The field
+ * lists come from the header's X-macros, so nothing is listed twice. */
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "passes/pass_direct.h"
+#include "scene.h"
+#include "shader.h"
+#include "shared/gpu_types.h"
+#include "test_util.h"
+
+typedef struct Field {
+    const char *name;
+    size_t offset;
+} Field;
+
+/* C reflection of a block: its fields' names and offsetof. */
+#define REFLECT_MEMBER(t, n) {#n, offsetof(REFLECTED, n)},
+#define REFLECT_ARRAY(t, n, c) {#n "[0]", offsetof(REFLECTED, n)},
+
+#define REFLECTED GpuLight
+static const Field k_light[] = {GPU_LIGHT_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
+#define REFLECTED GpuShadowParams
+static const Field k_shadow[] = {GPU_SHADOW_PARAMS_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
+#define REFLECTED GpuFrame
+static const Field k_frame[] = {GPU_FRAME_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
+#define REFLECTED GpuGiParams
+static const Field k_gi[] = {GPU_GI_PARAMS_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
+#define REFLECTED GpuVplParams
+static const Field k_vpl_params[] = {GPU_VPL_PARAMS_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
+#define REFLECTED GpuVpl
+static const Field k_vpl[] = {GPU_VPL_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
+
+typedef struct Block {
+    const char *glsl_block;    /* interface block name */
+    const char *instance;      /* member prefix in the program ("u_light" or "vpls[0]") */
+    GLenum interface;          /* GL_UNIFORM or GL_BUFFER_VARIABLE */
+    const Field *fields;
+    int count;
+    size_t c_size;
+} Block;
+
+#define BLOCK(b, inst, iface, f, type) {b, inst, iface, f, (int)(sizeof f / sizeof f[0]), sizeof(type)}
+
+static void blocks_match_c(void **state)
+{
+    (void)state;
+    GLuint prog = shader_compute_make("layout", "test/layout.comp", NULL);
+    assert_true(prog != 0);
+    const Block blocks[] = {
+        BLOCK("LightBlock", "u_light", GL_UNIFORM, k_light, GpuLight),
+        BLOCK("ShadowBlock", "u_shadow", GL_UNIFORM, k_shadow, GpuShadowParams),
+        BLOCK("FrameBlock", "u_frame", GL_UNIFORM, k_frame, GpuFrame),
+        BLOCK("GiBlock", "u_gi", GL_UNIFORM, k_gi, GpuGiParams),
+        BLOCK("VplParamBlock", "u_vpl", GL_UNIFORM, k_vpl_params, GpuVplParams),
+        BLOCK("VplBlock", "vpls[0]", GL_BUFFER_VARIABLE, k_vpl, GpuVpl),
+    };
+    int checked = 0;
+    for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; b++) {
+        const Block *bl = &blocks[b];
+        GLenum block_iface = bl->interface == GL_UNIFORM ? GL_UNIFORM_BLOCK : GL_SHADER_STORAGE_BLOCK;
+        GLuint bi = glGetProgramResourceIndex(prog, block_iface, bl->glsl_block);
+        if (bi == GL_INVALID_INDEX)
+            fail_msg("block %s not in the program", bl->glsl_block);
+        GLenum size_prop = GL_BUFFER_DATA_SIZE;
+        GLint gl_size = 0;
+        glGetProgramResourceiv(prog, block_iface, bi, 1, &size_prop, 1, NULL, &gl_size);
+        size_t rounded = (bl->c_size + 15) / 16 * 16;
+        if (bl->interface == GL_UNIFORM && (size_t)gl_size != rounded)
+            fail_msg("%s: GLSL block size %d, C struct %zu (rounded %zu)", bl->glsl_block, gl_size, bl->c_size,
+                     rounded);
+        for (int i = 0; i < bl->count; i++) {
+            char name[128];
+            snprintf(name, sizeof name, "%s.%s", bl->instance, bl->fields[i].name);
+            GLuint ri = glGetProgramResourceIndex(prog, bl->interface, name);
+            if (ri == GL_INVALID_INDEX)
+                fail_msg("%s: field %s not in the program", bl->glsl_block, name);
+            GLenum prop = GL_OFFSET;
+            GLint off = -1;
+            glGetProgramResourceiv(prog, bl->interface, ri, 1, &prop, 1, NULL, &off);
+            if ((size_t)off != bl->fields[i].offset)
+                fail_msg("%s: GLSL offset %d, C offset %zu", name, off, bl->fields[i].offset);
+            checked++;
+        }
+        if (bl->interface == GL_BUFFER_VARIABLE) {
+            char name[128];
+            snprintf(name, sizeof name, "%s.%s", bl->instance, bl->fields[0].name);
+            GLuint ri = glGetProgramResourceIndex(prog, GL_BUFFER_VARIABLE, name);
+            GLenum prop = GL_TOP_LEVEL_ARRAY_STRIDE;
+            GLint stride = 0;
+            glGetProgramResourceiv(prog, GL_BUFFER_VARIABLE, ri, 1, &prop, 1, NULL, &stride);
+            assert_int_equal((size_t)stride, bl->c_size);
+        }
+    }
+    print_message("%d fields in 6 blocks agree between C and GLSL\n", checked);
+    glDeleteProgram(prog);
+}
+
+static void constants_match_c_enums(void **state)
+{
+    (void)state;
+    GLuint prog = shader_compute_make("layout", "test/layout.comp", NULL);
+    assert_true(prog != 0);
+    GLuint out, vpl;
+    glCreateBuffers(1, &out);
+    glNamedBufferStorage(out, 16 * sizeof(int), NULL, GL_DYNAMIC_STORAGE_BIT);
+    glCreateBuffers(1, &vpl);
+    glNamedBufferStorage(vpl, sizeof(GpuVpl), NULL, GL_DYNAMIC_STORAGE_BIT);
+    GLuint ubo;
+    glCreateBuffers(1, &ubo);
+    glNamedBufferStorage(ubo, 4096, NULL, GL_DYNAMIC_STORAGE_BIT);
+    const int ubos[] = {UBO_LIGHT, UBO_SHADOW, UBO_FRAME, UBO_GI, UBO_VPL};
+    for (int i = 0; i < 5; i++)
+        glBindBufferBase(GL_UNIFORM_BUFFER, (GLuint)ubos[i], ubo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_COUNTERS, out);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VPL, vpl);
+    glUseProgram(prog);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    int v[9];
+    glGetNamedBufferSubData(out, 0, sizeof v, v);
+    const int want[8] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD,
+                         SHADOW_MODE_NONE,  SHADOW_MODE_HARD, SHADOW_MODE_PCF, SHADOW_MODE_PCSS};
+    for (int i = 0; i < 8; i++)
+        assert_int_equal(v[i], want[i]);
+    GLuint bufs[3] = {out, vpl, ubo};
+    glDeleteBuffers(3, bufs);
+    glDeleteProgram(prog);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(blocks_match_c),
+        cmocka_unit_test(constants_match_c_enums),
+    };
+    return cmocka_run_group_tests_name("layout", tests, test_gl_setup, test_gl_teardown);
+}

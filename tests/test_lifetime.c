@@ -1,0 +1,152 @@
+/* test_lifetime.c — the window's path: one renderer whose technique, size
+ * and exposure change through renderer_apply gives the same images as a
+ * fresh renderer, and releases what the old technique created (live GL
+ * objects counted by name). */
+#include <string.h>
+
+#include "gl_resources.h"
+#include "metrics.h"
+#include "renderer.h"
+#include "test_util.h"
+
+enum { W = 40, H = 32, MAX_NAME = 8192 };
+
+static RenderSettings settings_for(const Scene *s, GiMode gi, int w, int h)
+{
+    RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_PCF);
+    rs.gi = gi;
+    rs.gi_params = s->gi;
+    rs.gi_params.rsm_size = 32;
+    rs.gi_params.samples = 64;
+    rs.gi_params.vpl_count = 1024;
+    rs.shadow_params.map_size = 64;
+    return rs;
+}
+
+static void fresh_image(const Scene *s, const RenderSettings *rs, ImageF *out)
+{
+    Renderer r;
+    assert_true(renderer_create(&r, s, rs));
+    renderer_frame(&r, &s->camera);
+    assert_true(renderer_read_hdr(&r, out));
+    renderer_destroy(&r);
+}
+
+/* Live objects other than programs and shaders (those belong to the
+ * renderer's program cache, which keeps them for later switches). */
+static int resources(const GlObjectCounts *c)
+{
+    return c->textures + c->buffers + c->framebuffers + c->renderbuffers + c->vertex_arrays + c->queries +
+           c->samplers;
+}
+
+static void switching_matches_fresh_and_releases(void **state)
+{
+    (void)state;
+    Scene s;
+    assert_true(scene_load(&s, "cornell"));
+    const GiMode order[] = {GI_RSM, GI_VPL_SLC, GI_RSM_INTERLEAVED, GI_VPL_METALIGHTS, GI_RSM_INTERP, GI_NONE};
+    const int n = (int)(sizeof order / sizeof order[0]);
+    ImageF fresh[6];
+    for (int i = 0; i < n; i++) {
+        RenderSettings rs = settings_for(&s, order[i], W, H);
+        fresh_image(&s, &rs, &fresh[i]);
+    }
+
+    GlObjectCounts before = gl_count_live_objects(MAX_NAME);
+    Renderer r;
+    RenderSettings rs = settings_for(&s, GI_NONE, W, H);
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    GlObjectCounts base = gl_count_live_objects(MAX_NAME);
+    for (int i = 0; i < n; i++) {
+        rs = settings_for(&s, order[i], W, H);
+        assert_true(renderer_apply(&r, &rs));
+        renderer_frame(&r, &s.camera);
+        ImageF img;
+        assert_true(renderer_read_hdr(&r, &img));
+        double e = metric_relmse(&img, &fresh[i], NULL, NULL);
+        print_message("%-16s switched vs fresh: relMSE %.3g\n", gi_techniques[order[i]]->name, e);
+        assert_true(e < 1e-10);
+        image_free(&img);
+    }
+    /* Back at "none": the techniques' textures, buffers and the light
+     * stage's RSMs and VPL buffer are gone. */
+    GlObjectCounts back = gl_count_live_objects(MAX_NAME);
+    print_message("live resources: none %d, after 6 switches back to none %d; cached programs %d\n",
+                  resources(&base), resources(&back), r.programs.count);
+    assert_int_equal(resources(&back), resources(&base));
+    assert_true(back.programs <= base.programs + r.programs.count);
+    renderer_destroy(&r);
+    GlObjectCounts after = gl_count_live_objects(MAX_NAME);
+    assert_int_equal(gl_object_counts_total(&after), gl_object_counts_total(&before));
+    for (int i = 0; i < n; i++)
+        image_free(&fresh[i]);
+    scene_free(&s);
+}
+
+static void resize_and_exposure(void **state)
+{
+    (void)state;
+    Scene s;
+    assert_true(scene_load(&s, "cornell"));
+    RenderSettings rs = settings_for(&s, GI_RSM_INTERLEAVED, W, H);
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+
+    /* Exposure: nothing remade, only the tone-mapped image changes. */
+    GlObjectCounts c0 = gl_count_live_objects(MAX_NAME);
+    GLuint hdr = r.hdr.texture, rsm = r.lights.rsm[0].position;
+    uint8_t *ldr0 = renderer_read_ldr(&r);
+    rs.exposure *= 0.5f;
+    assert_true(renderer_apply(&r, &rs));
+    renderer_frame(&r, &s.camera);
+    GlObjectCounts c1 = gl_count_live_objects(MAX_NAME);
+    assert_int_equal(gl_object_counts_total(&c1), gl_object_counts_total(&c0));
+    assert_int_equal(r.hdr.texture, hdr);
+    assert_int_equal(r.lights.rsm[0].position, rsm);
+    uint8_t *ldr1 = renderer_read_ldr(&r);
+    assert_true(memcmp(ldr0, ldr1, 3 * (size_t)W * H) != 0);
+    free(ldr0);
+    free(ldr1);
+
+    /* Size: the same image as a fresh renderer of the new size. */
+    const int w2 = 56, h2 = 24;
+    rs.width = w2;
+    rs.height = h2;
+    assert_true(renderer_apply(&r, &rs));
+    renderer_frame(&r, &s.camera);
+    ImageF got, want;
+    assert_true(renderer_read_hdr(&r, &got));
+    assert_int_equal(got.width, w2);
+    fresh_image(&s, &rs, &want);
+    double e = metric_relmse(&got, &want, NULL, NULL);
+    print_message("resized %dx%d -> %dx%d vs fresh: relMSE %.3g\n", W, H, w2, h2, e);
+    assert_true(e < 1e-10);
+    /* Shadow settings: the same as fresh too. */
+    rs.shadow = SHADOW_MODE_PCSS;
+    rs.shadow_params.map_size = 128;
+    assert_true(renderer_apply(&r, &rs));
+    renderer_frame(&r, &s.camera);
+    image_free(&got);
+    image_free(&want);
+    assert_true(renderer_read_hdr(&r, &got));
+    fresh_image(&s, &rs, &want);
+    e = metric_relmse(&got, &want, NULL, NULL);
+    print_message("shadow settings changed vs fresh: relMSE %.3g\n", e);
+    assert_true(e < 1e-10);
+    image_free(&got);
+    image_free(&want);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(switching_matches_fresh_and_releases),
+        cmocka_unit_test(resize_and_exposure),
+    };
+    return cmocka_run_group_tests_name("lifetime", tests, test_gl_setup, test_gl_teardown);
+}

@@ -1,0 +1,249 @@
+/* test_settings.c — the settings table: every row round-trips through the
+ * scene file and the command line to the same stored value, both reject
+ * out-of-range values at each end with a message naming the key or option,
+ * the README lists every row, and the technique table is consistent. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gi/gi.h"
+#include "render_options.h"
+#include "settings.h"
+#include "test_util.h"
+#include "util.h"
+
+/* A value for row d, different from the default and inside the range. */
+static void pick_value(const SettingDesc *d, char *cli, size_t cap, char *json, size_t jcap)
+{
+    switch (d->type) {
+    case SETTING_FLAG:
+        snprintf(cli, cap, "%s", "");
+        snprintf(json, jcap, "true");
+        break;
+    case SETTING_BOOL:
+        snprintf(cli, cap, "%s", d->def != 0 ? "off" : "on");
+        snprintf(json, jcap, "%s", d->def != 0 ? "false" : "true");
+        break;
+    case SETTING_ENUM: {
+        int last = 0;
+        while (d->choices[last + 1])
+            last++;
+        snprintf(cli, cap, "%s", d->choices[last]);
+        snprintf(json, jcap, "\"%s\"", d->choices[last]);
+        break;
+    }
+    case SETTING_PAIR:
+        snprintf(cli, cap, "%.0fx%.0f", d->min, d->max);
+        snprintf(json, jcap, "[%.0f, %.0f]", d->min, d->max);
+        break;
+    case SETTING_FLOAT: {
+        double v = d->min + 0.37 * (d->max - d->min);
+        snprintf(cli, cap, "%.9g", v);
+        snprintf(json, jcap, "%.9g", v);
+        break;
+    }
+    default: {
+        double v = floor(d->min + 0.37 * (d->max - d->min));
+        if (v == d->def)
+            v = d->max;
+        snprintf(cli, cap, "%.0f", v);
+        snprintf(json, jcap, "%.0f", v);
+        break;
+    }
+    }
+}
+
+static char g_path[512];
+
+static const char *write_scene(const char *name, const char *body)
+{
+    snprintf(g_path, sizeof g_path, "%s/%s", RTGI_TEST_TMP, name);
+    FILE *f = fopen(g_path, "w");
+    assert_non_null(f);
+    fputs(body, f);
+    fclose(f);
+    return g_path;
+}
+
+/* Every row: scene file → Scene → RenderSettings, and the command line →
+ * RenderOptions → RenderSettings, store the same bytes, not the default. */
+static void every_setting_round_trips(void **state)
+{
+    (void)state;
+    Settings def;
+    settings_default(&def);
+    for (int i = 0; i < settings_count; i++) {
+        const SettingDesc *d = &settings_table[i];
+        char cli[64], json[64], body[512];
+        pick_value(d, cli, sizeof cli, json, sizeof json);
+        snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key, json);
+        const char *path = write_scene("roundtrip.json", body);
+
+        Scene from_file;
+        assert_true(scene_load(&from_file, path));
+        RenderOptions o;
+        render_options_init(&o, false);
+        RenderSettings rs_file, rs_cli;
+        render_options_settings(&o, &from_file, &rs_file);
+
+        Scene plain;
+        assert_true(scene_load(&plain, "cornell"));
+        render_options_init(&o, false);
+        char *argv[3] = {(char *)d->option, cli, NULL};
+        int argc = d->type == SETTING_FLAG ? 1 : 2;
+        assert_int_equal(render_options_parse(&o, argc, argv, render_options_help), 0);
+        render_options_settings(&o, &plain, &rs_cli);
+
+        Settings a = {rs_file.shadow_params, rs_file.gi_params}, b = {rs_cli.shadow_params, rs_cli.gi_params};
+        char va[64], vb[64], vd[64];
+        settings_format(d, &a, va, sizeof va);
+        settings_format(d, &b, vb, sizeof vb);
+        settings_format(d, &def, vd, sizeof vd);
+        if (strcmp(va, vb) || !strcmp(va, vd))
+            fail_msg("%s / %s: file %s, command line %s, default %s", d->option, d->key, va, vb, vd);
+        /* Nothing else differs between the two paths. */
+        assert_memory_equal(&a.gi, &b.gi, sizeof a.gi);
+        assert_memory_equal(&a.shadow, &b.shadow, sizeof a.shadow);
+        scene_free(&from_file);
+        scene_free(&plain);
+    }
+}
+
+/* Values just outside each end of every numeric row are rejected by both
+ * parsers, naming the option (exit 2) or the file's key (exit 1). */
+static void out_of_range_is_rejected_by_both(void **state)
+{
+    (void)state;
+    int checked = 0;
+    for (int i = 0; i < settings_count; i++) {
+        const SettingDesc *d = &settings_table[i];
+        if (d->type != SETTING_INT && d->type != SETTING_UINT && d->type != SETTING_FLOAT &&
+            d->type != SETTING_PAIR)
+            continue;
+        for (int end = 0; end < 2; end++) {
+            double step = d->type == SETTING_FLOAT ? fmax(fabs(end ? d->max : d->min) * 0.5, 1e-3) : 1.0;
+            double v = end ? d->max + step : d->min - step;
+            char cli[64], json[96], body[512], key[128];
+            if (d->type == SETTING_PAIR) {
+                snprintf(cli, sizeof cli, "%.0fx%.0f", d->min, v);
+                snprintf(json, sizeof json, "[%.0f, %.0f]", d->min, v);
+            } else {
+                snprintf(cli, sizeof cli, "%.9g", v);
+                snprintf(json, sizeof json, "%.9g", v);
+            }
+            char *err = NULL;
+            int rc = test_run_cli(&err, "render", "--size", "8x8", (char *)d->option, cli, NULL);
+            test_expect_cli_error(rc, err, 2, d->option, "out of range");
+            snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key,
+                     json);
+            const char *path = write_scene("range.json", body);
+            snprintf(key, sizeof key, "%s.%s", d->group, d->key);
+            rc = test_run_cli(&err, "render", "--size", "8x8", "--scene", path, NULL);
+            test_expect_cli_error(rc, err, 1, key, "out of range");
+            checked++;
+        }
+    }
+    print_message("%d out-of-range values rejected by both parsers\n", checked);
+    assert_true(checked >= 40);
+}
+
+/* The crash of issue 8/9: a Poisson-disk count beyond the array, from a
+ * scene file (the command line already capped it). Also NaN-like and
+ * non-integer values, wrong types, unknown and duplicate keys. */
+static void bad_scene_settings(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *body, *n1, *n2;
+    } cases[] = {
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"pcf_samples\":500}}", "shadow.pcf_samples", "out of range"},
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"pcf_samples\":1000}}", "shadow.pcf_samples", "out of range"},
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"blocker_samples\":65}}", "shadow.blocker_samples", "out of range"},
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"map_size\":0}}", "shadow.map_size", "out of range"},
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"map_size\":-5}}", "shadow.map_size", "out of range"},
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"map_size\":100000}}", "shadow.map_size", "out of range"},
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"map_size\":512.5}}", "shadow.map_size", "not an integer"},
+        {"{\"builtin\":\"cornell\",\"shadow\":{\"bias_const\":1e400}}", "shadow.bias_const", "finite"},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"r_max\":\"big\"}}", "gi.r_max", "must be a number"},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"weighting\":\"fast\"}}", "gi.weighting", "choices"},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"interleave\":[4]}}", "gi.interleave", "[n, m]"},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"interleave_blur\":1}}", "gi.interleave_blur", "true or false"},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"rsm_sise\":64}}", "gi.rsm_sise", "did you mean \"rsm_size\""},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"samples\":64,\"samples\":32}}", "gi.samples", "twice"},
+        {"{\"builtin\":\"cornell\",\"gi\":[1,2]}", "\"gi\"", "must be an object"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const char *path = write_scene("bad_settings.json", cases[i].body);
+        char *err = NULL;
+        int rc = test_run_cli(&err, "render", "--size", "8x8", "--scene", path, NULL);
+        test_expect_cli_error(rc, err, 1, cases[i].n1, cases[i].n2);
+    }
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--size", "8x8", "--pcf-samples", "1000", NULL);
+    test_expect_cli_error(rc, err, 2, "--pcf-samples", "out of range");
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--rsm-weighting", "fast", NULL);
+    test_expect_cli_error(rc, err, 2, "--rsm-weighting", "paper, unbiased");
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--interleave-blur", "maybe", NULL);
+    test_expect_cli_error(rc, err, 2, "--interleave-blur", "on or off");
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--bias-const", "nan", NULL);
+    test_expect_cli_error(rc, err, 2, "--bias-const", "finite");
+}
+
+/* `--help` and the README come from (or agree with) the table. */
+static void help_and_readme_list_every_setting(void **state)
+{
+    (void)state;
+    char readme_path[512];
+    snprintf(readme_path, sizeof readme_path, "%s/README.md", RTGI_SOURCE_DIR);
+    char *readme = util_read_file(readme_path, NULL);
+    assert_non_null(readme);
+    Settings def;
+    settings_default(&def);
+    for (int i = 0; i < settings_count; i++) {
+        const SettingDesc *d = &settings_table[i];
+        /* The README's settings table has a row "| `--option` | `group.key` | default | ...". */
+        char row[256], value[64];
+        settings_format(d, &def, value, sizeof value);
+        snprintf(row, sizeof row, "| `%s` | `%s.%s` | %s |", d->option, d->group, d->key, value);
+        if (!strstr(readme, row))
+            fail_msg("README.md lacks the settings row '%s'", row);
+    }
+    free(readme);
+}
+
+/* The technique table, the GiMode enum and the name list agree. */
+static void technique_table_is_consistent(void **state)
+{
+    (void)state;
+    assert_int_equal(gi_technique_count(), GI_MODE_COUNT);
+    for (int i = 0; i < GI_MODE_COUNT; i++) {
+        const GiTechnique *t = gi_techniques[i];
+        assert_non_null(gi_technique_names()[i]);
+        assert_string_equal(t->name, gi_technique_names()[i]);
+        assert_int_equal(gi_technique_find(t->name), i);
+        assert_non_null(t->needs);
+        assert_non_null(t->summary);
+        if (i != GI_NONE) {
+            assert_non_null(t->create);
+            assert_non_null(t->run);
+            assert_non_null(t->destroy);
+            assert_non_null(t->resize);
+        }
+    }
+    assert_null(gi_technique_names()[GI_MODE_COUNT]);
+    assert_string_equal(gi_techniques[GI_VPL_SLC]->name, "vpl-slc");
+    assert_string_equal(gi_techniques[GI_RSM_INTERP]->name, "rsm-interp");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(technique_table_is_consistent),
+        cmocka_unit_test(every_setting_round_trips),
+        cmocka_unit_test(out_of_range_is_rejected_by_both),
+        cmocka_unit_test(bad_scene_settings),
+        cmocka_unit_test(help_and_readme_list_every_setting),
+    };
+    return cmocka_run_group_tests_name("settings", tests, NULL, NULL);
+}

@@ -37,11 +37,7 @@ static bool shadow_map_create(ShadowMap *m, bool cube, int size)
     m->cube = cube;
     m->texture = gl_texture_make(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, size, size,
                                  cube ? "shadow.cube" : "shadow.2d");
-    glCreateFramebuffers(1, &m->fbo);
-    glNamedFramebufferDrawBuffer(m->fbo, GL_NONE);
-    glNamedFramebufferReadBuffer(m->fbo, GL_NONE);
-    fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, cube, 0);
-    return fbo_check(m->fbo, "shadow map");
+    return fbo_make(&m->fbo, NULL, 0, m->texture, cube, "shadow map");
 }
 
 static void shadow_map_destroy(ShadowMap *m)
@@ -68,13 +64,7 @@ static bool rsm_map_create(RsmMap *m, bool cube, int size)
         glTextureParameteri(m->view[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(m->view[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
-    glCreateFramebuffers(1, &m->fbo);
-    const GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-    glNamedFramebufferDrawBuffers(m->fbo, 3, bufs);
-    for (int i = 0; i < 3; i++)
-        fbo_attach(m->fbo, bufs[i], src[i], cube, 0);
-    fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, cube, 0);
-    return fbo_check(m->fbo, "rsm");
+    return fbo_make(&m->fbo, src, 3, m->depth, cube, "rsm");
 }
 
 static void rsm_map_destroy(RsmMap *m)

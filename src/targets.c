@@ -54,6 +54,25 @@ bool fbo_check(GLuint fbo, const char *label)
     return true;
 }
 
+bool fbo_make(GLuint *fbo, const GLuint *colors, int n, GLuint depth, bool cube, const char *label)
+{
+    GLenum bufs[8];
+    glCreateFramebuffers(1, fbo);
+    for (int i = 0; i < n && i < 8; i++) {
+        bufs[i] = GL_COLOR_ATTACHMENT0 + (GLenum)i;
+        fbo_attach(*fbo, bufs[i], colors[i], cube, 0);
+    }
+    if (n > 0) {
+        glNamedFramebufferDrawBuffers(*fbo, n, bufs);
+    } else {
+        glNamedFramebufferDrawBuffer(*fbo, GL_NONE);
+        glNamedFramebufferReadBuffer(*fbo, GL_NONE);
+    }
+    if (depth)
+        fbo_attach(*fbo, GL_DEPTH_ATTACHMENT, depth, cube, 0);
+    return fbo_check(*fbo, label);
+}
+
 bool gbuffer_create(GBuffer *g, int w, int h)
 {
     g->width = w;
@@ -63,16 +82,8 @@ bool gbuffer_create(GBuffer *g, int w, int h)
     g->albedo = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.albedo");
     g->emission = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.emission");
     g->depth = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, w, h, "gbuffer.depth");
-    glCreateFramebuffers(1, &g->fbo);
-    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT0, g->position, 0);
-    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT1, g->normal, 0);
-    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT2, g->albedo, 0);
-    glNamedFramebufferTexture(g->fbo, GL_COLOR_ATTACHMENT3, g->emission, 0);
-    glNamedFramebufferTexture(g->fbo, GL_DEPTH_ATTACHMENT, g->depth, 0);
-    const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                            GL_COLOR_ATTACHMENT3};
-    glNamedFramebufferDrawBuffers(g->fbo, 4, bufs);
-    return fbo_check(g->fbo, "gbuffer");
+    const GLuint colors[4] = {g->position, g->normal, g->albedo, g->emission};
+    return fbo_make(&g->fbo, colors, 4, g->depth, false, "gbuffer");
 }
 
 void gbuffer_destroy(GBuffer *g)
@@ -88,9 +99,7 @@ bool color_target_create(ColorTarget *t, GLenum fmt, int w, int h, const char *l
     t->width = w;
     t->height = h;
     t->texture = gl_texture_make(GL_TEXTURE_2D, fmt, w, h, label);
-    glCreateFramebuffers(1, &t->fbo);
-    glNamedFramebufferTexture(t->fbo, GL_COLOR_ATTACHMENT0, t->texture, 0);
-    return fbo_check(t->fbo, label);
+    return fbo_make(&t->fbo, &t->texture, 1, 0, false, label);
 }
 
 void color_target_destroy(ColorTarget *t)

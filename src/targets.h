@@ -28,6 +28,10 @@ GLuint gl_texture_make(GLenum target, GLenum format, int width, int height, cons
 
 /* Attaches `tex` to `fbo`: the whole 2D texture, or face `face` of a cube. */
 void fbo_attach(GLuint fbo, GLenum attachment, GLuint tex, bool cube, int face);
+/* Makes `*fbo` with `n` colour attachments (draw buffers 0..n-1; none: no
+ * draw or read buffer) and an optional depth attachment (0: none), face 0
+ * of cube textures; labelled and checked like fbo_check. */
+bool fbo_make(GLuint *fbo, const GLuint *colors, int n, GLuint depth, bool cube, const char *label);
 /* true if `fbo` is complete; else logs one line naming it and returns false. */
 bool fbo_check(GLuint fbo, const char *label);
 

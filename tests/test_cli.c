@@ -11,17 +11,7 @@
 #include "test_util.h"
 #include "util.h"
 
-static char g_path[512];
-
-static const char *tmp_file(const char *name, const char *content)
-{
-    snprintf(g_path, sizeof g_path, "%s/%s", RTGI_TEST_TMP, name);
-    FILE *f = fopen(g_path, "w");
-    assert_non_null(f);
-    fputs(content, f);
-    fclose(f);
-    return g_path;
-}
+static const char *tmp_file(const char *name, const char *content) { return test_tmp_file(name, content); }
 
 static void missing_scene_file(void **state)
 {

@@ -18,21 +18,6 @@ static void cornell_point(Scene *s)
     s->gi.rsm_size = 64;
 }
 
-/* Renders with GI mode `gi`; returns the frame's stats. */
-static RenderStats render_gi(const Scene *s, int w, int h, GiMode gi, const GiParams *gp, ImageF *out)
-{
-    RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_HARD);
-    rs.gi = gi;
-    rs.gi_params = gp ? *gp : s->gi;
-    Renderer r;
-    assert_true(renderer_create(&r, s, &rs));
-    renderer_frame(&r, &s->camera);
-    assert_true(renderer_read_hdr(&r, out));
-    RenderStats st = *renderer_collect_stats(&r);
-    renderer_destroy(&r);
-    return st;
-}
-
 static void reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out)
 {
     PtSettings set;
@@ -58,8 +43,8 @@ static void exhaustive_matches_one_bounce_novis(void **state)
     GiParams gp = s.gi;
     gp.exhaustive = true;
     ImageF rsm, none, ref;
-    render_gi(&s, W, H, GI_RSM, &gp, &rsm);
-    render_gi(&s, W, H, GI_NONE, NULL, &none);
+    test_render_gi(&s, W, H, GI_RSM, &gp, &rsm);
+    test_render_gi(&s, W, H, GI_NONE, NULL, &none);
     reference(&s, W, H, PT_ONE_BOUNCE_NOVIS, 512, &ref);
     double e_rsm = metric_relmse(&rsm, &ref, NULL, NULL), e_none = metric_relmse(&none, &ref, NULL, NULL);
     print_message("relMSE vs one-bounce-novis: exhaustive RSM %.3g, no GI %.3g\n", e_rsm, e_none);
@@ -93,8 +78,8 @@ static void colour_bleeding(void **state)
     scene_finalize(&s);
     s.gi.rsm_size = 64;
     ImageF gi, none;
-    render_gi(&s, 128, 128, GI_RSM, NULL, &gi);
-    render_gi(&s, 128, 128, GI_NONE, NULL, &none);
+    test_render_gi(&s, 128, 128, GI_RSM, NULL, &gi);
+    test_render_gi(&s, 128, 128, GI_NONE, NULL, &none);
     const vec3 floor_red = {0.52f, 0.f, 0.35f}, floor_green = {0.05f, 0.f, 0.15f}; /* in shadow */
     const vec3 lit_red = {0.52f, 0.f, 0.05f}, lit_green = {0.04f, 0.f, 0.05f};
     const vec3 ceil_red = {0.52f, 0.5488f, 0.3f}, ceil_green = {0.04f, 0.5488f, 0.3f};
@@ -122,14 +107,14 @@ static void sampled_and_interpolated(void **state)
     GiParams gp = s.gi;
     ImageF exh, paper, unb, interp, none;
     gp.exhaustive = true;
-    render_gi(&s, W, H, GI_RSM, &gp, &exh);
+    test_render_gi(&s, W, H, GI_RSM, &gp, &exh);
     gp.exhaustive = false;
-    render_gi(&s, W, H, GI_RSM, &gp, &paper);
-    render_gi(&s, W, H, GI_NONE, &gp, &none);
-    RenderStats st = render_gi(&s, W, H, GI_RSM_INTERP, &gp, &interp);
+    test_render_gi(&s, W, H, GI_RSM, &gp, &paper);
+    test_render_gi(&s, W, H, GI_NONE, &gp, &none);
+    RenderStats st = test_render_gi(&s, W, H, GI_RSM_INTERP, &gp, &interp);
     gp.weighting = RSM_WEIGHT_UNBIASED;
     gp.r_max = 2.f; /* its best radius on this cube RSM */
-    render_gi(&s, W, H, GI_RSM, &gp, &unb);
+    test_render_gi(&s, W, H, GI_RSM, &gp, &unb);
     double e_paper = metric_relmse(&paper, &exh, NULL, NULL), e_unb = metric_relmse(&unb, &exh, NULL, NULL);
     double e_none = metric_relmse(&none, &exh, NULL, NULL), e_interp = metric_relmse(&interp, &paper, NULL, NULL);
     print_message("relMSE vs exhaustive: paper %.4f unbiased %.4f none %.4f; interp vs full %.2g; gathers %u of %d "
@@ -172,13 +157,13 @@ static void interleaved_blur_reduces_error(void **state)
     GiParams gp = s.gi;
     ImageF exh, blur, raw;
     gp.exhaustive = true;
-    render_gi(&s, W, H, GI_RSM, &gp, &exh);
+    test_render_gi(&s, W, H, GI_RSM, &gp, &exh);
     gp.exhaustive = false;
     gp.weighting = RSM_WEIGHT_UNBIASED;
     gp.r_max = 2.f;
-    render_gi(&s, W, H, GI_RSM_INTERLEAVED, &gp, &blur);
+    test_render_gi(&s, W, H, GI_RSM_INTERLEAVED, &gp, &blur);
     gp.interleave_blur = false;
-    render_gi(&s, W, H, GI_RSM_INTERLEAVED, &gp, &raw);
+    test_render_gi(&s, W, H, GI_RSM_INTERLEAVED, &gp, &raw);
     double e_blur = metric_relmse(&blur, &exh, NULL, NULL), e_raw = metric_relmse(&raw, &exh, NULL, NULL);
     print_message("interleaved 4x4 vs exhaustive: blur %.4f, no blur %.4f\n", e_blur, e_raw);
     assert_true(e_blur < 0.8 * e_raw);

@@ -54,17 +54,6 @@ static void pick_value(const SettingDesc *d, char *cli, size_t cap, char *json, 
     }
 }
 
-static char g_path[512];
-
-static const char *write_scene(const char *name, const char *body)
-{
-    snprintf(g_path, sizeof g_path, "%s/%s", RTGI_TEST_TMP, name);
-    FILE *f = fopen(g_path, "w");
-    assert_non_null(f);
-    fputs(body, f);
-    fclose(f);
-    return g_path;
-}
 
 /* Every row: scene file → Scene → RenderSettings, and the command line →
  * RenderOptions → RenderSettings, store the same bytes, not the default. */
@@ -78,7 +67,7 @@ static void every_setting_round_trips(void **state)
         char cli[64], json[64], body[512];
         pick_value(d, cli, sizeof cli, json, sizeof json);
         snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key, json);
-        const char *path = write_scene("roundtrip.json", body);
+        const char *path = test_tmp_file("roundtrip.json", body);
 
         Scene from_file;
         assert_true(scene_load(&from_file, path));
@@ -137,7 +126,7 @@ static void out_of_range_is_rejected_by_both(void **state)
             test_expect_cli_error(rc, err, 2, d->option, "out of range");
             snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key,
                      json);
-            const char *path = write_scene("range.json", body);
+            const char *path = test_tmp_file("range.json", body);
             snprintf(key, sizeof key, "%s.%s", d->group, d->key);
             rc = test_run_cli(&err, "render", "--size", "8x8", "--scene", path, NULL);
             test_expect_cli_error(rc, err, 1, key, "out of range");
@@ -174,7 +163,7 @@ static void bad_scene_settings(void **state)
         {"{\"builtin\":\"cornell\",\"gi\":[1,2]}", "\"gi\"", "must be an object"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        const char *path = write_scene("bad_settings.json", cases[i].body);
+        const char *path = test_tmp_file("bad_settings.json", cases[i].body);
         char *err = NULL;
         int rc = test_run_cli(&err, "render", "--size", "8x8", "--scene", path, NULL);
         test_expect_cli_error(rc, err, 1, cases[i].n1, cases[i].n2);

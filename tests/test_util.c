@@ -38,6 +38,31 @@ RenderSettings test_settings(const Scene *s, int w, int h, ShadowMode mode)
     return rs;
 }
 
+RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiParams *gp, ImageF *out)
+{
+    RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_HARD);
+    rs.gi = gi;
+    rs.gi_params = gp ? *gp : s->gi;
+    Renderer r;
+    assert_true(renderer_create(&r, s, &rs));
+    renderer_frame(&r, &s->camera);
+    assert_true(renderer_read_hdr(&r, out));
+    RenderStats st = *renderer_collect_stats(&r);
+    renderer_destroy(&r);
+    return st;
+}
+
+const char *test_tmp_file(const char *name, const char *content)
+{
+    static char path[512];
+    snprintf(path, sizeof path, "%s/%s", RTGI_TEST_TMP, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(content, f);
+    fclose(f);
+    return path;
+}
+
 void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
 {
     Renderer r;

@@ -25,6 +25,13 @@ RenderSettings test_settings(const Scene *s, int w, int h, ShadowMode mode);
  * current context. Fails the test on error. */
 void test_render(const Scene *s, const RenderSettings *rs, ImageF *out);
 
+/* Renders `s` with GI technique `gi` (hard shadows; `gp` NULL: the scene's
+ * GI settings) into `out`; returns the frame's GI counters. */
+RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiParams *gp, ImageF *out);
+/* Writes `content` to RTGI_TEST_TMP/name; returns the path (static buffer,
+ * valid until the next call). */
+const char *test_tmp_file(const char *name, const char *content);
+
 /* Runs build/rtgi with the given arguments (NULL-terminated); returns its
  * exit status and, if `err` is not NULL, what it wrote on stderr (caller
  * frees). */

@@ -14,15 +14,7 @@ enum { W = 64, H = 64 };
 
 static RenderStats render_vpl(const Scene *s, GiMode gi, const GiParams *gp, ImageF *out)
 {
-    RenderSettings rs = test_settings(s, W, H, SHADOW_MODE_HARD);
-    rs.gi = gi;
-    rs.gi_params = *gp;
-    Renderer r;
-    assert_true(renderer_create(&r, s, &rs));
-    renderer_frame(&r, &s->camera);
-    assert_true(renderer_read_hdr(&r, out));
-    RenderStats st = *renderer_collect_stats(&r);
-    renderer_destroy(&r);
+    RenderStats st = test_render_gi(s, W, H, gi, gp, out);
     assert_int_equal(st.tile_overflow, 0);
     return st;
 }

@@ -84,14 +84,15 @@ typedef struct ShadowParams {
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
 } ShadowParams;
 
-typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1 } RsmWeighting;
+typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;
 
 /* Parameters of the RSM family of GI techniques (SPEC §3). */
 typedef struct GiParams {
     int rsm_size;          /* RSM texels per side (per cube face for point/quad lights) */
     int samples;           /* N samples per gather (paper: ~400) */
     float r_max;           /* sampling radius, in RSM widths (cube: face widths) */
-    RsmWeighting weighting;/* paper's ξ1² normalised, or unbiased for the polar pdf */
+    RsmWeighting weighting;/* paper's ξ1² normalised, unbiased for the polar pdf, or importance
+                              sampling of the whole map by flux */
     bool exhaustive;       /* sum over every RSM texel instead of sampling */
     int interp_factor;     /* screen-space interpolation: low-res = full / factor */
     float interp_normal;   /* min cosine between normals for a usable low-res sample */

@@ -10,7 +10,7 @@
 #include "log.h"
 #include "shared/gpu_types.h"
 
-static const char *const k_weightings[] = {"paper", "unbiased", NULL};
+static const char *const k_weightings[] = {"paper", "unbiased", "importance", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -40,8 +40,8 @@ const SettingDesc settings_table[] = {
     {"gi", "samples", "--rsm-samples", SETTING_INT, GI(samples), 0, 1, 65536, 400, NULL, "samples per gather"},
     {"gi", "r_max", "--rsm-rmax", SETTING_FLOAT, GI(r_max), 0, 1e-4, 4, 0.3, NULL,
      "sampling radius (RSM widths)"},
-    {"gi", "weighting", "--rsm-weighting", SETTING_ENUM, GI(weighting), 0, 0, 1, 0, k_weightings,
-     "paper: xi1^2 normalised; unbiased: for the polar pdf"},
+    {"gi", "weighting", "--rsm-weighting", SETTING_ENUM, GI(weighting), 0, 0, 2, 2, k_weightings,
+     "importance: disk + flux-importance samples; paper: xi1^2 normalised; unbiased: polar pdf"},
     {"gi", "exhaustive", "--rsm-exhaustive", SETTING_FLAG, GI(exhaustive), 0, 0, 1, 0, NULL,
      "sum over every RSM texel (tests, small maps)"},
     {"gi", "interp_factor", "--interp-factor", SETTING_INT, GI(interp_factor), 0, 1, 64, 4, NULL,

@@ -26,11 +26,12 @@ static void pick_value(const SettingDesc *d, char *cli, size_t cap, char *json, 
         snprintf(json, jcap, "%s", d->def != 0 ? "false" : "true");
         break;
     case SETTING_ENUM: {
-        int last = 0;
-        while (d->choices[last + 1])
-            last++;
-        snprintf(cli, cap, "%s", d->choices[last]);
-        snprintf(json, jcap, "\"%s\"", d->choices[last]);
+        int count = 0;
+        while (d->choices[count])
+            count++;
+        int other = ((int)d->def + 1) % count;
+        snprintf(cli, cap, "%s", d->choices[other]);
+        snprintf(json, jcap, "\"%s\"", d->choices[other]);
         break;
     }
     case SETTING_PAIR:

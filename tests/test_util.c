@@ -52,6 +52,27 @@ RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiPara
     return st;
 }
 
+void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out)
+{
+    PtSettings set;
+    pt_settings_default(&set);
+    set.width = w;
+    set.height = h;
+    set.spp = spp;
+    set.mode = mode;
+    set.pixel_jitter = false; /* the rasterizer shades pixel centres */
+    set.threads = 2;
+    assert_true(pt_render(s, &set, out, NULL, NULL));
+}
+
+double test_image_mean(const ImageF *img)
+{
+    double m = 0;
+    for (long i = 0; i < (long)img->width * img->height; i++)
+        m += luminance(img->rgb + 3 * i);
+    return m / ((double)img->width * img->height);
+}
+
 const char *test_tmp_file(const char *name, const char *content)
 {
     static char path[512];

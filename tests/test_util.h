@@ -12,6 +12,7 @@
 
 #include "gl_context.h"
 #include "image.h"
+#include "reference/pathtracer.h"
 #include "renderer.h"
 #include "scene.h"
 
@@ -28,6 +29,12 @@ void test_render(const Scene *s, const RenderSettings *rs, ImageF *out);
 /* Renders `s` with GI technique `gi` (hard shadows; `gp` NULL: the scene's
  * GI settings) into `out`; returns the frame's GI counters. */
 RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiParams *gp, ImageF *out);
+/* Path-traced reference of `s` from its camera at pixel centres (as the
+ * rasterizer shades), 2 threads. Fails the test on error. */
+void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out);
+/* Mean luminance of an image. */
+double test_image_mean(const ImageF *img);
+
 /* Writes `content` to RTGI_TEST_TMP/name; returns the path (static buffer,
  * valid until the next call). */
 const char *test_tmp_file(const char *name, const char *content);

@@ -19,14 +19,6 @@ static RenderStats render_vpl(const Scene *s, GiMode gi, const GiParams *gp, Ima
     return st;
 }
 
-static double image_mean(const ImageF *img)
-{
-    double m = 0;
-    for (int i = 0; i < img->width * img->height; i++)
-        m += luminance(img->rgb + 3 * i);
-    return m / (img->width * img->height);
-}
-
 static void cornell(Scene *s, GiParams *gp, int vpls)
 {
     scene_build_cornell(s);
@@ -60,7 +52,7 @@ static void slc_is_unbiased_clamped_is_not(void **state)
             sum[i] += v;
             sum2[i] += v * v;
         }
-        img_means[k] = image_mean(&img);
+        img_means[k] = test_image_mean(&img);
         image_free(&img);
     }
     int outliers = 0, pixels = 0;
@@ -78,7 +70,7 @@ static void slc_is_unbiased_clamped_is_not(void **state)
         mm += img_means[k] / K;
     for (int k = 0; k < K; k++)
         mv += (img_means[k] - mm) * (img_means[k] - mm) / (K - 1);
-    double se_mean = sqrt(mv / K), bm = image_mean(&brute), cm = image_mean(&clamped);
+    double se_mean = sqrt(mv / K), bm = test_image_mean(&brute), cm = test_image_mean(&clamped);
     print_message("brute %.6f, SLC mean of %d seeds %.6f (se %.2g), clamped %.6f; pixels beyond 4 se: %d of %d\n", bm,
                   K, mm, se_mean, cm, outliers, pixels);
     assert_true(fabs(mm - bm) < 4 * se_mean + 1e-6 * bm);
@@ -225,7 +217,7 @@ static void near_clamp_bias_is_measurable(void **state)
     render_vpl(&s, GI_VPL_ALL, &gp, &a);
     gp.vpl_near_clamp = 0.1f;
     render_vpl(&s, GI_VPL_ALL, &gp, &b);
-    double ma = image_mean(&a), mb = image_mean(&b);
+    double ma = test_image_mean(&a), mb = test_image_mean(&b);
     print_message("near clamp 0.1 m^2: image mean %.6f -> %.6f (%.1f%%)\n", ma, mb, 100 * (mb - ma) / ma);
     /* Measured -3.9%; brute force is deterministic, so 1% is far above
      * rounding. Clamping can only remove energy. */

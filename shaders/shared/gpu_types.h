@@ -26,6 +26,7 @@
 #define SSBO_EVALS 5     /* VPL–pixel evaluations per work group */
 #define SSBO_SUBSETS 6   /* interleaved VPL subsets; metalight signatures */
 #define SSBO_PIXEL_LIST 7 /* rsm-interp: [0] count, [1..] pixels that need a full gather */
+#define SSBO_SAMPLES 8   /* RSM importance sampling: GpuVpl[list_size] with flux Φ/p */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
 #define TEX_SHADOW_2D 1  /* shadow map of a directional/spot light */
@@ -66,6 +67,7 @@
 #define LOC_VPL_SEED 11         /* vpl_extract.comp: uint, seed of the VPLs' random ξ */
 #define LOC_GATHER_EXHAUSTIVE 10 /* rsm gather: int, sum every VPL instead of sampling */
 #define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
+#define LOC_IMPORTANCE_LEVEL 10 /* gi/rsm/importance.comp: int, pyramid level written / top level */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile
@@ -79,6 +81,9 @@
 #define SHADOW_HARD 1
 #define SHADOW_PCF 2
 #define SHADOW_PCSS 3
+#define RSM_WEIGHT_PAPER 0
+#define RSM_WEIGHT_UNBIASED 1
+#define RSM_WEIGHT_IMPORTANCE 2
 #endif
 
 /* ---- Blocks ------------------------------------------------------------- */
@@ -117,7 +122,7 @@
 #define GPU_GI_PARAMS_FIELDS(F, A)                                                  \
     F(float, r_max)         /* sampling radius, RSM widths (cube: face widths) */  \
     F(int, samples)         /* N samples per gather */                             \
-    F(int, weighting)       /* 0: paper's ξ1², 1: unbiased for the polar pdf */     \
+    F(int, weighting)       /* RSM_WEIGHT_*: 0 paper ξ1², 1 unbiased polar, 2 importance */ \
     F(int, rsm_size)        /* RSM resolution */                                   \
     F(float, disk_texels)   /* texels in the sampling disk, K = π (r_max·res)² */   \
     F(int, interp_factor)   /* rsm-interp: low-res = full / factor */              \
@@ -128,7 +133,10 @@
     F(int, interleave_n)    /* interleaving pattern n × m */                       \
     F(int, interleave_m)                                                           \
     F(int, sub_width)       /* de-interleaved sub-image size */                    \
-    F(int, sub_height)
+    F(int, sub_height)                                                             \
+    F(int, list_size)       /* importance: entries in the sample list (sets × set) */ \
+    F(int, list_set)        /* importance: points per set (the far-field samples of a pixel) */ \
+    F(int, list_sets)       /* importance: independently shifted sets; a pixel takes one */
 
 /* One virtual point light (std430). */
 #define GPU_VPL_FIELDS(F, A)                                          \
@@ -190,7 +198,7 @@ layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
 static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 2 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
-static_assert(sizeof(GpuGiParams) == 14 * 4, "GpuGiParams: 14 scalars (std140 rounds the block to 64)");
+static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 rounds the block to 80)");
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 14 * 4, "GpuVplParams: 14 scalars (std140 rounds the block to 64)");
 #endif

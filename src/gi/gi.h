@@ -92,6 +92,14 @@ extern const GiTechnique gi_none;
 extern const GiTechnique gi_rsm, gi_rsm_interp, gi_rsm_interleaved;
 extern const GiTechnique gi_vpl_all, gi_vpl_clamped, gi_vpl_slc, gi_vpl_interleaved, gi_vpl_metalights;
 
+/* Importance-sampled RSM gathers: a pixel spends half its N samples on the
+ * paper's disk around its own projection (a Hammersley set of N/2 points
+ * after the N of the paper's pattern) and the rest on one of this many
+ * independently shifted sets of flux-importance samples. */
+enum { RSM_LIST_SETS = 16 };
+static inline int rsm_local_samples(int n) { return n / 2 > 0 ? n / 2 : 1; }
+static inline int rsm_far_samples(int n) { return n - rsm_local_samples(n) > 0 ? n - rsm_local_samples(n) : 1; }
+
 /* The GpuGiParams block (RSM gathers, interpolation, interleaving) for
  * these settings at an output of width × height. */
 void gi_params_to_gpu(const GiParams *p, int width, int height, GpuGiParams *out);

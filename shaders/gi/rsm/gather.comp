@@ -26,10 +26,23 @@ layout(std430, binding = SSBO_PIXEL_LIST) readonly buffer PixelList { uint list_
 layout(location = LOC_GATHER_EXHAUSTIVE) uniform int u_exhaustive;
 layout(location = LOC_GATHER_ACCUMULATE) uniform int u_accumulate;
 
-vec3 gather(vec3 x, vec3 n, int first, int stride, int count)
+// A pixel's set of the importance sample list: a hash, so that neighbours
+// take independent ones.
+uint list_set(ivec2 px)
 {
+    uint h = uint(px.x) * 0x8da6b343u ^ uint(px.y) * 0xd8163841u;
+    h ^= h >> 15;
+    h *= 0x2c1b3c6du;
+    h ^= h >> 12;
+    return h % uint(u_gi.list_sets);
+}
+
+vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
+{
+    if (u_exhaustive == 0 && u_gi.weighting == RSM_WEIGHT_IMPORTANCE)
+        return rsm_gather_importance(x, n, list_set(px), first, stride, count);
     if (u_exhaustive == 0)
-        return rsm_gather(x, n, first, stride, count);
+        return rsm_gather(x, n, first, stride, count, u_gi.weighting == RSM_WEIGHT_UNBIASED, 0);
     vec3 e = vec3(0.0);
     uint nv = counters[0];
     for (uint i = 0u; i < nv; i++)
@@ -85,5 +98,5 @@ void main()
         return;
     }
     vec3 nrm = texelFetch(g_normal, px, 0).xyz;
-    store(at, gather(p.xyz, nrm, first, stride, count));
+    store(at, gather(p.xyz, nrm, px, first, stride, count));
 }

@@ -15,6 +15,7 @@
 // quad lights (cube RSM), undefined for directional and spot lights.
 
 layout(std430, binding = SSBO_PATTERN) readonly buffer PatternBlock { vec4 pattern[]; };
+layout(std430, binding = SSBO_SAMPLES) readonly buffer SampleBlock { GpuVpl rsm_samples[]; };
 
 #ifdef RSM_CUBE
 layout(binding = TEX_RSM_POSITION) uniform samplerCube rsm_position;
@@ -37,11 +38,11 @@ vec3 major_axis(vec3 d)
     return vec3(0.0, 0.0, sign(d.z));
 }
 
-// Sums E over samples first, first+stride, ... (count of them).
-vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count)
+// Sums E over samples first, first+stride, ... (count of them), with the
+// paper's weights or (unbiased) those of the polar pdf.
+vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count, bool unbiased, int base)
 {
     float r_max = u_gi.r_max;
-    bool unbiased = u_gi.weighting != 0;
     float K = u_gi.disk_texels;
     vec3 sum = vec3(0.0);
     float wsum = 0.0;
@@ -59,7 +60,7 @@ vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count)
     float scale = r_max;
 #endif
     for (int k = 0; k < count; k++) {
-        vec4 smp = pattern[first + k * stride];
+        vec4 smp = pattern[base + first + k * stride];
         vec2 q = st + scale * smp.xy;
 #ifdef RSM_CUBE
         vec3 D = a + q.x * r + q.y * u;
@@ -90,4 +91,50 @@ vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count)
     if (unbiased)
         return sum * (K / float(max(count, 1)));
     return wsum > 0.0 ? sum * (K / wsum) : vec3(0.0);
+}
+
+// Whether world point xp lies in the disk rsm_gather samples for x: its
+// direction from the light through the face plane of x's major axis (cube),
+// or its map coordinates (2D), within the disk's radius of x's own.
+bool rsm_in_disk(vec3 x, vec3 xp)
+{
+    float r_max = u_gi.r_max;
+#ifdef RSM_CUBE
+    vec3 dir = x - u_light.position_type.xyz;
+    vec3 a = major_axis(dir);
+    vec3 r = abs(a.y) > 0.5 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    vec3 u = cross(a, r);
+    vec2 st = vec2(dot(dir, r), dot(dir, u)) / abs(dot(dir, a));
+    vec3 dp = xp - u_light.position_type.xyz;
+    float h = dot(dp, a);
+    if (h <= 0.0)
+        return false;
+    vec2 q = vec2(dot(dp, r), dot(dp, u)) / h;
+    return distance(q, st) <= 2.0 * r_max;
+#else
+    vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
+    vec4 cp = u_light.shadow_view_proj * vec4(xp, 1.0);
+    return distance(cp.xy / cp.w, c.xy / c.w) * 0.5 <= r_max;
+#endif
+}
+
+// Importance weighting: the map split in two parts that together cover it
+// once. Near x (the disk of the paper's pattern) the polar pattern with its
+// unbiased weights, dense where 1/d² is steep, from the N/2-point pattern
+// stored after the paper's N; the rest from one set of the light's sample
+// list (gi/rsm/importance.comp): VPLs drawn ∝ flux luminance over the whole
+// map, with flux Φ/p, of which those inside the disk are dropped. Unbiased
+// for the sum over every RSM texel.
+vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int count)
+{
+    int local = max(count / 2, 1), global = max(count - local, 1);
+    vec3 near = rsm_gather(x, n, first, stride, local, true, u_gi.samples);
+    vec3 far = vec3(0.0);
+    uint base = set * uint(u_gi.list_set);
+    for (int k = 0; k < global; k++) {
+        GpuVpl v = rsm_samples[base + uint(first + k * stride)];
+        if (!rsm_in_disk(x, v.position_xi.xyz))
+            far += vpl_irradiance(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb);
+    }
+    return near + far / float(global);
 }

@@ -39,6 +39,12 @@ typedef struct RsmGi {
     GLuint lowres;                    /* interp: RGBA32F low-res irradiance */
     GLuint list;                      /* interp: SSBO {count, pixels[]} */
     GiInterleave il;                  /* interleaved */
+    /* Importance weighting, per light: */
+    int lights;
+    GLuint importance[3];             /* level 0, reduce, sample programs */
+    GLuint *pyramid;                  /* R32F 2D array, power-of-two, full mip chain: flux luminance sums */
+    int *pyramid_levels;
+    GLuint *samples;                  /* SSBO: GpuVpl[list_size], flux Φ/p */
 } RsmGi;
 
 /* Van der Corput radical inverse in base 2. */
@@ -114,11 +120,99 @@ static bool rsm_resize(void *state, int w, int h)
     return true;
 }
 
+static bool importance_on(const RsmGi *g)
+{
+    return g->params.weighting == RSM_WEIGHT_IMPORTANCE && !g->params.exhaustive;
+}
+
+static void importance_destroy(RsmGi *g)
+{
+    if (g->pyramid)
+        glDeleteTextures(g->lights, g->pyramid);
+    if (g->samples)
+        glDeleteBuffers(g->lights, g->samples);
+    free(g->pyramid);
+    free(g->samples);
+    free(g->pyramid_levels);
+    g->pyramid = g->samples = NULL;
+    g->pyramid_levels = NULL;
+}
+
+/* A flux pyramid and a sample list for each light's RSM. */
+static bool importance_create(RsmGi *g, const LightStage *ls)
+{
+    static const char *const defs[3] = {"#define MODE_LEVEL0\n", "#define MODE_REDUCE\n", "#define MODE_SAMPLE\n"};
+    for (int k = 0; k < 3; k++) {
+        g->importance[k] = program_cache_get(
+            g->pc, &(ShaderProgramDesc){.label = "rsm_importance", .comp = "gi/rsm/importance.comp", .defines = defs[k]});
+        if (!g->importance[k])
+            return false;
+    }
+    g->lights = ls->light_count;
+    g->pyramid = calloc((size_t)g->lights + 1, sizeof(GLuint));
+    g->samples = calloc((size_t)g->lights + 1, sizeof(GLuint));
+    g->pyramid_levels = calloc((size_t)g->lights + 1, sizeof(int));
+    if (!g->pyramid || !g->samples || !g->pyramid_levels) {
+        log_error("rsm", "out of memory for %d importance pyramids", g->lights);
+        return false;
+    }
+    size_t list = (size_t)rsm_far_samples(g->params.samples) * RSM_LIST_SETS;
+    for (int i = 0; i < g->lights; i++) {
+        const RsmMap *m = &ls->rsm[i];
+        int p = 1, levels = 1;
+        while (p < m->size) {
+            p *= 2;
+            levels++;
+        }
+        g->pyramid_levels[i] = levels;
+        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &g->pyramid[i]);
+        glTextureStorage3D(g->pyramid[i], levels, GL_R32F, p, p, m->cube ? 6 : 1);
+        glTextureParameteri(g->pyramid[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+        glTextureParameteri(g->pyramid[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glObjectLabel(GL_TEXTURE, g->pyramid[i], -1, "rsm.importance_pyramid");
+        glCreateBuffers(1, &g->samples[i]);
+        glNamedBufferStorage(g->samples[i], (GLsizeiptr)(sizeof(GpuVpl) * list), NULL, 0);
+        glObjectLabel(GL_BUFFER, g->samples[i], -1, "rsm.importance_samples");
+    }
+    return true;
+}
+
+/* Builds light i's pyramid from its RSM and draws its sample list. */
+static void importance_run(RsmGi *g, const LightStage *ls, int i)
+{
+    const RsmMap *m = &ls->rsm[i];
+    int layers = m->cube ? 6 : 1, top = g->pyramid_levels[i] - 1;
+    int p = 1 << top;
+    glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
+    glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
+    glBindTextureUnit(TEX_RSM_FLUX, m->view[2]);
+    glBindImageTexture(IMG_OUT, g->pyramid[i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
+    glUseProgram(g->importance[0]);
+    glDispatchCompute((GLuint)(p + 7) / 8, (GLuint)(p + 7) / 8, (GLuint)layers);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glBindTextureUnit(TEX_INPUT, g->pyramid[i]);
+    glUseProgram(g->importance[1]);
+    for (int l = 1; l <= top; l++) {
+        int s = p >> l;
+        glBindImageTexture(IMG_OUT, g->pyramid[i], l, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
+        glProgramUniform1i(g->importance[1], LOC_IMPORTANCE_LEVEL, l);
+        glDispatchCompute((GLuint)(s + 7) / 8, (GLuint)(s + 7) / 8, (GLuint)layers);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
+    glProgramUniform1i(g->importance[2], LOC_IMPORTANCE_LEVEL, top);
+    glUseProgram(g->importance[2]);
+    GLuint n = (GLuint)(rsm_far_samples(g->params.samples) * RSM_LIST_SETS);
+    glDispatchCompute((n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
 static void rsm_destroy(void *state)
 {
     RsmGi *g = state;
     if (!g)
         return;
+    importance_destroy(g);
     rsm_free_sized(g);
     GLuint b[2] = {g->pattern, g->ubo};
     glDeleteBuffers(2, b);
@@ -148,19 +242,24 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
         ok = make_gather(g, GATHER_INTERLEAVED);
         break;
     }
-    int n = g->params.samples;
-    float(*pat)[4] = malloc(sizeof(float) * 4 * (size_t)n);
+    /* The paper's N-sample pattern, then (importance weighting) the disk's
+     * own N/2-sample pattern. */
+    int n = g->params.samples, nl = rsm_local_samples(n);
+    float(*pat)[4] = malloc(sizeof(float) * 4 * (size_t)(n + nl));
     if (!pat) {
         log_error("rsm", "out of memory for a %d-sample pattern", n);
         rsm_destroy(g);
         return NULL;
     }
     rsm_pattern(n, pat);
+    rsm_pattern(nl, pat + n);
     glCreateBuffers(1, &g->pattern);
-    glNamedBufferStorage(g->pattern, (GLsizeiptr)(sizeof(float) * 4 * (size_t)n), pat, 0);
+    glNamedBufferStorage(g->pattern, (GLsizeiptr)(sizeof(float) * 4 * (size_t)(n + nl)), pat, 0);
     glObjectLabel(GL_BUFFER, g->pattern, -1, "rsm.pattern");
     free(pat);
     g->ubo = gi_ubo_make(sizeof(GpuGiParams), "gi.params");
+    if (ok && importance_on(g))
+        ok = importance_create(g, ci->lights);
     if (!ok || !rsm_resize(g, ci->width, ci->height)) {
         rsm_destroy(g);
         return NULL;
@@ -191,6 +290,8 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
     for (int i = 0; i < lights; i++) {
         GLuint prog = g->gather[layout][ls->rsm[i].cube ? 1 : 0];
         light_stage_bind_rsm(ls, i);
+        if (importance_on(g))
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
         glProgramUniform1i(prog, LOC_GATHER_EXHAUSTIVE, exh ? 1 : 0);
         glProgramUniform1i(prog, LOC_GATHER_ACCUMULATE, i > 0 ? 1 : 0);
         glUseProgram(prog);
@@ -214,6 +315,12 @@ static void rsm_run(void *state, const GiFrame *f)
     RsmGi *g = state;
     GpuTimer *t = f->timer;
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_GI, g->ubo);
+    if (importance_on(g)) {
+        gpu_timer_begin(t, "rsm_importance");
+        for (int i = 0; i < f->lights->light_count; i++)
+            importance_run(g, f->lights, i);
+        gpu_timer_end(t);
+    }
     switch (g->variant) {
     case RSM_FULL:
         gpu_timer_begin(t, "rsm_gather");

@@ -30,6 +30,14 @@ typedef enum PtMode {
 
 extern const char *const pt_mode_names[]; /* NULL-terminated, in PtMode order */
 
+/* Where a path's random numbers come from. */
+typedef enum PtSampler {
+    PT_SAMPLER_SOBOL = 0,    /* Owen-scrambled Sobol' pairs, shuffled per pixel (Burley 2020) */
+    PT_SAMPLER_INDEPENDENT,  /* independent uniform numbers from PCG32 per pixel */
+} PtSampler;
+
+extern const char *const pt_sampler_names[]; /* NULL-terminated, in PtSampler order */
+
 typedef struct PtSettings {
     int width, height;
     int spp;               /* samples per pixel, ≥ 1 */
@@ -41,6 +49,7 @@ typedef struct PtSettings {
     int rr_depth;          /* bounces before roulette starts */
     bool pixel_jitter;     /* false: every sample through the pixel centre */
     bool progress;         /* progress bar on stderr */
+    PtSampler sampler;     /* default: PT_SAMPLER_SOBOL */
 } PtSettings;
 
 typedef struct PtStats {

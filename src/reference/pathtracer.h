@@ -4,8 +4,11 @@
  * BSDF sampling for quad area lights, cosine-weighted diffuse bounces,
  * Russian roulette after `rr_depth` bounces with survival probability from
  * the path throughput (compensated by 1/p). Multithreaded over 16×16 tiles;
- * every pixel has its own random stream from (seed, pixel), so the result is
- * identical for a given seed whatever the thread count.
+ * a pixel's samples depend only on (seed, pixel, sample index) — Owen-
+ * scrambled Sobol' pairs by default, or independent numbers (sampler.h) —
+ * so the result is identical for a given seed whatever the thread count.
+ * Rays leave surfaces offset by 256 ulps of each coordinate along the
+ * geometric normal (Wächter & Binder 2019; pt_scene.h).
  *
  * Light models are those of the rasterizer (light_intensity in scene.c):
  * size 0 gives point/directional lights with exactly the rasterizer's
@@ -60,8 +63,10 @@ typedef struct PtStats {
 void pt_settings_default(PtSettings *s);
 
 /* Renders `scene` from its camera. `mean` receives radiance; `variance`
- * (optional) the per-pixel variance of that mean (sample variance / spp).
- * false after logging. */
+ * (optional) the per-pixel variance of that mean (sample variance / spp);
+ * both are allocated here (the caller frees them with image_free) and are
+ * empty on failure. false after logging (an allocation that fails is
+ * named, with its size, in one 'reference' line). */
 bool pt_render(const Scene *scene, const PtSettings *ps, ImageF *mean, ImageF *variance, PtStats *stats);
 
 #endif

@@ -11,6 +11,7 @@
 #include "test_util.h"
 #include "reference/pathtracer.h"
 #include "reference/sampler.h"
+#include "camera.h"
 #include "util.h"
 
 /* Mean over every pixel and channel, and its standard error from the
@@ -98,6 +99,52 @@ static void plane_under_sun(void **state)
         assert_true(worst < 1e-4);
         image_free(&img);
     }
+    scene_free(&s);
+}
+
+/* A sphere light of intensity I lights a plane like a point light, as long
+ * as it is wholly above the plane's horizon: E = I cos θ / d² (the sphere
+ * has radiance I/(πr²)). Pixel centres, so each pixel sees one point. */
+static void plane_under_sphere_light(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_init(&s);
+    int m = scene_add_material(&s, "plane", (vec3){0.6f, 0.6f, 0.6f});
+    test_add_square(&s, m, (vec3){0, 0, 0}, 4.f);
+    Light l = {.type = LIGHT_POINT, .position = {0.3f, 1.1f, -0.2f}, .color = {2.f, 1.f, 3.f}, .size = 0.4f};
+    scene_add_light(&s, &l);
+    look_at(&s.camera, (vec3){0, 2.5f, 0}, (vec3){0, -1, 0}, 60.f);
+    scene_finalize(&s);
+    PtSettings set;
+    pt_settings_default(&set);
+    set.width = set.height = 24;
+    set.spp = 64;
+    set.threads = 2;
+    set.pixel_jitter = false;
+    set.mode = PT_DIRECT;
+    ImageF img;
+    assert_true(pt_render(&s, &set, &img, NULL, NULL));
+    double worst = 0;
+    for (int y = 1; y < 24; y += 3)
+        for (int x = 1; x < 24; x += 3) {
+            vec3 d, p, to_l;
+            camera_ray(&s.camera, 24, 24, x + 0.5f, y + 0.5f, d);
+            float t = -s.camera.position[1] / d[1];
+            for (int i = 0; i < 3; i++)
+                p[i] = s.camera.position[i] + t * d[i];
+            glm_vec3_sub(l.position, p, to_l);
+            float dist2 = glm_vec3_norm2(to_l), cos_t = to_l[1] / sqrtf(dist2);
+            if (cos_t * sqrtf(dist2) < 0.25f) /* sphere (r = 0.2) not wholly above the horizon */
+                continue;
+            for (int c = 0; c < 3; c++) {
+                float want = 0.6f * l.color[c] * cos_t / (GLM_PIf * dist2);
+                worst = fmax(worst, fabs(image_px(&img, x, y)[c] - want) / want);
+            }
+        }
+    print_message("sphere light plane: worst pixel error %.2e\n", worst);
+    assert_true(worst < 0.01);
+    image_free(&img);
     scene_free(&s);
 }
 
@@ -325,6 +372,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(plane_under_sun),
+        cmocka_unit_test(plane_under_sphere_light),
         cmocka_unit_test(room_far_from_origin),
         cmocka_unit_test(sobol_pairs_are_nets),
         cmocka_unit_test(sobol_beats_independent),

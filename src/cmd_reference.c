@@ -17,6 +17,7 @@ void cmd_reference_help(void)
            "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
            "  --mode full|direct|one-bounce|one-bounce-novis|indirect   (default: full)\n"
            "  --spp N            samples per pixel (default: 64)\n"
+           "  --sampler sobol|independent   Owen-scrambled Sobol' or independent random numbers (default: sobol)\n"
            "  --seed S           random seed (default: 1); same seed → same image\n"
            "  --threads T        worker threads (default: all cores)\n"
            "  --size WxH         image size (default: 256x256)\n"
@@ -56,6 +57,12 @@ int cmd_reference(int argc, char **argv)
             if (m < 0)
                 return 2;
             set.mode = (PtMode)m;
+        } else if (!strcmp(opt, "--sampler")) {
+            CLI_VALUE(&a, v);
+            int k = cli_choice(opt, v, pt_sampler_names);
+            if (k < 0)
+                return 2;
+            set.sampler = (PtSampler)k;
         } else if (!strcmp(opt, "--spp")) {
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1 << 24, &set.spp))
@@ -146,6 +153,7 @@ int cmd_reference(int argc, char **argv)
             printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene.source,
                    pt_mode_names[set.mode], set.width, set.height, set.spp, set.threads,
                    (unsigned long long)set.seed);
+            printf("sampler: %s\n", pt_sampler_names[set.sampler]);
             printf("time_s: %.3f\n", st.seconds);
             printf("rays: %llu\n", (unsigned long long)st.rays);
             printf("rays_per_s: %.0f\n", st.seconds > 0 ? st.rays / st.seconds : 0.0);

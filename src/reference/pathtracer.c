@@ -12,10 +12,12 @@
 #include "log.h"
 #include "reference/pt_scene.h"
 #include "reference/rng.h"
+#include "reference/sampler.h"
 #include "reference/sampling.h"
 #include "util.h"
 
 const char *const pt_mode_names[] = {"full", "direct", "one-bounce", "one-bounce-novis", "indirect", NULL};
+const char *const pt_sampler_names[] = {"sobol", "independent", NULL};
 
 enum { TILE = 16, MAX_ALL_HITS = 64 };
 
@@ -31,141 +33,188 @@ void pt_settings_default(PtSettings *s)
     s->russian_roulette = true;
     s->rr_depth = 3;
     s->pixel_jitter = true;
+    s->sampler = PT_SAMPLER_SOBOL;
 }
 
 typedef struct Job {
     const Scene *scene;
     const PtSettings *set;
     PtScene ps;
-    double *sum, *sum2;    /* per pixel RGB */
+    ImageF *mean;          /* output, allocated by pt_render; pixels written by their tile's thread */
+    ImageF *variance;      /* optional output, same */
     int tiles_x, tiles_y;
     atomic_int next_tile;
     atomic_int tiles_done;
     atomic_uint_fast64_t rays;
 } Job;
 
-/* ---------------------------------------------------------------- lights */
+/* ---------------------------------------------------------------- lights
+ * One home per light type: `*_sample` draws a direction toward the light
+ * from the ray origin o (already offset off the surface) from the uniform
+ * pair u, and `quad_pdf` gives the density of a BSDF ray that hits the one
+ * emitter that has geometry (a quad with size > 0), for MIS. Models are
+ * those of the rasterizer (light_intensity in scene.c); see pathtracer.h. */
 
-/* Direct light from light `l` at hit h (normal n, albedo omitted): returns
- * the estimate of ∫ L cos dω (so radiance = albedo/π × this), with MIS
- * weighting for quad lights when `mis` is set. */
-static void light_sample(Job *j, const Light *l, const PtHit *h, Rng *rng, bool mis, uint64_t *rays, vec3 out)
+/* A direction toward a light, with what arrives along it. */
+typedef struct LightSample {
+    vec3 wi;     /* unit, from o toward the emitter */
+    float dist;  /* shadow ray length: to the emitter (INFINITY: the sun) */
+    vec3 li;     /* incident radiance / solid-angle pdf (delta lights: irradiance at normal incidence) */
+    float pdf;   /* solid-angle pdf of wi if a BSDF ray can also reach this emitter (MIS), else 0 */
+} LightSample;
+
+/* wi and dist from o toward point lp. */
+static void toward(const vec3 o, const vec3 lp, LightSample *ls)
 {
-    const PtScene *ps = &j->ps;
-    glm_vec3_zero(out);
-    vec3 o, wi;
-    pt_offset(ps, h->p, h->ng, o);
-    float dist = 0.f;
-    vec3 le = {0, 0, 0}; /* L·cos_x/pdf before visibility */
-    switch (l->type) {
-    case LIGHT_DIRECTIONAL: {
-        glm_vec3_negate_to((float *)l->direction, wi);
-        if (l->size > 0.f) {
-            float a = 0.5f * l->size, cos_max = cosf(a), s = sinf(a);
-            vec3 axis;
-            glm_vec3_copy(wi, axis);
-            sample_cone(axis, cos_max, rng_float(rng), rng_float(rng), wi);
-            /* L = E/(π sin²a) so that irradiance facing the sun is E; pdf = 1/Ω. */
-            float omega = 2.f * GLM_PIf * (1.f - cos_max);
-            glm_vec3_scale((float *)l->color, omega / (GLM_PIf * s * s), le);
-        } else {
-            glm_vec3_copy((float *)l->color, le);
-        }
-        float c = glm_vec3_dot(wi, (float *)h->ns);
-        if (c <= 0.f || glm_vec3_dot(wi, (float *)h->ng) <= 0.f)
-            return;
-        glm_vec3_scale(le, c, le);
-        dist = 4.f * ps->diag;
-        break;
-    }
-    case LIGHT_POINT:
-    case LIGHT_SPOT: {
-        vec3 lp;
-        glm_vec3_copy((float *)l->position, lp);
-        if (l->size > 0.f && l->type == LIGHT_POINT) {
-            /* Sphere of radius r, radiance I/(πr²), sampled by solid angle. */
-            float r = 0.5f * l->size;
-            vec3 toc;
-            glm_vec3_sub(lp, o, toc);
-            float dc = glm_vec3_norm(toc);
-            if (dc <= r)
-                return;
-            glm_vec3_scale(toc, 1.f / dc, toc);
-            float sin2 = r * r / (dc * dc), cos_max = sqrtf(fmaxf(0.f, 1.f - sin2));
-            sample_cone(toc, cos_max, rng_float(rng), rng_float(rng), wi);
-            float c = glm_vec3_dot(wi, (float *)h->ns);
-            if (c <= 0.f || glm_vec3_dot(wi, (float *)h->ng) <= 0.f)
-                return;
-            /* Distance to the sphere along wi. */
-            float b = glm_vec3_dot(wi, toc) * dc;
-            float disc = b * b - (dc * dc - r * r);
-            dist = b - sqrtf(fmaxf(disc, 0.f));
-            float omega = 2.f * GLM_PIf * (1.f - cos_max);
-            glm_vec3_scale((float *)l->color, c * omega / (GLM_PIf * r * r), le);
-            break;
-        }
-        if (l->size > 0.f) /* spot: disk of the given diameter facing its axis */
-            sample_disk(l->position, l->direction, 0.5f * l->size, rng_float(rng), rng_float(rng), lp);
-        glm_vec3_sub(lp, o, wi);
-        dist = glm_vec3_norm(wi);
-        glm_vec3_scale(wi, 1.f / dist, wi);
-        float c = glm_vec3_dot(wi, (float *)h->ns);
-        if (c <= 0.f || glm_vec3_dot(wi, (float *)h->ng) <= 0.f)
-            return;
-        vec3 out_dir, inten;
-        glm_vec3_negate_to(wi, out_dir);
-        if (l->size > 0.f && glm_vec3_dot(out_dir, (float *)l->direction) <= 0.f)
-            return; /* behind the disk */
-        light_intensity(l, out_dir, inten);
-        glm_vec3_scale(inten, c / (dist * dist), le);
-        break;
-    }
-    case LIGHT_QUAD: {
-        vec3 lp, out_dir, n;
-        glm_vec3_copy((float *)l->position, lp);
-        if (l->size > 0.f) {
-            float u1 = rng_float(rng) - 0.5f, u2 = rng_float(rng) - 0.5f;
-            glm_vec3_muladds((float *)l->quad_u, u1 * l->size, lp);
-            glm_vec3_muladds((float *)l->quad_v, u2 * l->size, lp);
-        }
-        glm_vec3_sub(lp, o, wi);
-        dist = glm_vec3_norm(wi);
-        glm_vec3_scale(wi, 1.f / dist, wi);
-        float c = glm_vec3_dot(wi, (float *)h->ns);
-        if (c <= 0.f || glm_vec3_dot(wi, (float *)h->ng) <= 0.f)
-            return;
-        glm_vec3_negate_to(wi, out_dir);
-        glm_vec3_copy((float *)l->direction, n);
-        float cos_l = glm_vec3_dot(out_dir, n);
-        if (cos_l <= 0.f)
-            return;
-        vec3 inten;
-        light_intensity(l, out_dir, inten); /* L·A·cos_l (power independent of size) */
-        glm_vec3_scale(inten, c / (dist * dist), le);
-        if (l->size > 0.f && mis) {
-            float area = light_quad_area(l);
-            float pdf_light = dist * dist / (cos_l * area);
-            float pdf_bsdf = c / GLM_PIf;
-            glm_vec3_scale(le, power_heuristic(pdf_light, pdf_bsdf), le);
-        }
-        break;
-    }
-    }
-    if (le[0] <= 0.f && le[1] <= 0.f && le[2] <= 0.f)
-        return;
-    (*rays)++;
-    if (pt_occluded(ps, o, wi, dist * (1.f - 1e-4f) - ps->eps))
-        return;
-    glm_vec3_copy(le, out);
+    glm_vec3_sub((float *)lp, (float *)o, ls->wi);
+    ls->dist = glm_vec3_norm(ls->wi);
+    glm_vec3_scale(ls->wi, 1.f / ls->dist, ls->wi);
 }
 
-/* Sum over lights of direct-light estimates at h, times albedo/π. */
-static void direct_light(Job *j, const PtHit *h, const vec3 albedo, Rng *rng, bool mis, uint64_t *rays, vec3 out)
+/* Directional: irradiance E on a plane facing it. With an angular diameter
+ * 2a it is a disk of uniform radiance L = E / (π sin²a) (so that the
+ * irradiance facing it, L·π sin²a, is E), sampled uniformly over its solid
+ * angle Ω = 2π(1 − cos a) = 4π sin²(a/2); then li = L·Ω = E / cos²(a/2),
+ * with no cancellation (2π(1 − cosf a) in float is 0.25% low for the real
+ * sun, a = 0.0046). */
+static bool sun_sample(const Light *l, const float u[2], LightSample *ls)
+{
+    glm_vec3_negate_to((float *)l->direction, ls->wi);
+    ls->dist = INFINITY;
+    ls->pdf = 0.f;
+    if (l->size <= 0.f) {
+        glm_vec3_copy((float *)l->color, ls->li);
+        return true;
+    }
+    float half = 0.5f * l->size, s = sinf(0.5f * half), c = cosf(0.5f * half);
+    vec3 axis;
+    glm_vec3_copy(ls->wi, axis);
+    sample_cone(axis, 2.f * s * s, u[0], u[1], ls->wi);
+    glm_vec3_scale((float *)l->color, 1.f / (c * c), ls->li);
+    return true;
+}
+
+/* Point: intensity I in every direction. With a diameter 2r it is a sphere
+ * of radiance I/(πr²) (same power), sampled uniformly over the cone it
+ * subtends: sin²θmax = r²/d², 1 − cos θmax = sin²θmax / (1 + cos θmax), so
+ * li = L·Ω = 2I / (d²(1 + cos θmax)). */
+static bool point_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+{
+    ls->pdf = 0.f;
+    if (l->size <= 0.f) {
+        toward(o, l->position, ls);
+        glm_vec3_scale((float *)l->color, 1.f / (ls->dist * ls->dist), ls->li);
+        return true;
+    }
+    float r = 0.5f * l->size;
+    vec3 toc;
+    glm_vec3_sub((float *)l->position, (float *)o, toc);
+    float dc = glm_vec3_norm(toc);
+    if (dc <= r)
+        return false; /* inside the emitter */
+    glm_vec3_scale(toc, 1.f / dc, toc);
+    float sin2 = (r / dc) * (r / dc), cos_max = sqrtf(fmaxf(0.f, 1.f - sin2));
+    sample_cone(toc, sin2 / (1.f + cos_max), u[0], u[1], ls->wi);
+    /* Distance to the sphere's near side along wi. */
+    float b = glm_vec3_dot(ls->wi, toc) * dc;
+    ls->dist = b - sqrtf(fmaxf(b * b - (dc - r) * (dc + r), 0.f));
+    glm_vec3_scale((float *)l->color, 2.f / (dc * dc * (1.f + cos_max)), ls->li);
+    return true;
+}
+
+/* Spot: intensity I times the cone falloff along its axis; with a diameter,
+ * a disk facing the axis, sampled uniformly by area, with the same
+ * intensity from each of its points (zero behind it). */
+static bool spot_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+{
+    ls->pdf = 0.f;
+    vec3 lp, out_dir, inten;
+    glm_vec3_copy((float *)l->position, lp);
+    if (l->size > 0.f)
+        sample_disk(l->position, l->direction, 0.5f * l->size, u[0], u[1], lp);
+    toward(o, lp, ls);
+    glm_vec3_negate_to(ls->wi, out_dir);
+    if (l->size > 0.f && glm_vec3_dot(out_dir, (float *)l->direction) <= 0.f)
+        return false; /* behind the disk */
+    light_intensity(l, out_dir, inten);
+    glm_vec3_scale(inten, 1.f / (ls->dist * ls->dist), ls->li);
+    return true;
+}
+
+/* Solid-angle pdf of light-sampling a point at distance dist on quad l's
+ * emitter, seen at cosine cos_l from its normal: area pdf 1/A converted. */
+static float quad_pdf(const Light *l, float dist, float cos_l)
+{
+    return dist * dist / (cos_l * light_quad_area(l));
+}
+
+/* Quad: one-sided radiance L; intensity L·A·cos θ at size 0 (a point at
+ * its centre); with a size, the real quad (emitter geometry that BSDF rays
+ * hit), sampled uniformly by area, power independent of size. */
+static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+{
+    ls->pdf = 0.f;
+    vec3 lp, out_dir, inten;
+    glm_vec3_copy((float *)l->position, lp);
+    if (l->size > 0.f) {
+        glm_vec3_muladds((float *)l->quad_u, (u[0] - 0.5f) * l->size, lp);
+        glm_vec3_muladds((float *)l->quad_v, (u[1] - 0.5f) * l->size, lp);
+    }
+    toward(o, lp, ls);
+    glm_vec3_negate_to(ls->wi, out_dir);
+    float cos_l = glm_vec3_dot(out_dir, (float *)l->direction);
+    if (cos_l <= 0.f)
+        return false;
+    light_intensity(l, out_dir, inten); /* L·A·cos_l at size 1 */
+    glm_vec3_scale(inten, 1.f / (ls->dist * ls->dist), ls->li);
+    if (l->size > 0.f)
+        ls->pdf = quad_pdf(l, ls->dist, cos_l);
+    return true;
+}
+
+static bool light_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+{
+    switch (l->type) {
+    case LIGHT_DIRECTIONAL:
+        return sun_sample(l, u, ls);
+    case LIGHT_POINT:
+        return point_sample(l, o, u, ls);
+    case LIGHT_SPOT:
+        return spot_sample(l, o, u, ls);
+    case LIGHT_QUAD:
+        return quad_sample(l, o, u, ls);
+    }
+    return false;
+}
+
+/* Direct light at hit h: one sample of every light, with MIS against the
+ * cosine-weighted BSDF sample for emitters BSDF rays can hit (when `mis`),
+ * times albedo/π (Lambertian). */
+static void direct_light(Job *j, const PtHit *h, const vec3 albedo, Sampler *smp, bool mis, uint64_t *rays,
+                         vec3 out)
 {
     glm_vec3_zero(out);
+    vec3 o;
+    pt_offset(h->p, h->ng, o);
     for (int i = 0; i < j->scene->light_count; i++) {
+        float u[2];
+        sampler_2d(smp, u);
+        LightSample ls;
+        if (!light_sample(&j->scene->lights[i], o, u, &ls))
+            continue;
+        float c = glm_vec3_dot(ls.wi, (float *)h->ns);
+        if (c <= 0.f || glm_vec3_dot(ls.wi, (float *)h->ng) <= 0.f)
+            continue;
         vec3 e;
-        light_sample(j, &j->scene->lights[i], h, rng, mis, rays, e);
+        glm_vec3_scale(ls.li, c, e);
+        if (mis && ls.pdf > 0.f)
+            glm_vec3_scale(e, power_heuristic(ls.pdf, c / GLM_PIf), e);
+        if (e[0] <= 0.f && e[1] <= 0.f && e[2] <= 0.f)
+            continue;
+        (*rays)++;
+        /* Stop short of the emitter's own surface. */
+        if (pt_occluded(&j->ps, o, ls.wi, ls.dist * (1.f - 1e-4f)))
+            continue;
         glm_vec3_add(out, e, out);
     }
     glm_vec3_mul(out, (float *)albedo, out);
@@ -189,15 +238,14 @@ static void emitted(Job *j, const PtHit *h, const vec3 d, float pdf_bsdf, bool m
         float cos_l = -glm_vec3_dot((float *)d, (float *)l->direction);
         if (cos_l <= 0.f)
             return;
-        float pdf_light = h->t * h->t / (cos_l * light_quad_area(l));
-        w = power_heuristic(pdf_bsdf, pdf_light);
+        w = power_heuristic(pdf_bsdf, quad_pdf(l, h->t, cos_l));
     }
     glm_vec3_scale((float *)m->emission, w, out);
 }
 
 /* ---------------------------------------------------------------- paths */
 
-static void radiance(Job *j, const vec3 o0, const vec3 d0, Rng *rng, uint64_t *rays, vec3 L)
+static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_t *rays, vec3 L)
 {
     const PtSettings *s = j->set;
     const PtScene *ps = &j->ps;
@@ -228,17 +276,19 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Rng *rng, uint64_t *r
         pt_albedo(ps, &h, albedo);
         if (depth >= min_direct) {
             vec3 e;
-            direct_light(j, &h, albedo, rng, mis, rays, e);
+            direct_light(j, &h, albedo, smp, mis, rays, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (novis) {
             /* One bounce without visibility on x1 → x2: every surface along
              * the cosine-sampled ray contributes its direct light. */
             vec3 dir, o1, t1;
-            sample_cosine(h.ns, rng_float(rng), rng_float(rng), dir);
+            float u[2];
+            sampler_2d(smp, u);
+            sample_cosine(h.ns, u[0], u[1], dir);
             if (glm_vec3_dot(dir, h.ng) <= 0.f)
                 break;
-            pt_offset(ps, h.p, h.ng, o1);
+            pt_offset(h.p, h.ng, o1);
             glm_vec3_mul(thr, albedo, t1);
             PtHit hits[MAX_ALL_HITS];
             (*rays)++;
@@ -246,24 +296,26 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Rng *rng, uint64_t *r
             for (int k = 0; k < n; k++) {
                 vec3 a2, e;
                 pt_albedo(ps, &hits[k], a2);
-                direct_light(j, &hits[k], a2, rng, false, rays, e);
+                direct_light(j, &hits[k], a2, smp, false, rays, e);
                 glm_vec3_muladd(t1, e, L);
             }
             break;
         }
         if (s->russian_roulette && depth > s->rr_depth) {
             float p = fminf(fmaxf(thr[0], fmaxf(thr[1], thr[2])), 0.95f);
-            if (rng_float(rng) >= p)
+            if (sampler_1d(smp) >= p)
                 break;
             glm_vec3_scale(thr, 1.f / p, thr);
         }
-        sample_cosine(h.ns, rng_float(rng), rng_float(rng), d);
+        float u[2];
+        sampler_2d(smp, u);
+        sample_cosine(h.ns, u[0], u[1], d);
         float c = glm_vec3_dot(d, h.ns);
         if (c <= 0.f || glm_vec3_dot(d, h.ng) <= 0.f)
             break;
         pdf_prev = c / GLM_PIf;
         glm_vec3_mul(thr, albedo, thr); /* f·cos/pdf = (ρ/π)·cos/(cos/π) = ρ */
-        pt_offset(ps, h.p, h.ng, o);
+        pt_offset(h.p, h.ng, o);
         if (thr[0] <= 0.f && thr[1] <= 0.f && thr[2] <= 0.f)
             break;
     }
@@ -276,22 +328,30 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
     for (int y = ty * TILE; y < (ty + 1) * TILE && y < s->height; y++)
         for (int x = tx * TILE; x < (tx + 1) * TILE && x < s->width; x++) {
             size_t pix = (size_t)y * s->width + x;
-            Rng rng = rng_make(s->seed, pix);
+            Sampler smp = sampler_make(s->sampler, s->seed, pix);
             double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
             for (int k = 0; k < s->spp; k++) {
-                float jx = s->pixel_jitter ? rng_float(&rng) : 0.5f;
-                float jy = s->pixel_jitter ? rng_float(&rng) : 0.5f;
+                sampler_start(&smp, (uint32_t)k);
+                float jit[2] = {0.5f, 0.5f};
+                if (s->pixel_jitter)
+                    sampler_2d(&smp, jit);
                 vec3 d, L;
-                camera_ray(&j->scene->camera, s->width, s->height, x + jx, y + jy, d);
-                radiance(j, j->scene->camera.position, d, &rng, rays, L);
+                camera_ray(&j->scene->camera, s->width, s->height, x + jit[0], y + jit[1], d);
+                radiance(j, j->scene->camera.position, d, &smp, rays, L);
                 for (int c = 0; c < 3; c++) {
                     float v = isfinite(L[c]) ? L[c] : 0.f;
                     sum[c] += v;
                     sum2[c] += (double)v * v;
                 }
             }
-            memcpy(j->sum + 3 * pix, sum, sizeof sum);
-            memcpy(j->sum2 + 3 * pix, sum2, sizeof sum2);
+            for (int c = 0; c < 3; c++) {
+                double m = sum[c] / s->spp;
+                j->mean->rgb[3 * pix + c] = (float)m;
+                if (j->variance) {
+                    double var = s->spp > 1 ? (sum2[c] - s->spp * m * m) / (s->spp - 1) : 0.0;
+                    j->variance->rgb[3 * pix + c] = (float)(fmax(var, 0.0) / s->spp);
+                }
+            }
         }
 }
 
@@ -318,18 +378,61 @@ static void draw_progress(int done, int total, double elapsed)
     fflush(stderr);
 }
 
-bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *variance, PtStats *stats)
+/* An image allocated here, so that a failure says what the reference
+ * needed (image_alloc logs under its own tag). */
+static bool alloc_image(ImageF *img, int w, int h, const char *what)
 {
-    Job *j = calloc(1, sizeof *j);
-    j->scene = scene;
-    j->set = set;
-    if (!pt_scene_create(&j->ps, scene)) {
-        free(j);
+    size_t bytes = (size_t)w * (size_t)h * 3 * sizeof(float);
+    img->width = w;
+    img->height = h;
+    img->rgb = calloc((size_t)w * (size_t)h * 3, sizeof(float));
+    if (!img->rgb) {
+        log_error("reference", "cannot allocate the %dx%d %s image (%.2f GiB)", w, h, what,
+                  (double)bytes / (1u << 30));
         return false;
     }
-    size_t npix = (size_t)set->width * set->height;
-    j->sum = calloc(npix * 3, sizeof(double));
-    j->sum2 = calloc(npix * 3, sizeof(double));
+    return true;
+}
+
+bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *variance, PtStats *stats)
+{
+    sampler_init();
+    memset(mean, 0, sizeof *mean);
+    if (variance)
+        memset(variance, 0, sizeof *variance);
+    /* The outputs first: a size that cannot be held fails before the BVH
+     * build and the render. Tiles write their pixels' mean and variance
+     * straight into them. */
+    if (!alloc_image(mean, set->width, set->height, "mean"))
+        return false;
+    if (variance && !alloc_image(variance, set->width, set->height, "variance")) {
+        image_free(mean);
+        return false;
+    }
+    Job *j = calloc(1, sizeof *j);
+    int nthreads = set->threads < 1 ? 1 : set->threads;
+    pthread_t *th = calloc((size_t)nthreads, sizeof(pthread_t));
+    if (!j || !th) {
+        log_error("reference", "cannot allocate the job of %d threads", nthreads);
+        free(j);
+        free(th);
+        image_free(mean);
+        if (variance)
+            image_free(variance);
+        return false;
+    }
+    j->scene = scene;
+    j->set = set;
+    j->mean = mean;
+    j->variance = variance;
+    if (!pt_scene_create(&j->ps, scene)) {
+        free(j);
+        free(th);
+        image_free(mean);
+        if (variance)
+            image_free(variance);
+        return false;
+    }
     j->tiles_x = (set->width + TILE - 1) / TILE;
     j->tiles_y = (set->height + TILE - 1) / TILE;
     atomic_init(&j->next_tile, 0);
@@ -337,10 +440,12 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
     atomic_init(&j->rays, 0);
 
     double t0 = util_seconds();
-    int nthreads = set->threads < 1 ? 1 : set->threads;
-    pthread_t *th = calloc((size_t)nthreads, sizeof(pthread_t));
-    for (int i = 0; i < nthreads; i++)
-        pthread_create(&th[i], NULL, worker, j);
+    int started = 0;
+    for (; started < nthreads; started++)
+        if (pthread_create(&th[started], NULL, worker, j) != 0)
+            break;
+    if (started == 0) /* no thread at all: render on this one */
+        worker(j);
     int total = j->tiles_x * j->tiles_y;
     if (set->progress) {
         while (atomic_load(&j->tiles_done) < total) {
@@ -350,29 +455,15 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
         draw_progress(total, total, util_seconds() - t0);
         fputc('\n', stderr);
     }
-    for (int i = 0; i < nthreads; i++)
+    for (int i = 0; i < started; i++)
         pthread_join(th[i], NULL);
     free(th);
     double secs = util_seconds() - t0;
-
-    bool ok = image_alloc(mean, set->width, set->height);
-    if (ok && variance)
-        ok = image_alloc(variance, set->width, set->height);
-    for (size_t i = 0; ok && i < npix * 3; i++) {
-        double m = j->sum[i] / set->spp;
-        mean->rgb[i] = (float)m;
-        if (variance) {
-            double var = set->spp > 1 ? (j->sum2[i] - set->spp * m * m) / (set->spp - 1) : 0.0;
-            variance->rgb[i] = (float)(fmax(var, 0.0) / set->spp);
-        }
-    }
     if (stats) {
         stats->seconds = secs;
         stats->rays = atomic_load(&j->rays);
     }
-    free(j->sum);
-    free(j->sum2);
     pt_scene_destroy(&j->ps);
     free(j);
-    return ok;
+    return true;
 }

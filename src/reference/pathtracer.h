@@ -4,8 +4,11 @@
  * BSDF sampling for quad area lights, cosine-weighted diffuse bounces,
  * Russian roulette after `rr_depth` bounces with survival probability from
  * the path throughput (compensated by 1/p). Multithreaded over 16×16 tiles;
- * every pixel has its own random stream from (seed, pixel), so the result is
- * identical for a given seed whatever the thread count.
+ * a pixel's samples depend only on (seed, pixel, sample index) — Owen-
+ * scrambled Sobol' pairs by default, or independent numbers (sampler.h) —
+ * so the result is identical for a given seed whatever the thread count.
+ * Rays leave surfaces offset by 256 ulps of each coordinate along the
+ * geometric normal (Wächter & Binder 2019; pt_scene.h).
  *
  * Light models are those of the rasterizer (light_intensity in scene.c):
  * size 0 gives point/directional lights with exactly the rasterizer's
@@ -30,6 +33,14 @@ typedef enum PtMode {
 
 extern const char *const pt_mode_names[]; /* NULL-terminated, in PtMode order */
 
+/* Where a path's random numbers come from. */
+typedef enum PtSampler {
+    PT_SAMPLER_SOBOL = 0,    /* Owen-scrambled Sobol' pairs, shuffled per pixel (Burley 2020) */
+    PT_SAMPLER_INDEPENDENT,  /* independent uniform numbers from PCG32 per pixel */
+} PtSampler;
+
+extern const char *const pt_sampler_names[]; /* NULL-terminated, in PtSampler order */
+
 typedef struct PtSettings {
     int width, height;
     int spp;               /* samples per pixel, ≥ 1 */
@@ -41,6 +52,7 @@ typedef struct PtSettings {
     int rr_depth;          /* bounces before roulette starts */
     bool pixel_jitter;     /* false: every sample through the pixel centre */
     bool progress;         /* progress bar on stderr */
+    PtSampler sampler;     /* default: PT_SAMPLER_SOBOL */
 } PtSettings;
 
 typedef struct PtStats {
@@ -51,8 +63,10 @@ typedef struct PtStats {
 void pt_settings_default(PtSettings *s);
 
 /* Renders `scene` from its camera. `mean` receives radiance; `variance`
- * (optional) the per-pixel variance of that mean (sample variance / spp).
- * false after logging. */
+ * (optional) the per-pixel variance of that mean (sample variance / spp);
+ * both are allocated here (the caller frees them with image_free) and are
+ * empty on failure. false after logging (an allocation that fails is
+ * named, with its size, in one 'reference' line). */
 bool pt_render(const Scene *scene, const PtSettings *ps, ImageF *mean, ImageF *variance, PtStats *stats);
 
 #endif

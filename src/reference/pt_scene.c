@@ -91,15 +91,21 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
     rtcSetSceneBuildQuality(ps->rtc, RTC_BUILD_QUALITY_HIGH);
 
     uint32_t ntri = s->index_count / 3;
-    ps->tri_material = malloc(sizeof(uint32_t) * (ntri + 1));
+    size_t table = sizeof(uint32_t) * ((size_t)ntri + 1);
+    ps->tri_material = malloc(table);
+    for (int g = 0; g < 2; g++)
+        ps->prim_tri[g] = malloc(table);
+    if (!ps->tri_material || !ps->prim_tri[0] || !ps->prim_tri[1]) {
+        log_error("reference", "cannot allocate the triangle tables of %u triangles (3 × %zu bytes)", ntri, table);
+        pt_scene_destroy(ps);
+        return false;
+    }
     for (int k = 0; k < s->submesh_count; k++)
         for (uint32_t t = s->submeshes[k].first_index / 3;
              t < (s->submeshes[k].first_index + s->submeshes[k].index_count) / 3; t++)
             ps->tri_material[t] = (uint32_t)s->submeshes[k].material;
 
     uint32_t count[2] = {0, 0};
-    for (int g = 0; g < 2; g++)
-        ps->prim_tri[g] = malloc(sizeof(uint32_t) * (ntri + 1));
     for (uint32_t t = 0; t < ntri; t++) {
         int g = s->materials[ps->tri_material[t]].alpha_mask ? 1 : 0;
         ps->prim_tri[g][count[g]++] = t;
@@ -114,6 +120,13 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
                                    sizeof(Vertex), s->vertex_count);
         uint32_t *ib = rtcSetNewGeometryBuffer(geo, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                3 * sizeof(uint32_t), count[g]);
+        if (!ib) {
+            log_error("reference", "cannot allocate the index buffer of %u triangles (%zu bytes)", count[g],
+                      (size_t)count[g] * 3 * sizeof(uint32_t));
+            rtcReleaseGeometry(geo);
+            pt_scene_destroy(ps);
+            return false;
+        }
         for (uint32_t i = 0; i < count[g]; i++)
             memcpy(ib + 3 * i, s->indices + 3 * ps->prim_tri[g][i], 3 * sizeof(uint32_t));
         if (g == 1) {
@@ -129,7 +142,6 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
     ps->diag = glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
     if (ps->diag <= 0.f)
         ps->diag = 1.f;
-    ps->eps = 1e-5f * ps->diag;
     if (rtcGetDeviceError(ps->device) != RTC_ERROR_NONE) {
         pt_scene_destroy(ps);
         return false;
@@ -174,11 +186,15 @@ static void fill_hit(const PtScene *ps, const vec3 o, const vec3 d, float t, uns
     const Vertex *a = &s->vertices[s->indices[3 * tri]], *b = &s->vertices[s->indices[3 * tri + 1]],
                  *c = &s->vertices[s->indices[3 * tri + 2]];
     h->t = t;
-    for (int i = 0; i < 3; i++)
-        h->p[i] = o[i] + t * d[i];
+    (void)o;
+    /* The hit point from the barycentrics rather than o + t·d: its rounding
+     * error is a few ulps of the vertices' coordinates, whatever the ray's
+     * length (Wächter & Binder 2019, §6.2), which pt_offset relies on. */
     vec3 e1, e2;
     glm_vec3_sub((float *)b->position, (float *)a->position, e1);
     glm_vec3_sub((float *)c->position, (float *)a->position, e2);
+    for (int i = 0; i < 3; i++)
+        h->p[i] = a->position[i] + bu * e1[i] + bv * e2[i];
     glm_vec3_cross(e1, e2, h->ng);
     glm_vec3_normalize(h->ng);
     float w = 1.f - bu - bv;
@@ -283,9 +299,32 @@ void pt_albedo(const PtScene *ps, const PtHit *h, vec3 out)
     }
 }
 
-void pt_offset(const PtScene *ps, const vec3 p, const vec3 n, vec3 out)
+/* Wächter & Binder, "A Fast and Robust Method for Avoiding
+ * Self-Intersection" (Ray Tracing Gems, ch. 6, 2019). A computed hit point
+ * lies within a few ulps of the true surface, and an ulp grows with the
+ * coordinate's magnitude; so each coordinate moves along the normal by a
+ * fixed number of ulps of itself (OFFSET_INT · n_i, stepping the float's
+ * bits as an integer), which is the same relative safety margin anywhere in
+ * the scene and no more. Near zero an ulp vanishes, so coordinates below
+ * OFFSET_ORIGIN move by a small absolute amount OFFSET_FLOAT · n_i instead. */
+enum { OFFSET_INT = 256 };
+#define OFFSET_FLOAT (1.f / 65536.f)
+#define OFFSET_ORIGIN (1.f / 32.f)
+
+static float float_step_ulps(float x, int32_t ulps)
 {
-    float scale = ps->eps * (1.f + fmaxf(fabsf(p[0]), fmaxf(fabsf(p[1]), fabsf(p[2]))) / ps->diag * 10.f);
-    for (int i = 0; i < 3; i++)
-        out[i] = p[i] + n[i] * scale;
+    int32_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    bits += x < 0.f ? -ulps : ulps; /* away from zero for ulps > 0 on either sign */
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+void pt_offset(const vec3 p, const vec3 n, vec3 out)
+{
+    for (int i = 0; i < 3; i++) {
+        int32_t of = (int32_t)(OFFSET_INT * n[i]);
+        float moved = float_step_ulps(p[i], of);
+        out[i] = fabsf(p[i]) < OFFSET_ORIGIN ? p[i] + OFFSET_FLOAT * n[i] : moved;
+    }
 }

@@ -19,8 +19,7 @@ typedef struct PtScene {
     RTCScene rtc;           /* owned */
     uint32_t *prim_tri[2];  /* per geometry: primitive → global triangle index (owned) */
     uint32_t *tri_material; /* global triangle → material (owned) */
-    float eps;              /* ray-origin offset, scaled to the scene */
-    float diag;             /* scene bounds diagonal */
+    float diag;             /* scene bounds diagonal (m), > 0 */
 } PtScene;
 
 /* A ray's hit, with normals oriented toward the ray's origin. */
@@ -45,7 +44,10 @@ int pt_intersect_all(const PtScene *ps, const vec3 o, const vec3 d, float tmax, 
 bool pt_occluded(const PtScene *ps, const vec3 o, const vec3 d, float tmax);
 /* Linear albedo of the hit's material (texture × factor). */
 void pt_albedo(const PtScene *ps, const PtHit *h, vec3 out);
-/* Moves p off the surface along n, for a ray leaving on n's side. */
-void pt_offset(const PtScene *ps, const vec3 p, const vec3 n, vec3 out);
+/* Moves the hit point p off its surface along the unit geometric normal n,
+ * for a ray leaving on n's side: by 256 ulps of each coordinate (Wächter &
+ * Binder 2019), so that the ray cannot hit that surface again, at any
+ * distance from the origin. */
+void pt_offset(const vec3 p, const vec3 n, vec3 out);
 
 #endif

@@ -36,13 +36,15 @@ static inline void sample_cosine(const vec3 n, float u1, float u2, vec3 out)
     to_world(n, r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.f, 1.f - u1)), out);
 }
 
-/* Uniform over the cone of half-angle with cosine cos_max around axis;
- * pdf = 1 / (2π(1 − cos_max)). */
-static inline void sample_cone(const vec3 axis, float cos_max, float u1, float u2, vec3 out)
+/* Uniform over the cone around axis whose half-angle θmax has
+ * 1 − cos θmax = one_minus_cos (pass it in a cancellation-free form, e.g.
+ * 2 sin²(θmax/2): for the sun it is 1e-5, below float's resolution of
+ * cos θmax); pdf = 1 / (2π · one_minus_cos). */
+static inline void sample_cone(const vec3 axis, float one_minus_cos, float u1, float u2, vec3 out)
 {
-    float c = 1.f - u1 * (1.f - cos_max);
-    float s = sqrtf(fmaxf(0.f, 1.f - c * c)), phi = 2.f * GLM_PIf * u2;
-    to_world(axis, s * cosf(phi), s * sinf(phi), c, out);
+    float h = u1 * one_minus_cos; /* 1 − cos θ */
+    float s = sqrtf(fmaxf(0.f, h * (2.f - h))), phi = 2.f * GLM_PIf * u2;
+    to_world(axis, s * cosf(phi), s * sinf(phi), 1.f - h, out);
 }
 
 /* Uniform on a disk of radius r, centre c, normal n; pdf = 1/(πr²). */

@@ -1,0 +1,157 @@
+/* sampler.h — where a path's uniform numbers come from.
+ *
+ * PT_SAMPLER_SOBOL: Owen-scrambled Sobol' points with hash-based nested
+ * uniform scrambling (Burley, "Practical Hash-based Owen Scrambling", JCGT
+ * 2020), padded in pairs. Every 2D request of a path (pixel jitter, a light's
+ * sample, a bounce direction) gets its own "dimension pair" d = 0, 1, 2, …
+ * in the order the path asks for them; pair d of sample k of a pixel is the
+ * first two Sobol' dimensions (a (0,2)-sequence: the van der Corput sequence
+ * and the one of the primitive polynomial x + 1) at index k, where both the
+ * index and the two coordinates go through a nested uniform (Owen) scramble
+ * seeded by hash(seed, pixel, d). Shuffling the index per pair decorrelates
+ * the pairs from one another (the padding of Kollig & Keller 2002), and the
+ * per-pixel seeds decorrelate pixels, so the image has white-noise-like
+ * error with the convergence of a stratified (0,2)-net within each pair:
+ * for smooth integrands the variance falls faster than 1/N, best at powers
+ * of two. 1D requests (Russian roulette) use one scrambled van der Corput
+ * coordinate with its own index shuffle.
+ *
+ * PT_SAMPLER_INDEPENDENT: PCG32 numbers from one stream per pixel, as the
+ * reference used before; kept to measure the gain.
+ *
+ * Both depend only on (seed, pixel, sample index, request order), never on
+ * threads or tiles. */
+#ifndef RTGI_SAMPLER_H
+#define RTGI_SAMPLER_H
+
+#include <stdint.h>
+
+#include "reference/pathtracer.h"
+#include "reference/rng.h"
+
+typedef struct Sampler {
+    PtSampler kind;
+    Rng rng;           /* independent: the pixel's stream */
+    uint64_t pixel_key;/* sobol: hash of (seed, pixel) */
+    uint32_t index;    /* sobol: sample index within the pixel */
+    uint32_t dim;      /* sobol: requests made so far in this sample */
+} Sampler;
+
+static inline uint32_t sampler_reverse_bits(uint32_t x)
+{
+    x = __builtin_bswap32(x);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    return ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+}
+
+/* Burley's hash in the style of Laine & Karras: a permutation of 32-bit
+ * integers in which each bit depends only on the bits below it, so that on
+ * bit-reversed input it flips each bit depending only on the bits above it:
+ * exactly a nested uniform scramble, with one random flip per tree node
+ * drawn by hashing. */
+static inline uint32_t sampler_lk_permute(uint32_t x, uint32_t seed)
+{
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+/* Owen scramble of a 32-bit binary fraction (most significant bit first). */
+static inline uint32_t sampler_owen(uint32_t x, uint32_t seed)
+{
+    return sampler_reverse_bits(sampler_lk_permute(sampler_reverse_bits(x), seed));
+}
+
+/* Sobol' dimension 1 (generator matrix: Pascal's triangle mod 2, from the
+ * primitive polynomial x + 1; dimension 0 is van der Corput, i.e. the
+ * reversed index) at index i, as a 32-bit fraction, by table per byte of i:
+ * sobol1_table[b][v] is the XOR of the direction numbers of the set bits of
+ * v at bits 8b… of the index. Only the top 24 bits of a coordinate are ever
+ * used (sampler_to_float), and index bit k only reaches coordinate bits
+ * below 32 − k, through the scramble too (each output bit depends only on
+ * the bits above it), so index bits from 24 up are dropped. Filled by
+ * sampler_init. */
+extern uint32_t sobol1_table[3][256];
+
+/* Fills the tables; idempotent and thread-safe. */
+void sampler_init(void);
+
+static inline uint32_t sobol_dim1(uint32_t i)
+{
+    return sobol1_table[0][i & 0xffu] ^ sobol1_table[1][(i >> 8) & 0xffu] ^ sobol1_table[2][(i >> 16) & 0xffu];
+}
+
+static inline float sampler_to_float(uint32_t x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
+
+static inline Sampler sampler_make(PtSampler kind, uint64_t seed, uint64_t pixel)
+{
+    Sampler s = {0};
+    s.kind = kind;
+    if (kind == PT_SAMPLER_INDEPENDENT)
+        s.rng = rng_make(seed, pixel);
+    else
+        s.pixel_key = hash64(hash64(seed ^ 0x5851f42d4c957f2dULL) ^ pixel);
+    return s;
+}
+
+/* Starts sample `index` of the pixel (independent: the stream just goes on). */
+static inline void sampler_start(Sampler *s, uint32_t index)
+{
+    s->index = index;
+    s->dim = 0;
+}
+
+/* A 32-bit integer hash (Wellons' "lowbias32"), to derive a request's
+ * seeds from one 64-bit hash. */
+static inline uint32_t sampler_hash32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+/* Seeds of the current request: index shuffle, first and second coordinate. */
+static inline void sampler_seeds(const Sampler *s, uint32_t seed[3])
+{
+    uint64_t h = hash64(s->pixel_key + 0x9e3779b97f4a7c15ULL * ((uint64_t)s->dim + 1));
+    seed[0] = (uint32_t)h;
+    seed[1] = (uint32_t)(h >> 32);
+    seed[2] = sampler_hash32(seed[0] ^ 0xa511e9b3u) ^ seed[1];
+}
+
+static inline void sampler_2d(Sampler *s, float u[2])
+{
+    if (s->kind == PT_SAMPLER_INDEPENDENT) {
+        u[0] = rng_float(&s->rng);
+        u[1] = rng_float(&s->rng);
+        return;
+    }
+    uint32_t seed[3];
+    sampler_seeds(s, seed);
+    uint32_t i = sampler_owen(s->index, seed[0]);
+    /* Owen(van der Corput(i)) = reverse(LK(reverse(reverse(i)))). */
+    u[0] = sampler_to_float(sampler_reverse_bits(sampler_lk_permute(i, seed[1])));
+    u[1] = sampler_to_float(sampler_owen(sobol_dim1(i), seed[2]));
+    s->dim++;
+}
+
+static inline float sampler_1d(Sampler *s)
+{
+    if (s->kind == PT_SAMPLER_INDEPENDENT)
+        return rng_float(&s->rng);
+    uint32_t seed[3];
+    sampler_seeds(s, seed);
+    uint32_t i = sampler_owen(s->index, seed[0]);
+    float u = sampler_to_float(sampler_reverse_bits(sampler_lk_permute(i, seed[1])));
+    s->dim++;
+    return u;
+}
+
+#endif

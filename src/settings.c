@@ -37,7 +37,7 @@ const SettingDesc settings_table[] = {
     /* Reflective shadow maps (SPEC §3). */
     {"gi", "rsm_size", "--rsm-size", SETTING_INT, GI(rsm_size), 0, 4, 4096, 512, NULL,
      "RSM texels per side, per cube face for point/quad lights"},
-    {"gi", "samples", "--rsm-samples", SETTING_INT, GI(samples), 0, 1, 65536, 400, NULL, "samples per gather"},
+    {"gi", "samples", "--rsm-samples", SETTING_INT, GI(samples), 0, 1, LOOP_CHUNK, 400, NULL, "samples per gather"},
     {"gi", "r_max", "--rsm-rmax", SETTING_FLOAT, GI(r_max), 0, 1e-4, 4, 0.3, NULL,
      "sampling radius (RSM widths)"},
     {"gi", "weighting", "--rsm-weighting", SETTING_ENUM, GI(weighting), 0, 0, 2, 2, k_weightings,

@@ -227,6 +227,71 @@ static void near_clamp_bias_is_measurable(void **state)
     scene_free(&s);
 }
 
+/* vpl-all sums every VPL, however many (llvmpipe ends a shader loop after
+ * 65535 iterations: the sum runs in chunks): above 65,536 VPLs its
+ * irradiance equals a double-precision CPU sum over the VPL buffer on a few
+ * pixels, and it reports one evaluation per VPL and pixel. */
+static void vpl_all_sums_every_vpl(void **state)
+{
+    (void)state;
+    enum { W8 = 16, H8 = 16 };
+    Scene s;
+    GiParams gp;
+    cornell(&s, &gp, 150000);
+    RenderSettings rs = test_settings(&s, W8, H8, SHADOW_MODE_HARD);
+    rs.gi = GI_VPL_ALL;
+    rs.gi_params = gp;
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    const RenderStats *st = renderer_collect_stats(&r);
+    uint32_t n = st->vpl_count;
+    assert_true(n > 65536);
+    assert_true(st->vpl_evaluations >= (uint64_t)n * 100); /* every VPL at every lit pixel */
+    GpuVpl *v = malloc(sizeof(GpuVpl) * n);
+    float *pos = malloc(sizeof(float) * 4 * W8 * H8), *nrm = malloc(sizeof(float) * 4 * W8 * H8);
+    float *irr = malloc(sizeof(float) * 4 * W8 * H8);
+    assert_non_null(v);
+    glGetNamedBufferSubData(r.lights.vpls.vpls, 0, (GLsizeiptr)(sizeof(GpuVpl) * n), v);
+    glGetTextureImage(r.gbuffer.position, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W8 * H8), pos);
+    glGetTextureImage(r.gbuffer.normal, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W8 * H8), nrm);
+    glGetTextureImage(r.irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W8 * H8), irr);
+    const int pixels[4][2] = {{8, 2}, {3, 8}, {12, 12}, {8, 14}};
+    for (int k = 0; k < 4; k++) {
+        int idx = 4 * (pixels[k][1] * W8 + pixels[k][0]);
+        if (pos[idx + 3] == 0.f)
+            continue;
+        double e[3] = {0, 0, 0};
+        for (uint32_t i = 0; i < n; i++) {
+            double d[3], d2 = 0;
+            for (int c = 0; c < 3; c++) {
+                d[c] = (double)pos[idx + c] - v[i].position_xi[c];
+                d2 += d[c] * d[c];
+            }
+            if (d2 < 1e-12)
+                d2 = 1e-12;
+            double inv = 1.0 / sqrt(d2), cp = 0, cx = 0;
+            for (int c = 0; c < 3; c++) {
+                cp += v[i].normal[c] * d[c] * inv;
+                cx -= nrm[idx + c] * d[c] * inv;
+            }
+            double g = (cp > 0 ? cp : 0) * (cx > 0 ? cx : 0) / (GLM_PI * d2);
+            for (int c = 0; c < 3; c++)
+                e[c] += v[i].flux[c] * g;
+        }
+        print_message("pixel (%d, %d): GPU E %.6g, CPU sum over %u VPLs %.6g\n", pixels[k][0], pixels[k][1],
+                      (double)irr[idx], n, e[0]);
+        for (int c = 0; c < 3; c++)
+            assert_true(fabs(irr[idx + c] - e[c]) <= 1e-3 * e[c] + 1e-7);
+    }
+    free(v);
+    free(pos);
+    free(nrm);
+    free(irr);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 static void bad_vpl_parameters(void **state)
 {
     (void)state;
@@ -254,6 +319,7 @@ int main(void)
         cmocka_unit_test(slc_beats_uniform_subsampling),
         cmocka_unit_test(metalights),
         cmocka_unit_test(near_clamp_bias_is_measurable),
+        cmocka_unit_test(vpl_all_sums_every_vpl),
         cmocka_unit_test(bad_vpl_parameters),
     };
     return cmocka_run_group_tests_name("vpl", tests, test_gl_setup, test_gl_teardown);

@@ -68,6 +68,12 @@
 #define LOC_GATHER_EXHAUSTIVE 10 /* rsm gather: int, sum every VPL instead of sampling */
 #define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
 #define LOC_IMPORTANCE_LEVEL 10 /* gi/rsm/importance.comp: int, pyramid level written / top level */
+#define LOC_CHUNK 12            /* rsm gather (exhaustive), vpl shade: uint, first index of this dispatch's chunk */
+
+/* Sums over VPLs run as one dispatch per LOOP_CHUNK of them, each adding to
+ * the image: llvmpipe ends any one shader loop after 65535 iterations
+ * (gallivm's guard against endless loops), nested or not. */
+#define LOOP_CHUNK 32768
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile

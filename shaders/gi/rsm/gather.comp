@@ -6,7 +6,8 @@
 //   MODE_INTERLEAVED  the de-interleaved G-buffer (bound as g_position/g_normal);
 //                     sub-image k uses the disjoint
 //                     sample subset k, k + n·m, k + 2·n·m, ...
-// With u_exhaustive the sum runs over every VPL of SSBO_VPL instead.
+// With u_exhaustive the sum runs over every VPL of SSBO_VPL instead, one
+// dispatch per LOOP_CHUNK of them (the later ones accumulate).
 // u_accumulate adds to the image (one dispatch per light).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
@@ -25,6 +26,7 @@ layout(std430, binding = SSBO_PIXEL_LIST) readonly buffer PixelList { uint list_
 #endif
 layout(location = LOC_GATHER_EXHAUSTIVE) uniform int u_exhaustive;
 layout(location = LOC_GATHER_ACCUMULATE) uniform int u_accumulate;
+layout(location = LOC_CHUNK) uniform uint u_chunk; // exhaustive: this dispatch sums VPLs [u_chunk, u_chunk + LOOP_CHUNK)
 
 // A pixel's set of the importance sample list: a hash, so that neighbours
 // take independent ones.
@@ -44,8 +46,8 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
     if (u_exhaustive == 0)
         return rsm_gather(x, n, first, stride, count, u_gi.weighting == RSM_WEIGHT_UNBIASED, 0);
     vec3 e = vec3(0.0);
-    uint nv = counters[0];
-    for (uint i = 0u; i < nv; i++)
+    uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
+    for (uint i = u_chunk; i < nv; i++)
         e += vpl_irradiance(x, n, vpls[i].position_xi.xyz, vpls[i].normal.xyz, vpls[i].flux.rgb);
     return e;
 }

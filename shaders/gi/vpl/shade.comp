@@ -9,6 +9,8 @@
 //                     culling, unbiased) or 1/d² (clamped range, α = 0)
 //   MODE_INTERLEAVED  sub-image k = (x mod n) + n·(y mod m) sums its VPL
 //                     subset (SSBO_SUBSETS, length L each), weighted by K = n·m
+// Each dispatch sums one chunk of LOOP_CHUNK entries of the pixel's list and
+// adds to the image and the counters (the first chunk writes them).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "gi/vpl/falloff.glsl"
@@ -17,12 +19,13 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
 layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
-layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_irradiance;
+layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
+layout(location = LOC_CHUNK) uniform uint u_chunk; // this dispatch sums list entries [u_chunk, u_chunk + LOOP_CHUNK)
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
 layout(std430, binding = SSBO_VPL_RANGE) readonly buffer RangeBlock { vec2 ranges[]; };
 layout(std430, binding = SSBO_TILES) readonly buffer TileBlock { uint tiles[]; };
-layout(std430, binding = SSBO_EVALS) writeonly buffer EvalBlock { uint evals[]; };
+layout(std430, binding = SSBO_EVALS) buffer EvalBlock { uint evals[]; };
 layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { uint subsets[]; };
 
 shared uint s_evals;
@@ -46,8 +49,8 @@ void main()
         float d2;
 #if defined(MODE_ALL)
         float q = u_vpl.keep;
-        uint nv = counters[0];
-        for (uint i = 0u; i < nv; i++) {
+        uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
+        for (uint i = u_chunk; i < nv; i++) {
             if (q < 1.0 && vpls[i].position_xi.w >= q)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
@@ -59,8 +62,9 @@ void main()
         uint ntiles = uint(u_vpl.tiles_x * u_vpl.tiles_y);
         uint tile = uint(px.y / VPL_TILE) * uint(u_vpl.tiles_x) + uint(px.x / VPL_TILE);
         uint cap = u_vpl.tile_capacity, nt = tiles[tile];
-        visits = nt;
-        for (uint k = 0u; k < nt; k++) {
+        uint k1 = min(nt, u_chunk + uint(LOOP_CHUNK));
+        visits = k1 > u_chunk ? k1 - u_chunk : 0u;
+        for (uint k = u_chunk; k < k1; k++) {
             uint i = tiles[ntiles + 1u + tile * cap + k];
             vec2 ar = ranges[i];
             vec3 d = x - vpls[i].position_xi.xyz;
@@ -74,7 +78,8 @@ void main()
         int nn = u_vpl.interleave_n, mm = u_vpl.interleave_m;
         uint k = uint(px.x % nn + nn * (px.y % mm));
         uint len = u_vpl.subset_len;
-        for (uint j = k * len; j < (k + 1u) * len; j++) {
+        uint j1 = min(len, u_chunk + uint(LOOP_CHUNK));
+        for (uint j = k * len + u_chunk; j < k * len + j1; j++) {
             uint i = subsets[j];
             if (i == 0xffffffffu)
                 continue;
@@ -88,14 +93,18 @@ void main()
 #if !defined(MODE_TILED)
     visits = count;
 #endif
-    if (inside)
+    if (inside) {
+        if (u_chunk > 0u)
+            e += imageLoad(o_irradiance, px).rgb;
         imageStore(o_irradiance, px, vec4(e, 1.0));
+    }
     atomicAdd(s_evals, count);
     atomicAdd(s_visits, visits);
     barrier();
     if (gl_LocalInvocationIndex == 0u) {
         uint g = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-        evals[g] = s_evals;
-        evals[gl_NumWorkGroups.x * gl_NumWorkGroups.y + g] = s_visits;
+        uint gv = gl_NumWorkGroups.x * gl_NumWorkGroups.y + g;
+        evals[g] = (u_chunk > 0u ? evals[g] : 0u) + s_evals;
+        evals[gv] = (u_chunk > 0u ? evals[gv] : 0u) + s_visits;
     }
 }

@@ -293,19 +293,25 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
         if (importance_on(g))
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
         glProgramUniform1i(prog, LOC_GATHER_EXHAUSTIVE, exh ? 1 : 0);
-        glProgramUniform1i(prog, LOC_GATHER_ACCUMULATE, i > 0 ? 1 : 0);
         glUseProgram(prog);
-        switch (layout) {
-        case GATHER_LOWRES:
-            gi_dispatch_pixels((g->width + g->params.interp_factor - 1) / g->params.interp_factor,
-                               (g->height + g->params.interp_factor - 1) / g->params.interp_factor);
-            break;
-        case GATHER_INTERLEAVED:
-            gi_dispatch_pixels(g->il.di_w, g->il.di_h);
-            break;
-        default: /* FULL; LIST: one thread per possible entry, those past the count return at once */
-            gi_dispatch_pixels(g->width, g->height);
-            break;
+        /* Exhaustive: one dispatch per LOOP_CHUNK VPLs (llvmpipe ends a
+         * shader loop after 65535 iterations), the later ones adding. */
+        uint32_t vpls = exh ? ls->vpls.capacity : 1;
+        for (uint32_t chunk = 0; chunk < vpls; chunk += LOOP_CHUNK) {
+            glProgramUniform1i(prog, LOC_GATHER_ACCUMULATE, i > 0 || chunk > 0 ? 1 : 0);
+            glProgramUniform1ui(prog, LOC_CHUNK, chunk);
+            switch (layout) {
+            case GATHER_LOWRES:
+                gi_dispatch_pixels((g->width + g->params.interp_factor - 1) / g->params.interp_factor,
+                                   (g->height + g->params.interp_factor - 1) / g->params.interp_factor);
+                break;
+            case GATHER_INTERLEAVED:
+                gi_dispatch_pixels(g->il.di_w, g->il.di_h);
+                break;
+            default: /* FULL; LIST: one thread per possible entry, those past the count return at once */
+                gi_dispatch_pixels(g->width, g->height);
+                break;
+            }
         }
     }
 }

@@ -346,10 +346,17 @@ static void vpl_run(void *state, const GiFrame *f)
     bind_all(v, f->lights);
     glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
     glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
-    glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glUseProgram(v->shade);
-    glDispatchCompute((GLuint)(v->width + 7) / 8, (GLuint)(v->height + 7) / 8, 1);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+    /* One dispatch per LOOP_CHUNK entries of the longest list a pixel can
+     * have (llvmpipe ends a shader loop after 65535 iterations). */
+    uint32_t longest = tiled(v) ? v->tile_capacity : interleaved(v) ? v->subset_len : v->vpl_capacity;
+    for (uint32_t chunk = 0; chunk == 0 || chunk < longest; chunk += LOOP_CHUNK) {
+        glProgramUniform1ui(v->shade, LOC_CHUNK, chunk);
+        glDispatchCompute((GLuint)(v->width + 7) / 8, (GLuint)(v->height + 7) / 8, 1);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                        GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    }
     gpu_timer_end(t);
     if (blur) {
         gpu_timer_begin(t, "interleave_blur");

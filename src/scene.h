@@ -104,6 +104,7 @@ typedef struct GiParams {
     int vpl_count;         /* VPLs per light wanted (sets the RSM size); 0: the RSM size decides */
     float slc_emax;        /* stochastic light culling error bound e_max (0.0005) */
     float vpl_near_clamp;  /* falloff 1/max(d², c) with c in m²; 0 = off (the notes use 0.1) */
+    bool vpl_disk;         /* VPLs fall off as disks of their texel's area: 1/(d² + A/π) */
     float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
     float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
     unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */

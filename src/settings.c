@@ -63,6 +63,8 @@ const SettingDesc settings_table[] = {
      "stochastic light culling error bound e_max"},
     {"gi", "vpl_near_clamp", "--vpl-near-clamp", SETTING_FLOAT, GI(vpl_near_clamp), 0, 0, 1e6, 0, NULL,
      "falloff 1/max(d^2, C), C in m^2 (notes: 0.1); 0 = off"},
+    {"gi", "vpl_disk", "--vpl-disk", SETTING_BOOL, GI(vpl_disk), 0, 0, 1, 1, NULL,
+     "VPLs fall off as disks of their surface area, 1/(d^2 + A/pi): bounded near, 1/d^2 far"},
     {"gi", "vpl_range", "--vpl-range", SETTING_FLOAT, GI(vpl_range), 0, 0, 1e6, 0, NULL,
      "vpl-clamped range (m); 0 = 0.15 x scene diagonal"},
     {"gi", "vpl_keep", "--vpl-keep", SETTING_FLOAT, GI(vpl_keep), 0, 1e-6, 1, 1, NULL,

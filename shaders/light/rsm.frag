@@ -36,7 +36,18 @@ void main()
     }
     if (dot(n, to_light) < 0.0)
         n = -n; // two-sided: the lit side reflects
+    // The surface area the texel stands for: its footprint across the ray
+    // (A, or Ω·d²) over the cosine to the surface (floored at grazing).
+    float cos_s = max(dot(n, to_light), 0.05);
+    float area;
+    if (int(u_light.position_type.w) == LIGHT_DIRECTIONAL) {
+        area = u_texel_area / cos_s;
+    } else {
+        vec3 d = v_world - u_light.position_type.xyz;
+        float c = abs(dot(normalize(d), u_face_axis));
+        area = u_texel_area * c * c * c * dot(d, d) / cos_s;
+    }
     o_position = vec4(v_world, 1.0);
     o_normal = vec4(n, 0.0);
-    o_flux = vec4(albedo * power, 1.0);
+    o_flux = vec4(albedo * power, area);
 }

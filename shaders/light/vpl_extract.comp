@@ -30,7 +30,8 @@ void main()
     if (id.x >= size.x || id.y >= size.y || id.z >= size.z)
         return;
     vec4 p = texelFetch(r_position, id, 0);
-    vec3 flux = texelFetch(r_flux, id, 0).rgb * float(u_stride * u_stride);
+    vec4 fa = texelFetch(r_flux, id, 0) * float(u_stride * u_stride); // flux, area
+    vec3 flux = fa.rgb;
     if (p.w == 0.0 || max(flux.r, max(flux.g, flux.b)) <= 0.0)
         return;
     uint texel = uint(id.x + size.x * (id.y + size.y * id.z));
@@ -38,5 +39,5 @@ void main()
     uint i = atomicAdd(counters[0], 1u);
     vpls[i].position_xi = vec4(p.xyz, xi);
     vpls[i].normal = vec4(texelFetch(r_normal, id, 0).xyz, 0.0);
-    vpls[i].flux = vec4(flux, 0.0);
+    vpls[i].flux = vec4(flux, fa.a);
 }

@@ -148,7 +148,7 @@
 #define GPU_VPL_FIELDS(F, A)                                          \
     F(vec4, position_xi) /* xyz: position; w: its fixed random ξ in (0,1] */ \
     F(vec4, normal)      /* xyz: unit normal (lit side) */            \
-    F(vec4, flux)        /* rgb: reflected flux Φ (W) */
+    F(vec4, flux)        /* rgb: reflected flux Φ (W); w: area of the surface it stands for (m²) */
 
 /* Many-VPL shading (std140). */
 #define GPU_VPL_PARAMS_FIELDS(F, A)                                               \
@@ -165,7 +165,8 @@
     F(int, interleave_n)    /* interleaving pattern n × m */                     \
     F(int, interleave_m)                                                         \
     F(int, signature_w)     /* metalight signature grid */                       \
-    F(int, signature_h)
+    F(int, signature_h)                                                          \
+    F(int, disk)            /* 1: VPLs fall off as disks of their area, 1/(d² + A/π) */
 
 /* ---- Declarations --------------------------------------------------------- */
 #ifdef GL_core_profile /* GLSL */
@@ -206,7 +207,7 @@ static_assert(sizeof(GpuShadowParams) == 2 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuS
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
 static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 rounds the block to 80)");
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
-static_assert(sizeof(GpuVplParams) == 14 * 4, "GpuVplParams: 14 scalars (std140 rounds the block to 64)");
+static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
 #endif
 
 #endif

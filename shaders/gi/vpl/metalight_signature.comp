@@ -33,7 +33,7 @@ void main()
                 continue;
             float d2;
             vec3 ic = vpl_intensity_cos(vpls[i], p.xyz, texelFetch(g_normal, px, 0).xyz, d2);
-            float c = dot(ic * vpl_falloff(d2), vec3(0.2126, 0.7152, 0.0722));
+            float c = dot(ic * vpl_falloff(vpls[i], d2), vec3(0.2126, 0.7152, 0.0722));
             mean_uv += c * uv;
             total += c;
         }

@@ -54,7 +54,7 @@ void main()
             if (q < 1.0 && vpls[i].position_xi.w >= q)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * vpl_falloff(d2);
+            e += ic * vpl_falloff(vpls[i], d2);
             count++;
         }
         e /= q;
@@ -71,7 +71,7 @@ void main()
             if (dot(d, d) >= ar.y * ar.y)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * max(ar.x, vpl_falloff(d2));
+            e += ic * max(ar.x, vpl_falloff(vpls[i], d2));
             count++;
         }
 #elif defined(MODE_INTERLEAVED)
@@ -84,7 +84,7 @@ void main()
             if (i == 0xffffffffu)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * vpl_falloff(d2);
+            e += ic * vpl_falloff(vpls[i], d2);
             count++;
         }
         e *= float(u_vpl.subset_count);

@@ -177,6 +177,7 @@ static void upload_params(VplGi *v, float exposure, float range)
     u.interleave_m = gp->interleave_m;
     u.signature_w = 16;
     u.signature_h = 16;
+    u.disk = gp->vpl_disk ? 1 : 0;
     v->gpu = u;
     glNamedBufferSubData(v->ubo, 0, sizeof u, &u);
 }

@@ -58,20 +58,33 @@ void gpu_scene_destroy(GpuScene *g)
 
 void gpu_scene_draw(const GpuScene *g, const Scene *s, GLuint program, DrawFlags flags)
 {
+    gpu_scene_draw_split(g, s, program, program, flags);
+}
+
+void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags)
+{
     glBindVertexArray(g->vao);
-    for (int i = 0; i < s->submesh_count; i++) {
-        const Submesh *sm = &s->submeshes[i];
-        const Material *m = &s->materials[sm->material];
-        if ((flags & DRAW_SKIP_EMITTERS) && m->light_index >= 0)
-            continue;
-        glProgramUniform3fv(program, LOC_MATERIAL_ALBEDO, 1, m->albedo);
-        glProgramUniform1i(program, LOC_MATERIAL_HAS_TEX, m->albedo_tex >= 0);
-        glProgramUniform1f(program, LOC_MATERIAL_CUTOFF, m->alpha_mask ? m->alpha_cutoff : -1.f);
-        glProgramUniform3fv(program, LOC_MATERIAL_EMISSION, 1, m->emission);
-        if (m->albedo_tex >= 0)
-            glBindTextureUnit(TEX_ALBEDO, g->textures[m->albedo_tex]);
-        glDrawElements(GL_TRIANGLES, (GLsizei)sm->index_count, GL_UNSIGNED_INT,
-                       (const void *)(sizeof(uint32_t) * sm->first_index));
+    /* Opaque first (they fill depth that masked draws are then tested
+     * against), masked after; one pass when both programs are the same. */
+    for (int pass = 0; pass < (opaque == masked ? 1 : 2); pass++) {
+        GLuint program = pass == 0 ? opaque : masked;
+        glUseProgram(program);
+        for (int i = 0; i < s->submesh_count; i++) {
+            const Submesh *sm = &s->submeshes[i];
+            const Material *m = &s->materials[sm->material];
+            if ((flags & DRAW_SKIP_EMITTERS) && m->light_index >= 0)
+                continue;
+            if (opaque != masked && m->alpha_mask != (pass == 1))
+                continue;
+            glProgramUniform3fv(program, LOC_MATERIAL_ALBEDO, 1, m->albedo);
+            glProgramUniform1i(program, LOC_MATERIAL_HAS_TEX, m->albedo_tex >= 0);
+            glProgramUniform1f(program, LOC_MATERIAL_CUTOFF, m->alpha_mask ? m->alpha_cutoff : -1.f);
+            glProgramUniform3fv(program, LOC_MATERIAL_EMISSION, 1, m->emission);
+            if (m->albedo_tex >= 0)
+                glBindTextureUnit(TEX_ALBEDO, g->textures[m->albedo_tex]);
+            glDrawElements(GL_TRIANGLES, (GLsizei)sm->index_count, GL_UNSIGNED_INT,
+                           (const void *)(sizeof(uint32_t) * sm->first_index));
+        }
     }
     glBindVertexArray(0);
 }

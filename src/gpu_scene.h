@@ -25,8 +25,11 @@ typedef enum DrawFlags {
     DRAW_SKIP_EMITTERS = 1, /* light emitter geometry (shadow maps, RSM) */
 } DrawFlags;
 
-/* Draws every submesh with the current program, setting the material
- * uniforms (LOC_MATERIAL_*) and binding its albedo texture to TEX_ALBEDO. */
+/* Draws every submesh with `program`, setting the material uniforms
+ * (LOC_MATERIAL_*) and binding its albedo texture to TEX_ALBEDO. */
 void gpu_scene_draw(const GpuScene *g, const Scene *s, GLuint program, DrawFlags flags);
+/* The same with opaque materials drawn by `opaque` (which may skip the
+ * material altogether) and alpha-masked ones by `masked`. */
+void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags);
 
 #endif

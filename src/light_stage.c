@@ -152,7 +152,16 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     ls->scene = s;
     ls->desc = *desc;
     ls->light_count = s->light_count;
-    ls->shadow_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "shadow", .vert = "frame/scene.vert", .frag = "light/shadow_depth.frag", .defines = NULL});
+    static const char *const shadow_defs[2][2] = {
+        {"", "#define ALPHA_MASK\n"},
+        {"#define DEPTH_FROM_RASTER\n", "#define DEPTH_FROM_RASTER\n#define ALPHA_MASK\n"}};
+    for (int ortho = 0; ortho < 2; ortho++)
+        for (int masked = 0; masked < 2; masked++)
+            ls->shadow_programs[ortho][masked] = program_cache_get(
+                pc, &(ShaderProgramDesc){.label = "shadow", .vert = "frame/scene.vert",
+                                         .frag = "light/shadow_depth.frag", .defines = shadow_defs[ortho][masked]});
+    ls->shadow_program = ls->shadow_programs[0][0] && ls->shadow_programs[0][1] && ls->shadow_programs[1][0] &&
+                         ls->shadow_programs[1][1];
     ls->rsm_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm", .vert = "frame/scene.vert", .frag = "light/rsm.frag", .defines = NULL});
     ls->vpl_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "vpl_extract", .comp = "light/vpl_extract.comp", .defines = NULL});
     if (!ls->shadow_program || !ls->rsm_program || !ls->vpl_program)
@@ -203,11 +212,11 @@ static void bind_slot(const LightStage *ls, int light, int slot)
     glBindBufferRange(GL_UNIFORM_BUFFER, UBO_LIGHT, ls->light_array, at, sizeof(GpuLight));
 }
 
-/* Draws the scene (emitters skipped) into each face of a map. */
-static void draw_faces(const LightStage *ls, GLuint program, const ShadowFrame *f, int size, GLuint fbo,
+/* Draws the scene (emitters skipped) into each face of a map: opaque
+ * materials with `program`, alpha-masked ones with `masked` (may equal it). */
+static void draw_faces(const LightStage *ls, GLuint program, GLuint masked, const ShadowFrame *f, int size, GLuint fbo,
                        const GpuScene *gs, void (*per_face)(const LightStage *, int face, void *), void *user)
 {
-    glUseProgram(program);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_CULL_FACE);
@@ -217,7 +226,9 @@ static void draw_faces(const LightStage *ls, GLuint program, const ShadowFrame *
     for (int face = 0; face < f->face_count; face++) {
         per_face(ls, face, user);
         glProgramUniformMatrix4fv(program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
-        gpu_scene_draw(gs, ls->scene, program, DRAW_SKIP_EMITTERS);
+        if (masked != program)
+            glProgramUniformMatrix4fv(masked, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
+        gpu_scene_draw_split(gs, ls->scene, program, masked, DRAW_SKIP_EMITTERS);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
@@ -280,7 +291,9 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         if (!maps)
             continue;
         bind_slot(ls, i, SLOT_SHADOW);
-        draw_faces(ls, ls->shadow_program, &m->frame, m->size, m->fbo, gs, shadow_face, m);
+        int ortho = s->lights[i].type == LIGHT_DIRECTIONAL;
+        draw_faces(ls, ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], &m->frame, m->size, m->fbo, gs,
+                   shadow_face, m);
     }
     if (maps)
         gpu_timer_end(t);
@@ -298,7 +311,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         /* Texel area on the projection plane: ortho (2r/res)², perspective at
          * distance 1: k² with k = 2·tan(fov/2)/res. */
         glProgramUniform1f(ls->rsm_program, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
-        draw_faces(ls, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face, m);
+        draw_faces(ls, ls->rsm_program, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face, m);
     }
     gpu_timer_end(t);
 

@@ -77,7 +77,9 @@ typedef struct LightStage {
     VplBuffer vpls;       /* when LIGHT_NEEDS_VPLS */
     uint64_t vpl_key;     /* what the VPLs were extracted from (0: none yet) */
     int vpl_extractions;  /* how many times VPLs were extracted */
-    GLuint shadow_program, rsm_program, vpl_program; /* from the program cache */
+    GLuint shadow_programs[2][2]; /* [directional][alpha-masked], from the program cache */
+    GLuint shadow_program;        /* nonzero when all four built */
+    GLuint rsm_program, vpl_program; /* from the program cache */
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
 } LightStage;
 

@@ -193,6 +193,7 @@ int cmd_view(int argc, char **argv)
     View v = {0};
     render_options_settings(&o, &scene, &v.settings);
     v.settings.timings = true;
+    v.settings.cache = true; /* the window's common case: lights still, camera moving */
     v.settings.timing_sync = false;
     v.camera = v.home = scene.camera;
     view_set_angles(&v, &v.camera);

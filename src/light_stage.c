@@ -274,46 +274,82 @@ static uint64_t vpl_key(const LightStage *ls)
     return h ? h : 1;
 }
 
+/* What a map of light i at `size` depends on (never 0). */
+static uint64_t map_key(const Light *l, int size, uint64_t kind)
+{
+    uint64_t h = 1469598103934665603ull ^ kind;
+    const unsigned char *p = (const unsigned char *)l;
+    for (size_t i = 0; i < sizeof *l; i++)
+        h = (h ^ p[i]) * 1099511628211ull;
+    h = (h ^ (uint64_t)size) * 1099511628211ull;
+    return h ? h : 1;
+}
+
+void light_stage_invalidate(LightStage *ls)
+{
+    for (int i = 0; i < ls->light_count; i++) {
+        if (ls->shadow)
+            ls->shadow[i].key = 0;
+        if (ls->rsm)
+            ls->rsm[i].key = 0;
+    }
+    ls->vpl_key = 0;
+}
+
 void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
 {
     const Scene *s = ls->scene;
     const LightStageDesc *d = &ls->desc;
-    /* Frames: every light's shadow-lookup block, whether or not maps are drawn. */
-    bool maps = (d->needs & LIGHT_NEEDS_SHADOW_MAPS) != 0;
-    if (maps)
-        gpu_timer_begin(t, "shadow");
+    /* Frames: every light's shadow-lookup block, whether or not maps are
+     * drawn; a map is drawn unless caching finds it current. */
+    bool maps = (d->needs & LIGHT_NEEDS_SHADOW_MAPS) != 0, timing = false;
     for (int i = 0; i < ls->light_count; i++) {
         ShadowMap none = {0}, *m = maps ? &ls->shadow[i] : &none;
         GpuLight g;
         shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, d->shadow_map_size, &m->frame);
         shadow_frame_to_gpu(&s->lights[i], &m->frame, d->shadow_map_size, &g);
         upload_slot(ls, i, SLOT_SHADOW, &g);
-        if (!maps)
+        uint64_t key = map_key(&s->lights[i], d->shadow_map_size, 1);
+        if (!maps || (d->cache && m->key == key))
             continue;
+        if (!timing)
+            gpu_timer_begin(t, "shadow");
+        timing = true;
+        m->key = key;
+        ls->map_draws++;
         bind_slot(ls, i, SLOT_SHADOW);
         int ortho = s->lights[i].type == LIGHT_DIRECTIONAL;
         draw_faces(ls, ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], &m->frame, m->size, m->fbo, gs,
                    shadow_face, m);
     }
-    if (maps)
+    if (timing)
         gpu_timer_end(t);
     if (!ls->rsm)
         return;
 
-    gpu_timer_begin(t, "rsm");
+    timing = false;
     for (int i = 0; i < ls->light_count; i++) {
         RsmMap *m = &ls->rsm[i];
         GpuLight g;
         shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, m->size, &m->frame);
         shadow_frame_to_gpu(&s->lights[i], &m->frame, m->size, &g);
         upload_slot(ls, i, SLOT_RSM, &g);
+        uint64_t key = map_key(&s->lights[i], m->size, 2);
+        if (d->cache && m->key == key)
+            continue;
+        if (!timing)
+            gpu_timer_begin(t, "rsm");
+        timing = true;
+        m->key = key;
+        ls->map_draws++;
         bind_slot(ls, i, SLOT_RSM);
         /* Texel area on the projection plane: ortho (2r/res)², perspective at
          * distance 1: k² with k = 2·tan(fov/2)/res. */
         glProgramUniform1f(ls->rsm_program, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
         draw_faces(ls, ls->rsm_program, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face, m);
     }
-    gpu_timer_end(t);
+    if (timing)
+        gpu_timer_end(t);
 
     uint64_t key = vpl_key(ls);
     if (!(d->needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)

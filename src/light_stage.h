@@ -9,6 +9,9 @@
  *   - the VPL buffer (every lit RSM texel a VPL, SPEC §3–4) when it declares
  *     LIGHT_NEEDS_VPLS; re-extracted only when a light or an RSM setting
  *     changes, so its order is stable for techniques that index it.
+ * With `cache` set, a shadow map or RSM is redrawn only when its light or
+ * its size changed since it was last drawn (the scene's geometry is fixed
+ * for the stage's lifetime); light_stage_invalidate forces a redraw.
  * Maps are 2D for directional/spot lights and cubes for point/quad lights.
  * Inputs: the scene (borrowed), its GpuScene. Owns: every map, the light
  * array, the VPL buffer. Shaders: shaders/light/. */
@@ -37,6 +40,7 @@ typedef struct ShadowMap {
     GLuint texture;    /* DEPTH32F 2D or cube: distance to the light / far */
     GLuint fbo;
     ShadowFrame frame; /* projection of the last frame */
+    uint64_t key;      /* what it was last drawn for (0: never) */
 } ShadowMap;
 
 typedef struct RsmMap {
@@ -49,6 +53,7 @@ typedef struct RsmMap {
     GLuint view[3];    /* 2D-array views of position, normal, flux (compute passes) */
     GLuint fbo;
     ShadowFrame frame; /* projection of the last frame */
+    uint64_t key;      /* what it was last drawn for (0: never) */
 } RsmMap;
 
 typedef struct VplBuffer {
@@ -64,6 +69,7 @@ typedef struct LightStageDesc {
     int rsm_size;         /* per side, when vpl_count is 0 */
     int vpl_count;        /* > 0: RSM size per light from this VPL budget */
     unsigned vpl_seed;    /* seed of the VPLs' fixed random ξ */
+    bool cache;           /* redraw maps only when their light or size changed */
 } LightStageDesc;
 
 typedef struct LightStage {
@@ -77,6 +83,7 @@ typedef struct LightStage {
     VplBuffer vpls;       /* when LIGHT_NEEDS_VPLS */
     uint64_t vpl_key;     /* what the VPLs were extracted from (0: none yet) */
     int vpl_extractions;  /* how many times VPLs were extracted */
+    int map_draws;        /* shadow maps and RSMs drawn, in all */
     GLuint shadow_programs[2][2]; /* [directional][alpha-masked], from the program cache */
     GLuint shadow_program;        /* nonzero when all four built */
     GLuint rsm_program, vpl_program; /* from the program cache */
@@ -95,6 +102,9 @@ bool light_stage_configure(LightStage *ls, const LightStageDesc *desc);
 /* Computes every light's frames into the light array and builds the
  * products of the description (timer scopes "shadow", "rsm", "vpl_generate"). */
 void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t);
+
+/* Forgets what the maps were drawn for: the next run redraws them all. */
+void light_stage_invalidate(LightStage *ls);
 
 /* Binds light i's shadow-lookup block to UBO_LIGHT and its shadow map (or a
  * dummy) to TEX_SHADOW_2D/CUBE. */

@@ -22,6 +22,7 @@ static LightStageDesc light_desc(const RenderSettings *rs)
     d.rsm_size = gp->rsm_size;
     d.vpl_count = t->rsm_from_vpl_count ? gp->vpl_count : 0;
     d.vpl_seed = gp->vpl_seed;
+    d.cache = rs->cache;
     return d;
 }
 
@@ -194,6 +195,8 @@ void renderer_frame(Renderer *r, const Camera *cam)
 
     gpu_timer_end_frame(t);
 }
+
+void renderer_invalidate(Renderer *r) { light_stage_invalidate(&r->lights); }
 
 const RenderStats *renderer_collect_stats(Renderer *r)
 {

@@ -45,6 +45,7 @@ typedef struct RenderSettings {
     GiParams gi_params;
     bool timings;     /* per-pass GPU timer queries */
     bool timing_sync; /* also wall time per pass (glFinish around passes) */
+    bool cache;       /* keep light products (shadow maps, RSMs) until their light or size changes */
 } RenderSettings;
 
 typedef GiStats RenderStats;
@@ -81,6 +82,8 @@ void renderer_destroy(Renderer *r);
  * light products for shadow/RSM settings, the technique for its own. false
  * after logging (the renderer is then unusable until a successful apply). */
 bool renderer_apply(Renderer *r, const RenderSettings *rs);
+/* Makes the next frame a cold one: every cached light product is redrawn. */
+void renderer_invalidate(Renderer *r);
 /* Renders one frame from `cam`. */
 void renderer_frame(Renderer *r, const Camera *cam);
 /* Reads the last frame's GI counters back into r->stats (waits for the GPU). */

@@ -142,11 +142,75 @@ static void resize_and_exposure(void **state)
     scene_free(&s);
 }
 
+/* Issue 11: light products cached across frames. A cached (steady) frame
+ * equals a cold frame bit for bit and draws no map; moving the light, a
+ * new map size or renderer_invalidate redraws what depends on them, and the
+ * result equals a fresh renderer's. */
+static void cached_light_products(void **state)
+{
+    (void)state;
+    Scene s;
+    assert_true(scene_load(&s, "cornell"));
+    RenderSettings rs = settings_for(&s, GI_RSM, W, H);
+    rs.cache = true;
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    int cold_draws = r.lights.map_draws;
+    ImageF cold, steady, got, want;
+    assert_true(renderer_read_hdr(&r, &cold));
+    renderer_frame(&r, &s.camera);
+    assert_true(renderer_read_hdr(&r, &steady));
+    assert_int_equal(r.lights.map_draws, cold_draws); /* nothing redrawn */
+    assert_memory_equal(cold.rgb, steady.rgb, sizeof(float) * 3 * W * H);
+
+    /* The light moves: its shadow map and RSM are redrawn. */
+    s.lights[0].position[0] -= 0.05f;
+    renderer_frame(&r, &s.camera);
+    assert_int_equal(r.lights.map_draws, 2 * cold_draws);
+    assert_true(renderer_read_hdr(&r, &got));
+    RenderSettings fresh = rs;
+    fresh.cache = false;
+    fresh_image(&s, &fresh, &want);
+    assert_memory_equal(got.rgb, want.rgb, sizeof(float) * 3 * W * H);
+    image_free(&got);
+    image_free(&want);
+
+    /* A new shadow-map size remakes (and so redraws) the maps. */
+    rs.shadow_params.map_size = 96;
+    assert_true(renderer_apply(&r, &rs));
+    renderer_frame(&r, &s.camera);
+    assert_true(renderer_read_hdr(&r, &got));
+    fresh = rs;
+    fresh.cache = false;
+    fresh_image(&s, &fresh, &want);
+    assert_memory_equal(got.rgb, want.rgb, sizeof(float) * 3 * W * H);
+
+    /* Invalidation forces a cold frame with the same image. */
+    int before = r.lights.map_draws;
+    renderer_invalidate(&r);
+    renderer_frame(&r, &s.camera);
+    assert_int_equal(r.lights.map_draws, before + cold_draws);
+    image_free(&got);
+    assert_true(renderer_read_hdr(&r, &got));
+    assert_memory_equal(got.rgb, want.rgb, sizeof(float) * 3 * W * H);
+    print_message("cold frame: %d maps drawn; steady frames: 0; redrawn on a light move, a new map size and "
+                  "invalidation, each equal to a fresh renderer\n",
+                  cold_draws);
+    image_free(&cold);
+    image_free(&steady);
+    image_free(&got);
+    image_free(&want);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(switching_matches_fresh_and_releases),
         cmocka_unit_test(resize_and_exposure),
+        cmocka_unit_test(cached_light_products),
     };
     return cmocka_run_group_tests_name("lifetime", tests, test_gl_setup, test_gl_teardown);
 }

@@ -467,3 +467,39 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
     free(j);
     return true;
 }
+
+bool pt_emitter_mask(const Scene *scene, int w, int h, uint8_t *mask)
+{
+    PtScene ps;
+    if (!pt_scene_create(&ps, scene))
+        return false;
+    uint8_t *sees = calloc((size_t)w * h, 1);
+    if (!sees) {
+        log_error("reference", "cannot allocate a %dx%d emitter mask", w, h);
+        pt_scene_destroy(&ps);
+        return false;
+    }
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            vec3 d;
+            PtHit hit;
+            camera_ray(&scene->camera, w, h, (float)x + 0.5f, (float)y + 0.5f, d);
+            if (!pt_intersect(&ps, scene->camera.position, d, INFINITY, &hit))
+                continue;
+            const Material *m = &scene->materials[hit.material];
+            sees[(size_t)y * w + x] = hit.front && (m->emission[0] > 0.f || m->emission[1] > 0.f || m->emission[2] > 0.f);
+        }
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            bool near = false;
+            for (int dy = -1; dy <= 1 && !near; dy++)
+                for (int dx = -1; dx <= 1 && !near; dx++) {
+                    int u = x + dx, v = y + dy;
+                    near = u >= 0 && v >= 0 && u < w && v < h && sees[(size_t)v * w + u];
+                }
+            mask[(size_t)y * w + x] = near ? 0 : 255;
+        }
+    free(sees);
+    pt_scene_destroy(&ps);
+    return true;
+}

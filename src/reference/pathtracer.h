@@ -69,4 +69,12 @@ void pt_settings_default(PtSettings *s);
  * named, with its size, in one 'reference' line). */
 bool pt_render(const Scene *scene, const PtSettings *ps, ImageF *mean, ImageF *variance, PtStats *stats);
 
+/* The pixels of a w×h image of the scene's camera that see an emitter (a
+ * front face of emissive geometry) through their centre, and their 8
+ * neighbours (the emitter's aliased edge): 0 there, 255 elsewhere, row 0 =
+ * top. `render --emitter-mask` and `reference --emitter-mask` both write it,
+ * so `compare --mask` can leave emitters out of the error. false after
+ * logging. */
+bool pt_emitter_mask(const Scene *scene, int w, int h, uint8_t *mask);
+
 #endif

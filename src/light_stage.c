@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gpu_budget.h"
 #include "log.h"
 #include "shader.h"
 #include "shared/gpu_types.h"
@@ -113,11 +114,40 @@ static void free_products(LightStage *ls)
     ls->vpl_key = 0;
 }
 
+/* GPU bytes of the products of `d` (shadow maps: depth; RSMs: position,
+ * normal, flux, depth and a technique's importance pyramid; the VPLs). */
+static bool products_fit(const LightStage *ls, const LightStageDesc *d)
+{
+    uint64_t shadow = 0, rsm = 0;
+    for (int i = 0; i < ls->light_count; i++) {
+        const Light *l = &ls->scene->lights[i];
+        uint64_t faces = light_is_cube(l) ? 6 : 1, rs = (uint64_t)rsm_size_for(d, l);
+        if (d->needs & LIGHT_NEEDS_SHADOW_MAPS)
+            shadow += faces * (uint64_t)d->shadow_map_size * (uint64_t)d->shadow_map_size * 4;
+        if (d->needs & (LIGHT_NEEDS_RSM | LIGHT_NEEDS_VPLS))
+            rsm += faces * rs * rs * (44 + 6 + ((d->needs & LIGHT_NEEDS_VPLS) ? 48 : 0));
+    }
+    char what[128];
+    snprintf(what, sizeof what, "shadow.map_size %d (%d light%s)", d->shadow_map_size, ls->light_count,
+             ls->light_count == 1 ? "" : "s");
+    if (!gpu_budget_check(shadow, what))
+        return false;
+    if (d->vpl_count > 0)
+        snprintf(what, sizeof what, "gi.vpls %d (the RSMs and VPLs of %d light%s)", d->vpl_count, ls->light_count,
+                 ls->light_count == 1 ? "" : "s");
+    else
+        snprintf(what, sizeof what, "gi.rsm_size %d (%d light%s)", d->rsm_size, ls->light_count,
+                 ls->light_count == 1 ? "" : "s");
+    return gpu_budget_check(shadow + rsm, what);
+}
+
 static bool make_products(LightStage *ls)
 {
     const LightStageDesc *d = &ls->desc;
     const Scene *s = ls->scene;
-    bool ok = true;
+    bool ok = products_fit(ls, d);
+    if (!ok)
+        return false;
     if (d->needs & LIGHT_NEEDS_SHADOW_MAPS) {
         ls->shadow = calloc((size_t)ls->light_count + 1, sizeof(ShadowMap));
         if (!ls->shadow) {

@@ -1,11 +1,13 @@
 #include "renderer.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <cglm/cglm.h>
 
+#include "gpu_budget.h"
 #include "log.h"
 #include "shared/gpu_types.h"
 
@@ -38,14 +40,22 @@ static void targets_destroy(Renderer *r)
     r->irradiance = r->specular = 0;
 }
 
+/* GPU bytes per output pixel: G-buffer (60), HDR/LDR (20), the GI images
+ * (32) and a technique's own images (at most about 90, rsm-interleaved). */
+enum { BYTES_PER_PIXEL = 200 };
+
 static bool targets_create(Renderer *r, int w, int h)
 {
+    char what[64];
+    snprintf(what, sizeof what, "--size %dx%d", w, h);
+    if (!gpu_budget_check((uint64_t)w * (uint64_t)h * BYTES_PER_PIXEL, what))
+        return false;
     if (!gbuffer_create(&r->gbuffer, w, h) || !color_target_create(&r->hdr, GL_RGBA32F, w, h, "hdr") ||
         !color_target_create(&r->ldr, GL_SRGB8_ALPHA8, w, h, "ldr"))
         return false;
     r->irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.irradiance");
     r->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.specular");
-    return true;
+    return r->irradiance && r->specular;
 }
 
 /* ---- The technique -------------------------------------------------------- */

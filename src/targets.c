@@ -7,6 +7,14 @@ GLuint gl_texture_make(GLenum target, GLenum fmt, int w, int h, const char *labe
     GLuint t;
     glCreateTextures(target, 1, &t);
     glTextureStorage2D(t, 1, fmt, w, h);
+    GLint ok = GL_FALSE; /* storage that could not be made leaves the texture mutable */
+    glGetTextureParameteriv(t, GL_TEXTURE_IMMUTABLE_FORMAT, &ok);
+    if (!ok) {
+        log_error("gl", "cannot allocate texture %s (%dx%d%s, format 0x%x)", label, w, h,
+                  target == GL_TEXTURE_CUBE_MAP ? " x 6 faces" : "", fmt);
+        glDeleteTextures(1, &t);
+        return 0;
+    }
     glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -23,7 +23,8 @@ typedef struct ColorTarget {
 } ColorTarget;
 
 /* An immutable texture (2D or cube) with nearest filtering and clamped
- * edges, labelled for debuggers. Caller deletes it. */
+ * edges, labelled for debuggers. Caller deletes it. 0 after logging if the
+ * device could not allocate it. */
 GLuint gl_texture_make(GLenum target, GLenum format, int width, int height, const char *label);
 
 /* Attaches `tex` to `fbo`: the whole 2D texture, or face `face` of a cube. */

@@ -11,5 +11,7 @@ int cmd_view(int argc, char **argv);
 void cmd_view_help(void);
 int cmd_compare(int argc, char **argv);
 void cmd_compare_help(void);
+int cmd_probe(int argc, char **argv);
+void cmd_probe_help(void);
 
 #endif

@@ -16,6 +16,7 @@ static void usage(FILE *f)
             "  view        the renderer in a window, with a camera and toggles\n"
             "  reference   path-trace the same scene on the CPU (Embree): ground truth\n"
             "  compare     error metrics between two images (RMSE, relMSE, SSIM, FLIP)\n"
+            "  probe       this device's throughput on gather-shaped work (evaluations/s)\n"
             "run 'rtgi <command> --help' for a command's options\n");
 }
 
@@ -38,6 +39,8 @@ int main(int argc, char **argv)
         return cmd_reference(argc - 2, argv + 2);
     if (!strcmp(cmd, "compare"))
         return cmd_compare(argc - 2, argv + 2);
+    if (!strcmp(cmd, "probe"))
+        return cmd_probe(argc - 2, argv + 2);
     log_error("cli", "unknown command '%s' (see rtgi --help)", cmd);
     return 2;
 }

@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "log.h"
+#include "probe.h"
 #include "settings.h"
 #include "shader.h"
 #include "util.h"
@@ -25,6 +26,8 @@ void render_options_help(void)
         "                                (default: out/render.png)\n"
         "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
         "  --timings                     print per-pass GPU (and wall) times\n"
+        "  --probe FILE|run              with --timings: the gather's fraction of this device's\n"
+        "                                bound, from 'rtgi probe --json FILE' or measured now\n"
         "  --frames N                    frames to time after the warm-up (default: 3)\n"
         "  --warmup N                    untimed frames first (default: 1)\n"
         "  --light-scale S               scale every light's emitter size (0: point lights)\n"
@@ -42,6 +45,9 @@ void render_options_help(void)
 }
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
+
+/* --probe of the options last turned into settings (read by the timings report). */
+static const char *s_probe_path;
 
 void render_options_init(RenderOptions *o, bool view)
 {
@@ -114,6 +120,9 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
         } else if (!strcmp(opt, "--timings")) {
             o->timings = true;
+        } else if (!strcmp(opt, "--probe")) {
+            CLI_VALUE(&a, v);
+            o->probe = v;
         } else if (!strcmp(opt, "--debug")) {
             o->debug = true;
         } else if (!strcmp(opt, "--quiet")) {
@@ -161,8 +170,37 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->shadow_params = set.shadow;
     rs->gi_params = set.gi;
     rs->exposure = o->exposure >= 0.f ? o->exposure : scene->exposure;
+    s_probe_path = o->probe;
     rs->timings = o->timings;
     rs->timing_sync = o->timings;
+}
+
+/* The gather's evaluations/s over its passes' GPU time and, with a probe
+ * result, the fraction of the matching bound (3 fetches per sample: RSM
+ * position/normal/flux, or a VPL's three vec4). */
+static void print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
+{
+    static const char *const passes[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
+                                         "rsm_gather_interleaved", "vpl_shade", NULL};
+    double ms = 0;
+    for (int i = 0; passes[i]; i++) {
+        double m = gpu_timer_mean_ms(&r->timer, passes[i], r->timer.sync);
+        ms += m > 0 ? m : 0;
+    }
+    if (st->gather_evaluations == 0 || ms <= 0)
+        return;
+    double rate = (double)st->gather_evaluations / (ms * 1e-3);
+    printf("gather_evaluations: %llu\n", (unsigned long long)st->gather_evaluations);
+    printf("gather_evals_per_s: %.4g\n", rate);
+    ProbeResult pr;
+    bool have = probe_path && (!strcmp(probe_path, "run") ? probe_run(&pr) : probe_read_json(probe_path, &pr));
+    if (have) {
+        double bound = probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list);
+        printf("gather_probe_bound: %.4g (%s)\n", bound,
+               st->gather_vpl ? "ssbo_vpl" : st->gather_from_list > 0 ? (st->gather_cube ? "cube_fetch3 + ssbo_vpl" : "2d_fetch3 + ssbo_vpl")
+                              : st->gather_cube ? "cube_fetch3" : "2d_fetch3");
+        printf("gather_fraction_of_bound: %.3f\n", rate / bound);
+    }
 }
 
 void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)
@@ -186,4 +224,5 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
         if (st->tile_overflow)
             printf("vpl_tile_overflow: %u\n", st->tile_overflow);
     }
+    print_gather_efficiency(r, st, s_probe_path);
 }

@@ -22,6 +22,7 @@ typedef struct RenderOptions {
     int frames;        /* render: timed frames; view: frames before exiting (0 = until closed) */
     int warmup;        /* render: untimed frames before the timed ones */
     bool timings, debug;
+    const char *probe; /* --probe FILE: a `rtgi probe --json` result for --timings */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */
 } RenderOptions;
@@ -38,7 +39,8 @@ bool render_options_load_scene(const RenderOptions *o, Scene *scene);
 void render_options_help(void);
 /* Render settings from the scene's defaults and the options. */
 void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs);
-/* Prints the --timings report (per-pass times, GI counters). */
+/* Prints the --timings report (per-pass times, GI counters, the gather's
+ * evaluations/s and, with `probe`, its fraction of the probe's bound). */
 void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms);
 
 #endif

@@ -38,6 +38,10 @@ typedef struct GiStats {
     uint64_t vpl_candidates;  /* VPL–pixel pairs visited (tile-list entries for tiled modes) */
     uint32_t tile_overflow;   /* tile-list entries dropped (should be 0) */
     int metalight_regroups;   /* times the metalight grouping was computed */
+    uint64_t gather_evaluations; /* sample (or VPL) evaluations of the gather passes */
+    bool gather_cube;         /* they read cube maps (the probe's matching bound) */
+    bool gather_vpl;          /* they loop over VPLs in a storage buffer */
+    float gather_from_list;   /* fraction of their samples read from a storage-buffer list */
 } GiStats;
 
 /* What a technique is given at creation. */

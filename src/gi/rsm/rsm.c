@@ -380,6 +380,13 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     } else {
         st->gathered_pixels = (uint32_t)(g->width * g->height);
     }
+    uint64_t per_pixel = g->params.exhaustive ? st->vpl_count : (uint64_t)g->params.samples;
+    if (g->variant == RSM_INTERLEAVED && !g->params.exhaustive)
+        per_pixel = (uint64_t)(g->params.samples / (g->params.interleave_n * g->params.interleave_m));
+    st->gather_evaluations = (uint64_t)st->gathered_pixels * (per_pixel ? per_pixel : 1);
+    st->gather_cube = f->lights->light_count > 0 && f->lights->rsm[0].cube;
+    st->gather_vpl = g->params.exhaustive;
+    st->gather_from_list = importance_on(g) ? 0.5f : 0.f;
 }
 
 #define RSM_ROW(id, variant_name, create_fn, text)                                                     \

@@ -385,6 +385,8 @@ static void vpl_stats(void *state, const GiFrame *f, GiStats *st)
         glGetNamedBufferSubData(v->tiles, sizeof(uint32_t) * ntiles, sizeof st->tile_overflow, &st->tile_overflow);
     }
     st->metalight_regroups = v->regroups;
+    st->gather_evaluations = st->vpl_candidates;
+    st->gather_vpl = true;
 }
 
 static void *vpl_all_create(const GiCreateInfo *ci) { return vpl_create_method(ci, VPL_ALL); }

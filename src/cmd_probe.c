@@ -1,0 +1,49 @@
+/* cmd_probe.c — `rtgi probe`: this device's throughput on gather-shaped
+ * work (probe.h). */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+#include "commands.h"
+#include "gl_context.h"
+#include "log.h"
+#include "probe.h"
+
+void cmd_probe_help(void)
+{
+    printf("usage: rtgi probe [--json FILE]\n"
+           "Measures evaluations per second of the VPL irradiance arithmetic with 0-3 texture\n"
+           "fetches per sample from 2D and cube maps (shaders/probe/probe.comp), best of 3.\n"
+           "  --json FILE   also write the result (for render --timings --probe FILE)\n");
+}
+
+int cmd_probe(int argc, char **argv)
+{
+    const char *json = NULL, *opt, *v;
+    CliArgs a = {argc, argv, 0, NULL};
+    while ((opt = cli_next(&a))) {
+        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+            cmd_probe_help();
+            return 0;
+        } else if (!strcmp(opt, "--json")) {
+            CLI_VALUE(&a, v);
+            json = v;
+        } else {
+            log_error("cli", "unknown option '%s' (see rtgi probe --help)", opt);
+            return 2;
+        }
+    }
+    GlContext *gl = gl_context_create(false);
+    if (!gl)
+        return 1;
+    ProbeResult r;
+    bool ok = probe_run(&r);
+    if (ok) {
+        printf("renderer: %s\n", gl_context_renderer(gl));
+        probe_print(&r);
+        if (json)
+            ok = probe_write_json(json, &r);
+    }
+    gl_context_destroy(gl);
+    return ok ? 0 : 1;
+}

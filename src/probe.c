@@ -1,0 +1,181 @@
+/* probe.c — the device probe (see probe.h). */
+#include "probe.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "log.h"
+#include "shader.h"
+#include "shared/gpu_types.h"
+#include "targets.h"
+#include "util.h"
+
+enum { MAP = 512, GRID = 256, SAMPLES = 64, RUNS = 3 };
+
+/* A map of plausible RSM data: positions near the receivers, unit normals. */
+static GLuint make_map(GLenum target, int which)
+{
+    float *texels = malloc(sizeof(float) * 4 * MAP * MAP);
+    if (!texels)
+        return 0;
+    for (int i = 0; i < MAP * MAP; i++) {
+        float u = (float)(i % MAP) / MAP, v = (float)(i / MAP) / MAP;
+        float *t = texels + 4 * i;
+        if (which == 0) { t[0] = u; t[1] = v; t[2] = 0.f; t[3] = 1.f; }
+        else if (which == 1) { t[0] = 0.f; t[1] = 0.f; t[2] = 1.f; t[3] = 0.f; }
+        else { t[0] = u; t[1] = v; t[2] = 1.f; t[3] = 1.f; }
+    }
+    GLuint tex = gl_texture_make(target, GL_RGBA32F, MAP, MAP, "probe.map");
+    if (tex) {
+        int faces = target == GL_TEXTURE_CUBE_MAP ? 6 : 1;
+        for (int f = 0; f < faces; f++)
+            glTextureSubImage3D(tex, 0, 0, 0, f, MAP, MAP, 1, GL_RGBA, GL_FLOAT, texels);
+    }
+    free(texels);
+    return tex;
+}
+
+/* Best of RUNS timed dispatches (after a warm-up), in evaluations/s. */
+static double time_kernel(GLuint program)
+{
+    glUseProgram(program);
+    double best = 0;
+    for (int run = 0; run <= RUNS; run++) {
+        glFinish();
+        double t0 = util_seconds();
+        glDispatchCompute(GRID / 8, GRID / 8, 1);
+        glFinish();
+        double dt = util_seconds() - t0;
+        double rate = (double)GRID * GRID * SAMPLES / (dt > 1e-9 ? dt : 1e-9);
+        if (run > 0 && rate > best)
+            best = rate;
+    }
+    return best;
+}
+
+bool probe_run(ProbeResult *out)
+{
+    memset(out, 0, sizeof *out);
+    GLuint maps[2][3] = {{0}};
+    bool ok = true;
+    for (int c = 0; c < 2 && ok; c++)
+        for (int k = 0; k < 3 && ok; k++)
+            ok = (maps[c][k] = make_map(c ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, k)) != 0;
+    GLuint result = ok ? gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, GRID, GRID, "probe.result") : 0;
+    ok = ok && result;
+    ProgramCache pc;
+    program_cache_create(&pc);
+    for (int c = 0; c < 2 && ok; c++) {
+        for (int k = 0; k < 3; k++)
+            glBindTextureUnit((GLuint)(TEX_RSM_POSITION + k), maps[c][k]);
+        glBindImageTexture(IMG_OUT, result, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        for (int f = c ? 1 : 0; f <= 3 && ok; f++) {
+            char defs[96];
+            snprintf(defs, sizeof defs, "#define SAMPLES %d\n#define FETCHES %d\n%s", SAMPLES, f,
+                     c ? "#define CUBE\n" : "");
+            GLuint prog = program_cache_get(&pc, &(ShaderProgramDesc){.label = "probe", .comp = "probe/probe.comp",
+                                                                      .defines = defs});
+            if (!prog) {
+                ok = false;
+                break;
+            }
+            double rate = time_kernel(prog);
+            if (c)
+                out->evals_cube[f] = rate;
+            else
+                out->evals_2d[f] = rate;
+        }
+    }
+    if (ok) {
+        GLuint vpls;
+        glCreateBuffers(1, &vpls);
+        GpuVpl *data = calloc(SAMPLES, sizeof(GpuVpl));
+        for (int k = 0; data && k < SAMPLES; k++) {
+            data[k].position_xi[0] = (float)k / SAMPLES;
+            data[k].normal[2] = 1.f;
+            data[k].flux[0] = data[k].flux[1] = data[k].flux[2] = 1.f;
+        }
+        glNamedBufferStorage(vpls, (GLsizeiptr)(sizeof(GpuVpl) * SAMPLES), data, 0);
+        free(data);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VPL, vpls);
+        char defs[96];
+        snprintf(defs, sizeof defs, "#define SAMPLES %d\n#define FETCHES 0\n#define SSBO\n", SAMPLES);
+        GLuint prog = program_cache_get(&pc, &(ShaderProgramDesc){.label = "probe", .comp = "probe/probe.comp",
+                                                                  .defines = defs});
+        ok = prog != 0;
+        if (ok)
+            out->evals_ssbo = time_kernel(prog);
+        glDeleteBuffers(1, &vpls);
+    }
+    out->evals_cube[0] = out->evals_2d[0];
+    program_cache_destroy(&pc);
+    glDeleteTextures(1, &result);
+    for (int c = 0; c < 2; c++)
+        glDeleteTextures(3, maps[c]);
+    return ok;
+}
+
+double probe_bound(const ProbeResult *r, bool vpl, bool cube, double from_list)
+{
+    if (vpl)
+        return r->evals_ssbo;
+    double tex = cube ? r->evals_cube[3] : r->evals_2d[3];
+    /* Time per evaluation adds up over the two kinds of sample. */
+    return 1.0 / ((1.0 - from_list) / tex + from_list / r->evals_ssbo);
+}
+
+void probe_print(const ProbeResult *r)
+{
+    printf("probe_arith_evals_per_s: %.4g\n", r->evals_2d[0]);
+    for (int f = 1; f <= 3; f++)
+        printf("probe_2d_fetch%d_evals_per_s: %.4g\n", f, r->evals_2d[f]);
+    for (int f = 1; f <= 3; f++)
+        printf("probe_cube_fetch%d_evals_per_s: %.4g\n", f, r->evals_cube[f]);
+    printf("probe_ssbo_vpl_evals_per_s: %.4g\n", r->evals_ssbo);
+}
+
+bool probe_write_json(const char *path, const ProbeResult *r)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddItemToObject(o, "evals_2d", cJSON_CreateDoubleArray(r->evals_2d, 4));
+    cJSON_AddItemToObject(o, "evals_cube", cJSON_CreateDoubleArray(r->evals_cube, 4));
+    cJSON_AddNumberToObject(o, "evals_ssbo", r->evals_ssbo);
+    char *text = cJSON_Print(o);
+    cJSON_Delete(o);
+    FILE *f = text ? fopen(path, "w") : NULL;
+    bool ok = f && fputs(text, f) >= 0;
+    ok = f && fclose(f) == 0 && ok;
+    free(text);
+    if (!ok)
+        log_error("probe", "%s: cannot write the probe result", path);
+    return ok;
+}
+
+bool probe_read_json(const char *path, ProbeResult *r)
+{
+    char *text = util_read_file(path, NULL);
+    cJSON *o = text ? cJSON_Parse(text) : NULL;
+    free(text);
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, "evals_2d");
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(o, "evals_cube");
+    bool ok = cJSON_IsArray(a) && cJSON_IsArray(b) && cJSON_GetArraySize(a) == 4 && cJSON_GetArraySize(b) == 4;
+    for (int i = 0; ok && i < 4; i++) {
+        const cJSON *x = cJSON_GetArrayItem(a, i), *y = cJSON_GetArrayItem(b, i);
+        ok = cJSON_IsNumber(x) && cJSON_IsNumber(y) && x->valuedouble > 0 && y->valuedouble > 0;
+        if (ok) {
+            r->evals_2d[i] = x->valuedouble;
+            r->evals_cube[i] = y->valuedouble;
+        }
+    }
+    const cJSON *c = cJSON_GetObjectItemCaseSensitive(o, "evals_ssbo");
+    ok = ok && cJSON_IsNumber(c) && c->valuedouble > 0;
+    if (ok)
+        r->evals_ssbo = c->valuedouble;
+    cJSON_Delete(o);
+    if (!ok)
+        log_error("probe", "%s: not a probe result (write one with rtgi probe --json FILE)", path);
+    return ok;
+}

@@ -1,0 +1,52 @@
+/* test_probe.c — `rtgi probe`: every kernel runs and reports a positive
+ * rate, more fetches per sample cost more, the JSON result round-trips, and
+ * `--timings --probe run` states a gather's fraction of its bound. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "probe.h"
+#include "test_util.h"
+
+static void probe_measures_and_round_trips(void **state)
+{
+    (void)state;
+    ProbeResult r, back;
+    assert_true(probe_run(&r));
+    print_message("evals/s: arith %.3g, 2d fetch 1/2/3 %.3g %.3g %.3g, cube fetch 3 %.3g, ssbo %.3g\n",
+                  r.evals_2d[0], r.evals_2d[1], r.evals_2d[2], r.evals_2d[3], r.evals_cube[3], r.evals_ssbo);
+    for (int f = 0; f < 4; f++)
+        assert_true(r.evals_2d[f] > 0 && r.evals_cube[f] > 0);
+    assert_true(r.evals_ssbo > 0);
+    assert_true(r.evals_2d[1] > r.evals_2d[3]); /* measured 2.8x */
+    const char *path = test_tmp_file("probe.json", "");
+    assert_true(probe_write_json(path, &r));
+    assert_true(probe_read_json(path, &back));
+    /* cJSON prints 15 significant digits. */
+    for (int f = 0; f < 4; f++)
+        assert_true(fabs(back.evals_2d[f] / r.evals_2d[f] - 1) < 1e-12 &&
+                    fabs(back.evals_cube[f] / r.evals_cube[f] - 1) < 1e-12);
+    assert_true(fabs(back.evals_ssbo / r.evals_ssbo - 1) < 1e-12);
+    assert_false(probe_read_json(test_tmp_file("not_probe.json", "{\"evals_2d\": [1, 2]}"), &back));
+}
+
+static void timings_state_the_fraction(void **state)
+{
+    (void)state;
+    char out[512];
+    snprintf(out, sizeof out, "%s/probe_render.pfm", RTGI_TEST_TMP);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--size", "32x32", "--gi", "rsm", "--rsm-samples", "64", "--timings",
+                          "--frames", "1", "--probe", "run", "--out", out, "--quiet", NULL);
+    free(err);
+    assert_int_equal(rc, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(probe_measures_and_round_trips),
+        cmocka_unit_test(timings_state_the_fraction),
+    };
+    return cmocka_run_group_tests_name("probe", tests, test_gl_setup, test_gl_teardown);
+}

@@ -28,6 +28,9 @@ void render_options_help(void)
         "  --frames N                    frames to time after the warm-up (default: 3)\n"
         "  --warmup N                    untimed frames first (default: 1)\n"
         "  --light-scale S               scale every light's emitter size (0: point lights)\n"
+        "  --ssaa N                      N x N supersampling, box filter (default: 1, off)\n"
+        "  --aa none|fxaa                post-process AA of the tone-mapped image\n"
+        "                                (default: none for render, fxaa for view)\n"
         "other:\n"
         "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
         "  --debug            GL debug context, KHR_debug messages logged\n"
@@ -42,6 +45,7 @@ void render_options_help(void)
 }
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
+static const char *const k_aa_names[] = {"none", "fxaa", NULL};
 
 void render_options_init(RenderOptions *o, bool view)
 {
@@ -52,6 +56,8 @@ void render_options_init(RenderOptions *o, bool view)
     o->width = o->height = 512;
     o->exposure = -1.f;
     o->light_scale = -1.f;
+    o->ssaa = 1;
+    o->aa = view ? AA_FXAA : AA_NONE;
     o->frames = view ? 0 : 3;
     settings_default(&o->set);
     assert(settings_count <= (int)(sizeof o->given / sizeof o->given[0]));
@@ -103,6 +109,14 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--light-scale")) {
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e3f, &o->light_scale))
+                return 2;
+        } else if (!strcmp(opt, "--ssaa")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 8, &o->ssaa))
+                return 2;
+        } else if (!strcmp(opt, "--aa")) {
+            CLI_VALUE(&a, v);
+            if ((o->aa = cli_choice(opt, v, k_aa_names)) < 0)
                 return 2;
         } else if (!strcmp(opt, "--frames")) {
             CLI_VALUE(&a, v);
@@ -163,6 +177,8 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->exposure = o->exposure >= 0.f ? o->exposure : scene->exposure;
     rs->timings = o->timings;
     rs->timing_sync = o->timings;
+    rs->ssaa = o->ssaa;
+    rs->aa = (AaMode)o->aa;
 }
 
 void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)

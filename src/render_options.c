@@ -148,6 +148,11 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             return 2;
         }
     }
+    if (o->width * o->ssaa > MAX_IMAGE_SIZE || o->height * o->ssaa > MAX_IMAGE_SIZE) {
+        log_error("cli", "--ssaa %d: %dx%d supersampled is larger than %d per side", o->ssaa, o->width * o->ssaa,
+                  o->height * o->ssaa, MAX_IMAGE_SIZE);
+        return 2;
+    }
     return 0;
 }
 

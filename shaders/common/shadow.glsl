@@ -116,24 +116,46 @@ vec2 shadow_poisson(int i, float angle)
     return vec2(c * p.x - s * p.y, s * p.x + c * p.y);
 }
 
-// Per-sample depth test reference: the receiver (or, with the receiver-plane
-// bias, its tangent plane under the sample) minus the bias.
+// Per-sample depth test reference: the receiver minus the bias (legacy), or
+// the receiver's tangent plane under the sample minus a bias that does not
+// grow with the filter. On 2D maps the plane is taken at the centre of the
+// texel the sample reads (where the map's depth was rasterized), so a
+// planar receiver needs only the constant bias (and a quarter of the slope
+// bias, below); cube maps keep the one-texel slope bias for that
+// quantisation.
 struct ShadowRef {
-    float d;  // reference depth at offset 0 (m)
-    vec2 g;   // its gradient (m per texel); zero for the legacy bias
+    float d;     // reference depth at offset 0 (m)
+    vec2 g;      // its gradient (m per texel); zero for the legacy bias
+    vec2 frac;   // 2D receiver-plane: the receiver's position within its texel; else -1
 };
+
+// The offset at which the reference is taken for a sample at offset o.
+vec2 shadow_ref_offset(ShadowRef r, vec2 o)
+{
+    return r.frac.x < 0.0 ? o : floor(r.frac + o) + 0.5 - r.frac;
+}
 
 float shadow_ref_at(ShadowRef r, vec2 o) { return r.d + dot(r.g, o); }
 
 ShadowRef shadow_ref(ShadowCoord sc, vec2 g, float cos_theta, float radius)
 {
     ShadowRef r;
+    r.frac = vec2(-1.0);
     if (u_shadow.filter_bias == SHADOW_BIAS_LEGACY) {
         r.d = sc.d - shadow_bias(sc.d, cos_theta, radius);
         r.g = vec2(0.0);
-    } else {
+    } else if (shadow_is_cube()) {
         r.d = sc.d - shadow_bias(sc.d, cos_theta, 1.0);
         r.g = g;
+    } else {
+        // A quarter of the one-texel slope bias is left for shading normals
+        // that are not the rasterized plane (interpolated vertex normals,
+        // half-float G-buffer). Measured on Sponza (320×180, 4×4 SSAA, vs
+        // the direct reference): mean 0.980 with none (acne), 0.9998 with a
+        // quarter, 1.006 with the whole one (light past contacts).
+        r.d = sc.d - u_shadow.bias_const - 0.25 * (shadow_bias(sc.d, cos_theta, 1.0) - u_shadow.bias_const);
+        r.g = g;
+        r.frac = fract(sc.uv * u_light.shadow_info.z);
     }
     return r;
 }
@@ -144,7 +166,7 @@ float shadow_pcf(ShadowCoord sc, vec2 g, float radius, float cos_theta, float an
     ShadowRef r = shadow_ref(sc, g, cos_theta, radius);
     float lit = 0.0;
     for (int i = 0; i < n; i++) {
-        vec2 o = shadow_poisson(i, angle) * radius;
+        vec2 o = shadow_ref_offset(r, shadow_poisson(i, angle) * radius);
         lit += shadow_fetch(sc, o) >= shadow_ref_at(r, o) ? 1.0 : 0.0;
     }
     return lit / float(n);
@@ -167,7 +189,7 @@ float shadow_pcss(ShadowCoord sc, vec2 g, float cos_theta, float angle)
     float sum = 0.0;
     int count = 0;
     for (int i = 0; i < nb; i++) {
-        vec2 o = shadow_poisson(i, angle) * search;
+        vec2 o = shadow_ref_offset(r, shadow_poisson(i, angle) * search);
         float z = shadow_fetch(sc, o);
         if (z < shadow_ref_at(r, o)) {
             sum += z;

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_resources.h"
 #include "metrics.h"
 #include "reference/pathtracer.h"
 #include "test_util.h"
@@ -243,9 +244,67 @@ static void fxaa_reduces_edge_error(void **state)
     scene_free(&s);
 }
 
+/* ---- Switching -------------------------------------------------------------- */
+
+/* Turning supersampling and FXAA on and off through renderer_apply (the
+ * window's path) gives a fresh renderer's images, keeps the light stage's
+ * shadow map, and leaves as many live GL objects as before. */
+static void switching_aa_matches_fresh(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    RenderSettings base = test_settings(&s, 40, 32, SHADOW_MODE_PCSS);
+    base.shadow_params.map_size = 128;
+    RenderSettings on = base;
+    on.ssaa = 3;
+    on.aa = AA_FXAA;
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &base));
+    renderer_frame(&r, &s.camera);
+    GlObjectCounts c0 = gl_count_live_objects(8192);
+    GLuint shadow = r.lights.shadow[0].texture;
+    const RenderSettings *order[] = {&on, &base};
+    for (int i = 0; i < 2; i++) {
+        assert_true(renderer_apply(&r, order[i]));
+        renderer_frame(&r, &s.camera);
+        ImageF got, want;
+        assert_true(renderer_read_hdr(&r, &got));
+        uint8_t *ldr = renderer_read_ldr(&r);
+        Renderer fresh;
+        assert_true(renderer_create(&fresh, &s, order[i]));
+        renderer_frame(&fresh, &s.camera);
+        assert_true(renderer_read_hdr(&fresh, &want));
+        uint8_t *ldr_want = renderer_read_ldr(&fresh);
+        renderer_destroy(&fresh);
+        assert_int_equal(got.width, 40);
+        assert_int_equal(got.height, 32);
+        double e = metric_relmse(&got, &want, NULL, NULL);
+        print_message("ssaa %d aa %d: switched vs fresh relMSE %.3g\n", order[i]->ssaa, order[i]->aa, e);
+        assert_true(e < 1e-10);
+        assert_memory_equal(ldr, ldr_want, 3 * 40 * 32);
+        free(ldr);
+        free(ldr_want);
+        image_free(&got);
+        image_free(&want);
+    }
+    assert_int_equal(r.lights.shadow[0].texture, shadow); /* the light stage was not remade */
+    GlObjectCounts c1 = gl_count_live_objects(8192);
+    /* Programs and shaders left out: the last program a destroyed fresh
+     * renderer used stays alive while it is current (as in test_lifetime). */
+    int res0 = c0.textures + c0.buffers + c0.framebuffers + c0.renderbuffers + c0.vertex_arrays + c0.queries + c0.samplers;
+    int res1 = c1.textures + c1.buffers + c1.framebuffers + c1.renderbuffers + c1.vertex_arrays + c1.queries + c1.samplers;
+    print_message("live resources before %d, after switching on and off %d\n", res0, res1);
+    assert_int_equal(res1, res0);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(switching_aa_matches_fresh),
         cmocka_unit_test(pcss_grazing_has_no_leaks),
         cmocka_unit_test(sponza_direct_matches_reference),
         cmocka_unit_test(fxaa_reduces_edge_error),

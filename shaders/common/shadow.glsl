@@ -222,15 +222,11 @@ float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
     ShadowCoord sc = shadow_coord(xo);
     if (mode == SHADOW_HARD)
         return shadow_fetch(sc, vec2(0.0)) >= sc.d - shadow_bias(sc.d, cos_theta, 1.0) ? 1.0 : 0.0;
-    // Per-pixel rotation of the Poisson disk: interleaved gradient noise
-    // (legacy: as before), or IGN decorrelated from the disk by a per-pixel
-    // scramble of its 4×4 cell so that neighbouring pixels do not line up.
+    // Per-pixel rotation of the disk by interleaved gradient noise (Jimenez
+    // 2014): on the best-candidate disk it leaves fine grain, where on the
+    // legacy spiral it drew a hatching (a turned spiral is a shifted one).
     float angle = TWO_PI * ign(pixel);
-    vec2 g = vec2(0.0);
-    if (u_shadow.filter_bias != SHADOW_BIAS_LEGACY) {
-        g = shadow_receiver_gradient(sc, xo, n);
-        angle = TWO_PI * fract(ign(pixel) + 0.61803399 * ign(floor(pixel / 4.0) + vec2(17.0, 5.0)));
-    }
+    vec2 g = u_shadow.filter_bias == SHADOW_BIAS_LEGACY ? vec2(0.0) : shadow_receiver_gradient(sc, xo, n);
     if (mode == SHADOW_PCF)
         return shadow_pcf(sc, g, u_shadow.pcf_radius, cos_theta, angle);
     return shadow_pcss(sc, g, cos_theta, angle);

@@ -75,9 +75,9 @@ float shadow_fetch_filter(ShadowCoord sc, vec2 o)
 }
 
 // Constant + slope-scaled bias for a filter footprint of `radius` texels
-// (the legacy filter bias scales it with the footprint; the receiver-plane
-// bias uses radius 1: one texel of slope covers the stored depth's texel
-// quantisation, the plane covers the rest).
+// (hard shadows: 1; the legacy filter bias scales it with the filter's
+// footprint; the receiver-plane bias uses at most the one-texel value, see
+// shadow_ref).
 float shadow_bias(float d, float cos_theta, float radius)
 {
     float tan_theta = min(sqrt(max(1.0 - cos_theta * cos_theta, 0.0)) / max(cos_theta, 1e-3), 100.0);

@@ -195,7 +195,7 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
     if (rs->gi == GI_NONE)
         return;
     const RenderStats *st = renderer_collect_stats(r);
-    double pixels = (double)rs->width * rs->height;
+    double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs); /* shaded pixels */
     printf("gathered_pixels: %u\n", st->gathered_pixels);
     if (rs->gi == GI_RSM_INTERP)
         printf("rsm_full_gather_fraction: %.4f\n", (double)st->full_gathers / pixels);

@@ -46,6 +46,16 @@ static void targets_destroy(Renderer *r)
     r->irradiance = r->specular = 0;
 }
 
+/* The tone-mapped image before FXAA, at the output size, with FXAA only. */
+static bool fxaa_target_make(Renderer *r)
+{
+    if (r->ldr_pre.fbo)
+        color_target_destroy(&r->ldr_pre);
+    if (r->settings.aa != AA_FXAA)
+        return true;
+    return color_target_create(&r->ldr_pre, GL_SRGB8_ALPHA8, r->settings.width, r->settings.height, "ldr.pre_fxaa");
+}
+
 /* The shading targets at N× the output size (w, h), the resolved radiance
  * and the final image at the output size, the pre-FXAA image with FXAA. */
 static bool targets_create(Renderer *r, int w, int h)
@@ -57,7 +67,7 @@ static bool targets_create(Renderer *r, int w, int h)
         return false;
     if (n > 1 && !color_target_create(&r->hdr_ss, GL_RGBA32F, sw, sh, "hdr.supersampled"))
         return false;
-    if (rs->aa == AA_FXAA && !color_target_create(&r->ldr_pre, GL_SRGB8_ALPHA8, w, h, "ldr.pre_fxaa"))
+    if (!fxaa_target_make(r))
         return false;
     r->irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.irradiance");
     r->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.specular");
@@ -139,8 +149,7 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
 {
     RenderSettings old = r->settings;
     r->settings = *rs;
-    bool resized = rs->width != old.width || rs->height != old.height ||
-                   renderer_ssaa(rs) != renderer_ssaa(&old) || rs->aa != old.aa;
+    bool resized = rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
     bool shading_resized = rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
                            rs->height * renderer_ssaa(rs) != old.height * renderer_ssaa(&old);
     bool technique = rs->gi != old.gi || memcmp(&rs->gi_params, &old.gi_params, sizeof rs->gi_params) != 0;
@@ -164,6 +173,8 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
         if (shading_resized && r->gi_state && r->gi->resize &&
             !r->gi->resize(r->gi_state, rs->width * n, rs->height * n))
             return false;
+    } else if (rs->aa != old.aa && !fxaa_target_make(r)) {
+        return false;
     }
     if (!r->gi)
         return technique_create(r);

@@ -342,6 +342,16 @@ static void switching_aa_matches_fresh(void **state)
         image_free(&want);
     }
     assert_int_equal(r.lights.shadow[0].texture, shadow); /* the light stage was not remade */
+    /* FXAA alone: only its own target changes, not the shading targets. */
+    GLuint gb = r.gbuffer.position, hdr = r.hdr.texture;
+    RenderSettings fx = base;
+    fx.aa = AA_FXAA;
+    assert_true(renderer_apply(&r, &fx));
+    assert_int_equal(r.gbuffer.position, gb);
+    assert_int_equal(r.hdr.texture, hdr);
+    assert_true(r.ldr_pre.fbo != 0);
+    assert_true(renderer_apply(&r, &base));
+    assert_int_equal(r.ldr_pre.fbo, 0);
     GlObjectCounts c1 = gl_count_live_objects(8192);
     /* Programs and shaders left out: the last program a destroyed fresh
      * renderer used stays alive while it is current (as in test_lifetime). */

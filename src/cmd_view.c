@@ -22,7 +22,7 @@ void cmd_view_help(void)
     printf("usage: rtgi view [options]\n"
            "An interactive window: WASD move, Q/E down/up, Shift faster, left-drag to look,\n"
            "1-4 shadows none/hard/pcf/pcss, G/Shift-G next/previous GI technique,\n"
-           "+/- exposure, R reset camera, T print timings, P screenshot, H help, Esc quit.\n"
+           "+/- exposure, F FXAA on/off, R reset camera, T print timings, P screenshot, H help, Esc quit.\n"
            "--frames N exits after N frames; --out FILE.png saves the last frame.\n");
     render_options_help();
 }
@@ -84,6 +84,11 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT:
         s->exposure /= 1.25f;
         v->dirty = true;
+        break;
+    case GLFW_KEY_F:
+        s->aa = s->aa == AA_FXAA ? AA_NONE : AA_FXAA;
+        v->dirty = true;
+        log_info("view", "AA: %s", s->aa == AA_FXAA ? "fxaa" : "none");
         break;
     case GLFW_KEY_R:
         v->camera = v->home;

@@ -31,6 +31,9 @@ void render_options_help(void)
         "  --frames N                    frames to time after the warm-up (default: 3)\n"
         "  --warmup N                    untimed frames first (default: 1)\n"
         "  --light-scale S               scale every light's emitter size (0: point lights)\n"
+        "  --ssaa N                      N x N supersampling, box filter (default: 1, off)\n"
+        "  --aa none|fxaa                post-process AA of the tone-mapped image\n"
+        "                                (default: none for render, fxaa for view)\n"
         "other:\n"
         "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
         "  --debug            GL debug context, KHR_debug messages logged\n"
@@ -45,6 +48,7 @@ void render_options_help(void)
 }
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
+static const char *const k_aa_names[] = {"none", "fxaa", NULL};
 
 /* --probe of the options last turned into settings (read by the timings report). */
 static const char *s_probe_path;
@@ -58,6 +62,8 @@ void render_options_init(RenderOptions *o, bool view)
     o->width = o->height = 512;
     o->exposure = -1.f;
     o->light_scale = -1.f;
+    o->ssaa = 1;
+    o->aa = view ? AA_FXAA : AA_NONE;
     o->frames = view ? 0 : 3;
     settings_default(&o->set);
     assert(settings_count <= (int)(sizeof o->given / sizeof o->given[0]));
@@ -110,6 +116,14 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e3f, &o->light_scale))
                 return 2;
+        } else if (!strcmp(opt, "--ssaa")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 8, &o->ssaa))
+                return 2;
+        } else if (!strcmp(opt, "--aa")) {
+            CLI_VALUE(&a, v);
+            if ((o->aa = cli_choice(opt, v, k_aa_names)) < 0)
+                return 2;
         } else if (!strcmp(opt, "--frames")) {
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 1000000, &o->frames))
@@ -143,6 +157,11 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             return 2;
         }
     }
+    if (o->width * o->ssaa > MAX_IMAGE_SIZE || o->height * o->ssaa > MAX_IMAGE_SIZE) {
+        log_error("cli", "--ssaa %d: %dx%d supersampled is larger than %d per side", o->ssaa, o->width * o->ssaa,
+                  o->height * o->ssaa, MAX_IMAGE_SIZE);
+        return 2;
+    }
     return 0;
 }
 
@@ -173,6 +192,8 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     s_probe_path = o->probe;
     rs->timings = o->timings;
     rs->timing_sync = o->timings;
+    rs->ssaa = o->ssaa;
+    rs->aa = (AaMode)o->aa;
 }
 
 /* The gather's evaluations/s over its passes' GPU time and, with a probe
@@ -212,7 +233,7 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
     if (rs->gi == GI_NONE)
         return;
     const RenderStats *st = renderer_collect_stats(r);
-    double pixels = (double)rs->width * rs->height;
+    double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs); /* shaded pixels */
     printf("gathered_pixels: %u\n", st->gathered_pixels);
     if (rs->gi == GI_RSM_INTERP)
         printf("rsm_full_gather_fraction: %.4f\n", (double)st->full_gathers / pixels);

@@ -21,6 +21,8 @@ typedef struct RenderOptions {
     float light_scale; /* < 0: unchanged */
     int frames;        /* render: timed frames; view: frames before exiting (0 = until closed) */
     int warmup;        /* render: untimed frames before the timed ones */
+    int ssaa;          /* N×N supersampling (1: off) */
+    int aa;            /* AaMode (render: none, view: fxaa) */
     bool timings, debug;
     const char *probe; /* --probe FILE: a `rtgi probe --json` result for --timings */
     Settings set;      /* technique settings given on the command line ... */

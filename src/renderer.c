@@ -30,32 +30,68 @@ static LightStageDesc light_desc(const RenderSettings *rs)
 
 /* ---- Targets (size-dependent) -------------------------------------------- */
 
+int renderer_ssaa(const RenderSettings *rs)
+{
+    return rs->ssaa > 1 ? rs->ssaa : 1;
+}
+
 static void targets_destroy(Renderer *r)
 {
     gbuffer_destroy(&r->gbuffer);
     color_target_destroy(&r->hdr);
+    if (r->hdr_ss.fbo)
+        color_target_destroy(&r->hdr_ss);
     color_target_destroy(&r->ldr);
+    if (r->ldr_pre.fbo)
+        color_target_destroy(&r->ldr_pre);
     GLuint t[2] = {r->irradiance, r->specular};
     glDeleteTextures(2, t);
     r->irradiance = r->specular = 0;
 }
 
-/* GPU bytes per output pixel: G-buffer (60), HDR/LDR (20), the GI images
+/* The tone-mapped image before FXAA, at the output size, with FXAA only. */
+static bool fxaa_target_make(Renderer *r)
+{
+    if (r->ldr_pre.fbo)
+        color_target_destroy(&r->ldr_pre);
+    if (r->settings.aa != AA_FXAA)
+        return true;
+    return color_target_create(&r->ldr_pre, GL_SRGB8_ALPHA8, r->settings.width, r->settings.height, "ldr.pre_fxaa");
+}
+
+/* GPU bytes per shading pixel: G-buffer (60), HDR/LDR (20), the GI images
  * (32) and a technique's own images (at most about 90, rsm-interleaved). */
 enum { BYTES_PER_PIXEL = 200 };
 
+/* The shading targets at N× the output size (w, h), the resolved radiance
+ * and the final image at the output size, the pre-FXAA image with FXAA. */
 static bool targets_create(Renderer *r, int w, int h)
 {
-    char what[64];
-    snprintf(what, sizeof what, "--size %dx%d", w, h);
-    if (!gpu_budget_check((uint64_t)w * (uint64_t)h * BYTES_PER_PIXEL, what))
+    const RenderSettings *rs = &r->settings;
+    int n = renderer_ssaa(rs), sw = w * n, sh = h * n;
+    char what[96];
+    if (n > 1)
+        snprintf(what, sizeof what, "--size %dx%d with --ssaa %d", w, h, n);
+    else
+        snprintf(what, sizeof what, "--size %dx%d", w, h);
+    if (!gpu_budget_check((uint64_t)sw * (uint64_t)sh * BYTES_PER_PIXEL, what))
         return false;
-    if (!gbuffer_create(&r->gbuffer, w, h) || !color_target_create(&r->hdr, GL_RGBA32F, w, h, "hdr") ||
+    if (!gbuffer_create(&r->gbuffer, sw, sh) || !color_target_create(&r->hdr, GL_RGBA32F, w, h, "hdr") ||
         !color_target_create(&r->ldr, GL_SRGB8_ALPHA8, w, h, "ldr"))
         return false;
-    r->irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.irradiance");
-    r->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.specular");
+    if (n > 1 && !color_target_create(&r->hdr_ss, GL_RGBA32F, sw, sh, "hdr.supersampled"))
+        return false;
+    if (!fxaa_target_make(r))
+        return false;
+    r->irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.irradiance");
+    r->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.specular");
     return r->irradiance && r->specular;
+}
+
+/* Where the shading passes write radiance. */
+static ColorTarget *shading_target(Renderer *r)
+{
+    return renderer_ssaa(&r->settings) > 1 ? &r->hdr_ss : &r->hdr;
 }
 
 /* ---- The technique -------------------------------------------------------- */
@@ -74,7 +110,8 @@ static bool technique_create(Renderer *r)
     r->gi = gi_techniques[rs->gi];
     if (!r->gi->create)
         return true;
-    GiCreateInfo ci = {r->scene, &rs->gi_params, &r->lights, &r->programs, rs->width, rs->height};
+    int n = renderer_ssaa(rs);
+    GiCreateInfo ci = {r->scene, &rs->gi_params, &r->lights, &r->programs, rs->width * n, rs->height * n};
     r->gi_state = r->gi->create(&ci);
     return r->gi_state != NULL;
 }
@@ -95,7 +132,8 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
         !targets_create(r, rs->width, rs->height) || !pass_gbuffer_create(&r->pass_gbuffer, pc) ||
         !pass_direct_create(&r->pass_direct, pc, r->empty_vao) ||
         !pass_composite_create(&r->pass_composite, pc, r->empty_vao) ||
-        !pass_tonemap_create(&r->pass_tonemap, pc, r->empty_vao))
+        !pass_tonemap_create(&r->pass_tonemap, pc, r->empty_vao) ||
+        !pass_resolve_create(&r->pass_resolve, pc, r->empty_vao) || !pass_fxaa_create(&r->pass_fxaa, pc, r->empty_vao))
         return false;
     r->frame_ubo = gi_ubo_make(sizeof(GpuFrame), "frame");
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
@@ -105,6 +143,8 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
 void renderer_destroy(Renderer *r)
 {
     technique_destroy(r);
+    pass_fxaa_destroy(&r->pass_fxaa);
+    pass_resolve_destroy(&r->pass_resolve);
     pass_tonemap_destroy(&r->pass_tonemap);
     pass_composite_destroy(&r->pass_composite);
     pass_direct_destroy(&r->pass_direct);
@@ -123,7 +163,9 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
 {
     RenderSettings old = r->settings;
     r->settings = *rs;
-    bool resized = rs->width != old.width || rs->height != old.height;
+    bool resized = rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
+    bool shading_resized = rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
+                           rs->height * renderer_ssaa(rs) != old.height * renderer_ssaa(&old);
     bool technique = rs->gi != old.gi || memcmp(&rs->gi_params, &old.gi_params, sizeof rs->gi_params) != 0;
     LightStageDesc ld = light_desc(rs);
     bool lights = memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
@@ -141,8 +183,12 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
         targets_destroy(r);
         if (!targets_create(r, rs->width, rs->height))
             return false;
-        if (r->gi_state && r->gi->resize && !r->gi->resize(r->gi_state, rs->width, rs->height))
+        int n = renderer_ssaa(rs);
+        if (shading_resized && r->gi_state && r->gi->resize &&
+            !r->gi->resize(r->gi_state, rs->width * n, rs->height * n))
             return false;
+    } else if (rs->aa != old.aa && !fxaa_target_make(r)) {
+        return false;
     }
     if (!r->gi)
         return technique_create(r);
@@ -156,8 +202,8 @@ static void upload_frame(Renderer *r, const Camera *cam)
     GpuFrame f;
     memset(&f, 0, sizeof f);
     glm_vec3_copy((float *)cam->position, f.camera);
-    f.width = r->settings.width;
-    f.height = r->settings.height;
+    f.width = r->settings.width * renderer_ssaa(&r->settings); /* the shading size */
+    f.height = r->settings.height * renderer_ssaa(&r->settings);
     f.indirect_scale = r->settings.gi_params.scale;
     f.exposure = r->settings.exposure;
     glNamedBufferSubData(r->frame_ubo, 0, sizeof f, &f);
@@ -167,6 +213,8 @@ static void upload_frame(Renderer *r, const Camera *cam)
 void renderer_frame(Renderer *r, const Camera *cam)
 {
     GpuTimer *t = &r->timer;
+    ColorTarget *radiance = shading_target(r);
+    int n = renderer_ssaa(&r->settings);
     upload_frame(r, cam);
 
     light_stage_run(&r->lights, &r->gpu_scene, t);
@@ -176,7 +224,7 @@ void renderer_frame(Renderer *r, const Camera *cam)
     gpu_timer_end(t);
 
     gpu_timer_begin(t, "direct");
-    pass_direct_run(&r->pass_direct, &r->lights, &r->gbuffer, &r->hdr);
+    pass_direct_run(&r->pass_direct, &r->lights, &r->gbuffer, radiance);
     gpu_timer_end(t);
 
     if (r->gi_state) {
@@ -195,13 +243,26 @@ void renderer_frame(Renderer *r, const Camera *cam)
         r->last_frame = f;
         gpu_timer_begin(t, "composite");
         pass_composite_run(&r->pass_composite, &r->gbuffer, r->irradiance,
-                           (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, &r->hdr);
+                           (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, radiance);
         gpu_timer_end(t);
     }
 
+    if (n > 1) {
+        gpu_timer_begin(t, "resolve");
+        pass_resolve_run(&r->pass_resolve, &r->hdr_ss, n, &r->hdr);
+        gpu_timer_end(t);
+    }
+
+    bool fxaa = r->settings.aa == AA_FXAA;
     gpu_timer_begin(t, "tonemap");
-    pass_tonemap_run(&r->pass_tonemap, &r->hdr, r->settings.exposure, &r->ldr);
+    pass_tonemap_run(&r->pass_tonemap, &r->hdr, r->settings.exposure, fxaa ? &r->ldr_pre : &r->ldr);
     gpu_timer_end(t);
+
+    if (fxaa) {
+        gpu_timer_begin(t, "fxaa");
+        pass_fxaa_run(&r->pass_fxaa, &r->ldr_pre, &r->ldr);
+        gpu_timer_end(t);
+    }
 
     gpu_timer_end_frame(t);
 }

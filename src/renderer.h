@@ -1,7 +1,10 @@
 /* renderer.h — owns the GPU scene, the light stage, the shared targets, the
  * fixed passes and the selected GI technique, and runs one frame top to
  * bottom:
- *   light stage → G-buffer → direct light → GI technique → composite → tone map.
+ *   light stage → G-buffer → direct light → GI technique → composite →
+ *   [supersampling resolve] → tone map → [FXAA].
+ * With supersampling N the passes up to the composite run at N× the output
+ * size and the resolve box-filters their radiance down to the output size.
  * The scene is borrowed and must outlive the renderer. Settings change
  * through renderer_apply, which remakes only what the change touches. */
 #ifndef RTGI_RENDERER_H
@@ -17,7 +20,9 @@
 #include "light_stage.h"
 #include "passes/pass_composite.h"
 #include "passes/pass_direct.h"
+#include "passes/pass_fxaa.h"
 #include "passes/pass_gbuffer.h"
+#include "passes/pass_resolve.h"
 #include "passes/pass_tonemap.h"
 #include "scene.h"
 #include "targets.h"
@@ -36,6 +41,9 @@ typedef enum GiMode {
     GI_MODE_COUNT
 } GiMode;
 
+/* Post-process anti-aliasing of the tone-mapped image. */
+typedef enum AaMode { AA_NONE = 0, AA_FXAA = 1 } AaMode;
+
 typedef struct RenderSettings {
     int width, height;
     ShadowMode shadow;
@@ -46,6 +54,8 @@ typedef struct RenderSettings {
     bool timings;     /* per-pass GPU timer queries */
     bool timing_sync; /* also wall time per pass (glFinish around passes) */
     bool cache;       /* keep light products (shadow maps, RSMs) until their light or size changes */
+    int ssaa;         /* N×N supersampling with a box filter; 0 or 1: off */
+    AaMode aa;        /* post-process AA of the tone-mapped image */
 } RenderSettings;
 
 typedef GiStats RenderStats;
@@ -58,8 +68,10 @@ typedef struct Renderer {
     ProgramCache programs;     /* every program of the passes, stage and technique */
     LightStage lights;
     GBuffer gbuffer;
-    ColorTarget hdr;           /* RGBA32F radiance */
-    ColorTarget ldr;           /* SRGB8_ALPHA8 */
+    ColorTarget hdr;           /* RGBA32F radiance, output size */
+    ColorTarget hdr_ss;        /* RGBA32F radiance at N× the output size (supersampling only) */
+    ColorTarget ldr;           /* SRGB8_ALPHA8, the final image */
+    ColorTarget ldr_pre;       /* SRGB8_ALPHA8, tone-mapped before FXAA (FXAA only) */
     GLuint irradiance;         /* RGBA32F indirect irradiance of the technique */
     GLuint specular;           /* RGBA32F indirect specular radiance, techniques with GI_HAS_SPECULAR */
     GLuint frame_ubo;          /* GpuFrame */
@@ -72,6 +84,8 @@ typedef struct Renderer {
     PassDirect pass_direct;
     PassComposite pass_composite;
     PassTonemap pass_tonemap;
+    PassResolve pass_resolve;
+    PassFxaa pass_fxaa;
 } Renderer;
 
 /* Needs a current GL 4.5 context. false after logging (destroy it then). */
@@ -79,7 +93,9 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs);
 void renderer_destroy(Renderer *r);
 /* Switches to new settings, remaking only what they touch: nothing for the
  * exposure, the targets and the technique's sized images for the size, the
- * light products for shadow/RSM settings, the technique for its own. false
+ * light products for shadow/RSM settings, the technique for its own, the
+ * targets and the technique's sized images for supersampling, the final
+ * targets for the post-process AA. false
  * after logging (the renderer is then unusable until a successful apply). */
 bool renderer_apply(Renderer *r, const RenderSettings *rs);
 /* Makes the next frame a cold one: every cached light product is redrawn. */
@@ -88,7 +104,9 @@ void renderer_invalidate(Renderer *r);
 void renderer_frame(Renderer *r, const Camera *cam);
 /* Reads the last frame's GI counters back into r->stats (waits for the GPU). */
 const RenderStats *renderer_collect_stats(Renderer *r);
-/* Reads back radiance (row 0 = top). */
+/* Supersampling factor (≥ 1) and the size the shading passes run at. */
+int renderer_ssaa(const RenderSettings *rs);
+/* Reads back radiance at the output size (row 0 = top). */
 bool renderer_read_hdr(Renderer *r, ImageF *out);
 /* Reads back the tone-mapped image as 8-bit RGB, row 0 = top. Caller frees;
  * NULL after logging if memory runs out. */

@@ -82,6 +82,7 @@ typedef struct ShadowParams {
     float pcf_radius;      /* PCF filter radius in texels */
     int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
+    int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
 } ShadowParams;
 
 typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;

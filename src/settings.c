@@ -11,6 +11,7 @@
 #include "shared/gpu_types.h"
 
 static const char *const k_weightings[] = {"paper", "unbiased", "importance", NULL};
+static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -34,6 +35,8 @@ const SettingDesc settings_table[] = {
      20, NULL, "PCSS blocker-search samples"},
     {"shadow", "pcss_max_radius", "--pcss-max-radius", SETTING_FLOAT, SH(pcss_max_radius), 0, 1, 256, 48, NULL,
      "PCSS search/filter radius cap (texels)"},
+    {"shadow", "filter_bias", "--filter-bias", SETTING_ENUM, SH(filter_bias), 0, 0, 1, 0, k_filter_biases,
+     "PCF/PCSS: receiver-plane depth + 1-texel bias, Poisson disk; legacy: slope bias x filter radius, spiral"},
     /* Reflective shadow maps (SPEC §3). */
     {"gi", "rsm_size", "--rsm-size", SETTING_INT, GI(rsm_size), 0, 4, 4096, 512, NULL,
      "RSM texels per side, per cube face for point/quad lights"},

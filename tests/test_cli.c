@@ -188,7 +188,8 @@ static void png_beside_pfm(void **state)
 
 /* The window: `rtgi view` under a virtual X server (xvfb-run, installed by
  * scripts/install-deps.sh) renders through GLFW's GL 4.5 context exactly
- * the image `rtgi render` makes headless through EGL. */
+ * the image `rtgi render` makes headless through EGL (the window's default
+ * post-process AA, FXAA, asked for explicitly in `render`). */
 static void view_matches_headless_render(void **state)
 {
     (void)state;
@@ -201,7 +202,7 @@ static void view_matches_headless_render(void **state)
     if (rc != 0)
         fail_msg("rtgi view under xvfb-run failed (%d): %s", rc, err ? err : "");
     free(err);
-    assert_int_equal(test_run_cli(NULL, "render", "--size", "64x64", "--shadow", "hard", "--out", headless, NULL), 0);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "64x64", "--shadow", "hard", "--aa", "fxaa", "--out", headless, NULL), 0);
     ImageF a, b;
     assert_true(image_read(view, &a));
     assert_true(image_read(headless, &b));

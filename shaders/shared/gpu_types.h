@@ -42,6 +42,7 @@
 #define TEX_GI 11        /* indirect irradiance */
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
+#define TEX_LDR 31       /* tone-mapped colour (FXAA's input, linear filtering) */
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
@@ -62,6 +63,7 @@
 #define LOC_RSM_TEXEL_AREA 11   /* rsm.frag: float texel area on the projection plane */
 #define LOC_DIRECT_EMISSION 10  /* direct.frag: int, add emitted radiance */
 #define LOC_TONEMAP_EXPOSURE 10 /* tonemap.frag: float */
+#define LOC_RESOLVE_FACTOR 10   /* resolve.frag: int, supersampling factor N */
 #define LOC_COMPOSITE_SPECULAR 10 /* composite.frag: int, add the specular image */
 #define LOC_VPL_STRIDE 10       /* vpl_extract.comp: int, keep every stride-th texel per axis */
 #define LOC_VPL_SEED 11         /* vpl_extract.comp: uint, seed of the VPLs' random ξ */
@@ -90,6 +92,8 @@
 #define RSM_WEIGHT_PAPER 0
 #define RSM_WEIGHT_UNBIASED 1
 #define RSM_WEIGHT_IMPORTANCE 2
+#define SHADOW_BIAS_RECEIVER_PLANE 0
+#define SHADOW_BIAS_LEGACY 1
 #endif
 
 /* ---- Blocks ------------------------------------------------------------- */
@@ -114,7 +118,8 @@
     F(int, pcf_samples)       /* Poisson samples of the PCF filter */          \
     F(int, blocker_samples)   /* PCSS blocker-search samples */                \
     F(float, pcss_max_radius) /* PCSS search/filter radius cap (texels) */     \
-    A(vec4, poisson, SHADOW_MAX_SAMPLES) /* xy: Poisson disk in the unit disk */
+    A(vec4, poisson, SHADOW_MAX_SAMPLES) /* xy: Poisson disk in the unit disk */ \
+    F(int, filter_bias)       /* SHADOW_BIAS_RECEIVER_PLANE or SHADOW_BIAS_LEGACY (PCF/PCSS) */
 
 /* Per-frame values every screen-space pass may read (std140). */
 #define GPU_FRAME_FIELDS(F, A)                                              \
@@ -203,7 +208,7 @@ layout(std140, binding = UBO_GI) uniform GiBlock { GpuGiParams u_gi; };
 layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
 #else
 static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight: std140 size");
-static_assert(sizeof(GpuShadowParams) == 2 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
+static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
 static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 rounds the block to 80)");
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");

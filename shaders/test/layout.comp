@@ -20,4 +20,9 @@ void main()
     values[6] = SHADOW_PCF;
     values[7] = SHADOW_PCSS;
     values[8] = int(sink * 0.0);
+    values[9] = SHADOW_BIAS_RECEIVER_PLANE;
+    values[10] = SHADOW_BIAS_LEGACY;
+    values[11] = RSM_WEIGHT_PAPER;
+    values[12] = RSM_WEIGHT_UNBIASED;
+    values[13] = RSM_WEIGHT_IMPORTANCE;
 }

@@ -2,6 +2,7 @@
 
 #include <assert.h>
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include <cglm/cglm.h>
@@ -40,6 +41,39 @@ void poisson_disk_spiral(int n, int rings, float out[][4])
     }
 }
 
+void poisson_disk_best_candidate(int n, float out[][4])
+{
+    /* Mitchell's best candidate: point i is the one of 16·i + 1 uniform
+     * candidates in the disk farthest from points 0..i-1, so every prefix is
+     * well spread. A fixed LCG makes the disk the same on every run. */
+    uint32_t state = 0x9e3779b9u;
+    for (int i = 0; i < n; i++) {
+        float best[2] = {0, 0}, best_d = -1.f;
+        for (int c = 0; c < 16 * i + 1; c++) {
+            float u[2];
+            for (int k = 0; k < 2; k++) {
+                state = state * 1664525u + 1013904223u;
+                u[k] = (float)(state >> 8) / 16777216.f;
+            }
+            float r = sqrtf(u[0]), a = 2.f * GLM_PIf * u[1];
+            float p[2] = {r * cosf(a), r * sinf(a)};
+            float d = 1e9f;
+            for (int j = 0; j < i; j++) {
+                float dx = p[0] - out[j][0], dy = p[1] - out[j][1];
+                d = fminf(d, dx * dx + dy * dy);
+            }
+            if (d > best_d) {
+                best_d = d;
+                best[0] = p[0];
+                best[1] = p[1];
+            }
+        }
+        out[i][0] = best[0];
+        out[i][1] = best[1];
+        out[i][2] = out[i][3] = 0.f;
+    }
+}
+
 void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *sp)
 {
     GpuShadowParams g;
@@ -55,7 +89,11 @@ void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *
     /* The settings table bounds both counts by SHADOW_MAX_SAMPLES. */
     int n = sp->pcf_samples > sp->blocker_samples ? sp->pcf_samples : sp->blocker_samples;
     assert(n >= 1 && n <= SHADOW_MAX_SAMPLES);
-    poisson_disk_spiral(n, 10, g.poisson);
+    g.filter_bias = sp->filter_bias;
+    if (sp->filter_bias == SHADOW_BIAS_LEGACY)
+        poisson_disk_spiral(n, 10, g.poisson);
+    else
+        poisson_disk_best_candidate(n, g.poisson);
     glNamedBufferSubData(p->shadow_ubo, 0, sizeof g, &g);
 }
 

@@ -17,6 +17,10 @@
 #include "shader.h"
 #include "targets.h"
 
+/* How PCF and PCSS bias their depth tests (ShadowParams.filter_bias; the
+ * values are SHADOW_BIAS_* in shared/gpu_types.h). */
+typedef enum ShadowFilterBias { SHADOW_BIAS_RECEIVER_PLANE = 0, SHADOW_BIAS_LEGACY = 1 } ShadowFilterBias;
+
 typedef enum ShadowMode { SHADOW_MODE_NONE = 0, SHADOW_MODE_HARD = 1, SHADOW_MODE_PCF = 2, SHADOW_MODE_PCSS = 3 } ShadowMode;
 
 typedef struct PassDirect {
@@ -36,5 +40,8 @@ void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, Col
 /* The Poisson disk of the notes: `n` (≤ SHADOW_MAX_SAMPLES) samples on a
  * spiral of `rings` turns (radius grows as ((i+1)/n)^0.75), in the unit disk. */
 void poisson_disk_spiral(int n, int rings, float out[][4]);
+/* A Poisson disk of `n` samples in the unit disk by Mitchell's best
+ * candidate (deterministic; every prefix is well spread). */
+void poisson_disk_best_candidate(int n, float out[][4]);
 
 #endif

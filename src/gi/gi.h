@@ -91,6 +91,7 @@ int gi_technique_find(const char *name);
 extern const GiTechnique gi_none;
 extern const GiTechnique gi_rsm, gi_rsm_interp, gi_rsm_interleaved;
 extern const GiTechnique gi_vpl_all, gi_vpl_clamped, gi_vpl_slc, gi_vpl_interleaved, gi_vpl_metalights;
+extern const GiTechnique gi_lpv;
 
 /* The GpuGiParams block (RSM gathers, interpolation, interleaving) for
  * these settings at an output of width × height. */

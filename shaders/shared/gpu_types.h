@@ -45,8 +45,9 @@
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
 #define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
 #define TEX_LPV_GV1 15   /* lpv: geometry volume, normal tensor xy xz yz */
-#define TEX_LPV_SRC 16   /* lpv: 3 SH volumes (R, G, B) a propagation step reads, 16..18 */
-#define TEX_LPV_SUM 19   /* lpv: accumulated SH volumes, 3 per cascade: 19 + 3k + channel (19..27) */
+#define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
+#define TEX_LPV_SUM 16   /* lpv lookup: accumulated SH of every VPL in cascade k: 16 + 3k + channel (16..24) */
+#define TEX_LPV_OUTER 25 /* lpv lookup: same, only VPLs outside cascade k-1: 25 + 3(k-1) + channel (25..30) */
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
@@ -76,7 +77,8 @@
 #define LOC_GATHER_EXHAUSTIVE 10 /* rsm gather: int, sum every VPL instead of sampling */
 #define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
 #define LOC_LPV_CASCADE 10      /* lpv inject/geometry/propagate: int, the cascade being built */
-#define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2); 0: G-buffer source */
+#define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2) */
+#define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile

@@ -15,10 +15,16 @@
  *   lpv_lookup     trilinear, half a cell along the normal, cosine lobe →
  *                  irradiance E into GiFrame.irradiance
  * Grids: one of N³ cells fitted to the scene bounds (a cell of margin on
- * each side), or K nested grids centred on the camera, the coarsest twice
- * the scene's largest extent and each finer one half the last, their
+ * each side), or K nested grids centred on the camera, the coarsest just
+ * holding the scene bounds around the camera and each finer one half the
+ * last, their
  * origins snapped to whole cells (the image does not swim as the camera
- * moves); the lookup blends across a cascade's outer border.
+ * moves). A finer grid propagates only the VPLs inside it, so every
+ * coarser cascade k ≥ 1 propagates two volume sets: every VPL inside it,
+ * and only those outside cascade k−1. A point inside cascade k takes the
+ * light of cascade k's VPLs from cascade k and that of the rest from the
+ * coarser "outer" sets; across the outer tenth of a cascade the lookup
+ * fades to the next coarser one.
  * Inputs: light stage (RSMs, VPL buffer), G-buffer, camera. Output:
  * irradiance. Owns: its 3D textures (per cascade: injected, accumulated,
  * geometry; shared: the ping-pong pair), their layered framebuffers, a UBO,
@@ -36,12 +42,16 @@
 #include "log.h"
 #include "shader.h"
 
+/* Volume sets of a cascade: every VPL inside it, and (k ≥ 1) only those
+ * outside the next finer cascade. */
+enum { SET_ALL, SET_OUTER, SETS };
+
 typedef struct LpvCascade {
-    GLuint inject[3];  /* RGBA32F N³: SH of the injected intensity, per channel */
-    GLuint sum[3];     /* RGBA32F N³: accumulated */
-    GLuint gv[2];      /* RGBA32F (N+1)³: normal tensor (xx yy zz, xy xz yz) */
-    GLuint fbo_inject; /* layered: inject[0..2] */
-    GLuint fbo_gv;     /* layered: gv[0..1] */
+    GLuint inject[SETS][3];  /* RGBA32F N³: SH of the injected intensity, per channel */
+    GLuint sum[SETS][3];     /* RGBA32F N³: accumulated */
+    GLuint gv[2];            /* RGBA32F (N+1)³: normal tensor (xx yy zz, xy xz yz) */
+    GLuint fbo_inject[SETS]; /* layered: inject[set][0..2] */
+    GLuint fbo_gv;           /* layered: gv[0..1] */
 } LpvCascade;
 
 typedef struct LpvGi {
@@ -98,13 +108,15 @@ static void lpv_destroy(void *state)
         return;
     for (int k = 0; k < LPV_MAX_CASCADES; k++) {
         LpvCascade *c = &l->c[k];
-        for (int i = 0; i < 3; i++) {
-            gl_texture3d_destroy(&c->inject[i]);
-            gl_texture3d_destroy(&c->sum[i]);
+        for (int set = 0; set < SETS; set++) {
+            for (int i = 0; i < 3; i++) {
+                gl_texture3d_destroy(&c->inject[set][i]);
+                gl_texture3d_destroy(&c->sum[set][i]);
+            }
+            gl_fbo_destroy(&c->fbo_inject[set]);
         }
         gl_texture3d_destroy(&c->gv[0]);
         gl_texture3d_destroy(&c->gv[1]);
-        gl_fbo_destroy(&c->fbo_inject);
         gl_fbo_destroy(&c->fbo_gv);
     }
     for (int i = 0; i < 3; i++) {
@@ -162,12 +174,15 @@ static void *lpv_create(const GiCreateInfo *ci)
     int n = l->n;
     for (int k = 0; ok && k < l->cascades; k++) {
         LpvCascade *c = &l->c[k];
-        for (int i = 0; i < 3; i++) {
-            ok = ok && (c->inject[i] = volume(GL_RGBA32F, n, "lpv.inject")) && (c->sum[i] = volume(GL_RGBA32F, n, "lpv.sum"));
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
+            for (int i = 0; ok && i < 3; i++)
+                ok = (c->inject[set][i] = volume(GL_RGBA32F, n, "lpv.inject")) &&
+                     (c->sum[set][i] = volume(GL_RGBA32F, n, "lpv.sum"));
+            ok = ok && (c->fbo_inject[set] = layered_fbo(c->inject[set], 3, "lpv.inject"));
         }
         for (int i = 0; ok && i < 2; i++)
             ok = (c->gv[i] = volume(GL_RGBA32F, n + 1, "lpv.geometry")) != 0;
-        ok = ok && (c->fbo_inject = layered_fbo(c->inject, 3, "lpv.inject")) && (c->fbo_gv = layered_fbo(c->gv, 2, "lpv.geometry"));
+        ok = ok && (c->fbo_gv = layered_fbo(c->gv, 2, "lpv.geometry"));
     }
     for (int i = 0; ok && i < 3; i++)
         ok = (l->pp[0][i] = volume(GL_RGBA32F, n, "lpv.propagate")) && (l->pp[1][i] = volume(GL_RGBA32F, n, "lpv.propagate"));
@@ -209,8 +224,14 @@ static void place_grids(LpvGi *l, const Camera *cam)
             u->cascade[0][a] = mid[a] - 0.5f * cell * (float)l->n;
         u->cascade[0][3] = cell;
     } else {
+        /* The coarsest holds the whole scene around the camera, with a cell
+         * of margin (and its snapping) on each side. */
+        float half = 0.f;
+        for (int a = 0; a < 3; a++)
+            half = fmaxf(half, fmaxf(fabsf(l->bmin[a] - cam->position[a]), fabsf(l->bmax[a] - cam->position[a])));
+        float coarsest = 2.f * half * (float)l->n / (float)(l->n > 4 ? l->n - 4 : l->n);
         for (int k = 0; k < l->cascades; k++) {
-            float extent = 2.f * largest / (float)(1 << (l->cascades - 1 - k));
+            float extent = coarsest / (float)(1 << (l->cascades - 1 - k));
             float cell = extent / (float)l->n;
             for (int a = 0; a < 3; a++)
                 u->cascade[k][a] = (floorf(cam->position[a] / cell) - (float)(l->n / 2)) * cell;
@@ -243,11 +264,14 @@ static void inject_light(LpvGi *l, const GiFrame *f)
     glViewport(0, 0, l->n, l->n);
     for (int k = 0; k < l->cascades; k++) {
         LpvCascade *c = &l->c[k];
-        for (int i = 0; i < 3; i++)
-            clear_volume(c->inject[i]);
-        glBindFramebuffer(GL_FRAMEBUFFER, c->fbo_inject);
-        glProgramUniform1i(l->inject, LOC_LPV_CASCADE, k);
-        glDrawArraysIndirect(GL_POINTS, NULL);
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
+            for (int i = 0; i < 3; i++)
+                clear_volume(c->inject[set][i]);
+            glBindFramebuffer(GL_FRAMEBUFFER, c->fbo_inject[set]);
+            glProgramUniform1i(l->inject, LOC_LPV_CASCADE, k);
+            glProgramUniform1i(l->inject, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
+            glDrawArraysIndirect(GL_POINTS, NULL);
+        }
     }
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
 }
@@ -291,11 +315,14 @@ static void propagate(LpvGi *l)
     GLuint groups = (GLuint)(n + 7) / 8; /* propagate.comp: 8×8×1 per group */
     glUseProgram(l->propagate);
     for (int k = 0; k < l->cascades; k++) {
+      for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
         LpvCascade *c = &l->c[k];
         for (int i = 0; i < 3; i++) {
-            glCopyImageSubData(c->inject[i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0][i], GL_TEXTURE_3D, 0, 0, 0, 0, n, n, n);
-            glCopyImageSubData(c->inject[i], GL_TEXTURE_3D, 0, 0, 0, 0, c->sum[i], GL_TEXTURE_3D, 0, 0, 0, 0, n, n, n);
-            glBindImageTexture(IMG_LPV_SUM + i, c->sum[i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+            glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0][i], GL_TEXTURE_3D, 0, 0, 0, 0,
+                               n, n, n);
+            glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, c->sum[set][i], GL_TEXTURE_3D, 0, 0, 0, 0,
+                               n, n, n);
+            glBindImageTexture(IMG_LPV_SUM + i, c->sum[set][i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
         }
         glBindTextureUnit(TEX_LPV_GV0, c->gv[0]);
         glBindTextureUnit(TEX_LPV_GV1, c->gv[1]);
@@ -309,14 +336,20 @@ static void propagate(LpvGi *l)
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
             cur = 1 - cur;
         }
+      }
     }
 }
 
 static void lookup(LpvGi *l, const GiFrame *f)
 {
+    /* Unused slots get cascade 0's volumes (never read). */
     for (int k = 0; k < LPV_MAX_CASCADES; k++)
-        for (int i = 0; i < 3; i++)
-            glBindTextureUnit((GLuint)(TEX_LPV_SUM + 3 * k + i), l->c[k < l->cascades ? k : 0].sum[i]);
+        for (int i = 0; i < 3; i++) {
+            glBindTextureUnit((GLuint)(TEX_LPV_SUM + 3 * k + i), l->c[k < l->cascades ? k : 0].sum[SET_ALL][i]);
+            if (k > 0)
+                glBindTextureUnit((GLuint)(TEX_LPV_OUTER + 3 * (k - 1) + i),
+                                  k < l->cascades ? l->c[k].sum[SET_OUTER][i] : l->c[0].sum[SET_ALL][i]);
+        }
     glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
     glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
     glBindImageTexture(IMG_OUT, f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -397,7 +430,7 @@ bool lpv_read_volume(void *state, int cascade, LpvVolume which, float *out)
     size_t n3 = (size_t)l->n * (size_t)l->n * (size_t)l->n;
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     for (int i = 0; i < 3; i++) {
-        GLuint tex = which == LPV_VOLUME_INJECTED ? l->c[cascade].inject[i] : l->c[cascade].sum[i];
+        GLuint tex = which == LPV_VOLUME_INJECTED ? l->c[cascade].inject[SET_ALL][i] : l->c[cascade].sum[SET_ALL][i];
         glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out + (size_t)i * n3 * 4);
     }
     return true;

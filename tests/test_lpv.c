@@ -219,8 +219,17 @@ static void wall_blocks_light(void **state)
     double on = irradiance_at(&r, e, below, 1);
     free(e);
     renderer_destroy(&r);
-    print_message("below the wall: E free %.4g, occlusion off %.4g (cut %.1f%%), on %.4g (cut %.1f%%)\n", free_e,
-                  off, 100 * (1 - off / free_e), on, 100 * (1 - on / free_e));
+    /* The camera's G-buffer adds surfels (here the floor it sees): more
+     * blockers can only block more. */
+    gp.lpv_gbuffer_occlusion = true;
+    e = render_one_vpl(&r, &walled, &gp, 64, p);
+    double on_gb = irradiance_at(&r, e, below, 1);
+    free(e);
+    renderer_destroy(&r);
+    print_message("below the wall: E free %.4g, occlusion off %.4g (cut %.1f%%), on %.4g (cut %.1f%%), "
+                  "with the G-buffer %.4g\n",
+                  free_e, off, 100 * (1 - off / free_e), on, 100 * (1 - on / free_e), on_gb);
+    assert_true(on_gb <= on * 1.0001 + 1e-9);
     assert_true(free_e > 0);
     assert_true(on < 0.2 * free_e);
     assert_true(fabs(off - free_e) < 0.2 * free_e); /* without occlusion the wall is not there: the leak */

@@ -27,6 +27,7 @@
 #define SSBO_EVALS 5     /* VPL–pixel evaluations per work group */
 #define SSBO_SUBSETS 6   /* interleaved VPL subsets; metalight signatures */
 #define SSBO_PIXEL_LIST 7 /* rsm-interp: [0] count, [1..] pixels that need a full gather */
+#define SSBO_LPV_FIXED 8  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -79,6 +80,7 @@
 #define LOC_LPV_CASCADE 10      /* lpv inject/geometry/propagate: int, the cascade being built */
 #define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2) */
 #define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
+#define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile

@@ -1,10 +1,13 @@
 /* lpv.c — light propagation volumes (Kaplanyan & Dachsbacher 2010), SPEC
  * §5; one row of the technique table, `--gi lpv`. Per frame and cascade:
  *   lpv_inject     every VPL (every lit RSM texel, from the light stage's
- *                  VPL buffer) moved half a cell along its normal, rendered
- *                  as a point into the layers of three RGBA32F 3D textures
- *                  (R, G, B; 2-band SH each) with additive blending:
- *                  Φ/π · SH(max(0, n·ω)), so the grid holds the RSM's flux
+ *                  VPL buffer) moved half a cell along its normal adds
+ *                  Φ/π · SH(max(0, n·ω)) to its cell in three RGBA32F 3D
+ *                  textures (R, G, B; 2-band SH each), so the grid holds
+ *                  the RSM's flux: by compute with integer atomics in fixed
+ *                  point into a buffer and a resolve pass (default; 2–3×
+ *                  faster on llvmpipe), or (--lpv-inject points) as a point
+ *                  drawn into the textures' layers with additive blending
  *   lpv_geometry   every RSM texel (and G-buffer pixel, optionally) as a
  *                  surfel into the geometry volume, offset by half a cell
  *                  (normal tensor; see shaders/gi/lpv/geometry.vert)
@@ -64,6 +67,10 @@ typedef struct LpvGi {
     LpvCascade c[LPV_MAX_CASCADES];
     GLuint pp[2][3];        /* ping-pong propagation volumes, shared by the cascades */
     GLuint inject, geom_rsm, geom_gbuf, propagate, lookup; /* programs */
+    GLuint inject_fixed, inject_resolve; /* programs of --lpv-inject compute */
+    GLuint fixed;           /* --lpv-inject compute: int[12·N³] fixed-point sums */
+    float scene_power;      /* bound on the light the RSMs can reflect (W), for the fixed-point scale */
+    float test_power;       /* the same for lpv_set_vpls' VPLs */
     GLuint ubo;             /* GpuLpvParams */
     GLuint indirect;        /* DrawArraysIndirectCommand of the injection */
     GLuint vao;             /* empty */
@@ -123,8 +130,8 @@ static void lpv_destroy(void *state)
         gl_texture3d_destroy(&l->pp[0][i]);
         gl_texture3d_destroy(&l->pp[1][i]);
     }
-    GLuint b[3] = {l->ubo, l->indirect, l->test_vpls};
-    glDeleteBuffers(3, b);
+    GLuint b[4] = {l->ubo, l->indirect, l->test_vpls, l->fixed};
+    glDeleteBuffers(4, b);
     glDeleteVertexArrays(1, &l->vao);
     free(l);
 }
@@ -171,6 +178,27 @@ static void *lpv_create(const GiCreateInfo *ci)
     l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", NULL);
     l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", NULL);
     ok = l->inject && l->geom_rsm && l->geom_gbuf && l->propagate && l->lookup;
+    if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
+        l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
+        l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
+        ok = l->inject_fixed && l->inject_resolve;
+        glCreateBuffers(1, &l->fixed);
+        glNamedBufferStorage(l->fixed, (GLsizeiptr)(sizeof(int32_t) * 12 * (size_t)l->n * l->n * l->n), NULL,
+                             GL_DYNAMIC_STORAGE_BIT);
+        glObjectLabel(GL_BUFFER, l->fixed, -1, "lpv.fixed");
+    }
+    /* What the RSMs can reflect at most: every light's power into the scene. */
+    vec3 ext;
+    glm_vec3_sub(l->bmax, l->bmin, ext);
+    for (int i = 0; i < ci->scene->light_count; i++) {
+        /* Directional: E over the bounds' diagonal squared; others: the
+         * on-axis intensity (their largest) over the whole sphere. */
+        const Light *li = &ci->scene->lights[i];
+        vec3 on_axis;
+        light_intensity(li, (float *)li->direction, on_axis);
+        l->scene_power += li->type == LIGHT_DIRECTIONAL ? glm_vec3_max((float *)li->color) * glm_vec3_norm2(ext)
+                                                        : glm_vec3_max(on_axis) * 4.f * GLM_PIf;
+    }
     int n = l->n;
     for (int k = 0; ok && k < l->cascades; k++) {
         LpvCascade *c = &l->c[k];
@@ -247,6 +275,38 @@ static void clear_volume(GLuint tex)
     glClearTexImage(tex, 0, GL_RGBA, GL_FLOAT, NULL);
 }
 
+/* --lpv-inject compute: fixed-point atomics per VPL, then a resolve into
+ * the injected volumes, per cascade and set. */
+static void inject_light_fixed(LpvGi *l, const GiFrame *f)
+{
+    float power = l->test_vpls ? l->test_power : l->scene_power;
+    /* Every coefficient of a cell is at most 1.0233·P/π: 2^30 units for that. */
+    float scale = power > 0.f ? 1073741824.f / (1.0233f * power / GLM_PIf) : 1.f;
+    uint32_t capacity = l->test_vpls ? (uint32_t)l->test_count : f->lights->vpls.capacity;
+    if (l->test_vpls)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_COUNTERS, l->indirect); /* [0] = count */
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_LPV_FIXED, l->fixed);
+    glProgramUniform1f(l->inject_fixed, LOC_LPV_FIXED_SCALE, scale);
+    glProgramUniform1f(l->inject_resolve, LOC_LPV_FIXED_SCALE, scale);
+    GLuint groups = (GLuint)(l->n + 7) / 8;
+    for (int k = 0; k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
+            glClearNamedBufferData(l->fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
+            glProgramUniform1i(l->inject_fixed, LOC_LPV_CASCADE, k);
+            glProgramUniform1i(l->inject_fixed, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
+            glUseProgram(l->inject_fixed);
+            glDispatchCompute((capacity + 63) / 64, 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            for (int i = 0; i < 3; i++)
+                glBindImageTexture(IMG_LPV_DST + i, c->inject[set][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glUseProgram(l->inject_resolve);
+            glDispatchCompute(groups, groups, (GLuint)l->n);
+            glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        }
+    }
+}
+
 static void inject_light(LpvGi *l, const GiFrame *f)
 {
     if (l->test_vpls) {
@@ -259,6 +319,10 @@ static void inject_light(LpvGi *l, const GiFrame *f)
         glCopyNamedBufferSubData(f->lights->vpls.counters, l->indirect, 0, 0, sizeof(GLuint));
     }
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+    if (l->params.lpv_inject == LPV_INJECT_COMPUTE) {
+        inject_light_fixed(l, f);
+        return;
+    }
     glUseProgram(l->inject);
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, l->indirect);
     glViewport(0, 0, l->n, l->n);
@@ -410,6 +474,9 @@ void lpv_set_vpls(void *state, const GpuVpl *vpls, int count)
     glNamedBufferStorage(l->test_vpls, (GLsizeiptr)(sizeof(GpuVpl) * (size_t)count), vpls, 0);
     glObjectLabel(GL_BUFFER, l->test_vpls, -1, "lpv.test_vpls");
     l->test_count = count;
+    l->test_power = 0.f;
+    for (int i = 0; i < count; i++)
+        l->test_power += glm_vec3_max((float *)vpls[i].flux);
 }
 
 int lpv_grid_size(const void *state) { return ((const LpvGi *)state)->n; }

@@ -84,7 +84,7 @@ typedef struct ShadowParams {
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
 } ShadowParams;
 
-typedef enum LpvInject { LPV_INJECT_POINTS = 0, LPV_INJECT_COMPUTE = 1 } LpvInject;
+typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
 
 typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1 } RsmWeighting;
 
@@ -115,7 +115,7 @@ typedef struct GiParams {
     bool lpv_occlusion;    /* attenuate propagation by the geometry volume */
     float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
     bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
-    int lpv_inject;        /* LpvInject: points into 3D-texture layers with blending, or compute with atomics */
+    int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
 } GiParams;
 
 

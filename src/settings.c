@@ -11,7 +11,7 @@
 #include "shared/gpu_types.h"
 
 static const char *const k_weightings[] = {"paper", "unbiased", NULL};
-static const char *const k_lpv_inject[] = {"points", "compute", NULL};
+static const char *const k_lpv_inject[] = {"compute", "points", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -83,7 +83,7 @@ const SettingDesc settings_table[] = {
      "lpv: injection offset of a VPL along its normal (cells)"},
     {"gi", "lpv_gbuffer_occlusion", "--lpv-gbuffer-occlusion", SETTING_BOOL, GI(lpv_gbuffer_occlusion), 0, 0, 1, 0,
      NULL, "lpv: also inject the camera's G-buffer into the geometry volume"},
-    {"gi", "lpv_inject", "--lpv-inject", SETTING_ENUM, GI(lpv_inject), 0, 0, 1, 1, k_lpv_inject,
+    {"gi", "lpv_inject", "--lpv-inject", SETTING_ENUM, GI(lpv_inject), 0, 0, 1, 0, k_lpv_inject,
      "lpv: compute (fixed-point atomics, resolve) or points (layered draw, additive blending)"},
 };
 /* clang-format on */

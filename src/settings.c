@@ -84,7 +84,7 @@ const SettingDesc settings_table[] = {
     {"gi", "lpv_gbuffer_occlusion", "--lpv-gbuffer-occlusion", SETTING_BOOL, GI(lpv_gbuffer_occlusion), 0, 0, 1, 0,
      NULL, "lpv: also inject the camera's G-buffer into the geometry volume"},
     {"gi", "lpv_inject", "--lpv-inject", SETTING_ENUM, GI(lpv_inject), 0, 0, 1, 0, k_lpv_inject,
-     "lpv: compute (fixed-point atomics, resolve) or points (layered draw, additive blending)"},
+     "lpv: inject light and geometry by compute (fixed-point atomics, resolve) or points (layered draws, blending)"},
 };
 /* clang-format on */
 const int settings_count = (int)(sizeof settings_table / sizeof settings_table[0]);

@@ -68,7 +68,9 @@ typedef struct LpvGi {
     GLuint pp[2][3];        /* ping-pong propagation volumes, shared by the cascades */
     GLuint inject, geom_rsm, geom_gbuf, propagate, lookup; /* programs */
     GLuint inject_fixed, inject_resolve; /* programs of --lpv-inject compute */
-    GLuint fixed;           /* --lpv-inject compute: int[12·N³] fixed-point sums */
+    GLuint geom_fixed_rsm, geom_fixed_gbuf, geom_resolve;
+    GLuint fixed;           /* --lpv-inject compute: int[12·N³] fixed-point SH sums */
+    GLuint gv_fixed;        /* --lpv-inject compute: int[6·(N+1)³] fixed-point tensor sums */
     float scene_power;      /* bound on the light the RSMs can reflect (W), for the fixed-point scale */
     float test_power;       /* the same for lpv_set_vpls' VPLs */
     GLuint ubo;             /* GpuLpvParams */
@@ -130,8 +132,8 @@ static void lpv_destroy(void *state)
         gl_texture3d_destroy(&l->pp[0][i]);
         gl_texture3d_destroy(&l->pp[1][i]);
     }
-    GLuint b[4] = {l->ubo, l->indirect, l->test_vpls, l->fixed};
-    glDeleteBuffers(4, b);
+    GLuint b[5] = {l->ubo, l->indirect, l->test_vpls, l->fixed, l->gv_fixed};
+    glDeleteBuffers(5, b);
     glDeleteVertexArrays(1, &l->vao);
     free(l);
 }
@@ -181,11 +183,18 @@ static void *lpv_create(const GiCreateInfo *ci)
     if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
         l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
         l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
-        ok = l->inject_fixed && l->inject_resolve;
+        l->geom_fixed_rsm = program(l, "lpv_geometry_fixed", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp", NULL);
+        l->geom_fixed_gbuf = program(l, "lpv_geometry_fixed_gbuffer", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
+                                     "#define GBUFFER\n");
+        l->geom_resolve = program(l, "lpv_geometry_resolve", NULL, NULL, NULL, "gi/lpv/geometry_resolve.comp", NULL);
+        ok = l->inject_fixed && l->inject_resolve && l->geom_fixed_rsm && l->geom_fixed_gbuf && l->geom_resolve;
+        size_t n3 = (size_t)l->n * l->n * l->n, g3 = (size_t)(l->n + 1) * (l->n + 1) * (l->n + 1);
         glCreateBuffers(1, &l->fixed);
-        glNamedBufferStorage(l->fixed, (GLsizeiptr)(sizeof(int32_t) * 12 * (size_t)l->n * l->n * l->n), NULL,
-                             GL_DYNAMIC_STORAGE_BIT);
+        glNamedBufferStorage(l->fixed, (GLsizeiptr)(sizeof(int32_t) * 12 * n3), NULL, GL_DYNAMIC_STORAGE_BIT);
         glObjectLabel(GL_BUFFER, l->fixed, -1, "lpv.fixed");
+        glCreateBuffers(1, &l->gv_fixed);
+        glNamedBufferStorage(l->gv_fixed, (GLsizeiptr)(sizeof(int32_t) * 6 * g3), NULL, GL_DYNAMIC_STORAGE_BIT);
+        glObjectLabel(GL_BUFFER, l->gv_fixed, -1, "lpv.geometry_fixed");
     }
     /* What the RSMs can reflect at most: every light's power into the scene. */
     vec3 ext;
@@ -340,8 +349,54 @@ static void inject_light(LpvGi *l, const GiFrame *f)
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
 }
 
+/* --lpv-inject compute: the surfels' tensors in fixed point (2^20 units
+ * per 1: a cell's entries stay far below 2^11, where blocking long
+ * saturated at 1), then a resolve into the two textures. */
+static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
+{
+    const LightStage *ls = f->lights;
+    const float scale = 1048576.f;
+    GLuint g = (GLuint)(l->n + 1 + 7) / 8;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_LPV_FIXED, l->gv_fixed);
+    for (int k = 0; k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        float cell = l->gpu.cascade[k][3];
+        glClearNamedBufferData(l->gv_fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
+        GLuint progs[2] = {l->geom_fixed_rsm, l->params.lpv_gbuffer_occlusion ? l->geom_fixed_gbuf : 0};
+        for (int pi = 0; pi < 2 && progs[pi]; pi++) {
+            glProgramUniform1i(progs[pi], LOC_LPV_CASCADE, k);
+            glProgramUniform1f(progs[pi], LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
+            glProgramUniform1f(progs[pi], LOC_LPV_FIXED_SCALE, scale);
+            glUseProgram(progs[pi]);
+            if (pi == 0) {
+                for (int i = 0; i < ls->light_count; i++) {
+                    const RsmMap *m = &ls->rsm[i];
+                    glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
+                    glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
+                    glDispatchCompute((GLuint)(m->size + 7) / 8, (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
+                }
+            } else {
+                glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
+                glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+                glDispatchCompute((GLuint)(f->gbuffer->width + 7) / 8, (GLuint)(f->gbuffer->height + 7) / 8, 1);
+            }
+        }
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glProgramUniform1f(l->geom_resolve, LOC_LPV_FIXED_SCALE, scale);
+        glUseProgram(l->geom_resolve);
+        glBindImageTexture(IMG_LPV_DST + 0, c->gv[0], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(IMG_LPV_DST + 1, c->gv[1], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glDispatchCompute(g, g, (GLuint)(l->n + 1));
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    }
+}
+
 static void inject_geometry(LpvGi *l, const GiFrame *f)
 {
+    if (l->params.lpv_inject == LPV_INJECT_COMPUTE && l->params.lpv_occlusion) {
+        inject_geometry_fixed(l, f);
+        return;
+    }
     const LightStage *ls = f->lights;
     glViewport(0, 0, l->n + 1, l->n + 1);
     for (int k = 0; k < l->cascades; k++) {

@@ -428,35 +428,39 @@ static void inject_geometry(LpvGi *l, const GiFrame *f)
     }
 }
 
-static void propagate(LpvGi *l)
+/* Propagates one volume set of cascade c: injected → ping-pong[0] and the
+ * sum, then `iterations` steps, each adding to the sum. */
+static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
 {
     int n = l->n;
     GLuint groups = (GLuint)(n + 7) / 8; /* propagate.comp: 8×8×1 per group */
-    glUseProgram(l->propagate);
-    for (int k = 0; k < l->cascades; k++) {
-      for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
-        LpvCascade *c = &l->c[k];
-        for (int i = 0; i < 3; i++) {
-            glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0][i], GL_TEXTURE_3D, 0, 0, 0, 0,
-                               n, n, n);
-            glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, c->sum[set][i], GL_TEXTURE_3D, 0, 0, 0, 0,
-                               n, n, n);
-            glBindImageTexture(IMG_LPV_SUM + i, c->sum[set][i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
-        }
-        glBindTextureUnit(TEX_LPV_GV0, c->gv[0]);
-        glBindTextureUnit(TEX_LPV_GV1, c->gv[1]);
-        int cur = 0;
-        for (int it = 0; it < l->iterations; it++) {
-            for (int i = 0; i < 3; i++) {
-                glBindTextureUnit(TEX_LPV_SRC + i, l->pp[cur][i]);
-                glBindImageTexture(IMG_LPV_DST + i, l->pp[1 - cur][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            }
-            glDispatchCompute(groups, groups, (GLuint)n);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-            cur = 1 - cur;
-        }
-      }
+    for (int i = 0; i < 3; i++) {
+        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0][i], GL_TEXTURE_3D, 0, 0, 0, 0, n, n,
+                           n);
+        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, c->sum[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, n,
+                           n, n);
+        glBindImageTexture(IMG_LPV_SUM + i, c->sum[set][i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
     }
+    glBindTextureUnit(TEX_LPV_GV0, c->gv[0]);
+    glBindTextureUnit(TEX_LPV_GV1, c->gv[1]);
+    int cur = 0;
+    for (int it = 0; it < l->iterations; it++) {
+        for (int i = 0; i < 3; i++) {
+            glBindTextureUnit(TEX_LPV_SRC + i, l->pp[cur][i]);
+            glBindImageTexture(IMG_LPV_DST + i, l->pp[1 - cur][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        }
+        glDispatchCompute(groups, groups, (GLuint)n);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        cur = 1 - cur;
+    }
+}
+
+static void propagate(LpvGi *l)
+{
+    glUseProgram(l->propagate);
+    for (int k = 0; k < l->cascades; k++)
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++)
+            propagate_set(l, &l->c[k], set);
 }
 
 static void lookup(LpvGi *l, const GiFrame *f)

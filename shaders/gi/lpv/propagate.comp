@@ -112,6 +112,8 @@ void main()
         if (!lpv_inside(src, n))
             continue;
         vec4 sr = texelFetch(s_r, src, 0), sg = texelFetch(s_g, src, 0), sb = texelFetch(s_b, src, 0);
+        if (sr == vec4(0.0) && sg == vec4(0.0) && sb == vec4(0.0))
+            continue; // no light yet: nothing to send (saves the 5 faces)
         // The geometry volume at the shared face's centre (in cells).
         vec3 gd = vec3(0.0), go = vec3(0.0);
         if (occlusion) {

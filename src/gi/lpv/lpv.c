@@ -20,18 +20,19 @@
  * Grids: one of N³ cells fitted to the scene bounds (a cell of margin on
  * each side), or K nested grids centred on the camera, the coarsest just
  * holding the scene bounds around the camera and each finer one half the
- * last, their
- * origins snapped to whole cells (the image does not swim as the camera
- * moves). A finer grid propagates only the VPLs inside it, so every
+ * last, their origins snapped to whole cells (the image does not swim as
+ * the camera moves). A finer grid propagates only the VPLs inside it, so every
  * coarser cascade k ≥ 1 propagates two volume sets: every VPL inside it,
  * and only those outside cascade k−1. A point inside cascade k takes the
  * light of cascade k's VPLs from cascade k and that of the rest from the
  * coarser "outer" sets; across the outer tenth of a cascade the lookup
  * fades to the next coarser one.
  * Inputs: light stage (RSMs, VPL buffer), G-buffer, camera. Output:
- * irradiance. Owns: its 3D textures (per cascade: injected, accumulated,
- * geometry; shared: the ping-pong pair), their layered framebuffers, a UBO,
- * an indirect draw buffer. Shaders: shaders/gi/lpv/. */
+ * irradiance. Owns: its 3D textures (per cascade and set: injected,
+ * accumulated; per cascade: geometry; shared: the ping-pong pair), their
+ * layered framebuffers, a UBO, an indirect draw buffer, the fixed-point
+ * buffers of compute injection; programs come from the renderer's cache.
+ * Shaders: shaders/gi/lpv/. */
 #include "gi/lpv/lpv.h"
 
 #include <math.h>

@@ -38,6 +38,7 @@ typedef enum GiMode {
     GI_VPL_SLC,         /* stochastic light culling, tiled */
     GI_VPL_INTERLEAVED, /* interleaved shading, random VPL subsets */
     GI_VPL_METALIGHTS,  /* interleaved shading, subsets dealt from metalights */
+    GI_LPV,             /* light propagation volumes */
     GI_MODE_COUNT
 } GiMode;
 

@@ -85,6 +85,8 @@ typedef struct ShadowParams {
     int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
 } ShadowParams;
 
+typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
+
 typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;
 
 /* Parameters of the RSM family of GI techniques (SPEC §3). */
@@ -109,6 +111,14 @@ typedef struct GiParams {
     float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
     float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
     unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
+    /* Light propagation volumes (SPEC §5). */
+    int lpv_size;          /* cells per side of each grid */
+    int lpv_cascades;      /* 1: one grid fitted to the scene; 2–3: nested grids centred on the camera */
+    int lpv_iterations;    /* propagation steps; 0: the grid size (enough to cross it) */
+    bool lpv_occlusion;    /* attenuate propagation by the geometry volume */
+    float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
+    bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
+    int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
 } GiParams;
 
 

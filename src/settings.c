@@ -12,6 +12,7 @@
 
 static const char *const k_weightings[] = {"paper", "unbiased", "importance", NULL};
 static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
+static const char *const k_lpv_inject[] = {"compute", "points", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -74,6 +75,21 @@ const SettingDesc settings_table[] = {
      "vpl-all: keep a random fraction Q of the VPLs, weighted 1/Q"},
     {"gi", "vpl_seed", "--vpl-seed", SETTING_UINT, GI(vpl_seed), 0, 0, 2147483647, 0, NULL,
      "seed of the VPLs' random xi (SLC culling, subsets)"},
+    /* Light propagation volumes (SPEC §5). */
+    {"gi", "lpv_size", "--lpv-size", SETTING_INT, GI(lpv_size), 0, 2, 256, 32, NULL,
+     "lpv: cells per side of each grid"},
+    {"gi", "lpv_cascades", "--lpv-cascades", SETTING_INT, GI(lpv_cascades), 0, 1, LPV_MAX_CASCADES, 1, NULL,
+     "lpv: 1 = one grid on the scene bounds; 2-3 = nested grids around the camera"},
+    {"gi", "lpv_iterations", "--lpv-iterations", SETTING_INT, GI(lpv_iterations), 0, 0, 1024, 0, NULL,
+     "lpv: propagation steps; 0 = the grid size"},
+    {"gi", "lpv_occlusion", "--lpv-occlusion", SETTING_BOOL, GI(lpv_occlusion), 0, 0, 1, 1, NULL,
+     "lpv: attenuate propagation by the geometry volume"},
+    {"gi", "lpv_offset", "--lpv-offset", SETTING_FLOAT, GI(lpv_offset), 0, 0, 2, 0.5, NULL,
+     "lpv: injection offset of a VPL along its normal (cells)"},
+    {"gi", "lpv_gbuffer_occlusion", "--lpv-gbuffer-occlusion", SETTING_BOOL, GI(lpv_gbuffer_occlusion), 0, 0, 1, 0,
+     NULL, "lpv: also inject the camera's G-buffer into the geometry volume"},
+    {"gi", "lpv_inject", "--lpv-inject", SETTING_ENUM, GI(lpv_inject), 0, 0, 1, 0, k_lpv_inject,
+     "lpv: inject light and geometry by compute (fixed-point atomics, resolve) or points (layered draws, blending)"},
 };
 /* clang-format on */
 const int settings_count = (int)(sizeof settings_table / sizeof settings_table[0]);

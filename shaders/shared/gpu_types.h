@@ -17,6 +17,7 @@
 #define UBO_GI 2      /* GpuGiParams (RSM family, interleaving) */
 #define UBO_VPL 3     /* GpuVplParams (many-VPL family) */
 #define UBO_FRAME 4   /* GpuFrame: camera, sizes, indirect scale */
+#define UBO_LPV 5     /* GpuLpvParams (light propagation volumes) */
 /* Shader storage blocks */
 #define SSBO_PATTERN 0   /* RSM sample pattern: vec4 per sample */
 #define SSBO_VPL 1       /* GpuVpl[] */
@@ -27,6 +28,8 @@
 #define SSBO_SUBSETS 6   /* interleaved VPL subsets; metalight signatures */
 #define SSBO_PIXEL_LIST 7 /* rsm-interp: [0] count, [1..] pixels that need a full gather */
 #define SSBO_SAMPLES 8   /* RSM importance sampling: GpuVpl[list_size] with flux Φ/p */
+#define SSBO_LPV_FIXED 9  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
+/* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
 #define TEX_SHADOW_2D 1  /* shadow map of a directional/spot light */
@@ -43,12 +46,20 @@
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
 #define TEX_LDR 31       /* tone-mapped colour (FXAA's input, linear filtering) */
+#define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
+#define TEX_LPV_GV1 15   /* lpv: geometry volume, normal tensor xy xz yz */
+#define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
+#define TEX_LPV_SUM 16   /* lpv lookup: accumulated SH of every VPL in cascade k: 16 + 3k + channel (16..24) */
+#define TEX_LPV_OUTER 25 /* lpv lookup: same, only VPLs outside cascade k-1: 25 + 3(k-1) + channel (25..30) */
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
+#define IMG_LPV_DST 2    /* lpv propagation: 3 SH volumes written (R, G, B), 2..4 */
+#define IMG_LPV_SUM 5    /* lpv propagation: 3 accumulated SH volumes (R, G, B), 5..7 */
 /* Sizes */
 #define VPL_TILE 16          /* culling tile size in pixels */
 #define SHADOW_MAX_SAMPLES 64 /* Poisson disk entries */
+#define LPV_MAX_CASCADES 3   /* nested LPV grids */
 
 /* ---- Uniform locations -------------------------------------------------- */
 /* Every program that draws the scene's meshes (scene.vert + a fragment shader). */
@@ -76,6 +87,10 @@
  * the image: llvmpipe ends any one shader loop after 65535 iterations
  * (gallivm's guard against endless loops), nested or not. */
 #define LOOP_CHUNK 32768
+#define LOC_LPV_CASCADE 10      /* lpv inject/geometry/propagate: int, the cascade being built */
+#define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2) */
+#define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
+#define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile
@@ -173,6 +188,20 @@
     F(int, signature_h)                                                          \
     F(int, disk)            /* 1: VPLs fall off as disks of their area, 1/(d² + A/π) */
 
+/* Light propagation volumes (std140). Cell (i,j,k) of cascade c spans
+ * origin + [i, i+1)·cell; its geometry volume is offset by half a cell
+ * (GV cell (i,j,k) is centred on LPV corner (i,j,k), N+1 per side). */
+#define GPU_LPV_PARAMS_FIELDS(F, A)                                                   \
+    F(int, size)            /* N cells per side */                                  \
+    F(int, cascades)        /* K grids in use */                                    \
+    F(int, occlusion)       /* 1: attenuate propagation by the geometry volume */   \
+    F(float, inject_offset) /* VPLs move this many cells along their normal */      \
+    F(int, vpl_count_max)   /* entries the injection may read (capacity) */        \
+    F(float, blend)         /* cascade blend band, fraction of a cascade's extent */ \
+    F(float, pad0)                                                                   \
+    F(float, pad1)                                                                   \
+    A(vec4, cascade, LPV_MAX_CASCADES) /* xyz: grid origin (min corner, m); w: cell size (m) */
+
 /* ---- Declarations --------------------------------------------------------- */
 #ifdef GL_core_profile /* GLSL */
 #define GPU_MEMBER(t, n) t n;
@@ -198,6 +227,7 @@ GPU_STRUCT(GpuFrame, GPU_FRAME_FIELDS)
 GPU_STRUCT(GpuGiParams, GPU_GI_PARAMS_FIELDS)
 GPU_STRUCT(GpuVpl, GPU_VPL_FIELDS)
 GPU_STRUCT(GpuVplParams, GPU_VPL_PARAMS_FIELDS)
+GPU_STRUCT(GpuLpvParams, GPU_LPV_PARAMS_FIELDS)
 
 #ifdef GL_core_profile
 /* The blocks, as every shader names them. */
@@ -206,6 +236,7 @@ layout(std140, binding = UBO_SHADOW) uniform ShadowBlock { GpuShadowParams u_sha
 layout(std140, binding = UBO_FRAME) uniform FrameBlock { GpuFrame u_frame; };
 layout(std140, binding = UBO_GI) uniform GiBlock { GpuGiParams u_gi; };
 layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
+layout(std140, binding = UBO_LPV) uniform LpvBlock { GpuLpvParams u_lpv; };
 #else
 static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
@@ -213,6 +244,7 @@ static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
 static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 rounds the block to 80)");
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
+static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
 #endif
 
 #endif

@@ -14,6 +14,7 @@ const GiTechnique *const gi_techniques[] = {
     &gi_vpl_slc,
     &gi_vpl_interleaved,
     &gi_vpl_metalights,
+    &gi_lpv,
     NULL,
 };
 

@@ -95,6 +95,7 @@ int gi_technique_find(const char *name);
 extern const GiTechnique gi_none;
 extern const GiTechnique gi_rsm, gi_rsm_interp, gi_rsm_interleaved;
 extern const GiTechnique gi_vpl_all, gi_vpl_clamped, gi_vpl_slc, gi_vpl_interleaved, gi_vpl_metalights;
+extern const GiTechnique gi_lpv;
 
 /* Importance-sampled RSM gathers: a pixel spends half its N samples on the
  * paper's disk around its own projection (a Hammersley set of N/2 points

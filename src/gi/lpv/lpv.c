@@ -1,0 +1,576 @@
+/* lpv.c — light propagation volumes (Kaplanyan & Dachsbacher 2010), SPEC
+ * §5; one row of the technique table, `--gi lpv`. Per frame and cascade:
+ *   lpv_inject     every VPL (every lit RSM texel, from the light stage's
+ *                  VPL buffer) moved half a cell along its normal adds
+ *                  Φ/π · SH(max(0, n·ω)) to its cell in three RGBA32F 3D
+ *                  textures (R, G, B; 2-band SH each), so the grid holds
+ *                  the RSM's flux: by compute with integer atomics in fixed
+ *                  point into a buffer and a resolve pass (default; 2–3×
+ *                  faster on llvmpipe), or (--lpv-inject points) as a point
+ *                  drawn into the textures' layers with additive blending
+ *   lpv_geometry   every RSM texel (and G-buffer pixel, optionally) as a
+ *                  surfel into the geometry volume, offset by half a cell
+ *                  (normal tensor; see shaders/gi/lpv/geometry.vert)
+ *   lpv_propagate  `iterations` face-based gathering steps from the 6
+ *                  neighbours through 5 faces each, attenuated by the
+ *                  geometry volume, ping-pong, summed into the accumulated
+ *                  volume
+ *   lpv_lookup     trilinear, half a cell along the normal, cosine lobe →
+ *                  irradiance E into GiFrame.irradiance
+ * Grids: one of N³ cells fitted to the scene bounds (a cell of margin on
+ * each side), or K nested grids centred on the camera, the coarsest just
+ * holding the scene bounds around the camera and each finer one half the
+ * last, their origins snapped to whole cells (the image does not swim as
+ * the camera moves). A finer grid propagates only the VPLs inside it, so every
+ * coarser cascade k ≥ 1 propagates two volume sets: every VPL inside it,
+ * and only those outside cascade k−1. A point inside cascade k takes the
+ * light of cascade k's VPLs from cascade k and that of the rest from the
+ * coarser "outer" sets; across the outer tenth of a cascade the lookup
+ * fades to the next coarser one.
+ * Inputs: light stage (RSMs, VPL buffer), G-buffer, camera. Output:
+ * irradiance. Owns: its 3D textures (per cascade and set: injected,
+ * accumulated; per cascade: geometry; shared: the ping-pong pair), their
+ * layered framebuffers, a UBO, an indirect draw buffer, the fixed-point
+ * buffers of compute injection; programs come from the renderer's cache.
+ * Shaders: shaders/gi/lpv/. */
+#include "gi/lpv/lpv.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cglm/cglm.h>
+
+#include "gi/gi.h"
+#include "gl_resources.h"
+#include "log.h"
+#include "shader.h"
+
+/* Volume sets of a cascade: every VPL inside it, and (k ≥ 1) only those
+ * outside the next finer cascade. */
+enum { SET_ALL, SET_OUTER, SETS };
+
+typedef struct LpvCascade {
+    GLuint inject[SETS][3];  /* RGBA32F N³: SH of the injected intensity, per channel */
+    GLuint sum[SETS][3];     /* RGBA32F N³: accumulated */
+    GLuint gv[2];            /* RGBA32F (N+1)³: normal tensor (xx yy zz, xy xz yz) */
+    GLuint fbo_inject[SETS]; /* layered: inject[set][0..2] */
+    GLuint fbo_gv;           /* layered: gv[0..1] */
+} LpvCascade;
+
+typedef struct LpvGi {
+    GiParams params;
+    ProgramCache *pc;       /* borrowed: owns the programs */
+    int n;                  /* cells per side */
+    int cascades;
+    int iterations;
+    vec3 bmin, bmax;        /* scene bounds */
+    LpvCascade c[LPV_MAX_CASCADES];
+    GLuint pp[2][3];        /* ping-pong propagation volumes, shared by the cascades */
+    GLuint inject, geom_rsm, geom_gbuf, propagate, lookup; /* programs */
+    GLuint inject_fixed, inject_resolve; /* programs of --lpv-inject compute */
+    GLuint geom_fixed_rsm, geom_fixed_gbuf, geom_resolve;
+    GLuint fixed;           /* --lpv-inject compute: int[12·N³] fixed-point SH sums */
+    GLuint gv_fixed;        /* --lpv-inject compute: int[6·(N+1)³] fixed-point tensor sums */
+    float scene_power;      /* bound on the light the RSMs can reflect (W), for the fixed-point scale */
+    float test_power;       /* the same for lpv_set_vpls' VPLs */
+    GLuint ubo;             /* GpuLpvParams */
+    GLuint indirect;        /* DrawArraysIndirectCommand of the injection */
+    GLuint vao;             /* empty */
+    GLuint test_vpls;       /* lpv_set_vpls' buffer, or 0 */
+    int test_count;
+    GpuLpvParams gpu;       /* as last uploaded */
+    uint32_t vpls_injected; /* last frame (stats) */
+    int width, height;
+} LpvGi;
+
+static unsigned lpv_needs(const GiParams *p)
+{
+    (void)p;
+    return LIGHT_NEEDS_RSM | LIGHT_NEEDS_VPLS;
+}
+
+static GLuint volume(GLenum fmt, int n, const char *label)
+{
+    return gl_texture3d_make(fmt, n, n, n, 1, TEX_FILTER_LINEAR, label);
+}
+
+static GLuint layered_fbo(const GLuint *tex, int count, const char *label)
+{
+    GLuint fbo;
+    GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glCreateFramebuffers(1, &fbo);
+    for (int i = 0; i < count; i++)
+        glNamedFramebufferTexture(fbo, bufs[i], tex[i], 0); /* a 3D texture attaches layered */
+    glNamedFramebufferDrawBuffers(fbo, count, bufs);
+    glObjectLabel(GL_FRAMEBUFFER, fbo, -1, label);
+    if (!fbo_check(fbo, label)) {
+        glDeleteFramebuffers(1, &fbo);
+        return 0;
+    }
+    return fbo;
+}
+
+static void lpv_destroy(void *state)
+{
+    LpvGi *l = state;
+    if (!l)
+        return;
+    for (int k = 0; k < LPV_MAX_CASCADES; k++) {
+        LpvCascade *c = &l->c[k];
+        for (int set = 0; set < SETS; set++) {
+            for (int i = 0; i < 3; i++) {
+                gl_texture3d_destroy(&c->inject[set][i]);
+                gl_texture3d_destroy(&c->sum[set][i]);
+            }
+            gl_fbo_destroy(&c->fbo_inject[set]);
+        }
+        gl_texture3d_destroy(&c->gv[0]);
+        gl_texture3d_destroy(&c->gv[1]);
+        gl_fbo_destroy(&c->fbo_gv);
+    }
+    for (int i = 0; i < 3; i++) {
+        gl_texture3d_destroy(&l->pp[0][i]);
+        gl_texture3d_destroy(&l->pp[1][i]);
+    }
+    GLuint b[5] = {l->ubo, l->indirect, l->test_vpls, l->fixed, l->gv_fixed};
+    glDeleteBuffers(5, b);
+    glDeleteVertexArrays(1, &l->vao);
+    free(l);
+}
+
+static bool lpv_resize(void *state, int w, int h)
+{
+    LpvGi *l = state;
+    l->width = w;
+    l->height = h;
+    return true;
+}
+
+static GLuint program(LpvGi *l, const char *label, const char *vert, const char *geom, const char *frag,
+                      const char *comp, const char *defines)
+{
+    return program_cache_get(l->pc, &(ShaderProgramDesc){
+                                        .label = label, .vert = vert, .geom = geom, .frag = frag, .comp = comp,
+                                        .defines = defines});
+}
+
+static void *lpv_create(const GiCreateInfo *ci)
+{
+    LpvGi *l = calloc(1, sizeof *l);
+    if (!l) {
+        log_error("lpv", "out of memory");
+        return NULL;
+    }
+    l->params = *ci->params;
+    l->pc = ci->programs;
+    l->n = ci->params->lpv_size;
+    l->cascades = ci->params->lpv_cascades;
+    l->iterations = ci->params->lpv_iterations > 0 ? ci->params->lpv_iterations : l->n;
+    glm_vec3_copy((float *)ci->scene->bounds_min, l->bmin);
+    glm_vec3_copy((float *)ci->scene->bounds_max, l->bmax);
+    l->width = ci->width;
+    l->height = ci->height;
+    bool ok = true;
+    l->inject = program(l, "lpv_inject", "gi/lpv/inject.vert", "gi/lpv/layer.geom", "gi/lpv/accumulate.frag", NULL,
+                        NULL);
+    l->geom_rsm = program(l, "lpv_geometry", "gi/lpv/geometry.vert", "gi/lpv/layer.geom", "gi/lpv/accumulate.frag",
+                          NULL, NULL);
+    l->geom_gbuf = program(l, "lpv_geometry_gbuffer", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
+                           "gi/lpv/accumulate.frag", NULL, "#define GBUFFER\n");
+    l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", NULL);
+    l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", NULL);
+    ok = l->inject && l->geom_rsm && l->geom_gbuf && l->propagate && l->lookup;
+    if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
+        l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
+        l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
+        l->geom_fixed_rsm = program(l, "lpv_geometry_fixed", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp", NULL);
+        l->geom_fixed_gbuf = program(l, "lpv_geometry_fixed_gbuffer", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
+                                     "#define GBUFFER\n");
+        l->geom_resolve = program(l, "lpv_geometry_resolve", NULL, NULL, NULL, "gi/lpv/geometry_resolve.comp", NULL);
+        ok = l->inject_fixed && l->inject_resolve && l->geom_fixed_rsm && l->geom_fixed_gbuf && l->geom_resolve;
+        size_t n3 = (size_t)l->n * l->n * l->n, g3 = (size_t)(l->n + 1) * (l->n + 1) * (l->n + 1);
+        glCreateBuffers(1, &l->fixed);
+        glNamedBufferStorage(l->fixed, (GLsizeiptr)(sizeof(int32_t) * 12 * n3), NULL, GL_DYNAMIC_STORAGE_BIT);
+        glObjectLabel(GL_BUFFER, l->fixed, -1, "lpv.fixed");
+        glCreateBuffers(1, &l->gv_fixed);
+        glNamedBufferStorage(l->gv_fixed, (GLsizeiptr)(sizeof(int32_t) * 6 * g3), NULL, GL_DYNAMIC_STORAGE_BIT);
+        glObjectLabel(GL_BUFFER, l->gv_fixed, -1, "lpv.geometry_fixed");
+    }
+    /* What the RSMs can reflect at most: every light's power into the scene. */
+    vec3 ext;
+    glm_vec3_sub(l->bmax, l->bmin, ext);
+    for (int i = 0; i < ci->scene->light_count; i++) {
+        /* Directional: E over the bounds' diagonal squared; others: the
+         * on-axis intensity (their largest) over the whole sphere. */
+        const Light *li = &ci->scene->lights[i];
+        vec3 on_axis;
+        light_intensity(li, (float *)li->direction, on_axis);
+        l->scene_power += li->type == LIGHT_DIRECTIONAL ? glm_vec3_max((float *)li->color) * glm_vec3_norm2(ext)
+                                                        : glm_vec3_max(on_axis) * 4.f * GLM_PIf;
+    }
+    int n = l->n;
+    for (int k = 0; ok && k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
+            for (int i = 0; ok && i < 3; i++)
+                ok = (c->inject[set][i] = volume(GL_RGBA32F, n, "lpv.inject")) &&
+                     (c->sum[set][i] = volume(GL_RGBA32F, n, "lpv.sum"));
+            ok = ok && (c->fbo_inject[set] = layered_fbo(c->inject[set], 3, "lpv.inject"));
+        }
+        for (int i = 0; ok && i < 2; i++)
+            ok = (c->gv[i] = volume(GL_RGBA32F, n + 1, "lpv.geometry")) != 0;
+        ok = ok && (c->fbo_gv = layered_fbo(c->gv, 2, "lpv.geometry"));
+    }
+    for (int i = 0; ok && i < 3; i++)
+        ok = (l->pp[0][i] = volume(GL_RGBA32F, n, "lpv.propagate")) && (l->pp[1][i] = volume(GL_RGBA32F, n, "lpv.propagate"));
+    l->ubo = gi_ubo_make(sizeof(GpuLpvParams), "lpv.params");
+    const GLuint cmd[4] = {0, 1, 0, 0};
+    glCreateBuffers(1, &l->indirect);
+    glNamedBufferStorage(l->indirect, sizeof cmd, cmd, GL_DYNAMIC_STORAGE_BIT);
+    glObjectLabel(GL_BUFFER, l->indirect, -1, "lpv.indirect");
+    glCreateVertexArrays(1, &l->vao);
+    if (!ok) {
+        log_error("lpv", "could not make the %d^3 grids (%d cascades)", n, l->cascades);
+        lpv_destroy(l);
+        return NULL;
+    }
+    return l;
+}
+
+/* Places the cascades for this camera and uploads the block. */
+static void place_grids(LpvGi *l, const Camera *cam)
+{
+    GpuLpvParams *u = &l->gpu;
+    memset(u, 0, sizeof *u);
+    u->size = l->n;
+    u->cascades = l->cascades;
+    u->occlusion = l->params.lpv_occlusion ? 1 : 0;
+    u->inject_offset = l->params.lpv_offset;
+    u->blend = 0.1f;
+    vec3 ext, mid;
+    glm_vec3_sub(l->bmax, l->bmin, ext);
+    glm_vec3_add(l->bmax, l->bmin, mid);
+    glm_vec3_scale(mid, 0.5f, mid);
+    float largest = fmaxf(ext[0], fmaxf(ext[1], ext[2]));
+    if (largest <= 0.f)
+        largest = 1.f;
+    if (l->cascades == 1) {
+        /* The bounds plus one cell of margin on each side. */
+        float cell = largest / (float)(l->n > 2 ? l->n - 2 : l->n);
+        for (int a = 0; a < 3; a++)
+            u->cascade[0][a] = mid[a] - 0.5f * cell * (float)l->n;
+        u->cascade[0][3] = cell;
+    } else {
+        /* The coarsest holds the whole scene around the camera, with a cell
+         * of margin (and its snapping) on each side. */
+        float half = 0.f;
+        for (int a = 0; a < 3; a++)
+            half = fmaxf(half, fmaxf(fabsf(l->bmin[a] - cam->position[a]), fabsf(l->bmax[a] - cam->position[a])));
+        float coarsest = 2.f * half * (float)l->n / (float)(l->n > 4 ? l->n - 4 : l->n);
+        for (int k = 0; k < l->cascades; k++) {
+            float extent = coarsest / (float)(1 << (l->cascades - 1 - k));
+            float cell = extent / (float)l->n;
+            for (int a = 0; a < 3; a++)
+                u->cascade[k][a] = (floorf(cam->position[a] / cell) - (float)(l->n / 2)) * cell;
+            u->cascade[k][3] = cell;
+        }
+    }
+    glNamedBufferSubData(l->ubo, 0, sizeof *u, u);
+    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LPV, l->ubo);
+}
+
+static void clear_volume(GLuint tex)
+{
+    glClearTexImage(tex, 0, GL_RGBA, GL_FLOAT, NULL);
+}
+
+/* --lpv-inject compute: fixed-point atomics per VPL, then a resolve into
+ * the injected volumes, per cascade and set. */
+static void inject_light_fixed(LpvGi *l, const GiFrame *f)
+{
+    float power = l->test_vpls ? l->test_power : l->scene_power;
+    /* Every coefficient of a cell is at most 1.0233·P/π: 2^30 units for that. */
+    float scale = power > 0.f ? 1073741824.f / (1.0233f * power / GLM_PIf) : 1.f;
+    uint32_t capacity = l->test_vpls ? (uint32_t)l->test_count : f->lights->vpls.capacity;
+    if (l->test_vpls)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_COUNTERS, l->indirect); /* [0] = count */
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_LPV_FIXED, l->fixed);
+    glProgramUniform1f(l->inject_fixed, LOC_LPV_FIXED_SCALE, scale);
+    glProgramUniform1f(l->inject_resolve, LOC_LPV_FIXED_SCALE, scale);
+    GLuint groups = (GLuint)(l->n + 7) / 8;
+    for (int k = 0; k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
+            glClearNamedBufferData(l->fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
+            glProgramUniform1i(l->inject_fixed, LOC_LPV_CASCADE, k);
+            glProgramUniform1i(l->inject_fixed, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
+            glUseProgram(l->inject_fixed);
+            glDispatchCompute((capacity + 63) / 64, 1, 1);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            for (int i = 0; i < 3; i++)
+                glBindImageTexture(IMG_LPV_DST + i, c->inject[set][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+            glUseProgram(l->inject_resolve);
+            glDispatchCompute(groups, groups, (GLuint)l->n);
+            glMemoryBarrier(GL_ALL_BARRIER_BITS);
+        }
+    }
+}
+
+static void inject_light(LpvGi *l, const GiFrame *f)
+{
+    if (l->test_vpls) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VPL, l->test_vpls);
+        GLuint count = (GLuint)l->test_count;
+        glNamedBufferSubData(l->indirect, 0, sizeof count, &count);
+    } else {
+        light_stage_bind_vpls(f->lights);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+        glCopyNamedBufferSubData(f->lights->vpls.counters, l->indirect, 0, 0, sizeof(GLuint));
+    }
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
+    if (l->params.lpv_inject == LPV_INJECT_COMPUTE) {
+        inject_light_fixed(l, f);
+        return;
+    }
+    glUseProgram(l->inject);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, l->indirect);
+    glViewport(0, 0, l->n, l->n);
+    for (int k = 0; k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
+            for (int i = 0; i < 3; i++)
+                clear_volume(c->inject[set][i]);
+            glBindFramebuffer(GL_FRAMEBUFFER, c->fbo_inject[set]);
+            glProgramUniform1i(l->inject, LOC_LPV_CASCADE, k);
+            glProgramUniform1i(l->inject, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
+            glDrawArraysIndirect(GL_POINTS, NULL);
+        }
+    }
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+}
+
+/* --lpv-inject compute: the surfels' tensors in fixed point (2^20 units
+ * per 1: a cell's entries stay far below 2^11, where blocking long
+ * saturated at 1), then a resolve into the two textures. */
+static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
+{
+    const LightStage *ls = f->lights;
+    const float scale = 1048576.f;
+    GLuint g = (GLuint)(l->n + 1 + 7) / 8;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_LPV_FIXED, l->gv_fixed);
+    for (int k = 0; k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        float cell = l->gpu.cascade[k][3];
+        glClearNamedBufferData(l->gv_fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
+        GLuint progs[2] = {l->geom_fixed_rsm, l->params.lpv_gbuffer_occlusion ? l->geom_fixed_gbuf : 0};
+        for (int pi = 0; pi < 2 && progs[pi]; pi++) {
+            glProgramUniform1i(progs[pi], LOC_LPV_CASCADE, k);
+            glProgramUniform1f(progs[pi], LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
+            glProgramUniform1f(progs[pi], LOC_LPV_FIXED_SCALE, scale);
+            glUseProgram(progs[pi]);
+            if (pi == 0) {
+                for (int i = 0; i < ls->light_count; i++) {
+                    const RsmMap *m = &ls->rsm[i];
+                    glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
+                    glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
+                    glDispatchCompute((GLuint)(m->size + 7) / 8, (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
+                }
+            } else {
+                glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
+                glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+                glDispatchCompute((GLuint)(f->gbuffer->width + 7) / 8, (GLuint)(f->gbuffer->height + 7) / 8, 1);
+            }
+        }
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        glProgramUniform1f(l->geom_resolve, LOC_LPV_FIXED_SCALE, scale);
+        glUseProgram(l->geom_resolve);
+        glBindImageTexture(IMG_LPV_DST + 0, c->gv[0], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(IMG_LPV_DST + 1, c->gv[1], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glDispatchCompute(g, g, (GLuint)(l->n + 1));
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    }
+}
+
+static void inject_geometry(LpvGi *l, const GiFrame *f)
+{
+    if (l->params.lpv_inject == LPV_INJECT_COMPUTE && l->params.lpv_occlusion) {
+        inject_geometry_fixed(l, f);
+        return;
+    }
+    const LightStage *ls = f->lights;
+    glViewport(0, 0, l->n + 1, l->n + 1);
+    for (int k = 0; k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        float cell = l->gpu.cascade[k][3];
+        clear_volume(c->gv[0]);
+        clear_volume(c->gv[1]);
+        if (!l->params.lpv_occlusion)
+            continue;
+        glBindFramebuffer(GL_FRAMEBUFFER, c->fbo_gv);
+        /* A surfel larger than 4 cell faces is a depth discontinuity. */
+        glProgramUniform1i(l->geom_rsm, LOC_LPV_CASCADE, k);
+        glProgramUniform1f(l->geom_rsm, LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
+        glUseProgram(l->geom_rsm);
+        for (int i = 0; i < ls->light_count; i++) {
+            const RsmMap *m = &ls->rsm[i];
+            glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
+            glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
+            glDrawArrays(GL_POINTS, 0, m->size * m->size * (m->cube ? 6 : 1));
+        }
+        if (l->params.lpv_gbuffer_occlusion) {
+            glProgramUniform1i(l->geom_gbuf, LOC_LPV_CASCADE, k);
+            glProgramUniform1f(l->geom_gbuf, LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
+            glUseProgram(l->geom_gbuf);
+            glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
+            glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+            glDrawArrays(GL_POINTS, 0, f->gbuffer->width * f->gbuffer->height);
+        }
+    }
+}
+
+/* Propagates one volume set of cascade c: injected → ping-pong[0] and the
+ * sum, then `iterations` steps, each adding to the sum. */
+static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
+{
+    int n = l->n;
+    GLuint groups = (GLuint)(n + 7) / 8; /* propagate.comp: 8×8×1 per group */
+    for (int i = 0; i < 3; i++) {
+        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0][i], GL_TEXTURE_3D, 0, 0, 0, 0, n, n,
+                           n);
+        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, c->sum[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, n,
+                           n, n);
+        glBindImageTexture(IMG_LPV_SUM + i, c->sum[set][i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+    }
+    glBindTextureUnit(TEX_LPV_GV0, c->gv[0]);
+    glBindTextureUnit(TEX_LPV_GV1, c->gv[1]);
+    int cur = 0;
+    for (int it = 0; it < l->iterations; it++) {
+        for (int i = 0; i < 3; i++) {
+            glBindTextureUnit(TEX_LPV_SRC + i, l->pp[cur][i]);
+            glBindImageTexture(IMG_LPV_DST + i, l->pp[1 - cur][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        }
+        glDispatchCompute(groups, groups, (GLuint)n);
+        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        cur = 1 - cur;
+    }
+}
+
+static void propagate(LpvGi *l)
+{
+    glUseProgram(l->propagate);
+    for (int k = 0; k < l->cascades; k++)
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++)
+            propagate_set(l, &l->c[k], set);
+}
+
+static void lookup(LpvGi *l, const GiFrame *f)
+{
+    /* Unused slots get cascade 0's volumes (never read). */
+    for (int k = 0; k < LPV_MAX_CASCADES; k++)
+        for (int i = 0; i < 3; i++) {
+            glBindTextureUnit((GLuint)(TEX_LPV_SUM + 3 * k + i), l->c[k < l->cascades ? k : 0].sum[SET_ALL][i]);
+            if (k > 0)
+                glBindTextureUnit((GLuint)(TEX_LPV_OUTER + 3 * (k - 1) + i),
+                                  k < l->cascades ? l->c[k].sum[SET_OUTER][i] : l->c[0].sum[SET_ALL][i]);
+        }
+    glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
+    glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+    glBindImageTexture(IMG_OUT, f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(l->lookup);
+    gi_dispatch_pixels(l->width, l->height);
+}
+
+static void lpv_run(void *state, const GiFrame *f)
+{
+    LpvGi *l = state;
+    GpuTimer *t = f->timer;
+    place_grids(l, f->camera);
+    GLint viewport[4];
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    glBindVertexArray(l->vao);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ONE);
+
+    gpu_timer_begin(t, "lpv_inject");
+    inject_light(l, f);
+    gpu_timer_end(t);
+    gpu_timer_begin(t, "lpv_geometry");
+    inject_geometry(l, f);
+    gpu_timer_end(t);
+
+    glDisable(GL_BLEND);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+    glBindVertexArray(0);
+
+    gpu_timer_begin(t, "lpv_propagate");
+    propagate(l);
+    gpu_timer_end(t);
+    gpu_timer_begin(t, "lpv_lookup");
+    lookup(l, f);
+    gpu_timer_end(t);
+}
+
+static void lpv_stats(void *state, const GiFrame *f, GiStats *st)
+{
+    LpvGi *l = state;
+    st->vpl_count = l->test_vpls ? (uint32_t)l->test_count : light_stage_vpl_count(f->lights);
+    st->gathered_pixels = (uint32_t)(l->width * l->height);
+}
+
+void lpv_set_vpls(void *state, const GpuVpl *vpls, int count)
+{
+    LpvGi *l = state;
+    glDeleteBuffers(1, &l->test_vpls);
+    l->test_vpls = 0;
+    l->test_count = 0;
+    if (count <= 0)
+        return;
+    glCreateBuffers(1, &l->test_vpls);
+    glNamedBufferStorage(l->test_vpls, (GLsizeiptr)(sizeof(GpuVpl) * (size_t)count), vpls, 0);
+    glObjectLabel(GL_BUFFER, l->test_vpls, -1, "lpv.test_vpls");
+    l->test_count = count;
+    l->test_power = 0.f;
+    for (int i = 0; i < count; i++)
+        l->test_power += glm_vec3_max((float *)vpls[i].flux);
+}
+
+int lpv_grid_size(const void *state) { return ((const LpvGi *)state)->n; }
+
+void lpv_grid(const void *state, int cascade, float origin[3], float *cell)
+{
+    const LpvGi *l = state;
+    for (int a = 0; a < 3; a++)
+        origin[a] = l->gpu.cascade[cascade][a];
+    *cell = l->gpu.cascade[cascade][3];
+}
+
+bool lpv_read_volume(void *state, int cascade, LpvVolume which, float *out)
+{
+    LpvGi *l = state;
+    if (cascade < 0 || cascade >= l->cascades)
+        return false;
+    size_t n3 = (size_t)l->n * (size_t)l->n * (size_t)l->n;
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    for (int i = 0; i < 3; i++) {
+        GLuint tex = which == LPV_VOLUME_INJECTED ? l->c[cascade].inject[SET_ALL][i] : l->c[cascade].sum[SET_ALL][i];
+        glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out + (size_t)i * n3 * 4);
+    }
+    return true;
+}
+
+const GiTechnique gi_lpv = {
+    .name = "lpv",
+    .paper = "Kaplanyan & Dachsbacher 2010, Cascaded Light Propagation Volumes",
+    .summary = "light propagation volumes: VPLs injected into SH grids, propagated cell to cell, looked up per pixel",
+    .needs = lpv_needs,
+    .create = lpv_create,
+    .resize = lpv_resize,
+    .run = lpv_run,
+    .stats = lpv_stats,
+    .destroy = lpv_destroy,
+};

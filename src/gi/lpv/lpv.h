@@ -1,0 +1,29 @@
+/* lpv.h — hooks into a running `--gi lpv` technique (its state is the
+ * renderer's gi_state while GI_LPV is selected), for tests and tools: inject
+ * a given VPL list instead of the light stage's, read a grid back, and
+ * where its cells lie. Not used by the frame. */
+#ifndef RTGI_GI_LPV_H
+#define RTGI_GI_LPV_H
+
+#include <stdbool.h>
+
+#include "shared/gpu_types.h"
+
+typedef enum LpvVolume {
+    LPV_VOLUME_INJECTED,    /* the SH intensity injected this frame, before propagation */
+    LPV_VOLUME_ACCUMULATED, /* injected + every propagation step (what the lookup reads) */
+} LpvVolume;
+
+/* From the next frame on, inject these `count` VPLs (copied) instead of the
+ * light stage's buffer; count 0 goes back to the light stage. */
+void lpv_set_vpls(void *state, const GpuVpl *vpls, int count);
+/* Cells per side. */
+int lpv_grid_size(const void *state);
+/* Cascade k's grid of the last frame: min corner (m) and cell size (m). */
+void lpv_grid(const void *state, int cascade, float origin[3], float *cell);
+/* Reads cascade k's volume: out[((c·N + z)·N + y)·N + x][4] for colour
+ * channel c = 0..2, the SH vec4(c00, c1x, c1y, c1z) of that cell's
+ * intensity (W/sr). `out` holds 3·N³·4 floats. Waits for the GPU. */
+bool lpv_read_volume(void *state, int cascade, LpvVolume which, float *out);
+
+#endif

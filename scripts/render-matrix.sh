@@ -34,6 +34,7 @@ for s in "${scenes[@]}"; do
     $RTGI render --scene "$scene" --size "$size" --gi "$gi" --rsm-size 128 --out "$DIR/${tag}_gi_$gi.pfm" --quiet
   done
   $RTGI render --scene "$scene" --size "$size" --gi rsm --rsm-exhaustive --rsm-size 16 --out "$DIR/${tag}_gi_rsm-exhaustive.pfm" --quiet
+  $RTGI render --scene "$scene" --size "$size" --gi lpv --lpv-size 16 --out "$DIR/${tag}_gi_lpv.pfm" --quiet
   for gi in vpl-all vpl-clamped vpl-slc vpl-interleaved vpl-metalights; do
     $RTGI render --scene "$scene" --size "$size" --gi "$gi" --vpls 4096 --out "$DIR/${tag}_gi_$gi.pfm" --quiet
   done

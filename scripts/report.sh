@@ -32,6 +32,9 @@ techniques=(
   "PCSS + VPL clamped (16K)|--shadow pcss --gi vpl-clamped --vpls 16384"
   "PCSS + stochastic light culling (16K)|--shadow pcss --gi vpl-slc --vpls 16384"
   "PCSS + metalights (16K)|--shadow pcss --gi vpl-metalights --vpls 16384"
+  "PCSS + LPV 32³ (defaults)|--shadow pcss --gi lpv"
+  "PCSS + LPV 16³, 8 steps|--shadow pcss --gi lpv --lpv-size 16 --lpv-iterations 8"
+  "PCSS + LPV 32³, 3 cascades|--shadow pcss --gi lpv --lpv-cascades 3"
 )
 rows=""
 i=0

@@ -27,16 +27,10 @@ static double mean_luminance(const ImageF *img)
     return m / (img->width * img->height);
 }
 
+/* The direct reference with samples spread over each pixel (a box filter). */
 static void reference_direct(const Scene *s, int w, int h, int spp, ImageF *out)
 {
-    PtSettings set;
-    pt_settings_default(&set);
-    set.width = w;
-    set.height = h;
-    set.spp = spp;
-    set.mode = PT_DIRECT;
-    set.threads = 2;
-    assert_true(pt_render(s, &set, out, NULL, NULL));
+    test_reference_ex(s, w, h, PT_DIRECT, spp, true, out);
 }
 
 /* ---- PCSS at a grazing angle ------------------------------------------------ */

@@ -265,19 +265,6 @@ static void wall_blocks_light(void **state)
 
 /* ---- Cornell box against the path tracer -------------------------------- */
 
-static void reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out)
-{
-    PtSettings set;
-    pt_settings_default(&set);
-    set.width = w;
-    set.height = h;
-    set.spp = spp;
-    set.mode = mode;
-    set.pixel_jitter = false;
-    set.threads = 2;
-    assert_true(pt_render(s, &set, out, NULL, NULL));
-}
-
 static double red_over_green(const Scene *s, const ImageF *img, const vec3 p)
 {
     int x, y;
@@ -309,8 +296,8 @@ static void cornell_against_reference(void **state)
     gp.lpv_cascades = 2;
     test_render_gi(&s, W, H, GI_LPV, &gp, &casc);
     test_render_gi(&s, W, H, GI_NONE, NULL, &none);
-    reference(&s, W, H, PT_ONE_BOUNCE, 256, &ob);
-    reference(&s, W, H, PT_ONE_BOUNCE_NOVIS, 256, &novis);
+    test_reference(&s, W, H, PT_ONE_BOUNCE, 256, &ob);
+    test_reference(&s, W, H, PT_ONE_BOUNCE_NOVIS, 256, &novis);
     double l_ob = metric_relmse(&lpv, &ob, NULL, NULL), n_ob = metric_relmse(&none, &ob, NULL, NULL);
     double l_nv = metric_relmse(&lpv, &novis, NULL, NULL), n_nv = metric_relmse(&none, &novis, NULL, NULL);
     double c_ob = metric_relmse(&casc, &ob, NULL, NULL);

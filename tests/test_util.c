@@ -52,7 +52,7 @@ RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiPara
     return st;
 }
 
-void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out)
+void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out)
 {
     PtSettings set;
     pt_settings_default(&set);
@@ -60,9 +60,14 @@ void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *
     set.height = h;
     set.spp = spp;
     set.mode = mode;
-    set.pixel_jitter = false; /* the rasterizer shades pixel centres */
+    set.pixel_jitter = jitter;
     set.threads = 2;
     assert_true(pt_render(s, &set, out, NULL, NULL));
+}
+
+void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out)
+{
+    test_reference_ex(s, w, h, mode, spp, false, out); /* the rasterizer shades pixel centres */
 }
 
 double test_image_mean(const ImageF *img)

@@ -32,6 +32,9 @@ RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiPara
 /* Path-traced reference of `s` from its camera at pixel centres (as the
  * rasterizer shades), 2 threads. Fails the test on error. */
 void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out);
+/* The same with samples spread over each pixel (`jitter`: a box filter,
+ * what supersampling approximates) or at its centre. */
+void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out);
 /* Mean luminance of an image. */
 double test_image_mean(const ImageF *img);
 

@@ -412,8 +412,9 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
     Job *j = calloc(1, sizeof *j);
     int nthreads = set->threads < 1 ? 1 : set->threads;
     pthread_t *th = calloc((size_t)nthreads, sizeof(pthread_t));
-    if (!j || !th) {
+    if (!j || !th)
         log_error("reference", "cannot allocate the job of %d threads", nthreads);
+    if (!j || !th || !pt_scene_create(&j->ps, scene)) {
         free(j);
         free(th);
         image_free(mean);
@@ -425,14 +426,6 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
     j->set = set;
     j->mean = mean;
     j->variance = variance;
-    if (!pt_scene_create(&j->ps, scene)) {
-        free(j);
-        free(th);
-        image_free(mean);
-        if (variance)
-            image_free(variance);
-        return false;
-    }
     j->tiles_x = (set->width + TILE - 1) / TILE;
     j->tiles_y = (set->height + TILE - 1) / TILE;
     atomic_init(&j->next_tile, 0);

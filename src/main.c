@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "json_util.h"
 #include "log.h"
 
 static void usage(FILE *f)
@@ -16,7 +17,9 @@ static void usage(FILE *f)
             "  view        the renderer in a window, with a camera and toggles\n"
             "  reference   path-trace the same scene on the CPU (Embree): ground truth\n"
             "  compare     error metrics between two images (RMSE, relMSE, SSIM, FLIP)\n"
-            "run 'rtgi <command> --help' for a command's options\n");
+            "run 'rtgi <command> --help' for a command's options\n"
+            "every command also takes --lenient: unknown keys in a scene file are\n"
+            "warnings instead of errors\n");
 }
 
 int main(int argc, char **argv)
@@ -25,6 +28,17 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
+    /* --lenient applies to every command's scene loading: take it out here
+     * so that the commands' option parsers need not know it. */
+    int n = 2;
+    for (int i = 2; i < argc; i++) {
+        if (strcmp(argv[i], "--lenient") == 0)
+            json_set_lenient(true);
+        else
+            argv[n++] = argv[i];
+    }
+    argc = n;
+    argv[argc] = NULL;
     const char *cmd = argv[1];
     if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
         usage(stdout);

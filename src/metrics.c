@@ -1,5 +1,7 @@
 #include "metrics.h"
 
+#include "util.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -363,7 +365,9 @@ int metric_write_heatmap(const char *path, const float *map, int w, int h)
     /* Approximate magma, 9 stops. */
     static const float stops[9][3] = {{0, 0, 4},      {28, 16, 68},   {79, 18, 123},   {129, 37, 129}, {181, 54, 122},
                                       {229, 80, 100}, {251, 135, 97}, {254, 194, 135}, {252, 253, 191}};
-    uint8_t *px = malloc((size_t)w * h * 3);
+    uint8_t *px = util_malloc("compare", "the heat map image", (size_t)w * h, 3);
+    if (!px)
+        return 0;
     for (size_t i = 0; i < (size_t)w * h; i++) {
         float v = map[i];
         v = v < 0 || !isfinite(v) ? 0 : (v > 1 ? 1 : v);

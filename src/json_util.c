@@ -25,13 +25,14 @@ bool json_check_keys(const cJSON *obj, const char *const *known, const char *fil
 {
     char kp[320];
     int n = 0;
-    for (const cJSON *e = obj ? obj->child : NULL; e; e = e->next) {
-        const char *key = e->string ? e->string : "";
+    for (const cJSON *e = obj ? obj->child : NULL; e; e = e->next)
         if (++n > JSON_MAX_KEYS) {
             log_error("scene", "%s: %s has more than %d keys", file, where && where[0] ? where : "the top level",
                       JSON_MAX_KEYS);
             return false;
         }
+    for (const cJSON *e = obj ? obj->child : NULL; e; e = e->next) {
+        const char *key = e->string ? e->string : "";
         for (const cJSON *d = obj->child; d != e; d = d->next)
             if (d->string && strcmp(d->string, key) == 0) {
                 key_path(kp, sizeof kp, where, key);

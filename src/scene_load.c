@@ -149,17 +149,66 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
     return true;
 }
 
+/* Checks an imported, unprocessed scene for what ValidateDataStructure
+ * lets through and the post-processing steps assert on: faces without
+ * indices, indices out of range, and primitive-type flags that disagree
+ * with the faces (recomputed here from the faces). */
+static bool mesh_check_raw(const char *path, struct aiScene *ai)
+{
+    for (unsigned mi = 0; mi < ai->mNumMeshes; mi++) {
+        struct aiMesh *m = ai->mMeshes[mi];
+        if (!m || (m->mNumVertices && !m->mVertices) || (m->mNumFaces && !m->mFaces)) {
+            log_error("scene", "%s: mesh %u has no vertex or face data", path, mi);
+            return false;
+        }
+        unsigned types = 0;
+        for (unsigned f = 0; f < m->mNumFaces; f++) {
+            const struct aiFace *face = &m->mFaces[f];
+            if (face->mNumIndices == 0 || !face->mIndices) {
+                log_error("scene", "%s: face %u of mesh %u has no indices", path, f, mi);
+                return false;
+            }
+            for (unsigned k = 0; k < face->mNumIndices; k++)
+                if (face->mIndices[k] >= m->mNumVertices) {
+                    log_error("scene", "%s: face %u of mesh %u uses vertex %u of %u", path, f, mi,
+                              face->mIndices[k], m->mNumVertices);
+                    return false;
+                }
+            types |= face->mNumIndices == 1   ? aiPrimitiveType_POINT
+                     : face->mNumIndices == 2 ? aiPrimitiveType_LINE
+                     : face->mNumIndices == 3 ? aiPrimitiveType_TRIANGLE
+                                              : aiPrimitiveType_POLYGON;
+        }
+        m->mPrimitiveTypes = types;
+    }
+    return true;
+}
+
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 {
     /* assimp would block on a FIFO and read a directory as garbage. */
     if (!util_check_input("scene", "mesh file", path, MESH_MAX_BYTES, NULL))
         return false;
-    unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_GenSmoothNormals |
-                     aiProcess_PreTransformVertices | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
-                     aiProcess_FlipUVs;
-    const struct aiScene *ai = aiImportFile(path, flags);
+    /* Import and validate first, check what assimp's own checks miss, then
+     * post-process: its steps assert (abort) on inconsistent meshes. */
+    const struct aiScene *ai = aiImportFile(path, aiProcess_ValidateDataStructure);
     if (!ai || !ai->mRootNode) {
         log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
+        if (ai)
+            aiReleaseImport(ai);
+        return false;
+    }
+    if (!mesh_check_raw(path, (struct aiScene *)ai)) {
+        aiReleaseImport(ai);
+        return false;
+    }
+    unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
+                     aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
+    ai = aiApplyPostProcessing(ai, flags); /* releases the scene on failure */
+    if (!ai || !ai->mRootNode) {
+        log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
+        if (ai)
+            aiReleaseImport(ai);
         return false;
     }
     char dir[1024];
@@ -401,10 +450,7 @@ static bool get_color(Ctx *c, const cJSON *obj, const char *key, vec3 out, bool 
         return false;
     for (int i = 0; i < 3; i++)
         if (!(out[i] >= 0.f && out[i] <= hi)) {
-            if (hi < 2.f)
-                bad(c, key, "%g is outside [0, %g]", (double)out[i], (double)hi);
-            else
-                bad(c, key, "%g is negative", (double)out[i]);
+            bad(c, key, "%g is outside [0, %g]", (double)out[i], (double)hi);
             return false;
         }
     return true;

@@ -393,9 +393,9 @@ const char *util_nearest(const char *s, const char *const *names)
             best = names[i];
         }
     }
-    int limit = (int)(strlen(s) / 3);
-    if (limit < 2)
-        limit = 2;
+    /* One edit in a short word, two (a swapped pair) or a third of a long one. */
+    size_t len = strlen(s);
+    int limit = len <= 4 ? 1 : len / 3 > 2 ? (int)(len / 3) : 2;
     return best_d <= limit ? best : NULL;
 }
 

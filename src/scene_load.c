@@ -149,6 +149,110 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
     return true;
 }
 
+/* Byte size of a PLY scalar type name, 0 if unknown. */
+static int ply_type_size(const char *t)
+{
+    static const struct { const char *name; int size; } types[] = {
+        {"char", 1},  {"uchar", 1},  {"int8", 1},    {"uint8", 1},   {"short", 2},   {"ushort", 2},
+        {"int16", 2}, {"uint16", 2}, {"int", 4},     {"uint", 4},    {"int32", 4},   {"uint32", 4},
+        {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8},
+    };
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(t, types[i].name) == 0)
+            return types[i].size;
+    return 0;
+}
+
+/* assimp 5.2's PLY reader crashes on malformed headers and on binary data
+ * shorter than its header promises (found by fuzz_mesh): check the header
+ * strictly, and that a binary file holds at least the bytes its elements
+ * need (list properties count their length field only). */
+static bool mesh_check_ply(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        log_error("scene", "%s: cannot open mesh file", path);
+        return false;
+    }
+    static char head[65537];
+    size_t n = fread(head, 1, sizeof head - 1, f);
+    fseek(f, 0, SEEK_END);
+    long file_size = ftell(f);
+    fclose(f);
+    head[n] = 0;
+    if (strncmp(head, "ply", 3) != 0 && !util_ends_with(path, ".ply"))
+        return true; /* not PLY: assimp picks another reader */
+    const char *why = NULL;
+    bool binary = false, in_element = false, done = false;
+    double need = 0, element_bytes = 0, element_count = 0;
+    int line_no = 0;
+    size_t pos = 0;
+    while (!done && !why) {
+        const char *nl = memchr(head + pos, '\n', n - pos);
+        if (!nl) {
+            why = "no end_header in the first 64 KiB";
+            break;
+        }
+        char line[512];
+        size_t len = (size_t)(nl - (head + pos));
+        if (len >= sizeof line) {
+            why = "header line too long";
+            break;
+        }
+        memcpy(line, head + pos, len);
+        line[len] = 0;
+        if (len && line[len - 1] == '\r')
+            line[len - 1] = 0;
+        pos += len + 1;
+        line_no++;
+        char a[64] = "", b[64] = "", c[64] = "", d[64] = "", e[64] = "";
+        int k = sscanf(line, "%63s %63s %63s %63s %63s", a, b, c, d, e);
+        if (line_no == 1) {
+            if (strcmp(line, "ply") != 0)
+                why = "first line is not \"ply\"";
+        } else if (line_no == 2) {
+            if (k != 3 || strcmp(a, "format") != 0 || strcmp(c, "1.0") != 0)
+                why = "second line is not \"format <type> 1.0\"";
+            else if (strcmp(b, "binary_little_endian") == 0 || strcmp(b, "binary_big_endian") == 0)
+                binary = true;
+            else if (strcmp(b, "ascii") != 0)
+                why = "unknown format";
+        } else if (k <= 0 || strcmp(a, "comment") == 0 || strcmp(a, "obj_info") == 0) {
+            continue;
+        } else if (strcmp(a, "element") == 0) {
+            char *end = NULL;
+            double cnt = k == 3 ? strtod(c, &end) : -1;
+            if (k != 3 || !end || *end || !(cnt >= 0 && cnt <= 4294967295.0) || cnt != floor(cnt))
+                why = "bad element line";
+            need += element_bytes * element_count;
+            element_bytes = 0;
+            element_count = cnt;
+            in_element = true;
+        } else if (strcmp(a, "property") == 0) {
+            if (!in_element)
+                why = "property before any element";
+            else if (strcmp(b, "list") == 0 && k == 5 && ply_type_size(c) && ply_type_size(d))
+                element_bytes += ply_type_size(c);
+            else if (k == 3 && ply_type_size(b))
+                element_bytes += ply_type_size(b);
+            else
+                why = "bad property line";
+        } else if (strcmp(a, "end_header") == 0 && k == 1) {
+            done = true;
+        } else {
+            why = "unknown header line";
+        }
+    }
+    need += element_bytes * element_count;
+    if (!why && binary && (double)file_size - (double)pos < need)
+        why = "binary data shorter than the header's elements need";
+    if (why) {
+        log_error("scene", "%s: malformed PLY file: %s (line %d)", path, why, line_no);
+        return false;
+    }
+    return true;
+}
+
 /* Checks an imported, unprocessed scene for what ValidateDataStructure
  * lets through and the post-processing steps assert on: faces without
  * indices, indices out of range, and primitive-type flags that disagree
@@ -188,6 +292,8 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 {
     /* assimp would block on a FIFO and read a directory as garbage. */
     if (!util_check_input("scene", "mesh file", path, MESH_MAX_BYTES, NULL))
+        return false;
+    if (!mesh_check_ply(path))
         return false;
     /* Import and validate first, check what assimp's own checks miss, then
      * post-process: its steps assert (abort) on inconsistent meshes. */

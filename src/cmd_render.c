@@ -75,18 +75,14 @@ int cmd_render(int argc, char **argv)
         if (ok && util_ends_with(o.out, ".pfm")) {
             ok = image_write_pfm(o.out, &hdr);
         } else if (ok) {
-            uint8_t *rgb = renderer_read_ldr(&r);
-            if (!rgb)
-                log_error("render", "cannot read back the %dx%d LDR image", rs.width, rs.height);
-            ok = rgb && image_write_png8(o.out, rs.width, rs.height, rgb);
+            uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */
+            ok = image_write_png8(o.out, rs.width, rs.height, rgb);
             free(rgb);
         }
         image_free(&hdr);
         if (ok && o.png) {
             uint8_t *rgb = renderer_read_ldr(&r);
-            if (!rgb)
-                log_error("render", "cannot read back the %dx%d LDR image", rs.width, rs.height);
-            ok = rgb && image_write_png8(o.png, rs.width, rs.height, rgb);
+            ok = image_write_png8(o.png, rs.width, rs.height, rgb);
             free(rgb);
             if (!ok)
                 remove(o.out); /* all outputs or none */

@@ -141,8 +141,10 @@ static void png_to_file(void *ctx, void *data, int size)
 
 bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb)
 {
-    if (!rgb)
-        return false; /* the producer has logged */
+    if (!rgb) { /* the read-back that should have produced it failed */
+        log_error("image", "%s: no %dx%d image to write (allocation failed)", path, width, height);
+        return false;
+    }
     AtomicFile af;
     if (!util_atomic_open(&af, "image", path))
         return false;

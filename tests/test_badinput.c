@@ -280,6 +280,12 @@ static const Case k_cases[] = {
                                                 "\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f\0\0\0\0\0\0\0\0\0\0\0\0\0\0\x80\x3f"
                                                 "\0\0\0\0\x03\0\0\0\0\x01\0\0\0\x02\0\0\0")}},
      {"render", "--scene", "@m.ply", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "m.ply"},
+    /* assimp 5.2's PLY reader crashed (SEGV) on this header; found by fuzz_mesh */
+    {"ply_malformed_header", {{"m.ply", K_TEXT, BIN(
+                                               "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\npv 0 1 1\nvn 0 0 1\nvt 0 0"
+                                               "\nvt 1 1\nf 1 2 3 4\nf 5 6 7 8\nf 1/1/1 5/2uchar int vertex_indices\nend_hea\x9c\x9a\x8d\xf5\x00\x00"
+                                               "\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00")}},
+     {"render", "--scene", "@m.ply", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "m.ply: malformed PLY file"},
     {"obj_garbage", {{"m.obj", K_TEXT, "garbage here\nmore\n"}},
      {"render", "--scene", "@m.obj", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "m.obj: cannot import mesh"},
     {"obj_nan_vertex", {{"m.obj", K_TEXT, "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}},

@@ -24,14 +24,11 @@ static void usage(FILE *f)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2) {
-        usage(stderr);
-        return 2;
-    }
     /* --lenient applies to every command's scene loading: take it out here
-     * so that the commands' option parsers need not know it. */
-    int n = 2;
-    for (int i = 2; i < argc; i++) {
+     * (before or after the command name) so that the commands' option
+     * parsers need not know it. */
+    int n = 1;
+    for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--lenient") == 0)
             json_set_lenient(true);
         else
@@ -39,6 +36,10 @@ int main(int argc, char **argv)
     }
     argc = n;
     argv[argc] = NULL;
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
     const char *cmd = argv[1];
     if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
         usage(stdout);

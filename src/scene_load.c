@@ -184,7 +184,9 @@ static bool mesh_check_ply(const char *path)
         return true; /* not PLY: assimp picks another reader */
     const char *why = NULL;
     bool binary = false, in_element = false, done = false;
-    double need = 0, element_bytes = 0, element_count = 0;
+    /* Bytes the data needs at least: binary, each property's size (a
+     * list's length field only); ASCII, two bytes ("0 ") per property. */
+    double need = 0, need_ascii = 0, element_bytes = 0, element_props = 0, element_count = 0;
     int line_no = 0;
     size_t pos = 0;
     while (!done && !why) {
@@ -225,16 +227,17 @@ static bool mesh_check_ply(const char *path)
             if (k != 3 || !end || *end || !(cnt >= 0 && cnt <= 4294967295.0) || cnt != floor(cnt))
                 why = "bad element line";
             need += element_bytes * element_count;
-            element_bytes = 0;
+            need_ascii += 2 * element_props * element_count;
+            element_bytes = element_props = 0;
             element_count = cnt;
             in_element = true;
         } else if (strcmp(a, "property") == 0) {
             if (!in_element)
                 why = "property before any element";
             else if (strcmp(b, "list") == 0 && k == 5 && ply_type_size(c) && ply_type_size(d))
-                element_bytes += ply_type_size(c);
+                element_bytes += ply_type_size(c), element_props++;
             else if (k == 3 && ply_type_size(b))
-                element_bytes += ply_type_size(b);
+                element_bytes += ply_type_size(b), element_props++;
             else
                 why = "bad property line";
         } else if (strcmp(a, "end_header") == 0 && k == 1) {
@@ -244,8 +247,9 @@ static bool mesh_check_ply(const char *path)
         }
     }
     need += element_bytes * element_count;
-    if (!why && binary && (double)file_size - (double)pos < need)
-        why = "binary data shorter than the header's elements need";
+    need_ascii += 2 * element_props * element_count;
+    if (!why && (double)file_size - (double)pos < (binary ? need : need_ascii - 1))
+        why = "data shorter than the header's element counts need";
     if (why) {
         log_error("scene", "%s: malformed PLY file: %s (line %d)", path, why, line_no);
         return false;

@@ -182,6 +182,8 @@ int cmd_compare(int argc, char **argv)
         val[2] = metric_ssim(&t, &r, exposure, mask, map_metric == 2 ? map : NULL);
     if (want[3])
         val[3] = metric_flip(&t, &r, exposure, ppd, mask, map_metric == 3 ? map : NULL);
+    if (metric_alloc_failures())
+        goto done; /* logged, with the size */
     for (int k = 0; k < 4; k++)
         if (want[k])
             printf("%s: %.6g\n", k_metrics[k], val[k]);

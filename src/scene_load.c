@@ -115,6 +115,8 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
         aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) != aiReturn_SUCCESS)
         c = (struct aiColor4D){0.8f, 0.8f, 0.8f, 1};
     int m = scene_add_material(s, name.data, (vec3){c.r, c.g, c.b});
+    if (m < 0)
+        return false;
     Material *mat = &s->materials[m];
     struct aiString tex;
     if (aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
@@ -689,8 +691,8 @@ static void parse_light(Ctx *c, Scene *s, const cJSON *j, int index)
         bad(c, "type", "unknown light type \"%s\" (directional, spot, point, quad)", t);
         return;
     }
-    if (c->ok)
-        scene_add_light(s, &l);
+    if (c->ok && scene_add_light(s, &l) < 0)
+        c->ok = false; /* logged */
 }
 
 static const char *const k_camera_keys[] = {"position", "target", "forward", "up", "fov_y_deg", "near", "far", NULL};
@@ -810,7 +812,10 @@ static void parse_quads(Ctx *c, Scene *s, const cJSON *arr)
         char name[32];
         snprintf(name, sizeof name, "quad%d", i);
         int m = scene_add_material(s, name, albedo);
-        scene_add_quad(s, m, p[0], p[1], p[2], p[3]);
+        if (m < 0 || !scene_add_quad(s, m, p[0], p[1], p[2], p[3])) {
+            c->ok = false; /* logged */
+            return;
+        }
         i++;
     }
     c->where[0] = 0;

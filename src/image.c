@@ -181,6 +181,17 @@ bool image_read(const char *path, ImageF *img)
     char *data = util_read_input("image", "image", path, UTIL_MAX_INPUT_BYTES, &size);
     if (!data)
         return false;
+    /* PNG or JPEG by signature only: stb_image also takes headerless formats
+     * (TGA) in which a few bytes can claim a huge image (found by
+     * fuzz_image: 20 bytes decoded as 2^27 pixels). */
+    const unsigned char *u = (const unsigned char *)data;
+    bool png = size >= 8 && memcmp(u, "\x89PNG\r\n\x1a\n", 8) == 0;
+    bool jpeg = size >= 3 && u[0] == 0xff && u[1] == 0xd8 && u[2] == 0xff;
+    if (!png && !jpeg) {
+        log_error("image", "%s: cannot read image (not a PNG or JPEG file, nor .pfm)", path);
+        free(data);
+        return false;
+    }
     int w = 0, h = 0, n;
     if (size > INT32_MAX || !stbi_info_from_memory((const unsigned char *)data, (int)size, &w, &h, &n)) {
         log_error("image", "%s: cannot read image (%s)", path, size > INT32_MAX ? "too large" : stbi_failure_reason());

@@ -42,7 +42,8 @@ bool image_read_pfm(const char *path, ImageF *img);
 bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb);
 /* Tone maps (radiance × exposure, clamp, sRGB) and writes a PNG. */
 bool image_write_png(const char *path, const ImageF *img, float exposure);
-/* Reads PFM as is, or PNG/JPG decoded from sRGB to linear [0,1]. */
+/* Reads PFM (by the .pfm extension) as is, or PNG/JPEG (by their
+ * signatures; other formats are refused) decoded from sRGB to linear [0,1]. */
 bool image_read(const char *path, ImageF *img);
 /* Writes .pfm as linear or .png tone-mapped, by the file's extension. */
 bool image_write(const char *path, const ImageF *img, float exposure);

@@ -341,6 +341,9 @@ static const Case k_cases[] = {
      "a.png: cannot read image"},
     {"png_huge", {{"a.png", K_PNG_HUGE}, {"b.pfm", K_PFM8}}, {"compare", "@a.png", "@b.pfm"}, 1,
      "a.png: image is 17000x17000, more than the limit"},
+    /* stb_image read these 20 bytes as a TGA of 2^27 pixels (fuzz_image timeout) */
+    {"image_headerless_bomb", {{"a.png", K_TEXT, BIN("\x00\x00\x0b\x0b\x96\x0b\x0b\x0b\x0b\x0b\x0b\xf5\x7b\xf4\xfc\x0b\x0f\x0b\x96")},
+                               {"b.pfm", K_PFM8}}, {"compare", "@a.png", "@b.pfm"}, 1, "a.png: cannot read image (not a PNG or JPEG"},
     {"compare_missing", {{"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm"}, 1, "a.pfm: cannot read image: it does not exist"},
     /* ---- outputs: never partial, never "wrote" after a failure ---- */
     {"render_out_full_device", {{"full.pfm", K_SYMLINK, "/dev/full"}},

@@ -2,8 +2,9 @@
 # `make test` builds and runs the whole test suite.
 BUILD ?= build
 JOBS  ?= $(shell nproc 2>/dev/null || echo 2)
+SHELL := /bin/bash
 
-.PHONY: all build run test clean deps
+.PHONY: all build run test clean deps test-asan fuzz-build fuzz-smoke
 
 all: build
 
@@ -22,6 +23,44 @@ run: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The suite under AddressSanitizer + UndefinedBehaviorSanitizer, in its own
+# build directory. LeakSanitizer reports are suppressed only for the GL
+# driver's own allocations (tests/lsan.supp names them; the preloaded
+# tests/nodlclose.c keeps the driver mapped so that they have a name).
+ASAN_BUILD ?= build-asan
+SAN_ENV = LD_PRELOAD=$(CURDIR)/$(ASAN_BUILD)/tests/librtgi_nodlclose.so \
+          ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0:detect_odr_violation=0 \
+          LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
+          UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+
+$(ASAN_BUILD)/CMakeCache.txt:
+	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRTGI_SANITIZE=ON
+
+test-asan: $(ASAN_BUILD)/CMakeCache.txt
+	cmake --build $(ASAN_BUILD) -j $(JOBS)
+	cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS)
+
+# libFuzzer targets (fuzz/, clang only) and a bounded run of each on its
+# seed corpus: FUZZ_SECONDS per target; findings go to $(FUZZ_BUILD)/artifacts.
+FUZZ_BUILD ?= build-fuzz
+FUZZ_SECONDS ?= 20
+
+$(FUZZ_BUILD)/CMakeCache.txt:
+	cmake -S . -B $(FUZZ_BUILD) -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRTGI_FUZZ=ON -DBUILD_TESTING=OFF
+
+fuzz-build: $(FUZZ_BUILD)/CMakeCache.txt
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target fuzz_scene fuzz_mesh fuzz_image
+
+fuzz-smoke: fuzz-build
+	mkdir -p $(FUZZ_BUILD)/artifacts
+	for t in scene mesh image; do \
+	  mkdir -p $(FUZZ_BUILD)/corpus/$$t && \
+	  ASAN_OPTIONS=detect_leaks=0 $(FUZZ_BUILD)/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=30 \
+	    -rss_limit_mb=4096 -dict=fuzz/$$t.dict -artifact_prefix=$(FUZZ_BUILD)/artifacts/$$t- \
+	    $(FUZZ_BUILD)/corpus/$$t fuzz/corpus/$$t 2>&1 | grep -E '^#[0-9]+[[:space:]]+(INITED|DONE)|ERROR|SUMMARY' ; \
+	  test $${PIPESTATUS[0]} -eq 0 || exit 1; \
+	done
 
 clean:
 	rm -rf $(BUILD) out

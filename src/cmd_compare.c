@@ -1,8 +1,10 @@
 /* cmd_compare.c — `rtgi compare A B`: error of test image A against
  * reference B, as text and JSON, with an optional heat map. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "commands.h"
@@ -20,17 +22,56 @@ void cmd_compare_help(void)
            "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"
            "  --exposure E       display exposure for SSIM and FLIP (default: 1)\n"
            "  --ppd P            FLIP pixels per degree (default: 67.02)\n"
-           "  --json FILE        also write the results as JSON ('-' for stdout)\n"
+           "  --json FILE        also write the results as JSON ('-' for stdout); non-finite\n"
+           "                     values are written as null\n"
+           "  --allow-nonfinite  compare images with NaN/Inf pixels (an error otherwise)\n"
            "Prints one 'metric: value' line per metric.\n");
 }
 
 static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all", NULL};
+
+/* The results as one JSON object; strings escaped, non-finite numbers as
+ * null. To stdout for "-", else atomically to the file. */
+static bool write_json(const char *json, const char *const files[2], const ImageF *t, const double val[4],
+                       const bool want[4])
+{
+    AtomicFile af = {0};
+    FILE *f = stdout;
+    if (strcmp(json, "-") != 0) {
+        if (!util_atomic_open(&af, "compare", json))
+            return false;
+        f = af.f;
+    }
+    fputs("{\"test\": ", f);
+    util_json_string(f, files[0]);
+    fputs(", \"reference\": ", f);
+    util_json_string(f, files[1]);
+    fprintf(f, ", \"width\": %d, \"height\": %d", t->width, t->height);
+    for (int k = 0; k < 4; k++) {
+        if (!want[k])
+            continue;
+        if (isfinite(val[k]))
+            fprintf(f, ", \"%s\": %.8g", k_metrics[k], val[k]);
+        else
+            fprintf(f, ", \"%s\": null", k_metrics[k]);
+    }
+    fputs("}\n", f);
+    if (f == stdout) {
+        if (fflush(stdout) != 0 || ferror(stdout)) {
+            log_error("compare", "--json -: writing to stdout failed");
+            return false;
+        }
+        return true;
+    }
+    return util_atomic_commit(&af, "compare");
+}
 
 int cmd_compare(int argc, char **argv)
 {
     const char *files[2] = {NULL, NULL}, *heatmap = NULL, *mask_path = NULL, *json = NULL;
     int metric = 4, nfiles = 0;
     float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
+    bool allow_nonfinite = false;
     CliArgs a = {argc, argv, 0, NULL};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
@@ -50,6 +91,8 @@ int cmd_compare(int argc, char **argv)
         } else if (!strcmp(opt, "--json")) {
             CLI_VALUE(&a, v);
             json = v;
+        } else if (!strcmp(opt, "--allow-nonfinite")) {
+            allow_nonfinite = true;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
@@ -74,12 +117,34 @@ int cmd_compare(int argc, char **argv)
     }
     ImageF t = {0}, r = {0}, m = {0};
     uint8_t *mask = NULL;
+    float *map = NULL;
     int rc = 1;
     if (!image_read(files[0], &t) || !image_read(files[1], &r))
         goto done;
     if (t.width != r.width || t.height != r.height) {
         log_error("compare", "%s is %dx%d but %s is %dx%d: sizes must match", files[0], t.width, t.height, files[1],
                   r.width, r.height);
+        goto done;
+    }
+    for (int k = 0; k < 2 && !allow_nonfinite; k++) {
+        const ImageF *img = k == 0 ? &t : &r;
+        int x = 0, y = 0;
+        size_t bad = image_count_nonfinite(img, &x, &y);
+        if (bad) {
+            log_error("compare", "%s: %zu of %zu pixels are NaN or infinite (first at x=%d y=%d); "
+                      "--allow-nonfinite compares anyway", files[k], bad, (size_t)img->width * img->height, x, y);
+            goto done;
+        }
+    }
+    size_t np = (size_t)t.width * t.height;
+    /* FLIP holds about 30 float planes at once (metrics.c): check that
+     * they fit before the metrics allocate. */
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    size_t phys = pages > 0 && page > 0 ? (size_t)pages * (size_t)page : 0, need = np * 32 * sizeof(float);
+    if (phys && need > phys / 2) {
+        log_error("compare", "%s: %dx%d images need %.1f GiB for the metrics, more than the limit of %.1f GiB "
+                  "(half of this machine's memory)", files[0], t.width, t.height, need / 1073741824.0,
+                  phys / 2 / 1073741824.0);
         goto done;
     }
     if (mask_path) {
@@ -90,12 +155,19 @@ int cmd_compare(int argc, char **argv)
                       t.height);
             goto done;
         }
-        mask = malloc((size_t)t.width * t.height);
-        for (size_t i = 0; i < (size_t)t.width * t.height; i++)
-            mask[i] = luminance(m.rgb + 3 * i) > 0.5f;
+        if (!(mask = util_malloc("compare", "the mask", np, 1)))
+            goto done;
+        size_t selected = 0;
+        for (size_t i = 0; i < np; i++)
+            selected += mask[i] = luminance(m.rgb + 3 * i) > 0.5f;
+        if (selected == 0) {
+            log_error("compare", "%s: the mask selects no pixel (luminance > 0.5 nowhere): nothing to compare",
+                      mask_path);
+            goto done;
+        }
     }
-    size_t np = (size_t)t.width * t.height;
-    float *map = heatmap ? calloc(np, sizeof(float)) : NULL;
+    if (heatmap && !(map = util_calloc("compare", "the heat map", np, sizeof(float))))
+        goto done;
     double val[4] = {0};
     bool want[4];
     for (int k = 0; k < 4; k++)
@@ -110,10 +182,11 @@ int cmd_compare(int argc, char **argv)
         val[2] = metric_ssim(&t, &r, exposure, mask, map_metric == 2 ? map : NULL);
     if (want[3])
         val[3] = metric_flip(&t, &r, exposure, ppd, mask, map_metric == 3 ? map : NULL);
+    if (metric_alloc_failures())
+        goto done; /* logged, with the size */
     for (int k = 0; k < 4; k++)
         if (want[k])
             printf("%s: %.6g\n", k_metrics[k], val[k]);
-    rc = 0;
     if (map) {
         if (map_metric == 0) { /* normalise RMSE by its maximum */
             float mx = 0;
@@ -125,28 +198,17 @@ int cmd_compare(int argc, char **argv)
             for (size_t i = 0; i < np; i++)
                 map[i] = 1.f - map[i];
         }
-        util_ensure_parent_dir(heatmap);
         if (!metric_write_heatmap(heatmap, map, t.width, t.height))
-            rc = 1;
-        free(map);
+            goto done;
     }
-    if (json) {
-        FILE *f = strcmp(json, "-") == 0 ? stdout : fopen(json, "w");
-        if (!f) {
-            log_error("compare", "%s: cannot open for writing", json);
-            rc = 1;
-        } else {
-            fprintf(f, "{\"test\": \"%s\", \"reference\": \"%s\", \"width\": %d, \"height\": %d", files[0], files[1],
-                    t.width, t.height);
-            for (int k = 0; k < 4; k++)
-                if (want[k])
-                    fprintf(f, ", \"%s\": %.8g", k_metrics[k], val[k]);
-            fprintf(f, "}\n");
-            if (f != stdout)
-                fclose(f);
-        }
+    if (json && !write_json(json, files, &t, val, want)) {
+        if (heatmap)
+            remove(heatmap); /* all outputs or none */
+        goto done;
     }
+    rc = 0;
 done:
+    free(map);
     free(mask);
     image_free(&t);
     image_free(&r);

@@ -98,6 +98,10 @@ int cmd_reference(int argc, char **argv)
         } else if (!strcmp(opt, "--variance")) {
             CLI_VALUE(&a, v);
             var_out = v;
+            if (!util_ends_with(v, ".pfm")) {
+                log_error("cli", "--variance: '%s' must end in .pfm", v);
+                return 2;
+            }
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
@@ -130,6 +134,19 @@ int cmd_reference(int argc, char **argv)
     }
     set.progress = !quiet && isatty(STDERR_FILENO);
 
+    /* The path tracer holds two double sums per channel and pixel, the mean
+     * and the variance images: check that they fit before it allocates. */
+    size_t npix = (size_t)set.width * (size_t)set.height;
+    size_t need = npix * 3 * (2 * sizeof(double) + (var_out ? 2 : 1) * sizeof(float));
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    size_t phys = pages > 0 && page > 0 ? (size_t)pages * (size_t)page : 0;
+    if (npix > IMAGE_MAX_PIXELS || (phys && need > phys / 2)) {
+        log_error("cli", "--size %dx%d: the reference needs %.1f GiB for its image buffers; the limit is %zu "
+                  "pixels and %.1f GiB (half of this machine's memory)", set.width, set.height,
+                  need / 1073741824.0, (size_t)IMAGE_MAX_PIXELS, phys / 2 / 1073741824.0);
+        return 1;
+    }
+
     Scene scene;
     if (!scene_load(&scene, scene_name))
         return 1;
@@ -139,15 +156,16 @@ int cmd_reference(int argc, char **argv)
     PtStats st = {0};
     int rc = 1;
     if (pt_render(&scene, &set, &mean, var_out ? &var : NULL, &st)) {
-        util_ensure_parent_dir(out);
         float e = exposure >= 0.f ? exposure : scene.exposure;
+        /* All outputs or none: a later failure removes the earlier ones. */
         bool ok = image_write(out, &mean, e);
-        if (ok && png) {
-            util_ensure_parent_dir(png);
-            ok = image_write_png(png, &mean, e);
+        if (ok && png && !(ok = image_write_png(png, &mean, e)))
+            remove(out);
+        if (ok && var_out && !(ok = image_write_pfm(var_out, &var))) {
+            remove(out);
+            if (png)
+                remove(png);
         }
-        if (ok && var_out)
-            ok = image_write_pfm(var_out, &var);
         if (ok) {
             rc = 0;
             printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene.source,

@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "gl_context.h"
+#include "image.h"
 #include "log.h"
 #include "render_options.h"
 #include "renderer.h"
@@ -57,22 +58,34 @@ int cmd_render(int argc, char **argv)
         for (int f = 0; f < frames; f++)
             renderer_frame(&r, &scene.camera);
         double t1 = util_seconds();
-        util_ensure_parent_dir(o.out);
-        bool ok;
-        if (util_ends_with(o.out, ".pfm")) {
-            ImageF img = {0};
-            ok = renderer_read_hdr(&r, &img) && image_write_pfm(o.out, &img);
-            image_free(&img);
-        } else {
-            uint8_t *rgb = renderer_read_ldr(&r);
+        /* Nothing non-finite leaves the renderer: the LDR image would hide it. */
+        ImageF hdr = {0};
+        bool ok = renderer_read_hdr(&r, &hdr);
+        if (!ok)
+            log_error("render", "cannot read back the %dx%d HDR image", rs.width, rs.height);
+        if (ok) {
+            int x = 0, y = 0;
+            size_t bad = image_count_nonfinite(&hdr, &x, &y);
+            if (bad) {
+                log_error("render", "%s: the rendered HDR image has %zu NaN or infinite pixels (first at x=%d y=%d); "
+                          "nothing written", scene.source, bad, x, y);
+                ok = false;
+            }
+        }
+        if (ok && util_ends_with(o.out, ".pfm")) {
+            ok = image_write_pfm(o.out, &hdr);
+        } else if (ok) {
+            uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */
             ok = image_write_png8(o.out, rs.width, rs.height, rgb);
             free(rgb);
         }
+        image_free(&hdr);
         if (ok && o.png) {
             uint8_t *rgb = renderer_read_ldr(&r);
-            util_ensure_parent_dir(o.png);
             ok = image_write_png8(o.png, rs.width, rs.height, rgb);
             free(rgb);
+            if (!ok)
+                remove(o.out); /* all outputs or none */
         }
         if (ok) {
             rc = 0;

@@ -13,14 +13,51 @@
 
 bool image_alloc(ImageF *img, int width, int height)
 {
-    img->width = width;
-    img->height = height;
-    img->rgb = calloc((size_t)width * (size_t)height * 3, sizeof(float));
-    if (!img->rgb) {
-        log_error("image", "cannot allocate a %dx%d image", width, height);
+    img->rgb = NULL;
+    img->width = img->height = 0;
+    size_t px = (size_t)(width > 0 ? width : 0) * (size_t)(height > 0 ? height : 0);
+    if (width < 1 || height < 1 || px > IMAGE_MAX_PIXELS) {
+        log_error("image", "cannot allocate a %dx%d image: more than the limit of %zu pixels", width, height,
+                  (size_t)IMAGE_MAX_PIXELS);
         return false;
     }
+    img->rgb = calloc(px * 3, sizeof(float));
+    if (!img->rgb) {
+        log_error("image", "cannot allocate a %dx%d image: %zu bytes", width, height, px * 3 * sizeof(float));
+        return false;
+    }
+    img->width = width;
+    img->height = height;
     return true;
+}
+
+size_t image_count_nonfinite(const ImageF *img, int *first_x, int *first_y)
+{
+    size_t n = 0, np = (size_t)img->width * (size_t)img->height;
+    for (size_t i = 0; i < np; i++) {
+        const float *p = img->rgb + 3 * i;
+        if (isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]))
+            continue;
+        if (n++ == 0) {
+            if (first_x)
+                *first_x = (int)(i % (size_t)img->width);
+            if (first_y)
+                *first_y = (int)(i / (size_t)img->width);
+        }
+    }
+    return n;
+}
+
+bool image_check_finite(const ImageF *img, const char *name)
+{
+    int x = 0, y = 0;
+    size_t n = image_count_nonfinite(img, &x, &y);
+    if (n == 0)
+        return true;
+    const float *p = image_px(img, x, y);
+    log_error("image", "%s: %zu of %zu pixels are NaN or infinite (first at x=%d y=%d: %g %g %g); not written",
+              name, n, (size_t)img->width * img->height, x, y, (double)p[0], (double)p[1], (double)p[2]);
+    return false;
 }
 
 void image_free(ImageF *img)
@@ -43,44 +80,39 @@ float srgb_decode(float c)
 
 bool image_write_pfm(const char *path, const ImageF *img)
 {
-    FILE *f = fopen(path, "wb");
-    if (!f) {
-        log_error("image", "%s: cannot open for writing", path);
+    if (!image_check_finite(img, path))
         return false;
-    }
-    fprintf(f, "PF\n%d %d\n-1.0\n", img->width, img->height);
+    AtomicFile af;
+    if (!util_atomic_open(&af, "image", path))
+        return false;
+    fprintf(af.f, "PF\n%d %d\n-1.0\n", img->width, img->height);
     bool ok = true;
     for (int y = img->height - 1; y >= 0 && ok; y--)
-        ok = fwrite(image_px(img, 0, y), sizeof(float), (size_t)img->width * 3, f) ==
-             (size_t)img->width * 3;
-    if (fclose(f) != 0 || !ok) {
-        log_error("image", "%s: write failed", path);
-        return false;
-    }
-    return true;
+        ok = fwrite(image_px(img, 0, y), sizeof(float), (size_t)img->width * 3, af.f) == (size_t)img->width * 3;
+    af.failed = !ok;
+    return util_atomic_commit(&af, "image");
 }
 
 bool image_read_pfm(const char *path, ImageF *img)
 {
     size_t size = 0;
-    char *data = util_read_file(path, &size);
-    if (!data) {
-        log_error("image", "%s: cannot read file", path);
+    char *data = util_read_input("image", "image", path, UTIL_MAX_INPUT_BYTES, &size);
+    if (!data)
         return false;
-    }
     int w = 0, h = 0, off = 0;
     float scale = 0;
     char magic[3] = {0};
     if (sscanf(data, "%2s %d %d %f%n", magic, &w, &h, &scale, &off) != 4 || strcmp(magic, "PF") != 0 ||
-        w <= 0 || h <= 0 || w > 65536 || h > 65536) {
-        log_error("image", "%s: not an RGB PFM file", path);
+        w <= 0 || h <= 0 || w > 65536 || h > 65536 || !isfinite(scale) || scale == 0.f) {
+        log_error("image", "%s: not an RGB PFM file (want \"PF\", width, height, scale)", path);
         free(data);
         return false;
     }
     off++; /* single whitespace after the scale */
     size_t need = (size_t)w * (size_t)h * 3 * sizeof(float);
-    if ((size_t)off + need > size) {
-        log_error("image", "%s: PFM data truncated (%zu of %zu bytes)", path, size - (size_t)off, need);
+    if ((size_t)off > size || need > size - (size_t)off) {
+        log_error("image", "%s: PFM data truncated (%zu of %zu bytes)", path, size - ((size_t)off > size ? size : (size_t)off),
+                  need);
         free(data);
         return false;
     }
@@ -100,21 +132,42 @@ bool image_read_pfm(const char *path, ImageF *img)
     return true;
 }
 
+static void png_to_file(void *ctx, void *data, int size)
+{
+    AtomicFile *af = ctx;
+    if (size > 0 && fwrite(data, 1, (size_t)size, af->f) != (size_t)size)
+        af->failed = true;
+}
+
 bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb)
 {
-    if (!stbi_write_png(path, width, height, 3, rgb, width * 3)) {
-        log_error("image", "%s: cannot write PNG", path);
+    if (!rgb) { /* the read-back that should have produced it failed */
+        log_error("image", "%s: no %dx%d image to write (allocation failed)", path, width, height);
         return false;
     }
-    return true;
+    AtomicFile af;
+    if (!util_atomic_open(&af, "image", path))
+        return false;
+    if (!stbi_write_png_to_func(png_to_file, &af, width, height, 3, rgb, width * 3)) {
+        log_error("image", "%s: cannot encode PNG (%dx%d)", path, width, height);
+        util_atomic_abort(&af);
+        return false;
+    }
+    return util_atomic_commit(&af, "image");
 }
 
 bool image_write_png(const char *path, const ImageF *img, float exposure)
 {
+    if (!image_check_finite(img, path))
+        return false;
     size_t n = (size_t)img->width * (size_t)img->height * 3;
-    uint8_t *px = malloc(n);
-    for (size_t i = 0; i < n; i++)
-        px[i] = (uint8_t)lrintf(255.f * srgb_encode(img->rgb[i] * exposure));
+    uint8_t *px = util_malloc("image", "an 8-bit image", n, 1);
+    if (!px)
+        return false;
+    for (size_t i = 0; i < n; i++) {
+        float v = 255.f * srgb_encode(img->rgb[i] * exposure); /* inf × 0 is NaN */
+        px[i] = (uint8_t)(v >= 0.f && v <= 255.f ? lrintf(v) : 0);
+    }
     bool ok = image_write_png8(path, img->width, img->height, px);
     free(px);
     return ok;
@@ -124,14 +177,41 @@ bool image_read(const char *path, ImageF *img)
 {
     if (util_ends_with(path, ".pfm"))
         return image_read_pfm(path, img);
-    int w, h, n;
-    unsigned char *px = stbi_load(path, &w, &h, &n, 3);
+    size_t size = 0;
+    char *data = util_read_input("image", "image", path, UTIL_MAX_INPUT_BYTES, &size);
+    if (!data)
+        return false;
+    /* PNG or JPEG by signature only: stb_image also takes headerless formats
+     * (TGA) in which a few bytes can claim a huge image (found by
+     * fuzz_image: 20 bytes decoded as 2^27 pixels). */
+    const unsigned char *u = (const unsigned char *)data;
+    bool png = size >= 8 && memcmp(u, "\x89PNG\r\n\x1a\n", 8) == 0;
+    bool jpeg = size >= 3 && u[0] == 0xff && u[1] == 0xd8 && u[2] == 0xff;
+    if (!png && !jpeg) {
+        log_error("image", "%s: cannot read image (not a PNG or JPEG file, nor .pfm)", path);
+        free(data);
+        return false;
+    }
+    int w = 0, h = 0, n;
+    if (size > INT32_MAX || !stbi_info_from_memory((const unsigned char *)data, (int)size, &w, &h, &n)) {
+        log_error("image", "%s: cannot read image (%s)", path, size > INT32_MAX ? "too large" : stbi_failure_reason());
+        free(data);
+        return false;
+    }
+    if ((size_t)w * (size_t)h > IMAGE_MAX_PIXELS) {
+        log_error("image", "%s: image is %dx%d, more than the limit of %zu pixels", path, w, h,
+                  (size_t)IMAGE_MAX_PIXELS);
+        free(data);
+        return false;
+    }
+    unsigned char *px = stbi_load_from_memory((const unsigned char *)data, (int)size, &w, &h, &n, 3);
+    free(data);
     if (!px) {
         log_error("image", "%s: cannot read image (%s)", path, stbi_failure_reason());
         return false;
     }
     bool ok = image_alloc(img, w, h);
-    for (long i = 0; ok && i < (long)w * h * 3; i++)
+    for (size_t i = 0; ok && i < (size_t)w * h * 3; i++)
         img->rgb[i] = srgb_decode(px[i] / 255.f);
     stbi_image_free(px);
     return ok;

@@ -6,6 +6,7 @@
 #define RTGI_IMAGE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct ImageF {
@@ -13,20 +14,36 @@ typedef struct ImageF {
     float *rgb; /* width*height*3 floats, owned; row 0 = top */
 } ImageF;
 
-bool image_alloc(ImageF *img, int width, int height); /* zero-filled */
+/* The largest image, in pixels (16384², 3 GiB of floats): larger ones are
+ * refused with a message naming the size. */
+#define IMAGE_MAX_PIXELS ((size_t)1 << 28)
+
+/* Zero-filled; false after logging the size if it is over IMAGE_MAX_PIXELS
+ * or the allocation fails. */
+bool image_alloc(ImageF *img, int width, int height);
 void image_free(ImageF *img);
 static inline float *image_px(const ImageF *img, int x, int y)
 {
     return img->rgb + 3 * ((long)y * img->width + x);
 }
 
+/* Pixels with a NaN or infinite channel; the first one's position. */
+size_t image_count_nonfinite(const ImageF *img, int *first_x, int *first_y);
+/* true if every value is finite; else false after logging "<name>: N of M
+ * pixels are NaN or infinite (first at ...); not written". */
+bool image_check_finite(const ImageF *img, const char *name);
+
+/* Writers: refuse non-finite pixels, write atomically (util_atomic_*): an
+ * error leaves no file behind. Readers: regular files only (never block on
+ * a FIFO), sizes checked before allocating. */
 bool image_write_pfm(const char *path, const ImageF *img);
 bool image_read_pfm(const char *path, ImageF *img);
 /* Writes 8-bit RGB (row 0 = top) as PNG. */
 bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb);
 /* Tone maps (radiance × exposure, clamp, sRGB) and writes a PNG. */
 bool image_write_png(const char *path, const ImageF *img, float exposure);
-/* Reads PFM as is, or PNG/JPG decoded from sRGB to linear [0,1]. */
+/* Reads PFM (by the .pfm extension) as is, or PNG/JPEG (by their
+ * signatures; other formats are refused) decoded from sRGB to linear [0,1]. */
 bool image_read(const char *path, ImageF *img);
 /* Writes .pfm as linear or .png tone-mapped, by the file's extension. */
 bool image_write(const char *path, const ImageF *img, float exposure);

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "json_util.h"
 #include "log.h"
 
 static void usage(FILE *f)
@@ -17,11 +18,25 @@ static void usage(FILE *f)
             "  reference   path-trace the same scene on the CPU (Embree): ground truth\n"
             "  compare     error metrics between two images (RMSE, relMSE, SSIM, FLIP)\n"
             "  probe       this device's throughput on gather-shaped work (evaluations/s)\n"
-            "run 'rtgi <command> --help' for a command's options\n");
+            "run 'rtgi <command> --help' for a command's options\n"
+            "every command also takes --lenient: unknown keys in a scene file are\n"
+            "warnings instead of errors\n");
 }
 
 int main(int argc, char **argv)
 {
+    /* --lenient applies to every command's scene loading: take it out here
+     * (before or after the command name) so that the commands' option
+     * parsers need not know it. */
+    int n = 1;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--lenient") == 0)
+            json_set_lenient(true);
+        else
+            argv[n++] = argv[i];
+    }
+    argc = n;
+    argv[argc] = NULL;
     if (argc < 2) {
         usage(stderr);
         return 2;

@@ -1,5 +1,7 @@
 #include "metrics.h"
 
+#include "util.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +11,21 @@
 #endif
 
 static bool counts(const uint8_t *mask, size_t i) { return !mask || mask[i]; }
+
+/* Image-sized scratch: NULL after logging the size, and counted so that
+ * the caller can tell a metric that ran out of memory (NaN) from one whose
+ * input was NaN. */
+static int g_alloc_failures;
+
+int metric_alloc_failures(void) { return g_alloc_failures; }
+
+static float *fbuf(size_t n)
+{
+    float *p = util_malloc("compare", "metric scratch", n, sizeof(float));
+    if (!p)
+        g_alloc_failures++;
+    return p;
+}
 
 double metric_rmse(const ImageF *t, const ImageF *r, const uint8_t *mask, float *map)
 {
@@ -54,9 +71,11 @@ double metric_relmse(const ImageF *t, const ImageF *r, const uint8_t *mask, floa
 
 /* Separable convolution of a w×h float plane with a 1D kernel of radius r
  * along x then (kernel ky) along y; borders replicate. */
-static void convolve_sep(const float *in, float *out, int w, int h, const float *kx, const float *ky, int r)
+static bool convolve_sep(const float *in, float *out, int w, int h, const float *kx, const float *ky, int r)
 {
-    float *tmp = malloc(sizeof(float) * (size_t)w * h);
+    float *tmp = fbuf((size_t)w * h);
+    if (!tmp)
+        return false;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             double s = 0;
@@ -76,14 +95,15 @@ static void convolve_sep(const float *in, float *out, int w, int h, const float 
             out[(size_t)y * w + x] = (float)s;
         }
     free(tmp);
+    return true;
 }
 
 /* Display-encoded (× exposure, clamped, sRGB) copy of a linear image. */
 static float *display(const ImageF *img, float exposure)
 {
     size_t n = (size_t)img->width * img->height * 3;
-    float *d = malloc(sizeof(float) * n);
-    for (size_t i = 0; i < n; i++)
+    float *d = fbuf(n);
+    for (size_t i = 0; d && i < n; i++)
         d[i] = srgb_encode(img->rgb[i] * exposure);
     return d;
 }
@@ -96,8 +116,16 @@ double metric_ssim(const ImageF *t, const ImageF *r, float exposure, const uint8
     size_t np = (size_t)w * h;
     float *dt = display(t, exposure), *dr = display(r, exposure);
     float *planes[5];
+    bool ok = dt && dr;
     for (int k = 0; k < 5; k++)
-        planes[k] = malloc(sizeof(float) * np);
+        ok = (planes[k] = ok ? fbuf(np) : NULL) != NULL;
+    float *mu_a = ok ? fbuf(np) : NULL, *mu_b = mu_a ? fbuf(np) : NULL;
+    float *saa = mu_b ? fbuf(np) : NULL, *sbb = saa ? fbuf(np) : NULL, *sab = sbb ? fbuf(np) : NULL;
+    ok = sab != NULL;
+    double sum = 0;
+    size_t n = 0;
+    if (!ok)
+        goto done;
     float *a = planes[0], *b = planes[1];
     for (size_t i = 0; i < np; i++) {
         a[i] = luminance(dt + 3 * i);
@@ -110,22 +138,16 @@ double metric_ssim(const ImageF *t, const ImageF *r, float exposure, const uint8
         gs += g[k + rad] = expf(-(float)(k * k) / (2.f * 1.5f * 1.5f));
     for (int k = 0; k < 11; k++)
         g[k] /= (float)gs;
-    float *mu_a = malloc(sizeof(float) * np), *mu_b = malloc(sizeof(float) * np);
-    convolve_sep(a, mu_a, w, h, g, g, rad);
-    convolve_sep(b, mu_b, w, h, g, g, rad);
+    ok = convolve_sep(a, mu_a, w, h, g, g, rad) && convolve_sep(b, mu_b, w, h, g, g, rad);
     for (size_t i = 0; i < np; i++) {
         planes[2][i] = a[i] * a[i];
         planes[3][i] = b[i] * b[i];
         planes[4][i] = a[i] * b[i];
     }
-    float *saa = malloc(sizeof(float) * np), *sbb = malloc(sizeof(float) * np), *sab = malloc(sizeof(float) * np);
-    convolve_sep(planes[2], saa, w, h, g, g, rad);
-    convolve_sep(planes[3], sbb, w, h, g, g, rad);
-    convolve_sep(planes[4], sab, w, h, g, g, rad);
+    ok = ok && convolve_sep(planes[2], saa, w, h, g, g, rad) && convolve_sep(planes[3], sbb, w, h, g, g, rad) &&
+         convolve_sep(planes[4], sab, w, h, g, g, rad);
     const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03;
-    double sum = 0;
-    size_t n = 0;
-    for (size_t i = 0; i < np; i++) {
+    for (size_t i = 0; ok && i < np; i++) {
         double ma = mu_a[i], mb = mu_b[i];
         double va = saa[i] - ma * ma, vb = sbb[i] - mb * mb, cov = sab[i] - ma * mb;
         double s = ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
@@ -136,6 +158,7 @@ double metric_ssim(const ImageF *t, const ImageF *r, float exposure, const uint8
             n++;
         }
     }
+done:
     for (int k = 0; k < 5; k++)
         free(planes[k]);
     free(mu_a);
@@ -145,6 +168,8 @@ double metric_ssim(const ImageF *t, const ImageF *r, float exposure, const uint8
     free(sab);
     free(dt);
     free(dr);
+    if (!ok)
+        return NAN;
     return n ? sum / n : 1.0;
 }
 
@@ -208,13 +233,17 @@ static double hyab(const double *a, const double *b)
 
 /* The CSF filter of one opponent channel as a sum of two separable
  * Gaussians: applies it to `in` into `out`. */
-static void csf_filter(const float *in, float *out, int w, int h, float ppd, double a1, double b1, double a2,
+static bool csf_filter(const float *in, float *out, int w, int h, float ppd, double a1, double b1, double a2,
                        double b2)
 {
     const double bmax = 0.04; /* largest b over all three channels sets the support */
     int r = (int)ceil(3 * sqrt(bmax / (2 * M_PI * M_PI)) * ppd);
     int n = 2 * r + 1;
-    float *g1 = malloc(sizeof(float) * n), *g2 = malloc(sizeof(float) * n);
+    float *g1 = fbuf((size_t)n), *g2 = g1 ? fbuf((size_t)n) : NULL;
+    if (!g2) {
+        free(g1);
+        return false;
+    }
     double s1 = 0, s2 = 0;
     for (int k = -r; k <= r; k++) {
         double x = k / (double)ppd;
@@ -225,28 +254,34 @@ static void csf_filter(const float *in, float *out, int w, int h, float ppd, dou
     }
     double c1 = a1 * sqrt(M_PI / b1), c2 = a2 * sqrt(M_PI / b2);
     double total = c1 * s1 * s1 + c2 * s2 * s2; /* sum of the 2D kernel */
-    convolve_sep(in, out, w, h, g1, g1, r);
-    if (c2 > 0) {
-        float *tmp = malloc(sizeof(float) * (size_t)w * h);
-        convolve_sep(in, tmp, w, h, g2, g2, r);
-        for (size_t i = 0; i < (size_t)w * h; i++)
+    bool ok = convolve_sep(in, out, w, h, g1, g1, r);
+    if (ok && c2 > 0) {
+        float *tmp = fbuf((size_t)w * h);
+        ok = tmp && convolve_sep(in, tmp, w, h, g2, g2, r);
+        for (size_t i = 0; ok && i < (size_t)w * h; i++)
             out[i] = (float)((c1 * out[i] + c2 * tmp[i]) / total);
         free(tmp);
-    } else {
+    } else if (ok) {
         for (size_t i = 0; i < (size_t)w * h; i++)
             out[i] = (float)(c1 * out[i] / total);
     }
     free(g1);
     free(g2);
+    return ok;
 }
 
 /* Edge (first derivative) and point (second derivative) feature
  * magnitudes of the normalised achromatic plane y. */
-static void features(const float *y, int w, int h, float ppd, float *edge, float *point)
+static bool features(const float *y, int w, int h, float ppd, float *edge, float *point)
 {
     double sd = 0.5 * 0.082 * ppd;
     int r = (int)ceil(3 * sd), n = 2 * r + 1;
-    float *g = malloc(sizeof(float) * n), *d1 = malloc(sizeof(float) * n), *d2 = malloc(sizeof(float) * n);
+    float *g = fbuf((size_t)n), *d1 = g ? fbuf((size_t)n) : NULL, *d2 = d1 ? fbuf((size_t)n) : NULL;
+    if (!d2) {
+        free(g);
+        free(d1);
+        return false;
+    }
     double gs = 0, p1 = 0, m1 = 0, p2 = 0, m2 = 0;
     for (int k = -r; k <= r; k++) {
         double gv = exp(-(k * k) / (2 * sd * sd));
@@ -264,13 +299,11 @@ static void features(const float *y, int w, int h, float ppd, float *edge, float
         d2[k] = (float)(d2[k] > 0 ? d2[k] / p2 : d2[k] / m2);
     }
     size_t np = (size_t)w * h;
-    float *ex = malloc(sizeof(float) * np), *ey = malloc(sizeof(float) * np);
-    float *px = malloc(sizeof(float) * np), *py = malloc(sizeof(float) * np);
-    convolve_sep(y, ex, w, h, d1, g, r);
-    convolve_sep(y, ey, w, h, g, d1, r);
-    convolve_sep(y, px, w, h, d2, g, r);
-    convolve_sep(y, py, w, h, g, d2, r);
-    for (size_t i = 0; i < np; i++) {
+    float *ex = fbuf(np), *ey = ex ? fbuf(np) : NULL;
+    float *px = ey ? fbuf(np) : NULL, *py = px ? fbuf(np) : NULL;
+    bool ok = py && convolve_sep(y, ex, w, h, d1, g, r) && convolve_sep(y, ey, w, h, g, d1, r) &&
+              convolve_sep(y, px, w, h, d2, g, r) && convolve_sep(y, py, w, h, g, d2, r);
+    for (size_t i = 0; ok && i < np; i++) {
         edge[i] = hypotf(ex[i], ey[i]);
         point[i] = hypotf(px[i], py[i]);
     }
@@ -281,6 +314,7 @@ static void features(const float *y, int w, int h, float ppd, float *edge, float
     free(ey);
     free(px);
     free(py);
+    return ok;
 }
 
 double metric_flip(const ImageF *t, const ImageF *r, float exposure, float ppd, const uint8_t *mask, float *map)
@@ -288,14 +322,16 @@ double metric_flip(const ImageF *t, const ImageF *r, float exposure, float ppd, 
     int w = t->width, h = t->height;
     size_t np = (size_t)w * h;
     const ImageF *imgs[2] = {r, t};
-    float *opp[2][3], *filt[2][3], *edge[2], *point[2];
-    for (int k = 0; k < 2; k++) {
+    float *opp[2][3] = {{0}}, *filt[2][3] = {{0}}, *edge[2] = {0}, *point[2] = {0};
+    double sum = 0;
+    size_t n = 0;
+    bool ok = true;
+    for (int k = 0; k < 2 && ok; k++) {
         float *disp = display(imgs[k], exposure);
-        for (int c = 0; c < 3; c++) {
-            opp[k][c] = malloc(sizeof(float) * np);
-            filt[k][c] = malloc(sizeof(float) * np);
-        }
-        for (size_t i = 0; i < np; i++) {
+        ok = disp != NULL;
+        for (int c = 0; c < 3 && ok; c++)
+            ok = (opp[k][c] = fbuf(np)) && (filt[k][c] = fbuf(np));
+        for (size_t i = 0; ok && i < np; i++) {
             double lin[3], xyz[3], o[3];
             for (int c = 0; c < 3; c++)
                 lin[c] = srgb_decode(disp[3 * i + c]);
@@ -305,24 +341,23 @@ double metric_flip(const ImageF *t, const ImageF *r, float exposure, float ppd, 
                 opp[k][c][i] = (float)o[c];
         }
         free(disp);
-        csf_filter(opp[k][0], filt[k][0], w, h, ppd, 1.0, 0.0047, 0.0, 1e-5);
-        csf_filter(opp[k][1], filt[k][1], w, h, ppd, 1.0, 0.0053, 0.0, 1e-5);
-        csf_filter(opp[k][2], filt[k][2], w, h, ppd, 34.1, 0.04, 13.5, 0.025);
-        float *ynorm = malloc(sizeof(float) * np);
-        for (size_t i = 0; i < np; i++)
+        ok = ok && csf_filter(opp[k][0], filt[k][0], w, h, ppd, 1.0, 0.0047, 0.0, 1e-5) &&
+             csf_filter(opp[k][1], filt[k][1], w, h, ppd, 1.0, 0.0053, 0.0, 1e-5) &&
+             csf_filter(opp[k][2], filt[k][2], w, h, ppd, 34.1, 0.04, 13.5, 0.025);
+        float *ynorm = ok ? fbuf(np) : NULL;
+        for (size_t i = 0; ynorm && i < np; i++)
             ynorm[i] = (opp[k][0][i] + 16.f) / 116.f;
-        edge[k] = malloc(sizeof(float) * np);
-        point[k] = malloc(sizeof(float) * np);
-        features(ynorm, w, h, ppd, edge[k], point[k]);
+        ok = ynorm && (edge[k] = fbuf(np)) && (point[k] = fbuf(np)) &&
+             features(ynorm, w, h, ppd, edge[k], point[k]);
         free(ynorm);
     }
+    if (!ok)
+        goto done;
     const double qc = 0.7, qf = 0.5, pc = 0.4, pt = 0.95;
     double green[3] = {0, 1, 0}, blue[3] = {0, 0, 1}, lg[3], lb[3];
     lin_to_hunt_lab(green, lg);
     lin_to_hunt_lab(blue, lb);
     double cmax = pow(hyab(lg, lb), qc), pccmax = pc * cmax;
-    double sum = 0;
-    size_t n = 0;
     for (size_t i = 0; i < np; i++) {
         double lab[2][3];
         for (int k = 0; k < 2; k++) {
@@ -345,6 +380,7 @@ double metric_flip(const ImageF *t, const ImageF *r, float exposure, float ppd, 
             n++;
         }
     }
+done:
     for (int k = 0; k < 2; k++) {
         for (int c = 0; c < 3; c++) {
             free(opp[k][c]);
@@ -353,6 +389,8 @@ double metric_flip(const ImageF *t, const ImageF *r, float exposure, float ppd, 
         free(edge[k]);
         free(point[k]);
     }
+    if (!ok)
+        return NAN;
     return n ? sum / n : 0.0;
 }
 
@@ -363,7 +401,9 @@ int metric_write_heatmap(const char *path, const float *map, int w, int h)
     /* Approximate magma, 9 stops. */
     static const float stops[9][3] = {{0, 0, 4},      {28, 16, 68},   {79, 18, 123},   {129, 37, 129}, {181, 54, 122},
                                       {229, 80, 100}, {251, 135, 97}, {254, 194, 135}, {252, 253, 191}};
-    uint8_t *px = malloc((size_t)w * h * 3);
+    uint8_t *px = util_malloc("compare", "the heat map image", (size_t)w * h, 3);
+    if (!px)
+        return 0;
     for (size_t i = 0; i < (size_t)w * h; i++) {
         float v = map[i];
         v = v < 0 || !isfinite(v) ? 0 : (v > 1 ? 1 : v);

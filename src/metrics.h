@@ -8,7 +8,10 @@
  *    C2 = 0.03².
  *  - FLIP (Andersson et al. 2020), LDR-FLIP on the display-encoded images at
  *    `ppd` pixels per degree (67.0: a 0.7 m wide 4K monitor at 0.7 m).
- * The *_map outputs (may be NULL) receive w·h per-pixel values. */
+ * The *_map outputs (may be NULL) receive w·h per-pixel values.
+ * SSIM and FLIP return NaN after logging if their image-sized scratch
+ * buffers cannot be allocated; metric_alloc_failures counts such failures
+ * (so a caller can tell them from a NaN input). */
 #ifndef RTGI_METRICS_H
 #define RTGI_METRICS_H
 
@@ -18,6 +21,7 @@
 
 #define FLIP_DEFAULT_PPD 67.0205f /* 0.7·3840/0.7 · π/180 */
 
+int metric_alloc_failures(void);
 double metric_rmse(const ImageF *test, const ImageF *ref, const uint8_t *mask, float *map);
 double metric_relmse(const ImageF *test, const ImageF *ref, const uint8_t *mask, float *map);
 double metric_ssim(const ImageF *test, const ImageF *ref, float exposure, const uint8_t *mask, float *map);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "log.h"
+#include "util.h"
 
 void scene_init(Scene *s)
 {
@@ -41,7 +42,8 @@ void scene_free(Scene *s)
 
 int scene_add_material(Scene *s, const char *name, const vec3 albedo)
 {
-    s->materials = realloc(s->materials, sizeof(Material) * (size_t)(s->material_count + 1));
+    if (!util_realloc("scene", "materials", (void **)&s->materials, (size_t)s->material_count + 1, sizeof(Material)))
+        return -1;
     Material *m = &s->materials[s->material_count];
     memset(m, 0, sizeof *m);
     snprintf(m->name, sizeof m->name, "%s", name);
@@ -53,21 +55,25 @@ int scene_add_material(Scene *s, const char *name, const vec3 albedo)
 }
 
 /* Appends indices of one material, extending the last submesh if it matches. */
-static void add_indices(Scene *s, int material, const uint32_t *idx, uint32_t n)
+static bool add_indices(Scene *s, int material, const uint32_t *idx, uint32_t n)
 {
-    s->indices = realloc(s->indices, sizeof(uint32_t) * (s->index_count + n));
+    if (!util_realloc("scene", "indices", (void **)&s->indices, (size_t)s->index_count + n, sizeof(uint32_t)))
+        return false;
     memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
     Submesh *last = s->submesh_count ? &s->submeshes[s->submesh_count - 1] : NULL;
     if (last && last->material == material && last->first_index + last->index_count == s->index_count) {
         last->index_count += n;
     } else {
-        s->submeshes = realloc(s->submeshes, sizeof(Submesh) * (size_t)(s->submesh_count + 1));
+        if (!util_realloc("scene", "submeshes", (void **)&s->submeshes, (size_t)s->submesh_count + 1,
+                          sizeof(Submesh)))
+            return false;
         s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, material};
     }
     s->index_count += n;
+    return true;
 }
 
-void scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const vec3 p2, const vec3 p3)
+bool scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const vec3 p2, const vec3 p3)
 {
     vec3 e1, e2, n;
     glm_vec3_sub((float *)p1, (float *)p0, e1);
@@ -77,7 +83,8 @@ void scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const 
     const float *p[4] = {p0, p1, p2, p3};
     const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     uint32_t base = s->vertex_count;
-    s->vertices = realloc(s->vertices, sizeof(Vertex) * (s->vertex_count + 4));
+    if (!util_realloc("scene", "vertices", (void **)&s->vertices, (size_t)s->vertex_count + 4, sizeof(Vertex)))
+        return false;
     for (int i = 0; i < 4; i++) {
         Vertex *v = &s->vertices[s->vertex_count++];
         memcpy(v->position, p[i], sizeof v->position);
@@ -86,12 +93,13 @@ void scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const 
         v->uv[1] = uv[i][1];
     }
     uint32_t idx[6] = {base, base + 1, base + 2, base, base + 2, base + 3};
-    add_indices(s, material, idx, 6);
+    return add_indices(s, material, idx, 6);
 }
 
 int scene_add_light(Scene *s, const Light *l)
 {
-    s->lights = realloc(s->lights, sizeof(Light) * (size_t)(s->light_count + 1));
+    if (!util_realloc("scene", "lights", (void **)&s->lights, (size_t)s->light_count + 1, sizeof(Light)))
+        return -1;
     s->lights[s->light_count] = *l;
     glm_vec3_normalize(s->lights[s->light_count].direction);
     return s->light_count++;
@@ -162,6 +170,8 @@ static void add_emitters(Scene *s)
         char name[64];
         snprintf(name, sizeof name, "emitter%d", i);
         int m = scene_add_material(s, name, (vec3){0, 0, 0});
+        if (m < 0)
+            return; /* logged; the light keeps no emitter geometry */
         glm_vec3_scale(l->color, 1.f / (l->size * l->size), s->materials[m].emission);
         s->materials[m].light_index = i;
         vec3 hu, hv, p[4];

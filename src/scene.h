@@ -148,12 +148,13 @@ typedef struct Scene {
 void scene_init(Scene *s);
 void scene_free(Scene *s);
 
-/* Appends a material, returns its index. */
+/* Appends a material, returns its index (-1 after logging if out of memory). */
 int scene_add_material(Scene *s, const char *name, const vec3 albedo);
 /* Appends a planar quad (two triangles) p0,p1,p2,p3 in order, normal from
- * (p1-p0)×(p3-p0). */
-void scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const vec3 p2, const vec3 p3);
-/* Appends a light (its direction is normalised); returns its index. */
+ * (p1-p0)×(p3-p0). false after logging if out of memory. */
+bool scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const vec3 p2, const vec3 p3);
+/* Appends a light (its direction is normalised); returns its index (-1
+ * after logging if out of memory). */
 int scene_add_light(Scene *s, const Light *l);
 
 /* Call after geometry and lights are final: merges submeshes by material,

@@ -8,12 +8,14 @@
 #include <assimp/scene.h>
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <stb/stb_image.h>
 
+#include "json_util.h"
 #include "log.h"
 #include "scene.h"
 #include "settings.h"
@@ -21,33 +23,71 @@
 
 /* ------------------------------------------------------------------ mesh */
 
+/* Limits on what a mesh file may bring (README "Scene files"). */
+#define MESH_MAX_VERTICES ((uint32_t)1 << 27) /* 4 GiB of Vertex */
+#define MESH_MAX_INDICES ((uint32_t)1 << 28)  /* 1 GiB of indices */
+#define TEXTURE_MAX_SIZE 16384                /* texels per side (GL_MAX_TEXTURE_SIZE of common GPUs) */
+#define MESH_MAX_BYTES ((size_t)1 << 31)      /* mesh or texture file size */
+
 static int load_texture(Scene *s, const struct aiScene *ai, const char *dir, const char *name)
 {
     for (int i = 0; i < s->texture_count; i++)
         if (strcmp(s->textures[i].name, name) == 0)
             return i;
-    int w, h, n;
+    int w = 0, h = 0, n;
     unsigned char *px = NULL;
     char path[1024];
     const struct aiTexture *emb = NULL; /* "*N" names the N-th embedded texture */
     if (name[0] == '*' && (unsigned)atoi(name + 1) < ai->mNumTextures)
         emb = ai->mTextures[atoi(name + 1)];
     if (emb && emb->mHeight == 0) {
-        px = stbi_load_from_memory((const unsigned char *)emb->pcData, (int)emb->mWidth, &w, &h, &n, 4);
         snprintf(path, sizeof path, "%s (embedded)", name);
+        if (emb->mWidth > INT32_MAX) {
+            log_error("scene", "%s: embedded texture too large", path);
+            return -2;
+        }
+        if (stbi_info_from_memory((const unsigned char *)emb->pcData, (int)emb->mWidth, &w, &h, &n) &&
+            (w > TEXTURE_MAX_SIZE || h > TEXTURE_MAX_SIZE)) {
+            log_error("scene", "%s: texture is %dx%d, more than the limit of %d per side", path, w, h,
+                      TEXTURE_MAX_SIZE);
+            return -2;
+        }
+        px = stbi_load_from_memory((const unsigned char *)emb->pcData, (int)emb->mWidth, &w, &h, &n, 4);
     } else {
         util_join_path(dir, name, path, sizeof path);
-        px = stbi_load(path, &w, &h, &n, 4);
+        size_t size = 0;
+        char *data = util_read_input("scene", "texture", path, MESH_MAX_BYTES, &size);
+        if (!data)
+            return -2;
+        if (size > INT32_MAX) {
+            log_error("scene", "%s: texture file too large", path);
+            free(data);
+            return -2;
+        }
+        if (stbi_info_from_memory((const unsigned char *)data, (int)size, &w, &h, &n) &&
+            (w > TEXTURE_MAX_SIZE || h > TEXTURE_MAX_SIZE)) {
+            log_error("scene", "%s: texture is %dx%d, more than the limit of %d per side", path, w, h,
+                      TEXTURE_MAX_SIZE);
+            free(data);
+            return -2;
+        }
+        px = stbi_load_from_memory((const unsigned char *)data, (int)size, &w, &h, &n, 4);
+        free(data);
     }
     if (!px) {
         log_error("scene", "%s: cannot load texture (%s)", path, stbi_failure_reason());
         return -2;
     }
-    s->textures = realloc(s->textures, sizeof(Texture) * (size_t)(s->texture_count + 1));
-    Texture *t = &s->textures[s->texture_count];
+    Texture *t;
+    if (!util_realloc("scene", "texture list", (void **)&s->textures, (size_t)s->texture_count + 1,
+                      sizeof(Texture)) ||
+        !((t = &s->textures[s->texture_count])->rgba =
+              util_malloc("scene", "a texture", (size_t)w * (size_t)h, 4))) {
+        stbi_image_free(px);
+        return -2;
+    }
     t->width = w;
     t->height = h;
-    t->rgba = malloc((size_t)w * h * 4);
     memcpy(t->rgba, px, (size_t)w * h * 4);
     stbi_image_free(px);
     snprintf(t->name, sizeof t->name, "%s", name);
@@ -76,6 +116,8 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
         aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) != aiReturn_SUCCESS)
         c = (struct aiColor4D){0.8f, 0.8f, 0.8f, 1};
     int m = scene_add_material(s, name.data, (vec3){c.r, c.g, c.b});
+    if (m < 0)
+        return false;
     Material *mat = &s->materials[m];
     struct aiString tex;
     if (aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
@@ -110,26 +152,183 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
     return true;
 }
 
-bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
+/* Byte size of a PLY scalar type name, 0 if unknown. */
+static int ply_type_size(const char *t)
 {
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
-        log_error("scene", "%s: mesh file does not exist or cannot be read", path);
+    static const struct { const char *name; int size; } types[] = {
+        {"char", 1},  {"uchar", 1},  {"int8", 1},    {"uint8", 1},   {"short", 2},   {"ushort", 2},
+        {"int16", 2}, {"uint16", 2}, {"int", 4},     {"uint", 4},    {"int32", 4},   {"uint32", 4},
+        {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8},
+    };
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strcmp(t, types[i].name) == 0)
+            return types[i].size;
+    return 0;
+}
+
+/* assimp 5.2's PLY reader crashes on malformed headers and on binary data
+ * shorter than its header promises (found by fuzz_mesh): check the header
+ * strictly, and that a binary file holds at least the bytes its elements
+ * need (list properties count their length field only). */
+static bool mesh_check_ply(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        log_error("scene", "%s: cannot open mesh file", path);
         return false;
     }
-    fclose(probe);
-    unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
-                     aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
-    const struct aiScene *ai = aiImportFile(path, flags);
+    static char head[65537];
+    size_t n = fread(head, 1, sizeof head - 1, f);
+    fseek(f, 0, SEEK_END);
+    long file_size = ftell(f);
+    fclose(f);
+    head[n] = 0;
+    if (strncmp(head, "ply", 3) != 0 && !util_ends_with(path, ".ply"))
+        return true; /* not PLY: assimp picks another reader */
+    const char *why = NULL;
+    bool binary = false, in_element = false, done = false;
+    /* Bytes the data needs at least: binary, each property's size (a
+     * list's length field only); ASCII, two bytes ("0 ") per property. */
+    double need = 0, need_ascii = 0, element_bytes = 0, element_props = 0, element_count = 0;
+    int line_no = 0;
+    size_t pos = 0;
+    while (!done && !why) {
+        const char *nl = memchr(head + pos, '\n', n - pos);
+        if (!nl) {
+            why = "no end_header in the first 64 KiB";
+            break;
+        }
+        char line[512];
+        size_t len = (size_t)(nl - (head + pos));
+        if (len >= sizeof line) {
+            why = "header line too long";
+            break;
+        }
+        memcpy(line, head + pos, len);
+        line[len] = 0;
+        if (len && line[len - 1] == '\r')
+            line[len - 1] = 0;
+        pos += len + 1;
+        line_no++;
+        char a[64] = "", b[64] = "", c[64] = "", d[64] = "", e[64] = "";
+        int k = sscanf(line, "%63s %63s %63s %63s %63s", a, b, c, d, e);
+        if (line_no == 1) {
+            if (strcmp(line, "ply") != 0)
+                why = "first line is not \"ply\"";
+        } else if (line_no == 2) {
+            if (k != 3 || strcmp(a, "format") != 0 || strcmp(c, "1.0") != 0)
+                why = "second line is not \"format <type> 1.0\"";
+            else if (strcmp(b, "binary_little_endian") == 0 || strcmp(b, "binary_big_endian") == 0)
+                binary = true;
+            else if (strcmp(b, "ascii") != 0)
+                why = "unknown format";
+        } else if (k <= 0 || strcmp(a, "comment") == 0 || strcmp(a, "obj_info") == 0) {
+            continue;
+        } else if (strcmp(a, "element") == 0) {
+            char *end = NULL;
+            double cnt = k == 3 ? strtod(c, &end) : -1;
+            if (k != 3 || !end || *end || !(cnt >= 0 && cnt <= 4294967295.0) || cnt != floor(cnt))
+                why = "bad element line";
+            need += element_bytes * element_count;
+            need_ascii += 2 * element_props * element_count;
+            element_bytes = element_props = 0;
+            element_count = cnt;
+            in_element = true;
+        } else if (strcmp(a, "property") == 0) {
+            if (!in_element)
+                why = "property before any element";
+            else if (strcmp(b, "list") == 0 && k == 5 && ply_type_size(c) && ply_type_size(d))
+                element_bytes += ply_type_size(c), element_props++;
+            else if (k == 3 && ply_type_size(b))
+                element_bytes += ply_type_size(b), element_props++;
+            else
+                why = "bad property line";
+        } else if (strcmp(a, "end_header") == 0 && k == 1) {
+            done = true;
+        } else {
+            why = "unknown header line";
+        }
+    }
+    need += element_bytes * element_count;
+    need_ascii += 2 * element_props * element_count;
+    if (!why && (double)file_size - (double)pos < (binary ? need : need_ascii - 1))
+        why = "data shorter than the header's element counts need";
+    if (why) {
+        log_error("scene", "%s: malformed PLY file: %s (line %d)", path, why, line_no);
+        return false;
+    }
+    return true;
+}
+
+/* Checks an imported, unprocessed scene for what ValidateDataStructure
+ * lets through and the post-processing steps assert on: faces without
+ * indices, indices out of range, and primitive-type flags that disagree
+ * with the faces (recomputed here from the faces). */
+static bool mesh_check_raw(const char *path, struct aiScene *ai)
+{
+    for (unsigned mi = 0; mi < ai->mNumMeshes; mi++) {
+        struct aiMesh *m = ai->mMeshes[mi];
+        if (!m || (m->mNumVertices && !m->mVertices) || (m->mNumFaces && !m->mFaces)) {
+            log_error("scene", "%s: mesh %u has no vertex or face data", path, mi);
+            return false;
+        }
+        unsigned types = 0;
+        for (unsigned f = 0; f < m->mNumFaces; f++) {
+            const struct aiFace *face = &m->mFaces[f];
+            if (face->mNumIndices == 0 || !face->mIndices) {
+                log_error("scene", "%s: face %u of mesh %u has no indices", path, f, mi);
+                return false;
+            }
+            for (unsigned k = 0; k < face->mNumIndices; k++)
+                if (face->mIndices[k] >= m->mNumVertices) {
+                    log_error("scene", "%s: face %u of mesh %u uses vertex %u of %u", path, f, mi,
+                              face->mIndices[k], m->mNumVertices);
+                    return false;
+                }
+            types |= face->mNumIndices == 1   ? aiPrimitiveType_POINT
+                     : face->mNumIndices == 2 ? aiPrimitiveType_LINE
+                     : face->mNumIndices == 3 ? aiPrimitiveType_TRIANGLE
+                                              : aiPrimitiveType_POLYGON;
+        }
+        m->mPrimitiveTypes = types;
+    }
+    return true;
+}
+
+bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
+{
+    /* assimp would block on a FIFO and read a directory as garbage. */
+    if (!util_check_input("scene", "mesh file", path, MESH_MAX_BYTES, NULL))
+        return false;
+    if (!mesh_check_ply(path))
+        return false;
+    /* Import and validate first, check what assimp's own checks miss, then
+     * post-process: its steps assert (abort) on inconsistent meshes. */
+    const struct aiScene *ai = aiImportFile(path, aiProcess_ValidateDataStructure);
     if (!ai || !ai->mRootNode) {
         log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
+        if (ai)
+            aiReleaseImport(ai);
+        return false;
+    }
+    if (!mesh_check_raw(path, (struct aiScene *)ai)) {
+        aiReleaseImport(ai);
+        return false;
+    }
+    unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
+                     aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
+    ai = aiApplyPostProcessing(ai, flags); /* releases the scene on failure */
+    if (!ai || !ai->mRootNode) {
+        log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
+        if (ai)
+            aiReleaseImport(ai);
         return false;
     }
     char dir[1024];
     util_dirname(path, dir, sizeof dir);
-    int *mat_map = malloc(sizeof(int) * (ai->mNumMaterials + 1));
-    bool ok = true;
-    for (unsigned i = 0; i < ai->mNumMaterials && ok; i++)
+    int *mat_map = util_malloc("scene", "the material map", (size_t)ai->mNumMaterials + 1, sizeof(int));
+    bool ok = mat_map != NULL;
+    for (unsigned i = 0; ok && i < ai->mNumMaterials; i++)
         ok = load_material(s, ai, ai->mMaterials[i], dir, &mat_map[i]);
     mat3 nrm_m;
     glm_mat4_pick3((vec4 *)transform, nrm_m);
@@ -140,38 +339,86 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
         const struct aiMesh *am = ai->mMeshes[mi];
         if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
             continue;
+        if (am->mMaterialIndex >= ai->mNumMaterials) {
+            log_error("scene", "%s: mesh %u names material %u of %u", path, mi, am->mMaterialIndex,
+                      ai->mNumMaterials);
+            ok = false;
+            break;
+        }
+        if ((uint64_t)s->vertex_count + am->mNumVertices > MESH_MAX_VERTICES ||
+            (uint64_t)s->index_count + 3ull * am->mNumFaces > MESH_MAX_INDICES) {
+            log_error("scene", "%s: more than %u vertices or %u indices (the limit)", path, MESH_MAX_VERTICES,
+                      MESH_MAX_INDICES);
+            ok = false;
+            break;
+        }
         uint32_t base = s->vertex_count;
-        s->vertices = realloc(s->vertices, sizeof(Vertex) * (s->vertex_count + am->mNumVertices));
-        for (unsigned v = 0; v < am->mNumVertices; v++) {
+        if (!util_realloc("scene", "mesh vertices", (void **)&s->vertices,
+                          (size_t)s->vertex_count + am->mNumVertices, sizeof(Vertex))) {
+            ok = false;
+            break;
+        }
+        for (unsigned v = 0; v < am->mNumVertices && ok; v++) {
             Vertex *vx = &s->vertices[s->vertex_count++];
             vec4 p = {am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z, 1};
             glm_mat4_mulv((vec4 *)transform, p, p);
+            for (int k = 0; k < 3; k++)
+                if (!(fabsf(p[k]) <= 1e6f)) { /* SCENE_MAX_COORD, NaN and Inf too */
+                    log_error("scene", "%s: vertex %u of mesh %u is at %g (after mesh_scale/translate): "
+                              "not finite or beyond the limit of 1e6 m", path, v, mi, (double)p[k]);
+                    ok = false;
+                    break;
+                }
             memcpy(vx->position, p, sizeof vx->position);
             vec3 n = {0, 1, 0};
             if (am->mNormals) {
                 glm_vec3_copy((vec3){am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z}, n);
                 glm_mat3_mulv(nrm_m, n, n);
-                glm_vec3_normalize(n);
+                if (isfinite(n[0]) && isfinite(n[1]) && isfinite(n[2]) && glm_vec3_norm(n) > 1e-20f)
+                    glm_vec3_normalize(n);
+                else
+                    glm_vec3_copy((vec3){0, 1, 0}, n); /* a degenerate normal: any unit vector */
             }
             memcpy(vx->normal, n, sizeof vx->normal);
-            vx->uv[0] = am->mTextureCoords[0] ? am->mTextureCoords[0][v].x : 0.f;
-            vx->uv[1] = am->mTextureCoords[0] ? am->mTextureCoords[0][v].y : 0.f;
+            float u = am->mTextureCoords[0] ? am->mTextureCoords[0][v].x : 0.f;
+            float w = am->mTextureCoords[0] ? am->mTextureCoords[0][v].y : 0.f;
+            vx->uv[0] = isfinite(u) ? u : 0.f;
+            vx->uv[1] = isfinite(w) ? w : 0.f;
         }
-        uint32_t *idx = malloc(sizeof(uint32_t) * 3 * am->mNumFaces);
+        if (!ok)
+            break;
+        uint32_t *idx = util_malloc("scene", "mesh indices", 3 * (size_t)am->mNumFaces + 1, sizeof(uint32_t));
+        if (!idx) {
+            ok = false;
+            break;
+        }
         uint32_t n = 0;
-        for (unsigned f = 0; f < am->mNumFaces; f++) {
+        for (unsigned f = 0; f < am->mNumFaces && ok; f++) {
             if (am->mFaces[f].mNumIndices != 3)
                 continue;
-            for (int k = 0; k < 3; k++)
-                idx[n++] = base + am->mFaces[f].mIndices[k];
+            for (int k = 0; k < 3; k++) {
+                unsigned i = am->mFaces[f].mIndices[k];
+                if (i >= am->mNumVertices) { /* ValidateDataStructure should have caught it */
+                    log_error("scene", "%s: face %u of mesh %u uses vertex %u of %u", path, f, mi, i,
+                              am->mNumVertices);
+                    ok = false;
+                    break;
+                }
+                idx[n++] = base + i;
+            }
         }
         /* Append this mesh's triangles as one submesh of its material. */
-        s->indices = realloc(s->indices, sizeof(uint32_t) * (s->index_count + n));
-        memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
-        s->submeshes = realloc(s->submeshes, sizeof(Submesh) * (size_t)(s->submesh_count + 1));
-        s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, mat_map[am->mMaterialIndex]};
-        s->index_count += n;
-        tris += n / 3;
+        if (ok && (!util_realloc("scene", "mesh indices", (void **)&s->indices, (size_t)s->index_count + n,
+                                 sizeof(uint32_t)) ||
+                   !util_realloc("scene", "submeshes", (void **)&s->submeshes, (size_t)s->submesh_count + 1,
+                                 sizeof(Submesh))))
+            ok = false;
+        if (ok) {
+            memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
+            s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, mat_map[am->mMaterialIndex]};
+            s->index_count += n;
+            tris += n / 3;
+        }
         free(idx);
     }
     free(mat_map);
@@ -188,39 +435,137 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 
 /* ------------------------------------------------------------------ JSON */
 
+/* Limits on scene-file values (README "Scene files"): beyond them the
+ * renderers' float arithmetic overflows or the GPU cannot hold the scene. */
+#define SCENE_MAX_COORD 1e6f      /* |coordinate| of positions and vectors (m) */
+#define SCENE_MAX_LIGHTS 32       /* lights per scene: each gets shadow maps and an RSM */
+#define SCENE_MAX_QUADS 100000    /* inline quads per scene file */
+#define SCENE_MAX_EXPOSURE 1e9f   /* as the CLI's --exposure */
+#define SCENE_MAX_BYTES ((size_t)64 << 20) /* scene file size */
+
 typedef struct {
     const char *file; /* scene file path, for messages */
-    bool ok;
+    bool ok;          /* false after the first error; later ones are not logged */
+    char where[64];   /* object being parsed: "camera", "lights[2]", "" = top level */
 } Ctx;
+
+/* Logs "<file>: <where>.<key>: <message>" for the first error only, so that
+ * a bad file gives exactly one line. */
+static void bad(Ctx *c, const char *key, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void bad(Ctx *c, const char *key, const char *fmt, ...)
+{
+    if (!c->ok)
+        return;
+    c->ok = false;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    const char *sep = c->where[0] && key ? "." : "";
+    log_error("scene", "%s: %s%s%s%s%s", c->file, c->where, sep, key ? key : "", c->where[0] || key ? ": " : "",
+              msg);
+}
+
+static void set_where(Ctx *c, const char *fmt, int index)
+{
+    snprintf(c->where, sizeof c->where, fmt, index);
+}
+
+static bool check_keys(Ctx *c, const cJSON *obj, const char *const *known)
+{
+    if (c->ok && !json_check_keys(obj, known, c->file, c->where))
+        c->ok = false;
+    return c->ok;
+}
+
+/* A JSON number as a finite float (1e400 parses as infinity, 1e39
+ * overflows a float). */
+static bool to_float(Ctx *c, const char *key, const cJSON *e, int index, float *out)
+{
+    double d = e->valuedouble;
+    float f = (float)d;
+    if (!isfinite(d) || !isfinite(f)) {
+        char k[96];
+        if (index >= 0)
+            snprintf(k, sizeof k, "%s[%d]", key, index);
+        else
+            snprintf(k, sizeof k, "%s", key);
+        bad(c, k, "%g is not a finite 32-bit float (|x| < 3.4e38)", d);
+        return false;
+    }
+    *out = f;
+    return true;
+}
 
 static bool get_vec3(Ctx *c, const cJSON *obj, const char *key, vec3 out, bool required)
 {
     const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, key);
     if (!a) {
-        if (required) {
-            log_error("scene", "%s: missing \"%s\"", c->file, key);
-            c->ok = false;
-        }
+        if (required)
+            bad(c, key, "missing");
         return false;
     }
     if (cJSON_IsNumber(a)) { /* a scalar means grey */
-        glm_vec3_fill(out, (float)a->valuedouble);
+        float v;
+        if (!to_float(c, key, a, -1, &v))
+            return false;
+        glm_vec3_fill(out, v);
         return true;
     }
     if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != 3) {
-        log_error("scene", "%s: \"%s\" must be an array of 3 numbers", c->file, key);
-        c->ok = false;
+        bad(c, key, "must be an array of 3 numbers");
         return false;
     }
     for (int i = 0; i < 3; i++) {
         const cJSON *e = cJSON_GetArrayItem(a, i);
         if (!cJSON_IsNumber(e)) {
-            log_error("scene", "%s: \"%s\"[%d] is not a number", c->file, key, i);
-            c->ok = false;
+            char k[96];
+            snprintf(k, sizeof k, "%s[%d]", key, i);
+            bad(c, k, "is not a number");
             return false;
         }
-        out[i] = (float)e->valuedouble;
+        if (!to_float(c, key, e, i, &out[i]))
+            return false;
     }
+    return true;
+}
+
+/* A point or extent: every |coordinate| <= SCENE_MAX_COORD. */
+static bool get_point(Ctx *c, const cJSON *obj, const char *key, vec3 out, bool required)
+{
+    if (!get_vec3(c, obj, key, out, required))
+        return false;
+    for (int i = 0; i < 3; i++)
+        if (fabsf(out[i]) > SCENE_MAX_COORD) {
+            bad(c, key, "%g is beyond the limit of %g m", (double)out[i], (double)SCENE_MAX_COORD);
+            return false;
+        }
+    return true;
+}
+
+/* A direction: finite, not zero. */
+static bool get_dir(Ctx *c, const cJSON *obj, const char *key, vec3 out, bool required)
+{
+    if (!get_point(c, obj, key, out, required))
+        return false;
+    if (!(glm_vec3_norm(out) > 1e-6f)) {
+        bad(c, key, "is zero (a direction must have a length)");
+        return false;
+    }
+    return true;
+}
+
+/* Radiometric quantity or albedo: every component in [0, hi]. */
+static bool get_color(Ctx *c, const cJSON *obj, const char *key, vec3 out, bool required, float hi)
+{
+    if (!get_vec3(c, obj, key, out, required))
+        return false;
+    for (int i = 0; i < 3; i++)
+        if (!(out[i] >= 0.f && out[i] <= hi)) {
+            bad(c, key, "%g is outside [0, %g]", (double)out[i], (double)hi);
+            return false;
+        }
     return true;
 }
 
@@ -230,140 +575,239 @@ static bool get_num(Ctx *c, const cJSON *obj, const char *key, float *out)
     if (!a)
         return false;
     if (!cJSON_IsNumber(a)) {
-        log_error("scene", "%s: \"%s\" must be a number", c->file, key);
-        c->ok = false;
+        bad(c, key, "must be a number");
         return false;
     }
-    *out = (float)a->valuedouble;
+    return to_float(c, key, a, -1, out);
+}
+
+/* get_num, then lo <= v <= hi (or lo < v when lo_open). */
+static bool get_num_in(Ctx *c, const cJSON *obj, const char *key, float *out, float lo, bool lo_open, float hi)
+{
+    float v;
+    if (!get_num(c, obj, key, &v))
+        return false;
+    if ((lo_open ? !(v > lo) : !(v >= lo)) || !(v <= hi)) {
+        bad(c, key, "%g is outside %s%g, %g]", (double)v, lo_open ? "(" : "[", (double)lo, (double)hi);
+        return false;
+    }
+    *out = v;
     return true;
 }
+
+static const char *const k_light_common[] = {"type", NULL};
+static const char *const k_directional_keys[] = {"type", "direction", "irradiance", "angular_diameter_deg", NULL};
+static const char *const k_point_keys[] = {"type", "position", "intensity", "diameter", NULL};
+static const char *const k_spot_keys[] = {"type",      "position",  "direction", "intensity",
+                                          "inner_deg", "outer_deg", "diameter",  NULL};
+static const char *const k_quad_light_keys[] = {"type", "position", "direction", "radiance", "u", "v", "size", NULL};
+
+/* The largest radiometric value a light may have: its float sums over
+ * pixels and samples must stay finite. */
+#define SCENE_MAX_POWER 1e30f
 
 static void parse_light(Ctx *c, Scene *s, const cJSON *j, int index)
 {
     Light l = {0};
+    set_where(c, "lights[%d]", index);
+    if (!cJSON_IsObject(j)) {
+        bad(c, NULL, "must be an object");
+        return;
+    }
     const cJSON *type = cJSON_GetObjectItemCaseSensitive(j, "type");
-    const char *t = cJSON_IsString(type) ? type->valuestring : "";
+    if (!type) {
+        bad(c, "type", "missing (directional, spot, point, quad)");
+        return;
+    }
+    if (!cJSON_IsString(type)) {
+        bad(c, "type", "must be a string (directional, spot, point, quad)");
+        return;
+    }
+    const char *t = type->valuestring;
     float deg;
     if (strcmp(t, "directional") == 0) {
         l.type = LIGHT_DIRECTIONAL;
-        get_vec3(c, j, "direction", l.direction, true);
-        get_vec3(c, j, "irradiance", l.color, true);
-        if (get_num(c, j, "angular_diameter_deg", &deg))
+        if (!check_keys(c, j, k_directional_keys))
+            return;
+        get_dir(c, j, "direction", l.direction, true);
+        get_color(c, j, "irradiance", l.color, true, SCENE_MAX_POWER);
+        if (get_num_in(c, j, "angular_diameter_deg", &deg, 0.f, false, 90.f))
             l.size = glm_rad(deg);
     } else if (strcmp(t, "spot") == 0 || strcmp(t, "point") == 0) {
         l.type = t[0] == 's' ? LIGHT_SPOT : LIGHT_POINT;
-        get_vec3(c, j, "position", l.position, true);
-        get_vec3(c, j, "intensity", l.color, true);
-        get_num(c, j, "diameter", &l.size);
+        if (!check_keys(c, j, l.type == LIGHT_SPOT ? k_spot_keys : k_point_keys))
+            return;
+        get_point(c, j, "position", l.position, true);
+        get_color(c, j, "intensity", l.color, true, SCENE_MAX_POWER);
+        get_num_in(c, j, "diameter", &l.size, 0.f, false, SCENE_MAX_COORD);
         glm_vec3_copy((vec3){0, -1, 0}, l.direction);
         if (l.type == LIGHT_SPOT) {
-            get_vec3(c, j, "direction", l.direction, true);
+            get_dir(c, j, "direction", l.direction, true);
             float inner = 30, outer = 35;
             get_num(c, j, "inner_deg", &inner);
             get_num(c, j, "outer_deg", &outer);
-            if (!(inner >= 0 && outer > inner && outer < 90)) {
-                log_error("scene", "%s: lights[%d]: need 0 <= inner_deg < outer_deg < 90", c->file, index);
-                c->ok = false;
-            }
+            if (!(inner >= 0 && outer > inner && outer < 90))
+                bad(c, NULL, "need 0 <= inner_deg < outer_deg < 90");
             l.spot_inner = glm_rad(inner);
             l.spot_outer = glm_rad(outer);
         }
     } else if (strcmp(t, "quad") == 0) {
         l.type = LIGHT_QUAD;
-        get_vec3(c, j, "position", l.position, true);
-        get_vec3(c, j, "direction", l.direction, true);
-        get_vec3(c, j, "radiance", l.color, true);
-        get_vec3(c, j, "u", l.quad_u, true);
-        get_vec3(c, j, "v", l.quad_v, true);
+        if (!check_keys(c, j, k_quad_light_keys))
+            return;
+        get_point(c, j, "position", l.position, true);
+        get_dir(c, j, "direction", l.direction, true);
+        get_color(c, j, "radiance", l.color, true, SCENE_MAX_POWER);
+        get_point(c, j, "u", l.quad_u, true);
+        get_point(c, j, "v", l.quad_v, true);
         l.size = 1.0f;
-        get_num(c, j, "size", &l.size);
+        get_num_in(c, j, "size", &l.size, 0.f, false, 1e3f);
+        if (c->ok) {
+            /* Non-degenerate, and L·A and the emitter's L/size² finite. */
+            vec3 n;
+            glm_vec3_cross(l.quad_u, l.quad_v, n);
+            double area = glm_vec3_norm(n), lmax = fmax(fmax(l.color[0], l.color[1]), l.color[2]);
+            if (!(area > 1e-12))
+                bad(c, NULL, "u and v span no area (parallel or zero)");
+            else if (!(area * lmax <= SCENE_MAX_POWER))
+                bad(c, NULL, "radiance x area = %g W/sr exceeds the limit of %g", area * lmax,
+                    (double)SCENE_MAX_POWER);
+            else if (l.size > 0.f && !(lmax / ((double)l.size * l.size) <= SCENE_MAX_POWER))
+                bad(c, "size", "%g makes the emitted radiance exceed %g", (double)l.size, (double)SCENE_MAX_POWER);
+        }
     } else {
-        log_error("scene", "%s: lights[%d]: unknown light type \"%s\" (directional, spot, point, quad)",
-                  c->file, index, t);
-        c->ok = false;
+        (void)k_light_common;
+        bad(c, "type", "unknown light type \"%s\" (directional, spot, point, quad)", t);
         return;
     }
-    if (glm_vec3_norm(l.direction) < 1e-6f) {
-        log_error("scene", "%s: lights[%d]: direction is zero", c->file, index);
-        c->ok = false;
-    }
-    if (l.size < 0) {
-        log_error("scene", "%s: lights[%d]: size must be >= 0", c->file, index);
-        c->ok = false;
-    }
-    if (c->ok)
-        scene_add_light(s, &l);
+    if (c->ok && scene_add_light(s, &l) < 0)
+        c->ok = false; /* logged */
 }
+
+static const char *const k_camera_keys[] = {"position", "target", "forward", "up", "fov_y_deg", "near", "far", NULL};
 
 static void parse_camera(Ctx *c, Scene *s, const cJSON *j)
 {
+    set_where(c, "camera", 0);
+    if (!cJSON_IsObject(j)) {
+        bad(c, NULL, "must be an object");
+        return;
+    }
+    if (!check_keys(c, j, k_camera_keys))
+        return;
     Camera *cam = &s->camera;
-    get_vec3(c, j, "position", cam->position, true);
+    get_point(c, j, "position", cam->position, true);
     vec3 target;
-    if (get_vec3(c, j, "target", target, false))
+    if (cJSON_GetObjectItemCaseSensitive(j, "target") && cJSON_GetObjectItemCaseSensitive(j, "forward")) {
+        bad(c, NULL, "give \"target\" or \"forward\", not both");
+        return;
+    }
+    if (get_point(c, j, "target", target, false))
         glm_vec3_sub(target, cam->position, cam->forward);
-    else
-        get_vec3(c, j, "forward", cam->forward, true);
+    else if (c->ok)
+        get_dir(c, j, "forward", cam->forward, true);
     vec3 up = {0, 1, 0}, right;
-    get_vec3(c, j, "up", up, false);
-    if (glm_vec3_norm(cam->forward) < 1e-6f) {
-        log_error("scene", "%s: camera: forward/target gives a zero direction", c->file);
-        c->ok = false;
+    get_dir(c, j, "up", up, false);
+    if (!c->ok)
+        return;
+    if (!(glm_vec3_norm(cam->forward) > 1e-6f)) {
+        bad(c, NULL, "forward/target gives a zero direction (position equals target)");
         return;
     }
     glm_vec3_normalize(cam->forward);
+    glm_vec3_normalize(up);
     glm_vec3_cross(cam->forward, up, right);
-    if (glm_vec3_norm(right) < 1e-6f) {
-        log_error("scene", "%s: camera: up is parallel to the view direction", c->file);
-        c->ok = false;
+    if (!(glm_vec3_norm(right) > 1e-4f)) {
+        bad(c, "up", "is parallel to the view direction");
         return;
     }
     glm_vec3_normalize(right);
     glm_vec3_cross(right, cam->forward, cam->up);
     float fov = glm_deg(cam->fov_y);
     get_num(c, j, "fov_y_deg", &fov);
-    if (!(fov > 1 && fov < 179)) {
-        log_error("scene", "%s: camera: fov_y_deg must be in (1, 179)", c->file);
-        c->ok = false;
-    }
+    if (c->ok && !(fov > 1 && fov < 179))
+        bad(c, "fov_y_deg", "%g: must be in (1, 179)", (double)fov);
     cam->fov_y = glm_rad(fov);
-    get_num(c, j, "near", &cam->znear);
-    get_num(c, j, "far", &cam->zfar);
+    get_num_in(c, j, "near", &cam->znear, 0.f, true, SCENE_MAX_COORD);
+    get_num_in(c, j, "far", &cam->zfar, 0.f, true, SCENE_MAX_COORD);
+    if (c->ok && !(cam->zfar > cam->znear * 1.0001f))
+        bad(c, NULL, "need 0 < near < far (near %g, far %g)", (double)cam->znear, (double)cam->zfar);
 }
+
+static const char *const k_quad_keys[] = {"albedo", "vertices", NULL};
 
 static void parse_quads(Ctx *c, Scene *s, const cJSON *arr)
 {
+    if (!cJSON_IsArray(arr)) {
+        bad(c, "quads", "must be an array of objects");
+        return;
+    }
+    if (cJSON_GetArraySize(arr) > SCENE_MAX_QUADS) {
+        bad(c, "quads", "%d quads is more than the limit of %d", cJSON_GetArraySize(arr), SCENE_MAX_QUADS);
+        return;
+    }
     int i = 0;
     const cJSON *q;
     cJSON_ArrayForEach(q, arr)
     {
+        set_where(c, "quads[%d]", i);
+        if (!cJSON_IsObject(q)) {
+            bad(c, NULL, "must be an object");
+            return;
+        }
+        if (!check_keys(c, q, k_quad_keys))
+            return;
         vec3 albedo = {0.8f, 0.8f, 0.8f};
-        get_vec3(c, q, "albedo", albedo, false);
+        get_color(c, q, "albedo", albedo, false, 1.f);
         const cJSON *v = cJSON_GetObjectItemCaseSensitive(q, "vertices");
         if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 4) {
-            log_error("scene", "%s: quads[%d]: \"vertices\" must hold 4 points", c->file, i);
-            c->ok = false;
+            bad(c, "vertices", "must hold 4 points");
             return;
         }
         vec3 p[4];
-        for (int k = 0; k < 4; k++) {
+        for (int k = 0; k < 4 && c->ok; k++) {
             const cJSON *e = cJSON_GetArrayItem(v, k);
-            for (int d = 0; d < 3; d++) {
+            if (!cJSON_IsArray(e) || cJSON_GetArraySize(e) != 3) {
+                bad(c, "vertices", "vertex %d is not 3 numbers", k);
+                return;
+            }
+            for (int d = 0; d < 3 && c->ok; d++) {
                 const cJSON *x = cJSON_GetArrayItem(e, d);
                 if (!cJSON_IsNumber(x)) {
-                    log_error("scene", "%s: quads[%d]: vertex %d is not 3 numbers", c->file, i, k);
-                    c->ok = false;
+                    bad(c, "vertices", "vertex %d is not 3 numbers", k);
                     return;
                 }
-                p[k][d] = (float)x->valuedouble;
+                char key[32];
+                snprintf(key, sizeof key, "vertices[%d]", k);
+                if (to_float(c, key, x, d, &p[k][d]) && fabsf(p[k][d]) > SCENE_MAX_COORD)
+                    bad(c, "vertices", "vertex %d: %g is beyond the limit of %g m", k, (double)p[k][d],
+                        (double)SCENE_MAX_COORD);
             }
+        }
+        if (!c->ok)
+            return;
+        /* Both triangles (p0 p1 p2, p0 p2 p3) must have an area. */
+        vec3 e1, e2, e3, n1, n2;
+        glm_vec3_sub(p[1], p[0], e1);
+        glm_vec3_sub(p[2], p[0], e2);
+        glm_vec3_sub(p[3], p[0], e3);
+        glm_vec3_cross(e1, e2, n1);
+        glm_vec3_cross(e2, e3, n2);
+        if (!(glm_vec3_norm(n1) > 1e-12f && glm_vec3_norm(n2) > 1e-12f && glm_vec3_norm(e1) > 1e-6f &&
+              glm_vec3_norm(e3) > 1e-6f)) {
+            bad(c, "vertices", "the quad is degenerate (no area)");
+            return;
         }
         char name[32];
         snprintf(name, sizeof name, "quad%d", i);
         int m = scene_add_material(s, name, albedo);
-        scene_add_quad(s, m, p[0], p[1], p[2], p[3]);
+        if (m < 0 || !scene_add_quad(s, m, p[0], p[1], p[2], p[3])) {
+            c->ok = false; /* logged */
+            return;
+        }
         i++;
     }
+    c->where[0] = 0;
 }
 
 /* The "shadow" and "gi" objects: the settings table's one parser. */
@@ -378,13 +822,14 @@ static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
     s->gi = set.gi;
 }
 
+static const char *const k_top_keys[] = {"builtin", "mesh", "mesh_scale", "mesh_translate", "quads", "camera",
+                                         "lights",  "exposure", "shadow", "gi", NULL};
+
 static bool load_json(Scene *s, const char *path)
 {
-    char *text = util_read_file(path, NULL);
-    if (!text) {
-        log_error("scene", "%s: scene file does not exist or cannot be read", path);
+    char *text = util_read_input("scene", "scene file", path, SCENE_MAX_BYTES, NULL);
+    if (!text)
         return false;
-    }
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     if (!root) {
@@ -407,26 +852,32 @@ static bool load_json(Scene *s, const char *path)
         cJSON_Delete(root);
         return false;
     }
-    Ctx c = {path, true};
+    Ctx c = {path, true, ""};
     char dir[1024];
     util_dirname(path, dir, sizeof dir);
+    if (!check_keys(&c, root, k_top_keys)) {
+        cJSON_Delete(root);
+        return false;
+    }
 
     const cJSON *builtin = cJSON_GetObjectItemCaseSensitive(root, "builtin");
     const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(root, "mesh");
-    if (cJSON_IsString(builtin)) {
-        if (strcmp(builtin->valuestring, "cornell") != 0) {
-            log_error("scene", "%s: unknown builtin scene \"%s\" (cornell)", path, builtin->valuestring);
-            cJSON_Delete(root);
-            return false;
-        }
-        scene_build_cornell(s);
-    } else {
-        scene_init(s);
+    if (builtin && !cJSON_IsString(builtin)) {
+        bad(&c, "builtin", "must be a string (cornell)");
+    } else if (builtin) {
+        if (strcmp(builtin->valuestring, "cornell") != 0)
+            bad(&c, "builtin", "unknown builtin scene \"%s\" (cornell)", builtin->valuestring);
+        else
+            scene_build_cornell(s);
+    }
+    if (!c.ok) {
+        cJSON_Delete(root);
+        return false;
     }
     snprintf(s->source, sizeof s->source, "%s", path);
     if (mesh) {
         if (!cJSON_IsString(mesh)) {
-            log_error("scene", "%s: \"mesh\" must be a file path", path);
+            bad(&c, "mesh", "must be a file path");
             cJSON_Delete(root);
             return false;
         }
@@ -435,44 +886,50 @@ static bool load_json(Scene *s, const char *path)
         mat4 xf = GLM_MAT4_IDENTITY_INIT;
         float scale = 1.f;
         vec3 tr = {0, 0, 0};
-        get_num(&c, root, "mesh_scale", &scale);
-        get_vec3(&c, root, "mesh_translate", tr, false);
+        get_num_in(&c, root, "mesh_scale", &scale, 0.f, true, SCENE_MAX_COORD);
+        get_point(&c, root, "mesh_translate", tr, false);
         glm_translate(xf, tr);
         glm_scale_uni(xf, scale);
         if (!c.ok || !scene_load_mesh(s, mesh_path, xf)) {
             cJSON_Delete(root);
             return false;
         }
+    } else if (cJSON_GetObjectItemCaseSensitive(root, "mesh_scale") ||
+               cJSON_GetObjectItemCaseSensitive(root, "mesh_translate")) {
+        bad(&c, cJSON_GetObjectItemCaseSensitive(root, "mesh_scale") ? "mesh_scale" : "mesh_translate",
+            "given without \"mesh\"");
     }
     const cJSON *quads = cJSON_GetObjectItemCaseSensitive(root, "quads");
-    if (quads)
+    if (quads && c.ok)
         parse_quads(&c, s, quads);
-    if (s->vertex_count == 0 && c.ok) {
-        log_error("scene", "%s: no geometry (give \"builtin\", \"mesh\" or \"quads\")", path);
-        c.ok = false;
-    }
+    if (s->vertex_count == 0 && c.ok)
+        bad(&c, NULL, "no geometry (give \"builtin\", \"mesh\" or \"quads\")");
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
-    if (lights) {
+    if (lights && c.ok) {
         if (!cJSON_IsArray(lights)) {
-            log_error("scene", "%s: \"lights\" must be an array", path);
-            c.ok = false;
+            bad(&c, "lights", "must be an array");
+        } else if (cJSON_GetArraySize(lights) > SCENE_MAX_LIGHTS) {
+            bad(&c, "lights", "%d lights is more than the limit of %d", cJSON_GetArraySize(lights),
+                SCENE_MAX_LIGHTS);
         } else {
             s->light_count = 0; /* the file's lights replace a builtin's */
             int i = 0;
             const cJSON *l;
             cJSON_ArrayForEach(l, lights) parse_light(&c, s, l, i++);
+            c.where[0] = 0;
         }
     }
-    get_num(&c, root, "exposure", &s->exposure);
+    /* Exposure 0 is allowed (a black image, as --exposure 0). */
+    get_num_in(&c, root, "exposure", &s->exposure, 0.f, false, SCENE_MAX_EXPOSURE);
     const cJSON *shadow = cJSON_GetObjectItemCaseSensitive(root, "shadow");
-    if (shadow)
+    if (shadow && c.ok)
         parse_settings(&c, s, shadow, "shadow");
     const cJSON *gi = cJSON_GetObjectItemCaseSensitive(root, "gi");
-    if (gi)
+    if (gi && c.ok)
         parse_settings(&c, s, gi, "gi");
     const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
     bool has_camera = cam != NULL || cJSON_IsString(builtin);
-    if (cam)
+    if (cam && c.ok)
         parse_camera(&c, s, cam);
     cJSON_Delete(root);
     if (!c.ok)

@@ -7,8 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "json_util.h"
 #include "log.h"
 #include "shared/gpu_types.h"
+#include "util.h"
 
 static const char *const k_weightings[] = {"paper", "unbiased", "importance", NULL};
 static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
@@ -184,45 +186,15 @@ const SettingDesc *settings_find_key(const char *group, const char *key)
     return NULL;
 }
 
-static int edit_distance(const char *a, const char *b)
-{
-    size_t n = strlen(b);
-    if (n > 63)
-        return 1 << 20;
-    int row[64];
-    for (size_t j = 0; j <= n; j++)
-        row[j] = (int)j;
-    for (size_t i = 1; a[i - 1]; i++) {
-        int diag = row[0];
-        row[0] = (int)i;
-        for (size_t j = 1; j <= n; j++) {
-            int up = row[j];
-            int sub = diag + (a[i - 1] != b[j - 1]);
-            int best = up + 1 < row[j - 1] + 1 ? up + 1 : row[j - 1] + 1;
-            row[j] = sub < best ? sub : best;
-            diag = up;
-        }
-    }
-    return row[n];
-}
-
 const char *settings_nearest(const char *group, const char *name)
 {
-    const char *best = NULL;
-    int best_d = 1 << 20;
-    for (int i = 0; i < settings_count; i++) {
-        const SettingDesc *d = &settings_table[i];
-        if (group && strcmp(d->group, group))
-            continue;
-        const char *cand = group ? d->key : d->option;
-        int dist = edit_distance(name, cand);
-        if (dist < best_d) {
-            best_d = dist;
-            best = cand;
-        }
-    }
-    /* Close enough to be a typo: at most a third of the name. */
-    return best && best_d <= (int)(strlen(name) / 3 + 1) ? best : NULL;
+    const char *names[128];
+    int n = 0;
+    for (int i = 0; i < settings_count && n < 127; i++)
+        if (!group || !strcmp(settings_table[i].group, group))
+            names[n++] = group ? settings_table[i].key : settings_table[i].option;
+    names[n] = NULL;
+    return util_nearest(name, names);
 }
 
 /* ---- Validation ------------------------------------------------------------- */
@@ -344,8 +316,8 @@ static bool json_fail(const char *file, const char *group, const SettingDesc *d,
     char range[160], value[48] = "";
     describe_range(d, range, sizeof range);
     if (cJSON_IsNumber(v))
-        snprintf(value, sizeof value, " = %.9g", v->valuedouble);
-    log_error("scene", "%s: %s.%s%s %s (allowed: %s)", file, group, d->key, value, problem, range);
+        snprintf(value, sizeof value, "%.9g ", v->valuedouble);
+    log_error("scene", "%s: %s.%s: %s%s (allowed: %s)", file, group, d->key, value, problem, range);
     return false;
 }
 
@@ -398,26 +370,22 @@ static bool parse_json_value(const cJSON *v, const SettingDesc *d, const char *f
 bool settings_parse_json(const cJSON *obj, const char *group, const char *file, Settings *s)
 {
     if (!cJSON_IsObject(obj)) {
-        log_error("scene", "%s: \"%s\" must be an object", file, group);
+        log_error("scene", "%s: %s: must be an object", file, group);
         return false;
     }
+    /* Unknown keys (an error naming the nearest, or a warning with
+     * --lenient) and duplicates: the scene file's one key check. */
+    const char *known[64];
+    int n = 0;
+    for (int i = 0; i < settings_count && n < 63; i++)
+        if (!strcmp(settings_table[i].group, group))
+            known[n++] = settings_table[i].key;
+    known[n] = NULL;
+    if (!json_check_keys(obj, known, file, group))
+        return false;
     for (const cJSON *a = obj->child; a; a = a->next) {
-        const char *key = a->string ? a->string : "";
-        for (const cJSON *b = obj->child; b != a; b = b->next)
-            if (b->string && !strcmp(b->string, key)) {
-                log_error("scene", "%s: %s.%s is given twice", file, group, key);
-                return false;
-            }
-        const SettingDesc *d = settings_find_key(group, key);
-        if (!d) {
-            const char *near = settings_nearest(group, key);
-            if (near)
-                log_error("scene", "%s: unknown key %s.%s (did you mean \"%s\"?)", file, group, key, near);
-            else
-                log_error("scene", "%s: unknown key %s.%s (see the README's settings list)", file, group, key);
-            return false;
-        }
-        if (!parse_json_value(a, d, file, group, s))
+        const SettingDesc *d = settings_find_key(group, a->string ? a->string : "");
+        if (d && !parse_json_value(a, d, file, group, s))
             return false;
     }
     return true;

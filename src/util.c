@@ -1,37 +1,152 @@
 #include "util.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
-char *util_read_file(const char *path, size_t *size)
+#include "log.h"
+
+/* Opens `path` read-only without blocking (a FIFO with no writer would
+ * block a plain open) and fstat()s it; -1 with errno set on failure. */
+static int open_regular(const char *path, struct stat *st)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    if (fseek(f, 0, SEEK_END) != 0) {
-        fclose(f);
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    if (fstat(fd, st) != 0) {
+        int e = errno;
+        close(fd);
+        errno = e;
+        return -1;
+    }
+    /* Regular files ignore O_NONBLOCK; clear it anyway for plain reads. */
+    int fl = fcntl(fd, F_GETFL);
+    if (fl >= 0)
+        fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
+    return fd;
+}
+
+static const char *file_kind(mode_t m)
+{
+    if (S_ISDIR(m))
+        return "a directory";
+    if (S_ISFIFO(m))
+        return "a FIFO";
+    if (S_ISCHR(m))
+        return "a character device";
+    if (S_ISBLK(m))
+        return "a block device";
+    if (S_ISSOCK(m))
+        return "a socket";
+    return "not a regular file";
+}
+
+/* Reads exactly n bytes from fd into a new NUL-terminated buffer. */
+static char *read_fd(int fd, size_t n)
+{
+    char *buf = malloc(n + 1);
+    if (!buf) {
+        errno = ENOMEM;
         return NULL;
     }
-    long n = ftell(f);
-    if (n < 0) { /* a directory or a pipe */
-        fclose(f);
-        return NULL;
+    size_t got = 0;
+    while (got < n) {
+        ssize_t r = read(fd, buf + got, n - got);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            break;
+        got += (size_t)r;
     }
-    rewind(f);
-    char *buf = malloc((size_t)n + 1);
-    size_t got = buf ? fread(buf, 1, (size_t)n, f) : 0;
-    fclose(f);
-    if (!buf || got != (size_t)n) {
+    if (got != n) {
+        int e = errno;
         free(buf);
+        errno = e == ENOMEM ? EIO : e;
         return NULL;
     }
     buf[n] = 0;
+    return buf;
+}
+
+char *util_read_file(const char *path, size_t *size)
+{
+    struct stat st;
+    int fd = open_regular(path, &st);
+    if (fd < 0)
+        return NULL;
+    char *buf = NULL;
+    if (S_ISREG(st.st_mode) && (uint64_t)st.st_size <= UTIL_MAX_INPUT_BYTES)
+        buf = read_fd(fd, (size_t)st.st_size);
+    close(fd);
+    if (buf && size)
+        *size = (size_t)st.st_size;
+    return buf;
+}
+
+/* Shared by util_check_input and util_read_input: the open descriptor of a
+ * checked input file, or -1 after logging. */
+static int open_input(const char *tag, const char *what, const char *path, size_t max_bytes, size_t *size)
+{
+    struct stat st;
+    int fd = open_regular(path, &st);
+    if (fd < 0) {
+        if (errno == ENOENT || errno == ENOTDIR)
+            log_error(tag, "%s: cannot read %s: it does not exist", path, what);
+        else
+            log_error(tag, "%s: cannot open %s (%s)", path, what, strerror(errno));
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        log_error(tag, "%s: %s is %s, not a regular file", path, what, file_kind(st.st_mode));
+        close(fd);
+        return -1;
+    }
+    if ((uint64_t)st.st_size > max_bytes) {
+        log_error(tag, "%s: %s is %lld bytes, more than the limit of %zu", path, what, (long long)st.st_size,
+                  max_bytes);
+        close(fd);
+        return -1;
+    }
     if (size)
-        *size = (size_t)n;
+        *size = (size_t)st.st_size;
+    return fd;
+}
+
+bool util_check_input(const char *tag, const char *what, const char *path, size_t max_bytes, size_t *size)
+{
+    int fd = open_input(tag, what, path, max_bytes, size);
+    if (fd < 0)
+        return false;
+    close(fd);
+    return true;
+}
+
+char *util_read_input(const char *tag, const char *what, const char *path, size_t max_bytes, size_t *size)
+{
+    size_t n = 0;
+    int fd = open_input(tag, what, path, max_bytes, &n);
+    if (fd < 0)
+        return NULL;
+    errno = 0;
+    char *buf = read_fd(fd, n);
+    int e = errno;
+    close(fd);
+    if (!buf) {
+        if (e == ENOMEM)
+            log_error(tag, "%s: cannot allocate %zu bytes to read the %s", path, n + 1, what);
+        else
+            log_error(tag, "%s: cannot read %s (%s)", path, what, e ? strerror(e) : "short read");
+        return NULL;
+    }
+    if (size)
+        *size = n;
     return buf;
 }
 
@@ -124,4 +239,194 @@ void util_ensure_parent_dir(const char *path)
     struct stat st;
     if (stat(dir, &st) != 0)
         mkdir(dir, 0777);
+}
+
+void *util_malloc(const char *tag, const char *what, size_t count, size_t size)
+{
+    void *p = NULL;
+    if (size == 0 || count <= SIZE_MAX / size)
+        p = malloc((count * size) != 0 ? count * size : 1);
+    if (!p) {
+        if (size && count > SIZE_MAX / size)
+            log_error(tag, "cannot allocate %s: %zu x %zu bytes overflows", what, count, size);
+        else
+            log_error(tag, "cannot allocate %s: %zu bytes", what, count * size);
+    }
+    return p;
+}
+
+void *util_calloc(const char *tag, const char *what, size_t count, size_t size)
+{
+    void *p = NULL;
+    if (size == 0 || count <= SIZE_MAX / size)
+        p = calloc(count ? count : 1, size ? size : 1);
+    if (!p) {
+        if (size && count > SIZE_MAX / size)
+            log_error(tag, "cannot allocate %s: %zu x %zu bytes overflows", what, count, size);
+        else
+            log_error(tag, "cannot allocate %s: %zu bytes", what, count * size);
+    }
+    return p;
+}
+
+bool util_realloc(const char *tag, const char *what, void **p, size_t count, size_t size)
+{
+    void *q = NULL;
+    if (size == 0 || count <= SIZE_MAX / size)
+        q = realloc(*p, (count * size) != 0 ? count * size : 1);
+    if (!q) {
+        if (size && count > SIZE_MAX / size)
+            log_error(tag, "cannot allocate %s: %zu x %zu bytes overflows", what, count, size);
+        else
+            log_error(tag, "cannot allocate %s: %zu bytes", what, count * size);
+        return false;
+    }
+    *p = q;
+    return true;
+}
+
+bool util_atomic_open(AtomicFile *af, const char *tag, const char *path)
+{
+    memset(af, 0, sizeof *af);
+    af->path = path;
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        /* Renaming over a device or FIFO would replace it; writing into it
+         * could block or lose the data. */
+        log_error(tag, "%s: output is %s, not a regular file; not written", path, file_kind(st.st_mode));
+        return false;
+    }
+    util_ensure_parent_dir(path);
+    if (snprintf(af->tmp, sizeof af->tmp, "%s.tmp-XXXXXX", path) >= (int)sizeof af->tmp) {
+        log_error(tag, "%s: output path is too long", path);
+        return false;
+    }
+    int fd = mkstemp(af->tmp);
+    if (fd < 0) {
+        log_error(tag, "%s: cannot create output file (%s)", path, strerror(errno));
+        af->tmp[0] = 0;
+        return false;
+    }
+    mode_t mask = umask(0);
+    umask(mask);
+    fchmod(fd, 0666 & ~mask); /* as fopen would create it */
+    af->f = fdopen(fd, "wb");
+    if (!af->f) {
+        log_error(tag, "%s: cannot open output file (%s)", path, strerror(errno));
+        close(fd);
+        unlink(af->tmp);
+        af->tmp[0] = 0;
+        return false;
+    }
+    return true;
+}
+
+bool util_atomic_commit(AtomicFile *af, const char *tag)
+{
+    if (!af->f)
+        return false;
+    int e = 0;
+    if (af->failed || ferror(af->f))
+        e = errno ? errno : EIO;
+    if (!e && fflush(af->f) != 0)
+        e = errno;
+    if (!e && fsync(fileno(af->f)) != 0 && errno != EINVAL && errno != EROFS)
+        e = errno;
+    if (fclose(af->f) != 0 && !e)
+        e = errno;
+    af->f = NULL;
+    if (!e && rename(af->tmp, af->path) != 0)
+        e = errno;
+    if (e) {
+        log_error(tag, "%s: write failed (%s); not written", af->path, strerror(e));
+        unlink(af->tmp);
+        af->tmp[0] = 0;
+        return false;
+    }
+    af->tmp[0] = 0;
+    return true;
+}
+
+void util_atomic_abort(AtomicFile *af)
+{
+    if (af->f)
+        fclose(af->f);
+    af->f = NULL;
+    if (af->tmp[0])
+        unlink(af->tmp);
+    af->tmp[0] = 0;
+}
+
+int util_edit_distance(const char *a, const char *b)
+{
+    size_t n = strlen(a), m = strlen(b);
+    if (n > 255 || m > 255)
+        return 1 << 20;
+    int row[256];
+    for (size_t j = 0; j <= m; j++)
+        row[j] = (int)j;
+    for (size_t i = 1; i <= n; i++) {
+        int diag = row[0];
+        row[0] = (int)i;
+        for (size_t j = 1; j <= m; j++) {
+            int up = row[j];
+            int best = diag + (a[i - 1] != b[j - 1]);
+            if (up + 1 < best)
+                best = up + 1;
+            if (row[j - 1] + 1 < best)
+                best = row[j - 1] + 1;
+            row[j] = best;
+            diag = up;
+        }
+    }
+    return row[m];
+}
+
+const char *util_nearest(const char *s, const char *const *names)
+{
+    const char *best = NULL;
+    int best_d = 1 << 30;
+    for (int i = 0; names && names[i]; i++) {
+        int d = util_edit_distance(s, names[i]);
+        if (d < best_d) {
+            best_d = d;
+            best = names[i];
+        }
+    }
+    /* One edit in a short word, two (a swapped pair) or a third of a long one. */
+    size_t len = strlen(s);
+    int limit = len <= 4 ? 1 : len / 3 > 2 ? (int)(len / 3) : 2;
+    return best_d <= limit ? best : NULL;
+}
+
+void util_json_string(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        switch (*p) {
+        case '"': fputs("\\\"", f); break;
+        case '\\': fputs("\\\\", f); break;
+        case '\n': fputs("\\n", f); break;
+        case '\r': fputs("\\r", f); break;
+        case '\t': fputs("\\t", f); break;
+        default:
+            if (*p < 0x20 || *p == 0x7f) {
+                fprintf(f, "\\u%04x", *p);
+            } else if (*p < 0x80) {
+                fputc(*p, f);
+            } else { /* valid UTF-8 passes through, anything else is U+FFFD */
+                int len = (*p & 0xe0) == 0xc0 ? 2 : (*p & 0xf0) == 0xe0 ? 3 : (*p & 0xf8) == 0xf0 ? 4 : 0;
+                int k = 1;
+                while (len && k < len && (p[k] & 0xc0) == 0x80)
+                    k++;
+                if (len && k == len && *p >= 0xc2 && *p <= 0xf4) {
+                    fwrite(p, 1, (size_t)len, f);
+                    p += len - 1;
+                } else {
+                    fputs("\\ufffd", f);
+                }
+            }
+        }
+    }
+    fputc('"', f);
 }

@@ -5,8 +5,63 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-/* Reads a whole file, NUL-terminated; NULL if unreadable. Caller frees. */
+#include <stdio.h>
+
+/* Reads a whole regular file, NUL-terminated; NULL if it is missing,
+ * unreadable or not a regular file (never blocks on a FIFO). Caller frees.
+ * Silent: for input named by the user, use util_read_input. */
 char *util_read_file(const char *path, size_t *size);
+
+/* Input files named by the user (scene files, meshes, images). */
+#define UTIL_MAX_INPUT_BYTES ((size_t)1 << 31) /* 2 GiB: the largest input file read */
+/* Checks without blocking (open O_NONBLOCK, then fstat) that `path` is a
+ * readable regular file of at most `max_bytes` bytes; stores its size in
+ * `*size` (may be NULL). false after logging one line under `tag`:
+ * "<path>: <what> does not exist", "... is a FIFO, not a regular file",
+ * "... is N bytes, more than the limit of M", ... `what` names its role
+ * ("scene file", "image"). */
+bool util_check_input(const char *tag, const char *what, const char *path, size_t max_bytes, size_t *size);
+/* util_check_input, then reads the whole file, NUL-terminated (caller
+ * frees); NULL after logging. */
+char *util_read_input(const char *tag, const char *what, const char *path, size_t max_bytes, size_t *size);
+
+/* malloc/calloc of `count` × `size` bytes for something image- or
+ * scene-sized: NULL after logging "cannot allocate <what>: N bytes" under
+ * `tag` (also when count × size overflows). */
+void *util_malloc(const char *tag, const char *what, size_t count, size_t size);
+void *util_calloc(const char *tag, const char *what, size_t count, size_t size);
+/* realloc that keeps `*p` on failure: false after logging as above. */
+bool util_realloc(const char *tag, const char *what, void **p, size_t count, size_t size);
+
+/* Output files are written atomically: to a temporary file in the same
+ * directory, renamed over `path` only after every write, fflush, fsync and
+ * fclose succeeded. An error removes the temporary file and leaves no
+ * partial output (an existing file at `path` is untouched). */
+typedef struct AtomicFile {
+    FILE *f;          /* write here between open and commit/abort */
+    const char *path; /* final name (not owned) */
+    char tmp[1100];   /* temporary file's name */
+    bool failed;      /* set by writers that failed (e.g. a callback) */
+} AtomicFile;
+/* Creates the parent directory if missing (one level) and the temporary
+ * file; refuses a `path` that exists but is not a regular file (a device,
+ * FIFO or directory). false after logging under `tag`. */
+bool util_atomic_open(AtomicFile *af, const char *tag, const char *path);
+/* Flushes, syncs, closes and renames into place; false after logging
+ * "<path>: write failed (<reason>)" and removing the temporary file. */
+bool util_atomic_commit(AtomicFile *af, const char *tag);
+/* Closes and removes the temporary file (after an error elsewhere). */
+void util_atomic_abort(AtomicFile *af);
+
+/* Levenshtein edit distance between a and b (insert, delete, substitute
+ * one byte each cost 1); strings longer than 255 bytes count as far away. */
+int util_edit_distance(const char *a, const char *b);
+/* The name in the NULL-terminated `names` nearest to `s` by edit distance,
+ * or NULL when none is near enough to be a likely typo (distance more than
+ * 1 for names up to 4 bytes, else max(2, strlen(s)/3)). For "unknown key 'x', did you mean 'y'?". */
+const char *util_nearest(const char *s, const char *const *names);
+/* Writes `s` as a JSON string literal (quotes, escapes) to f. */
+void util_json_string(FILE *f, const char *s);
 char *util_strndup(const char *s, size_t n);
 /* Directory part of `path` ("." if none) into `dir`. */
 void util_dirname(const char *path, char *dir, size_t cap);

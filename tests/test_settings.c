@@ -160,8 +160,8 @@ static void bad_scene_settings(void **state)
         {"{\"builtin\":\"cornell\",\"gi\":{\"interleave\":[4]}}", "gi.interleave", "[n, m]"},
         {"{\"builtin\":\"cornell\",\"gi\":{\"interleave_blur\":1}}", "gi.interleave_blur", "true or false"},
         {"{\"builtin\":\"cornell\",\"gi\":{\"rsm_sise\":64}}", "gi.rsm_sise", "did you mean \"rsm_size\""},
-        {"{\"builtin\":\"cornell\",\"gi\":{\"samples\":64,\"samples\":32}}", "gi.samples", "twice"},
-        {"{\"builtin\":\"cornell\",\"gi\":[1,2]}", "\"gi\"", "must be an object"},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"samples\":64,\"samples\":32}}", "gi.samples", "duplicate key"},
+        {"{\"builtin\":\"cornell\",\"gi\":[1,2]}", "gi", "must be an object"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *path = test_tmp_file("bad_settings.json", cases[i].body);

@@ -20,6 +20,10 @@ void cmd_compare_help(void)
            "  --metric rmse|relmse|ssim|flip|all   (default: all)\n"
            "  --heatmap FILE.png per-pixel error of the first metric (FLIP map for all)\n"
            "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"
+           "  --mask-emitters FILE  the same, with the mask that render/reference --emitter-mask\n"
+           "                     write: pixels that see an emitter (and their neighbours) do not count\n"
+           "  --block N          also rmse/relmse of N×N block averages (default 8; 0: off):\n"
+           "                     per-pixel noise and edge aliasing average out, bias does not\n"
            "  --exposure E       display exposure for SSIM and FLIP (default: 1)\n"
            "  --ppd P            FLIP pixels per degree (default: 67.02)\n"
            "  --json FILE        also write the results as JSON ('-' for stdout); non-finite\n"
@@ -33,7 +37,7 @@ static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all",
 /* The results as one JSON object; strings escaped, non-finite numbers as
  * null. To stdout for "-", else atomically to the file. */
 static bool write_json(const char *json, const char *const files[2], const ImageF *t, const double val[4],
-                       const bool want[4])
+                       const bool want[4], int block, const double block_val[2])
 {
     AtomicFile af = {0};
     FILE *f = stdout;
@@ -55,6 +59,16 @@ static bool write_json(const char *json, const char *const files[2], const Image
         else
             fprintf(f, ", \"%s\": null", k_metrics[k]);
     }
+    if (block > 0) {
+        fprintf(f, ", \"block\": %d", block);
+        for (int k = 0; k < 2; k++)
+            if (want[k]) {
+                if (isfinite(block_val[k]))
+                    fprintf(f, ", \"%s_block\": %.8g", k_metrics[k], block_val[k]);
+                else
+                    fprintf(f, ", \"%s_block\": null", k_metrics[k]);
+            }
+    }
     fputs("}\n", f);
     if (f == stdout) {
         if (fflush(stdout) != 0 || ferror(stdout)) {
@@ -68,6 +82,7 @@ static bool write_json(const char *json, const char *const files[2], const Image
 
 int cmd_compare(int argc, char **argv)
 {
+    int block = 8;
     const char *files[2] = {NULL, NULL}, *heatmap = NULL, *mask_path = NULL, *json = NULL;
     int metric = 4, nfiles = 0;
     float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
@@ -85,7 +100,15 @@ int cmd_compare(int argc, char **argv)
         } else if (!strcmp(opt, "--heatmap")) {
             CLI_VALUE(&a, v);
             heatmap = v;
-        } else if (!strcmp(opt, "--mask")) {
+        } else if (!strcmp(opt, "--block")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 0, 4096, &block))
+                return 2;
+        } else if (!strcmp(opt, "--mask") || !strcmp(opt, "--mask-emitters")) {
+            if (mask_path) {
+                log_error("cli", "%s: give one of --mask and --mask-emitters", opt);
+                return 2;
+            }
             CLI_VALUE(&a, v);
             mask_path = v;
         } else if (!strcmp(opt, "--json")) {
@@ -187,6 +210,25 @@ int cmd_compare(int argc, char **argv)
     for (int k = 0; k < 4; k++)
         if (want[k])
             printf("%s: %.6g\n", k_metrics[k], val[k]);
+    /* The same over block averages: what survives them is bias. */
+    double block_val[2] = {NAN, NAN};
+    if (block > 1 && (want[0] || want[1])) {
+        ImageF tb = {0}, rb = {0};
+        uint8_t *mt = NULL, *mr = NULL;
+        bool ok = metric_block_average(&t, mask, block, &tb, &mt) && metric_block_average(&r, mask, block, &rb, &mr);
+        if (ok) {
+            if (want[0])
+                printf("rmse_block: %.6g\n", block_val[0] = metric_rmse(&tb, &rb, mt, NULL));
+            if (want[1])
+                printf("relmse_block: %.6g\n", block_val[1] = metric_relmse(&tb, &rb, mt, NULL));
+        }
+        image_free(&tb);
+        image_free(&rb);
+        free(mt);
+        free(mr);
+        if (!ok)
+            goto done;
+    }
     if (map) {
         if (map_metric == 0) { /* normalise RMSE by its maximum */
             float mx = 0;
@@ -201,7 +243,7 @@ int cmd_compare(int argc, char **argv)
         if (!metric_write_heatmap(heatmap, map, t.width, t.height))
             goto done;
     }
-    if (json && !write_json(json, files, &t, val, want)) {
+    if (json && !write_json(json, files, &t, val, want, block > 1 ? block : 0, block_val)) {
         if (heatmap)
             remove(heatmap); /* all outputs or none */
         goto done;

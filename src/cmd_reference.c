@@ -30,6 +30,8 @@ void cmd_reference_help(void)
            "  --light-scale S    scale every light's emitter size (0: point lights)\n"
            "  --variance FILE.pfm  also write the per-pixel variance of the mean\n"
            "  --png FILE.png     also write the tone-mapped PNG\n"
+           "  --emitter-mask FILE.png   also write the mask of pixels that see an emitter\n"
+           "                     (black; render --emitter-mask writes the same one)\n"
            "  --quiet            no progress bar\n");
 }
 
@@ -39,7 +41,7 @@ int cmd_reference(int argc, char **argv)
     pt_settings_default(&set);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     set.threads = cores > 0 ? (int)cores : 1;
-    const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL, *png = NULL;
+    const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL, *png = NULL, *emitter_mask = NULL;
     float exposure = -1.f, light_scale = -1.f;
     bool quiet = false;
     CliArgs a = {argc, argv, 0, NULL};
@@ -93,6 +95,13 @@ int cmd_reference(int argc, char **argv)
             png = v;
             if (!util_ends_with(v, ".png")) {
                 log_error("cli", "--png: '%s' must end in .png", v);
+                return 2;
+            }
+        } else if (!strcmp(opt, "--emitter-mask")) {
+            CLI_VALUE(&a, v);
+            emitter_mask = v;
+            if (!util_ends_with(v, ".png")) {
+                log_error("cli", "--emitter-mask: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--variance")) {
@@ -165,6 +174,13 @@ int cmd_reference(int argc, char **argv)
             remove(out);
             if (png)
                 remove(png);
+        }
+        if (ok && emitter_mask && !(ok = pt_write_emitter_mask(&scene, set.width, set.height, emitter_mask))) {
+            remove(out);
+            if (png)
+                remove(png);
+            if (var_out)
+                remove(var_out);
         }
         if (ok) {
             rc = 0;

@@ -8,6 +8,7 @@
 #include "image.h"
 #include "log.h"
 #include "render_options.h"
+#include "reference/pathtracer.h"
 #include "renderer.h"
 #include "util.h"
 
@@ -86,6 +87,11 @@ int cmd_render(int argc, char **argv)
             free(rgb);
             if (!ok)
                 remove(o.out); /* all outputs or none */
+        }
+        if (ok && o.emitter_mask && !(ok = pt_write_emitter_mask(&scene, rs.width, rs.height, o.emitter_mask))) {
+            remove(o.out);
+            if (o.png)
+                remove(o.png);
         }
         if (ok) {
             rc = 0;

@@ -1,4 +1,5 @@
 #include "metrics.h"
+#include "log.h"
 
 #include "util.h"
 
@@ -418,4 +419,35 @@ int metric_write_heatmap(const char *path, const float *map, int w, int h)
     int ok = image_write_png8(path, w, h, px);
     free(px);
     return ok;
+}
+
+bool metric_block_average(const ImageF *img, const uint8_t *mask, int block, ImageF *out, uint8_t **out_mask)
+{
+    int bw = (img->width + block - 1) / block, bh = (img->height + block - 1) / block;
+    uint8_t *m = malloc((size_t)bw * bh);
+    if (!m || !image_alloc(out, bw, bh)) {
+        log_error("metrics", "cannot allocate a %dx%d block image", bw, bh);
+        free(m);
+        return false;
+    }
+    for (int by = 0; by < bh; by++)
+        for (int bx = 0; bx < bw; bx++) {
+            double sum[3] = {0, 0, 0};
+            int n = 0;
+            for (int y = by * block; y < (by + 1) * block && y < img->height; y++)
+                for (int x = bx * block; x < (bx + 1) * block && x < img->width; x++) {
+                    if (mask && !mask[(size_t)y * img->width + x])
+                        continue;
+                    const float *p = image_px(img, x, y);
+                    for (int c = 0; c < 3; c++)
+                        sum[c] += p[c];
+                    n++;
+                }
+            float *q = image_px(out, bx, by);
+            for (int c = 0; c < 3; c++)
+                q[c] = n ? (float)(sum[c] / n) : 0.f;
+            m[(size_t)by * bw + bx] = n > 0;
+        }
+    *out_mask = m;
+    return true;
 }

@@ -15,6 +15,7 @@
 #ifndef RTGI_METRICS_H
 #define RTGI_METRICS_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "image.h"
@@ -26,6 +27,13 @@ double metric_rmse(const ImageF *test, const ImageF *ref, const uint8_t *mask, f
 double metric_relmse(const ImageF *test, const ImageF *ref, const uint8_t *mask, float *map);
 double metric_ssim(const ImageF *test, const ImageF *ref, float exposure, const uint8_t *mask, float *map);
 double metric_flip(const ImageF *test, const ImageF *ref, float exposure, float ppd, const uint8_t *mask, float *map);
+
+/* Averages `img` over block×block pixel blocks (the pixels `mask` selects;
+ * NULL: all) into `out` (ceil(w/block) × ceil(h/block)); `*out_mask`
+ * (caller frees) marks the blocks that held any selected pixel. Comparing
+ * block averages separates bias from per-pixel noise and edge aliasing.
+ * false after logging. */
+bool metric_block_average(const ImageF *img, const uint8_t *mask, int block, ImageF *out, uint8_t **out_mask);
 
 /* Writes a heat map of values in [0,1] (clamped) as a PNG, magma-like colours. */
 int metric_write_heatmap(const char *path, const float *map, int width, int height);

@@ -25,6 +25,8 @@ void render_options_help(void)
         "  --out FILE.png|FILE.pfm       output; PNG tone-mapped sRGB, PFM linear radiance\n"
         "                                (default: out/render.png)\n"
         "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
+        "  --emitter-mask FILE.png       also write the mask of pixels that see an emitter\n"
+        "                                (black; for compare --mask-emitters)\n"
         "  --timings                     print per-pass GPU (and wall) times\n"
         "  --probe FILE|run              with --timings: the gather's fraction of this device's\n"
         "                                bound, from 'rtgi probe --json FILE' or measured now\n"
@@ -73,7 +75,7 @@ void render_options_init(RenderOptions *o, bool view)
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void))
 {
     CliArgs a = {argc, argv, 0, NULL};
-    const char *opt, *v;
+    const char *opt, *v = NULL;
     const SettingDesc *setting;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
@@ -137,6 +139,13 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--probe")) {
             CLI_VALUE(&a, v);
             o->probe = v;
+        } else if (!strcmp(opt, "--emitter-mask")) {
+            CLI_VALUE(&a, v);
+            if (!util_ends_with(v, ".png")) {
+                log_error("cli", "--emitter-mask: '%s' must end in .png", v);
+                return 2;
+            }
+            o->emitter_mask = v;
         } else if (!strcmp(opt, "--debug")) {
             o->debug = true;
         } else if (!strcmp(opt, "--quiet")) {

@@ -94,10 +94,11 @@ static bool expand(const char *path, FileTable *files, StrBuf *out, int depth)
         const char *q = p;
         while (*q == ' ' || *q == '\t')
             q++;
-        const char *r = q + 8;
-        while (*r == ' ' || *r == '\t')
+        bool include = strncmp(q, "#include", 8) == 0;
+        const char *r = include ? q + 8 : q;
+        while (include && (*r == ' ' || *r == '\t'))
             r++;
-        if (strncmp(q, "#include", 8) == 0 && *r == '<') {
+        if (include && *r == '<') {
             /* A C system header in a file shared with C (shaders/shared/):
              * GLSL has none, and such lines sit in the C-only branch. */
             strbuf_append(out, "\n", 1);

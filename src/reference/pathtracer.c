@@ -496,3 +496,18 @@ bool pt_emitter_mask(const Scene *scene, int w, int h, uint8_t *mask)
     pt_scene_destroy(&ps);
     return true;
 }
+
+bool pt_write_emitter_mask(const Scene *scene, int w, int h, const char *path)
+{
+    uint8_t *mask = malloc((size_t)w * h), *rgb = malloc((size_t)w * h * 3);
+    bool ok = mask && rgb;
+    if (!ok)
+        log_error("reference", "cannot allocate a %dx%d emitter mask", w, h);
+    ok = ok && pt_emitter_mask(scene, w, h, mask);
+    for (size_t i = 0; ok && i < (size_t)w * h; i++)
+        rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = mask[i];
+    ok = ok && image_write_png8(path, w, h, rgb);
+    free(mask);
+    free(rgb);
+    return ok;
+}

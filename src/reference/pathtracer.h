@@ -76,5 +76,7 @@ bool pt_render(const Scene *scene, const PtSettings *ps, ImageF *mean, ImageF *v
  * so `compare --mask` can leave emitters out of the error. false after
  * logging. */
 bool pt_emitter_mask(const Scene *scene, int w, int h, uint8_t *mask);
+/* Writes that mask as an 8-bit PNG (black: excluded). false after logging. */
+bool pt_write_emitter_mask(const Scene *scene, int w, int h, const char *path);
 
 #endif

@@ -30,7 +30,7 @@ test: build
 # tests/nodlclose.c keeps the driver mapped so that they have a name).
 ASAN_BUILD ?= build-asan
 SAN_ENV = LD_PRELOAD=$(CURDIR)/$(ASAN_BUILD)/tests/librtgi_nodlclose.so \
-          ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0:detect_odr_violation=0 \
+          ASAN_OPTIONS=detect_leaks=1:verify_asan_link_order=0:detect_odr_violation=0:allocator_may_return_null=1 \
           LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 

@@ -128,18 +128,12 @@ static void plane_under_point_light(void **state)
         assert_true(pt_render(&s, &set, &img, NULL, NULL));
         for (int y = 1; y < 24; y += 5)
             for (int x = 1; x < 24; x += 5) {
-                vec3 d, p, to_l;
-                camera_ray(&s.camera, 24, 24, x + 0.5f, y + 0.5f, d);
-                float t = -s.camera.position[1] / d[1];
-                for (int i = 0; i < 3; i++)
-                    p[i] = s.camera.position[i] + t * d[i];
-                glm_vec3_sub(l.position, p, to_l);
-                float dist2 = glm_vec3_norm2(to_l), cos_t = to_l[1] / sqrtf(dist2);
+                vec3 want;
+                test_plane_radiance(&s, 24, 24, x, y, &l, 0.6f, want);
                 for (int c = 0; c < 3; c++) {
-                    float want = 0.6f * l.color[c] * cos_t / (GLM_PIf * dist2);
                     float got = image_px(&img, x, y)[c];
-                    if (fabsf(got - want) > 0.01f * want)
-                        fail_msg("mode %d pixel (%d,%d) c%d: %g want %g", mode, x, y, c, got, want);
+                    if (fabsf(got - want[c]) > 0.01f * want[c])
+                        fail_msg("mode %d pixel (%d,%d) c%d: %g want %g", mode, x, y, c, got, want[c]);
                 }
             }
         image_free(&img);

@@ -128,19 +128,11 @@ static void plane_under_sphere_light(void **state)
     double worst = 0;
     for (int y = 1; y < 24; y += 3)
         for (int x = 1; x < 24; x += 3) {
-            vec3 d, p, to_l;
-            camera_ray(&s.camera, 24, 24, x + 0.5f, y + 0.5f, d);
-            float t = -s.camera.position[1] / d[1];
-            for (int i = 0; i < 3; i++)
-                p[i] = s.camera.position[i] + t * d[i];
-            glm_vec3_sub(l.position, p, to_l);
-            float dist2 = glm_vec3_norm2(to_l), cos_t = to_l[1] / sqrtf(dist2);
-            if (cos_t * sqrtf(dist2) < 0.25f) /* sphere (r = 0.2) not wholly above the horizon */
-                continue;
-            for (int c = 0; c < 3; c++) {
-                float want = 0.6f * l.color[c] * cos_t / (GLM_PIf * dist2);
-                worst = fmax(worst, fabs(image_px(&img, x, y)[c] - want) / want);
-            }
+            vec3 want;
+            if (test_plane_radiance(&s, 24, 24, x, y, &l, 0.6f, want) < 0.25f)
+                continue; /* sphere (r = 0.2) not wholly above the horizon */
+            for (int c = 0; c < 3; c++)
+                worst = fmax(worst, fabs(image_px(&img, x, y)[c] - want[c]) / want[c]);
         }
     print_message("sphere light plane: worst pixel error %.2e\n", worst);
     assert_true(worst < 0.01);

@@ -35,6 +35,11 @@ void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *
 /* The same with samples spread over each pixel (`jitter`: a box filter,
  * what supersampling approximates) or at its centre. */
 void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out);
+/* Pixel (x, y) of a w×h image of `s`'s camera sees the plane y = 0, lit by
+ * the point-like light `l`, with albedo `albedo`: writes the analytic
+ * radiance albedo/π · I cosθ / d² into `want` and returns the light's height
+ * above that point (cosθ·d, for horizon checks). */
+float test_plane_radiance(const Scene *s, int w, int h, int x, int y, const Light *l, float albedo, vec3 want);
 /* Mean luminance of an image. */
 double test_image_mean(const ImageF *img);
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "log.h"
+#include "util.h"
 
 bool cli_float(const char *opt, const char *v, float lo, float hi, float *out)
 {
@@ -71,20 +72,56 @@ int cli_choice(const char *opt, const char *v, const char *const *names)
         if (names[i + 1])
             strncat(list, "|", sizeof list - strlen(list) - 1);
     }
-    log_error("cli", "%s: unknown value '%s' (one of %s)", opt, v, list);
+    const char *near = util_nearest(v, names);
+    if (near)
+        log_error("cli", "%s: unknown value '%s'; did you mean '%s'? (one of %s)", opt, v, near, list);
+    else
+        log_error("cli", "%s: unknown value '%s' (one of %s)", opt, v, list);
     return -1;
+}
+
+void cli_unknown_option(const char *cmd, const char *opt, const char *const *known)
+{
+    const char *near = known ? util_nearest(opt, known) : NULL;
+    if (near)
+        log_error("cli", "%s: unknown option '%s'; did you mean '%s'? (see rtgi %s --help)", cmd, opt, near, cmd);
+    else
+        log_error("cli", "%s: unknown option '%s' (see rtgi %s --help)", cmd, opt, cmd);
 }
 
 const char *cli_next(CliArgs *a)
 {
-    if (a->i >= a->argc)
+    if (a->pending) {
+        log_error("cli", "%s takes no value (given '%s')", a->opt, a->pending);
+        a->failed = true;
+        return NULL;
+    }
+    if (a->failed || a->i >= a->argc)
         return NULL;
     a->opt = a->argv[a->i++];
+    const char *eq = strncmp(a->opt, "--", 2) == 0 ? strchr(a->opt, '=') : NULL;
+    if (eq) {
+        size_t n = (size_t)(eq - a->opt);
+        if (n >= sizeof a->optbuf) {
+            log_error("cli", "'%.40s...': option name too long", a->opt);
+            a->failed = true;
+            return NULL;
+        }
+        memcpy(a->optbuf, a->opt, n);
+        a->optbuf[n] = 0;
+        a->pending = eq + 1;
+        a->opt = a->optbuf;
+    }
     return a->opt;
 }
 
 const char *cli_value(CliArgs *a)
 {
+    if (a->pending) {
+        const char *v = a->pending;
+        a->pending = NULL;
+        return v;
+    }
     if (a->i >= a->argc) {
         log_error("cli", "%s needs a value", a->opt);
         return NULL;

@@ -80,6 +80,9 @@ static bool write_json(const char *json, const char *const files[2], const Image
     return util_atomic_commit(&af, "compare");
 }
 
+/* The options this command knows (for "did you mean"). */
+static const char *const k_compare_options[] = {"--allow-nonfinite", "--block", "--exposure", "--heatmap", "--help", "--json", "--mask", "--mask-emitters", "--metric", "--ppd", NULL};
+
 int cmd_compare(int argc, char **argv)
 {
     int block = 8;
@@ -87,7 +90,7 @@ int cmd_compare(int argc, char **argv)
     int metric = 4, nfiles = 0;
     float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
     bool allow_nonfinite = false;
-    CliArgs a = {argc, argv, 0, NULL};
+    CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
@@ -125,7 +128,7 @@ int cmd_compare(int argc, char **argv)
             if (!cli_float(opt, v, 1.f, 1000.f, &ppd))
                 return 2;
         } else if (opt[0] == '-' && opt[1]) {
-            log_error("cli", "compare: unknown option '%s' (see rtgi compare --help)", opt);
+            cli_unknown_option("compare", opt, k_compare_options);
             return 2;
         } else if (nfiles < 2) {
             files[nfiles++] = opt;
@@ -134,6 +137,8 @@ int cmd_compare(int argc, char **argv)
             return 2;
         }
     }
+    if (cli_failed(&a))
+        return 2;
     if (nfiles != 2) {
         log_error("cli", "compare: needs two images, TEST and REFERENCE (see rtgi compare --help)");
         return 2;

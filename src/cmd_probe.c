@@ -17,10 +17,13 @@ void cmd_probe_help(void)
            "  --json FILE   also write the result (for render --timings --probe FILE)\n");
 }
 
+/* The options this command knows (for "did you mean"). */
+static const char *const k_probe_options[] = {"--help", "--json", NULL};
+
 int cmd_probe(int argc, char **argv)
 {
     const char *json = NULL, *opt, *v;
-    CliArgs a = {argc, argv, 0, NULL};
+    CliArgs a = {.argc = argc, .argv = argv};
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_probe_help();
@@ -29,10 +32,12 @@ int cmd_probe(int argc, char **argv)
             CLI_VALUE(&a, v);
             json = v;
         } else {
-            log_error("cli", "unknown option '%s' (see rtgi probe --help)", opt);
+            cli_unknown_option("probe", opt, k_probe_options);
             return 2;
         }
     }
+    if (cli_failed(&a))
+        return 2;
     GlContext *gl = gl_context_create(false);
     if (!gl)
         return 1;

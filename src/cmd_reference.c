@@ -35,6 +35,9 @@ void cmd_reference_help(void)
            "  --quiet            no progress bar\n");
 }
 
+/* The options this command knows (for "did you mean"). */
+static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--quiet", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--threads", "--variance", "--verbose", NULL};
+
 int cmd_reference(int argc, char **argv)
 {
     PtSettings set;
@@ -44,7 +47,7 @@ int cmd_reference(int argc, char **argv)
     const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL, *png = NULL, *emitter_mask = NULL;
     float exposure = -1.f, light_scale = -1.f;
     bool quiet = false;
-    CliArgs a = {argc, argv, 0, NULL};
+    CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
@@ -137,10 +140,12 @@ int cmd_reference(int argc, char **argv)
         } else if (!strcmp(opt, "--verbose")) {
             log_set_level(LOG_DEBUG);
         } else {
-            log_error("cli", "reference: unknown option '%s' (see rtgi reference --help)", opt);
+            cli_unknown_option("reference", opt, k_reference_options);
             return 2;
         }
     }
+    if (cli_failed(&a))
+        return 2;
     set.progress = !quiet && isatty(STDERR_FILENO);
 
     /* The path tracer holds two double sums per channel and pixel, the mean

@@ -18,7 +18,8 @@ static void usage(FILE *f)
             "  reference   path-trace the same scene on the CPU (Embree): ground truth\n"
             "  compare     error metrics between two images (RMSE, relMSE, SSIM, FLIP)\n"
             "  probe       this device's throughput on gather-shaped work (evaluations/s)\n"
-            "run 'rtgi <command> --help' for a command's options\n"
+            "run 'rtgi <command> --help' for a command's options, 'rtgi --version' for the version;\n"
+            "options take their value as '--opt value' or '--opt=value'\n"
             "every command also takes --lenient: unknown keys in a scene file are\n"
             "warnings instead of errors\n");
 }
@@ -42,6 +43,10 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *cmd = argv[1];
+    if (!strcmp(cmd, "--version")) {
+        printf("rtgi %s\n", RTGI_VERSION);
+        return 0;
+    }
     if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
         usage(stdout);
         return 0;

@@ -68,13 +68,31 @@ void render_options_init(RenderOptions *o, bool view)
     o->aa = view ? AA_FXAA : AA_NONE;
     o->frames = view ? 0 : 3;
     settings_default(&o->set);
+    o->view = view;
     assert(settings_count <= (int)(sizeof o->given / sizeof o->given[0]));
     o->warmup = 1;
 }
 
+/* The options `render` and `view` know, the settings table's included
+ * (for "did you mean"). */
+static const char *const *known_options(void)
+{
+    static const char *const own[] = {"--aa", "--debug", "--emitter-mask", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--png", "--probe", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--timings", "--verbose", "--warmup", NULL};
+    static const char *all[128];
+    if (!all[0]) {
+        int n = 0;
+        for (int i = 0; own[i] && n < 127; i++)
+            all[n++] = own[i];
+        for (int i = 0; i < settings_count && n < 127; i++)
+            all[n++] = settings_table[i].option;
+        all[n] = NULL;
+    }
+    return all;
+}
+
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void))
 {
-    CliArgs a = {argc, argv, 0, NULL};
+    CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v = NULL;
     const SettingDesc *setting;
     while ((opt = cli_next(&a))) {
@@ -162,10 +180,12 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
             o->given[setting - settings_table] = true;
         } else {
-            log_error("cli", "unknown option '%s' (see --help)", opt);
+            cli_unknown_option(o->view ? "view" : "render", opt, known_options());
             return 2;
         }
     }
+    if (cli_failed(&a))
+        return 2;
     if (o->width * o->ssaa > MAX_IMAGE_SIZE || o->height * o->ssaa > MAX_IMAGE_SIZE) {
         log_error("cli", "--ssaa %d: %dx%d supersampled is larger than %d per side", o->ssaa, o->width * o->ssaa,
                   o->height * o->ssaa, MAX_IMAGE_SIZE);

@@ -25,6 +25,7 @@ typedef struct RenderOptions {
     int aa;            /* AaMode (render: none, view: fxaa) */
     bool timings, debug;
     const char *probe; /* --probe FILE: a `rtgi probe --json` result for --timings */
+    bool view;         /* the options of `rtgi view` (else `rtgi render`) */
     const char *emitter_mask; /* --emitter-mask FILE.png: the pixels that see an emitter (for compare) */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */

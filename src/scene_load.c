@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <stb/stb_image.h>
 
@@ -948,6 +949,14 @@ bool scene_load(Scene *s, const char *what)
         scene_build_cornell(s);
         scene_finalize(s);
         return true;
+    }
+    /* A bare name that is no file: a built-in scene's name, misspelt? */
+    static const char *const builtins[] = {"cornell", NULL};
+    const char *near = strchr(what, '/') || strchr(what, '.') ? NULL : util_nearest(what, builtins);
+    if (near && access(what, F_OK) != 0) {
+        log_error("scene", "%s: no such file or built-in scene; did you mean '%s'?", what, near);
+        scene_init(s);
+        return false;
     }
     if (util_ends_with(what, ".json")) {
         scene_init(s);

@@ -302,6 +302,48 @@ static void compare_bad_input(void **state)
     test_expect_cli_error(rc, err, 2, "--metric", "'psnr'");
 }
 
+/* Issue 15's CLI conventions: "--opt=value", a value given to a flag is an
+ * error, "did you mean" for options, choices and scene names in every
+ * command (one hint style), and --version. */
+static void cli_conventions(void **state)
+{
+    (void)state;
+    char out[512], *err = NULL;
+    snprintf(out, sizeof out, "%s/eq_form.png", RTGI_TEST_TMP);
+    remove(out);
+    char size_arg[] = "--size=8x8", gi_arg[] = "--gi=rsm", out_arg[600];
+    snprintf(out_arg, sizeof out_arg, "--out=%s", out);
+    int rc = test_run_cli(&err, "render", size_arg, gi_arg, "--rsm-size=16", out_arg, "--quiet", NULL);
+    free(err);
+    assert_int_equal(rc, 0);
+    FILE *f = fopen(out, "rb");
+    assert_non_null(f);
+    fclose(f);
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--timings=1", NULL);
+    test_expect_cli_error(rc, err, 2, "--timings", "takes no value");
+    rc = test_run_cli(&err, "render", "--shadows", "pcf", NULL);
+    test_expect_cli_error(rc, err, 2, "render: unknown option '--shadows'", "did you mean '--shadow'");
+    rc = test_run_cli(&err, "view", "--sise", "8x8", NULL);
+    test_expect_cli_error(rc, err, 2, "view: unknown option", "did you mean '--size'");
+    rc = test_run_cli(&err, "render", "--pcf-sample", "4", NULL);
+    test_expect_cli_error(rc, err, 2, "unknown option '--pcf-sample'", "did you mean '--pcf-samples'");
+    rc = test_run_cli(&err, "render", "--gi", "rsn", NULL);
+    test_expect_cli_error(rc, err, 2, "--gi", "did you mean 'rsm'");
+    rc = test_run_cli(&err, "render", "--scene", "cornel", NULL);
+    test_expect_cli_error(rc, err, 1, "cornel", "did you mean 'cornell'");
+    rc = test_run_cli(&err, "reference", "--sppp", "4", NULL);
+    test_expect_cli_error(rc, err, 2, "reference: unknown option", "did you mean '--spp'");
+    rc = test_run_cli(&err, "compare", "a.pfm", "b.pfm", "--mask-emiters", "m.png", NULL);
+    test_expect_cli_error(rc, err, 2, "compare: unknown option", "did you mean '--mask-emitters'");
+    char cmd[600], line[256] = "";
+    snprintf(cmd, sizeof cmd, "%s --version", RTGI_BINARY);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    assert_non_null(fgets(line, sizeof line, p));
+    assert_int_equal(pclose(p), 0);
+    assert_true(strncmp(line, "rtgi ", 5) == 0 && strlen(line) > 6);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -320,6 +362,7 @@ int main(void)
         cmocka_unit_test(compare_json_and_mask),
         cmocka_unit_test(reference_bad_input),
         cmocka_unit_test(compare_bad_input),
+        cmocka_unit_test(cli_conventions),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

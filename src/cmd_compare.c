@@ -26,7 +26,8 @@ void cmd_compare_help(void)
            "                     per-pixel noise and edge aliasing average out, bias does not\n"
            "  --exposure E       display exposure for SSIM and FLIP (default: 1)\n"
            "  --ppd P            FLIP pixels per degree (default: 67.02)\n"
-           "  --json FILE        also write the results as JSON ('-' for stdout); non-finite\n"
+           "  --json FILE        also write the results as JSON ('-': stdout, the text lines then\n"
+           "                     go to stderr); non-finite\n"
            "                     values are written as null\n"
            "  --allow-nonfinite  compare images with NaN/Inf pixels (an error otherwise)\n"
            "Prints one 'metric: value' line per metric.\n");
@@ -212,9 +213,11 @@ int cmd_compare(int argc, char **argv)
         val[3] = metric_flip(&t, &r, exposure, ppd, mask, map_metric == 3 ? map : NULL);
     if (metric_alloc_failures())
         goto done; /* logged, with the size */
+    /* With --json - the JSON alone goes to stdout, the lines to stderr. */
+    FILE *txt = json && !strcmp(json, "-") ? stderr : stdout;
     for (int k = 0; k < 4; k++)
         if (want[k])
-            printf("%s: %.6g\n", k_metrics[k], val[k]);
+            fprintf(txt, "%s: %.6g\n", k_metrics[k], val[k]);
     /* The same over block averages: what survives them is bias. */
     double block_val[2] = {NAN, NAN};
     if (block > 1 && (want[0] || want[1])) {
@@ -223,9 +226,9 @@ int cmd_compare(int argc, char **argv)
         bool ok = metric_block_average(&t, mask, block, &tb, &mt) && metric_block_average(&r, mask, block, &rb, &mr);
         if (ok) {
             if (want[0])
-                printf("rmse_block: %.6g\n", block_val[0] = metric_rmse(&tb, &rb, mt, NULL));
+                fprintf(txt, "rmse_block: %.6g\n", block_val[0] = metric_rmse(&tb, &rb, mt, NULL));
             if (want[1])
-                printf("relmse_block: %.6g\n", block_val[1] = metric_relmse(&tb, &rb, mt, NULL));
+                fprintf(txt, "relmse_block: %.6g\n", block_val[1] = metric_relmse(&tb, &rb, mt, NULL));
         }
         image_free(&tb);
         image_free(&rb);

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <cjson/cJSON.h>
+
 #include "metrics.h"
 #include "test_util.h"
 #include "util.h"
@@ -109,11 +111,40 @@ static void emitter_masks_agree_and_exclude_the_light(void **state)
     assert_true(blk < all);
 }
 
+/* `compare --json -`: stdout is one valid JSON object, the text on stderr. */
+static void json_stdout_is_json_alone(void **state)
+{
+    (void)state;
+    const char *a = tmp("json_a.pfm"), *b = tmp("json_b.pfm");
+    ImageF img;
+    assert_true(image_alloc(&img, 4, 4));
+    for (int i = 0; i < 48; i++)
+        img.rgb[i] = 0.25f;
+    assert_true(image_write_pfm(a, &img));
+    img.rgb[0] = 0.5f;
+    assert_true(image_write_pfm(b, &img));
+    image_free(&img);
+    char cmd[1400], out[4096];
+    snprintf(cmd, sizeof cmd, "%s compare %s %s --json - 2>/dev/null", RTGI_BINARY, a, b);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t len = fread(out, 1, sizeof out - 1, p);
+    out[len] = 0;
+    assert_int_equal(pclose(p), 0);
+    cJSON *j = cJSON_Parse(out);
+    assert_non_null(j);
+    assert_true(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(j, "rmse")));
+    assert_true(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(j, "relmse_block")));
+    cJSON_Delete(j);
+    assert_null(strstr(out, "rmse: ")); /* the text lines went to stderr */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(block_average_keeps_bias_drops_noise),
         cmocka_unit_test(emitter_masks_agree_and_exclude_the_light),
+        cmocka_unit_test(json_stdout_is_json_alone),
     };
     return cmocka_run_group_tests_name("compare_masks", tests, NULL, NULL);
 }

@@ -276,3 +276,17 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
     }
     print_gather_efficiency(r, st, s_probe_path);
 }
+
+void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms)
+{
+    const GpuTimer *t = &r->timer;
+    printf("frame_cold_ms: %.3f\n", cold_ms);
+    printf("frame_steady_ms: %.3f\n", steady_ms);
+    double total = 0;
+    for (int i = 0; i < t->pass_count && t->frames > 0; i++) {
+        double ms = (t->sync ? t->passes[i].cpu_ms : t->passes[i].gpu_ms) / t->frames;
+        total += ms;
+        printf("steady_%s_ms: %.3f\n", t->passes[i].name, ms);
+    }
+    printf("steady_total_ms: %.3f\n", total);
+}

@@ -43,6 +43,10 @@ bool render_options_load_scene(const RenderOptions *o, Scene *scene);
 void render_options_help(void);
 /* Render settings from the scene's defaults and the options. */
 void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs);
+/* Prints frame_cold_ms (the timed frames of the report, which draw every
+ * light product), frame_steady_ms and steady_<pass>_ms lines for frames
+ * that keep the light products (r's timer holds only steady frames). */
+void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms);
 /* Prints the --timings report (per-pass times, GI counters, the gather's
  * evaluations/s and, with `probe`, its fraction of the probe's bound). */
 void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms);

@@ -244,8 +244,31 @@ static void bind_slot(const LightStage *ls, int light, int slot)
 
 /* Draws the scene (emitters skipped) into each face of a map: opaque
  * materials with `program`, alpha-masked ones with `masked` (may equal it). */
-static void draw_faces(const LightStage *ls, GLuint program, GLuint masked, const ShadowFrame *f, int size, GLuint fbo,
-                       const GpuScene *gs, void (*per_face)(const LightStage *, int face, void *), void *user)
+/* A one-sided quad light lights nothing through a cube face whose every
+ * direction lies behind its emitting plane: the emitter normal's dot with
+ * the face's directions, linear over the face plane, is at most 0 at all
+ * four corners (axis ± right ± up of the 90° face). Such a face stays
+ * cleared: empty in the RSM (no VPL), no blocker in the shadow map, whose
+ * lookups ignore what lies behind a quad light's plane anyway. */
+static bool face_behind_quad(const Light *l, const ShadowFrame *f, int face)
+{
+    if (l->type != LIGHT_QUAD || !f->cube)
+        return false;
+    const float *v = (const float *)f->view[face];
+    const vec3 right = {v[0], v[4], v[8]}, up = {v[1], v[5], v[9]}, axis = {-v[2], -v[6], -v[10]};
+    for (int k = 0; k < 4; k++) {
+        vec3 c;
+        for (int i = 0; i < 3; i++)
+            c[i] = axis[i] + ((k & 1) ? right[i] : -right[i]) + ((k & 2) ? up[i] : -up[i]);
+        if (glm_vec3_dot(c, (float *)l->direction) > 0.f)
+            return false;
+    }
+    return true;
+}
+
+static void draw_faces(LightStage *ls, const Light *l, GLuint program, GLuint masked, const ShadowFrame *f, int size,
+                       GLuint fbo, const GpuScene *gs, void (*per_face)(const LightStage *, int face, void *),
+                       void *user)
 {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -254,7 +277,10 @@ static void draw_faces(const LightStage *ls, GLuint program, GLuint masked, cons
     glViewport(0, 0, size, size);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     for (int face = 0; face < f->face_count; face++) {
-        per_face(ls, face, user);
+        per_face(ls, face, user); /* attaches and clears the face */
+        if (face_behind_quad(l, f, face))
+            continue;
+        ls->faces_drawn++;
         glProgramUniformMatrix4fv(program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
         if (masked != program)
             glProgramUniformMatrix4fv(masked, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
@@ -349,7 +375,8 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         ls->map_draws++;
         bind_slot(ls, i, SLOT_SHADOW);
         int ortho = s->lights[i].type == LIGHT_DIRECTIONAL;
-        draw_faces(ls, ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], &m->frame, m->size, m->fbo, gs,
+        draw_faces(ls, &s->lights[i], ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], &m->frame, m->size,
+                   m->fbo, gs,
                    shadow_face, m);
     }
     if (timing)
@@ -376,7 +403,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         /* Texel area on the projection plane: ortho (2r/res)², perspective at
          * distance 1: k² with k = 2·tan(fov/2)/res. */
         glProgramUniform1f(ls->rsm_program, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
-        draw_faces(ls, ls->rsm_program, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face, m);
+        draw_faces(ls, &s->lights[i], ls->rsm_program, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face, m);
     }
     if (timing)
         gpu_timer_end(t);

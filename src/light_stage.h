@@ -84,6 +84,7 @@ typedef struct LightStage {
     uint64_t vpl_key;     /* what the VPLs were extracted from (0: none yet) */
     int vpl_extractions;  /* how many times VPLs were extracted */
     int map_draws;        /* shadow maps and RSMs drawn, in all */
+    int faces_drawn;      /* map faces the scene was drawn into, in all */
     GLuint shadow_programs[2][2]; /* [directional][alpha-masked], from the program cache */
     GLuint shadow_program;        /* nonzero when all four built */
     GLuint rsm_program, vpl_program; /* from the program cache */

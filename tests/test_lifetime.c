@@ -205,12 +205,36 @@ static void cached_light_products(void **state)
     scene_free(&s);
 }
 
+/* Issue 11: a one-sided quad light's shadow map and RSM skip the cube face
+ * behind its emitting plane (5 faces each); a point light needs all 6. The
+ * images do not change (scripts/render-matrix.sh, before/after). */
+static void quad_light_skips_the_face_behind(void **state)
+{
+    (void)state;
+    Scene s;
+    assert_true(scene_load(&s, "cornell"));
+    assert_int_equal(s.lights[0].type, LIGHT_QUAD);
+    RenderSettings rs = settings_for(&s, GI_RSM, W, H);
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    assert_int_equal(r.lights.faces_drawn, 5 + 5);
+    renderer_destroy(&r);
+    s.lights[0].type = LIGHT_POINT;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    assert_int_equal(r.lights.faces_drawn, 6 + 6);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(switching_matches_fresh_and_releases),
         cmocka_unit_test(resize_and_exposure),
         cmocka_unit_test(cached_light_products),
+        cmocka_unit_test(quad_light_skips_the_face_behind),
     };
     return cmocka_run_group_tests_name("lifetime", tests, test_gl_setup, test_gl_teardown);
 }

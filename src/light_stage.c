@@ -11,6 +11,7 @@
 #include "shader.h"
 #include "shared/gpu_types.h"
 #include "targets.h"
+#include "util.h"
 
 enum { SLOT_SHADOW = 0, SLOT_RSM = 1, SLOTS_PER_LIGHT = 2 };
 
@@ -321,23 +322,16 @@ static void rsm_face(const LightStage *ls, int face, void *user)
 /* What the VPLs depend on: the lights, the RSM sizes and the seed. */
 static uint64_t vpl_key(const LightStage *ls)
 {
-    uint64_t h = 1469598103934665603ull;
-    const unsigned char *parts[2] = {(const unsigned char *)ls->scene->lights, (const unsigned char *)&ls->desc};
-    size_t sizes[2] = {sizeof(Light) * (size_t)ls->light_count, sizeof ls->desc};
-    for (int k = 0; k < 2; k++)
-        for (size_t i = 0; i < sizes[k]; i++)
-            h = (h ^ parts[k][i]) * 1099511628211ull;
+    uint64_t h = util_hash_bytes(UTIL_HASH_SEED, ls->scene->lights, sizeof(Light) * (size_t)ls->light_count);
+    h = util_hash_bytes(h, &ls->desc, sizeof ls->desc);
     return h ? h : 1;
 }
 
 /* What a map of light i at `size` depends on (never 0). */
 static uint64_t map_key(const Light *l, int size, uint64_t kind)
 {
-    uint64_t h = 1469598103934665603ull ^ kind;
-    const unsigned char *p = (const unsigned char *)l;
-    for (size_t i = 0; i < sizeof *l; i++)
-        h = (h ^ p[i]) * 1099511628211ull;
-    h = (h ^ (uint64_t)size) * 1099511628211ull;
+    uint64_t h = util_hash_bytes(UTIL_HASH_SEED ^ kind, l, sizeof *l);
+    h = util_hash_bytes(h, &size, sizeof size);
     return h ? h : 1;
 }
 

@@ -186,17 +186,6 @@ const SettingDesc *settings_find_key(const char *group, const char *key)
     return NULL;
 }
 
-const char *settings_nearest(const char *group, const char *name)
-{
-    const char *names[128];
-    int n = 0;
-    for (int i = 0; i < settings_count && n < 127; i++)
-        if (!group || !strcmp(settings_table[i].group, group))
-            names[n++] = group ? settings_table[i].key : settings_table[i].option;
-    names[n] = NULL;
-    return util_nearest(name, names);
-}
-
 /* ---- Validation ------------------------------------------------------------- */
 
 static void describe_range(const SettingDesc *d, char *out, size_t cap)

@@ -53,9 +53,6 @@ void settings_default(Settings *s);
 const SettingDesc *settings_find_option(const char *option);
 /* The row of `group`.`key`, or NULL. */
 const SettingDesc *settings_find_key(const char *group, const char *key);
-/* Nearest option (or key of `group` when group is not NULL) to `name` by
- * edit distance, or NULL if none is close. */
-const char *settings_nearest(const char *group, const char *name);
 
 /* Parses a command-line value (NULL for SETTING_FLAG) into `s`, range
  * checked. false after logging "<option>: <problem> (allowed: <range>)". */

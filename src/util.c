@@ -241,17 +241,30 @@ void util_ensure_parent_dir(const char *path)
         mkdir(dir, 0777);
 }
 
+uint64_t util_hash_bytes(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 1099511628211ull;
+    return h;
+}
+
+/* One line naming what could not be allocated and its size. */
+static void log_alloc_failure(const char *tag, const char *what, size_t count, size_t size)
+{
+    if (size && count > SIZE_MAX / size)
+        log_error(tag, "cannot allocate %s: %zu x %zu bytes overflows", what, count, size);
+    else
+        log_error(tag, "cannot allocate %s: %zu bytes", what, count * size);
+}
+
 void *util_malloc(const char *tag, const char *what, size_t count, size_t size)
 {
     void *p = NULL;
     if (size == 0 || count <= SIZE_MAX / size)
         p = malloc((count * size) != 0 ? count * size : 1);
-    if (!p) {
-        if (size && count > SIZE_MAX / size)
-            log_error(tag, "cannot allocate %s: %zu x %zu bytes overflows", what, count, size);
-        else
-            log_error(tag, "cannot allocate %s: %zu bytes", what, count * size);
-    }
+    if (!p)
+        log_alloc_failure(tag, what, count, size);
     return p;
 }
 
@@ -260,12 +273,8 @@ void *util_calloc(const char *tag, const char *what, size_t count, size_t size)
     void *p = NULL;
     if (size == 0 || count <= SIZE_MAX / size)
         p = calloc(count ? count : 1, size ? size : 1);
-    if (!p) {
-        if (size && count > SIZE_MAX / size)
-            log_error(tag, "cannot allocate %s: %zu x %zu bytes overflows", what, count, size);
-        else
-            log_error(tag, "cannot allocate %s: %zu bytes", what, count * size);
-    }
+    if (!p)
+        log_alloc_failure(tag, what, count, size);
     return p;
 }
 

@@ -4,6 +4,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include <stdio.h>
 
@@ -70,6 +71,10 @@ void util_join_path(const char *base_dir, const char *rel, char *out, size_t cap
 bool util_ends_with(const char *s, const char *suffix);
 /* Creates the parent directory of `path` if it is missing (one level). */
 void util_ensure_parent_dir(const char *path);
+/* FNV-1a over n bytes, continuing from h (start with UTIL_HASH_SEED): for
+ * "what was this made from" keys compared for equality. */
+#define UTIL_HASH_SEED 1469598103934665603ull
+uint64_t util_hash_bytes(uint64_t h, const void *p, size_t n);
 /* Monotonic wall-clock seconds. */
 double util_seconds(void);
 

@@ -39,6 +39,7 @@ typedef struct RsmGi {
     GLuint lowres;                    /* interp: RGBA32F low-res irradiance */
     GLuint list;                      /* interp: SSBO {count, pixels[]} */
     GiInterleave il;                  /* interleaved */
+    GpuGiParams gpu;                  /* as uploaded for the current size (low-res size, ...) */
     /* Importance weighting, per light: */
     int lights;
     GLuint importance[3];             /* level 0, reduce, sample programs */
@@ -105,11 +106,10 @@ static bool rsm_resize(void *state, int w, int h)
     rsm_free_sized(g);
     g->width = w;
     g->height = h;
-    GpuGiParams u;
-    gi_params_to_gpu(&g->params, w, h, &u);
-    glNamedBufferSubData(g->ubo, 0, sizeof u, &u);
+    gi_params_to_gpu(&g->params, w, h, &g->gpu);
+    glNamedBufferSubData(g->ubo, 0, sizeof g->gpu, &g->gpu);
     if (g->variant == RSM_INTERP) {
-        g->lowres = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, u.low_width, u.low_height, "gi.lowres");
+        g->lowres = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->gpu.low_width, g->gpu.low_height, "gi.lowres");
         glCreateBuffers(1, &g->list);
         glNamedBufferStorage(g->list, (GLsizeiptr)(sizeof(uint32_t) * (1 + (size_t)w * h)), NULL,
                              GL_DYNAMIC_STORAGE_BIT);
@@ -302,8 +302,7 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
             glProgramUniform1ui(prog, LOC_CHUNK, chunk);
             switch (layout) {
             case GATHER_LOWRES:
-                gi_dispatch_pixels((g->width + g->params.interp_factor - 1) / g->params.interp_factor,
-                                   (g->height + g->params.interp_factor - 1) / g->params.interp_factor);
+                gi_dispatch_pixels(g->gpu.low_width, g->gpu.low_height);
                 break;
             case GATHER_INTERLEAVED:
                 gi_dispatch_pixels(g->il.di_w, g->il.di_h);
@@ -372,8 +371,7 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     RsmGi *g = state;
     st->vpl_count = g->params.exhaustive ? light_stage_vpl_count(f->lights) : 0;
     if (g->variant == RSM_INTERP) {
-        int f_ = g->params.interp_factor;
-        st->lowres_gathers = (uint32_t)(((g->width + f_ - 1) / f_) * ((g->height + f_ - 1) / f_));
+        st->lowres_gathers = (uint32_t)(g->gpu.low_width * g->gpu.low_height);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glGetNamedBufferSubData(g->list, 0, sizeof st->full_gathers, &st->full_gathers);
         st->gathered_pixels = st->lowres_gathers + st->full_gathers;

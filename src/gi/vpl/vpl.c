@@ -27,6 +27,7 @@
 #include "gi/interleave.h"
 #include "log.h"
 #include "shader.h"
+#include "util.h"
 
 typedef enum VplMethod { VPL_ALL, VPL_CLAMPED, VPL_SLC, VPL_INTERLEAVED, VPL_METALIGHTS } VplMethod;
 
@@ -237,14 +238,9 @@ static int cmp_item(const void *a, const void *b)
 /* What the metalight grouping depends on: lights, camera, settings. */
 static uint64_t grouping_key(const GiFrame *f)
 {
-    uint64_t h = 1469598103934665603ull;
-    const unsigned char *parts[3] = {(const unsigned char *)f->scene->lights, (const unsigned char *)f->camera,
-                                     (const unsigned char *)f->params};
-    size_t sizes[3] = {sizeof(Light) * (size_t)f->scene->light_count, sizeof *f->camera, sizeof *f->params};
-    for (int k = 0; k < 3; k++)
-        for (size_t i = 0; i < sizes[k]; i++)
-            h = (h ^ parts[k][i]) * 1099511628211ull;
-    return h;
+    uint64_t h = util_hash_bytes(UTIL_HASH_SEED, f->scene->lights, sizeof(Light) * (size_t)f->scene->light_count);
+    h = util_hash_bytes(h, f->camera, sizeof *f->camera);
+    return util_hash_bytes(h, f->params, sizeof *f->params);
 }
 
 /* Builds the interleaved subsets: random (interleaved) or from metalights

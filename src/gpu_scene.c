@@ -1,18 +1,127 @@
 #include "gpu_scene.h"
 
+#include <cglm/box.h>
+#include <cglm/frustum.h>
+#include <float.h>
 #include <stddef.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "shared/gpu_types.h"
+#include "util.h"
+
+/* ---- clusters ---------------------------------------------------------- */
+
+/* 10 bits of each coordinate interleaved: x in bit 0, 3, 6, ... */
+static uint32_t morton3(uint32_t x, uint32_t y, uint32_t z)
+{
+    uint32_t code = 0;
+    for (int b = 0; b < 10; b++)
+        code |= ((x >> b) & 1u) << (3 * b) | ((y >> b) & 1u) << (3 * b + 1) | ((z >> b) & 1u) << (3 * b + 2);
+    return code;
+}
+
+typedef struct TriKey {
+    uint32_t code, tri;
+} TriKey;
+
+static int trikey_cmp(const void *a, const void *b)
+{
+    const TriKey *x = a, *y = b;
+    if (x->code != y->code)
+        return x->code < y->code ? -1 : 1;
+    return x->tri < y->tri ? -1 : x->tri > y->tri;
+}
+
+static void cluster_bounds(GpuCluster *c, const Scene *s, const uint32_t *idx)
+{
+    for (int k = 0; k < 3; k++) {
+        c->bounds_min[k] = FLT_MAX;
+        c->bounds_max[k] = -FLT_MAX;
+    }
+    for (uint32_t i = 0; i < c->index_count; i++) {
+        const float *p = s->vertices[idx[c->first_index + i]].position;
+        for (int k = 0; k < 3; k++) {
+            c->bounds_min[k] = p[k] < c->bounds_min[k] ? p[k] : c->bounds_min[k];
+            c->bounds_max[k] = p[k] > c->bounds_max[k] ? p[k] : c->bounds_max[k];
+        }
+    }
+}
+
+/* Writes the GPU index order into `out` (the scene's, with each large
+ * submesh's triangles sorted along a Morton curve of their centroids) and
+ * cuts each submesh into clusters of at most GPU_CLUSTER_TRIANGLES. */
+static bool build_clusters(GpuScene *g, const Scene *s, uint32_t *out)
+{
+    int count = 0;
+    for (int i = 0; i < s->submesh_count; i++)
+        count += (int)((s->submeshes[i].index_count / 3 + GPU_CLUSTER_TRIANGLES - 1) / GPU_CLUSTER_TRIANGLES);
+    g->clusters = util_calloc("gpu_scene", "clusters", (size_t)count + 1, sizeof(GpuCluster));
+    if (!g->clusters)
+        return false;
+    memcpy(out, s->indices, sizeof(uint32_t) * s->index_count);
+    for (int i = 0; i < s->submesh_count; i++) {
+        const Submesh *sm = &s->submeshes[i];
+        uint32_t tris = sm->index_count / 3;
+        const uint32_t *src = s->indices + sm->first_index;
+        if (tris > GPU_CLUSTER_TRIANGLES) {
+            TriKey *keys = util_malloc("gpu_scene", "cluster sort keys", tris, sizeof(TriKey));
+            if (!keys)
+                return false;
+            vec3 lo = {FLT_MAX, FLT_MAX, FLT_MAX}, hi = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+            for (uint32_t t = 0; t < 3 * tris; t++) {
+                const float *p = s->vertices[src[t]].position;
+                for (int k = 0; k < 3; k++) {
+                    lo[k] = p[k] < lo[k] ? p[k] : lo[k];
+                    hi[k] = p[k] > hi[k] ? p[k] : hi[k];
+                }
+            }
+            for (uint32_t t = 0; t < tris; t++) {
+                uint32_t q[3];
+                for (int k = 0; k < 3; k++) {
+                    float c = (s->vertices[src[3 * t]].position[k] + s->vertices[src[3 * t + 1]].position[k] +
+                               s->vertices[src[3 * t + 2]].position[k]) / 3.f;
+                    float extent = hi[k] - lo[k];
+                    float u = extent > 0.f ? (c - lo[k]) / extent : 0.f;
+                    q[k] = (uint32_t)(u * 1023.f + 0.5f);
+                }
+                keys[t] = (TriKey){morton3(q[0], q[1], q[2]), t};
+            }
+            qsort(keys, tris, sizeof(TriKey), trikey_cmp);
+            uint32_t *dst = out + sm->first_index;
+            for (uint32_t t = 0; t < tris; t++)
+                memcpy(dst + 3 * t, src + 3 * keys[t].tri, 3 * sizeof(uint32_t));
+            free(keys);
+        }
+        for (uint32_t t = 0; t < tris; t += GPU_CLUSTER_TRIANGLES) {
+            uint32_t n = tris - t < GPU_CLUSTER_TRIANGLES ? tris - t : GPU_CLUSTER_TRIANGLES;
+            GpuCluster *c = &g->clusters[g->cluster_count++];
+            *c = (GpuCluster){.first_index = sm->first_index + 3 * t, .index_count = 3 * n, .submesh = i};
+            cluster_bounds(c, s, out);
+        }
+    }
+    return true;
+}
+
+/* ---- lifetime ---------------------------------------------------------- */
 
 bool gpu_scene_create(GpuScene *g, const Scene *s)
 {
+    *g = (GpuScene){0};
+    uint32_t *indices = util_malloc("gpu_scene", "index buffer", s->index_count + 1, sizeof(uint32_t));
+    if (!indices || !build_clusters(g, s, indices)) {
+        free(indices);
+        free(g->clusters);
+        *g = (GpuScene){0};
+        return false;
+    }
     glCreateBuffers(1, &g->vbo);
     glNamedBufferStorage(g->vbo, (GLsizeiptr)(sizeof(Vertex) * s->vertex_count), s->vertices, 0);
     glObjectLabel(GL_BUFFER, g->vbo, -1, "scene.vertices");
     glCreateBuffers(1, &g->ibo);
-    glNamedBufferStorage(g->ibo, (GLsizeiptr)(sizeof(uint32_t) * s->index_count), s->indices, 0);
+    glNamedBufferStorage(g->ibo, (GLsizeiptr)(sizeof(uint32_t) * s->index_count), indices, 0);
     glObjectLabel(GL_BUFFER, g->ibo, -1, "scene.indices");
+    free(indices);
 
     glCreateVertexArrays(1, &g->vao);
     glVertexArrayVertexBuffer(g->vao, 0, g->vbo, 0, sizeof(Vertex));
@@ -50,41 +159,112 @@ void gpu_scene_destroy(GpuScene *g)
     if (g->texture_count)
         glDeleteTextures(g->texture_count, g->textures);
     free(g->textures);
+    free(g->clusters);
     glDeleteVertexArrays(1, &g->vao);
     glDeleteBuffers(1, &g->vbo);
     glDeleteBuffers(1, &g->ibo);
     *g = (GpuScene){0};
 }
 
+/* ---- drawing ----------------------------------------------------------- */
+
 void gpu_scene_draw(const GpuScene *g, const Scene *s, GLuint program, DrawFlags flags)
 {
-    gpu_scene_draw_split(g, s, program, program, flags);
+    gpu_scene_draw_view(g, s, program, program, flags, NULL);
 }
 
 void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags)
 {
+    gpu_scene_draw_view(g, s, opaque, masked, flags, NULL);
+}
+
+typedef struct DrawItem {
+    float distance;
+    int cluster;
+} DrawItem;
+
+static int drawitem_cmp(const void *a, const void *b)
+{
+    const DrawItem *x = a, *y = b;
+    if (x->distance != y->distance)
+        return x->distance < y->distance ? -1 : 1;
+    return x->cluster - y->cluster; /* stable: equal distances keep scene order */
+}
+
+/* Distance from `eye` to the nearest point of the cluster's box (0 inside). */
+static float box_distance(const GpuCluster *c, const float *eye)
+{
+    float d2 = 0.f;
+    for (int k = 0; k < 3; k++) {
+        float d = eye[k] < c->bounds_min[k] ? c->bounds_min[k] - eye[k]
+                : eye[k] > c->bounds_max[k] ? eye[k] - c->bounds_max[k] : 0.f;
+        d2 += d * d;
+    }
+    return d2;
+}
+
+static void bind_material(const GpuScene *g, const Material *m, GLuint program)
+{
+    glProgramUniform3fv(program, LOC_MATERIAL_ALBEDO, 1, m->albedo);
+    glProgramUniform1i(program, LOC_MATERIAL_HAS_TEX, m->albedo_tex >= 0);
+    glProgramUniform1f(program, LOC_MATERIAL_CUTOFF, m->alpha_mask ? m->alpha_cutoff : -1.f);
+    glProgramUniform3fv(program, LOC_MATERIAL_EMISSION, 1, m->emission);
+    if (m->albedo_tex >= 0)
+        glBindTextureUnit(TEX_ALBEDO, g->textures[m->albedo_tex]);
+}
+
+void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags,
+                         const DrawView *view)
+{
+    /* The visible clusters, in scene order or nearest first. A failed
+     * allocation draws everything in scene order: the same image, slower. */
+    DrawItem *items = malloc(sizeof(DrawItem) * ((size_t)g->cluster_count + 1));
+    int n = 0, culled = 0;
+    vec4 planes[6];
+    bool cull = view && view->view_proj && items;
+    if (cull)
+        glm_frustum_planes((vec4 *)view->view_proj, planes);
+    for (int i = 0; i < g->cluster_count && items; i++) {
+        const GpuCluster *c = &g->clusters[i];
+        if (cull) {
+            vec3 box[2] = {{c->bounds_min[0], c->bounds_min[1], c->bounds_min[2]},
+                           {c->bounds_max[0], c->bounds_max[1], c->bounds_max[2]}};
+            if (!glm_aabb_frustum(box, planes)) {
+                culled++;
+                continue;
+            }
+        }
+        items[n++] = (DrawItem){view && view->eye ? box_distance(c, view->eye) : 0.f, i};
+    }
+    if (items && view && view->eye)
+        qsort(items, (size_t)n, sizeof(DrawItem), drawitem_cmp);
+    if (!items)
+        n = g->cluster_count;
+    if (view && view->culled)
+        *view->culled = culled;
+
     glBindVertexArray(g->vao);
     /* Opaque first (they fill depth that masked draws are then tested
      * against), masked after; one pass when both programs are the same. */
     for (int pass = 0; pass < (opaque == masked ? 1 : 2); pass++) {
         GLuint program = pass == 0 ? opaque : masked;
         glUseProgram(program);
-        for (int i = 0; i < s->submesh_count; i++) {
-            const Submesh *sm = &s->submeshes[i];
-            const Material *m = &s->materials[sm->material];
+        int bound = -1; /* the material whose uniforms are set */
+        for (int k = 0; k < n; k++) {
+            const GpuCluster *c = &g->clusters[items ? items[k].cluster : k];
+            int mi = s->submeshes[c->submesh].material;
+            const Material *m = &s->materials[mi];
             if ((flags & DRAW_SKIP_EMITTERS) && m->light_index >= 0)
                 continue;
             if (opaque != masked && m->alpha_mask != (pass == 1))
                 continue;
-            glProgramUniform3fv(program, LOC_MATERIAL_ALBEDO, 1, m->albedo);
-            glProgramUniform1i(program, LOC_MATERIAL_HAS_TEX, m->albedo_tex >= 0);
-            glProgramUniform1f(program, LOC_MATERIAL_CUTOFF, m->alpha_mask ? m->alpha_cutoff : -1.f);
-            glProgramUniform3fv(program, LOC_MATERIAL_EMISSION, 1, m->emission);
-            if (m->albedo_tex >= 0)
-                glBindTextureUnit(TEX_ALBEDO, g->textures[m->albedo_tex]);
-            glDrawElements(GL_TRIANGLES, (GLsizei)sm->index_count, GL_UNSIGNED_INT,
-                           (const void *)(sizeof(uint32_t) * sm->first_index));
+            if (mi != bound)
+                bind_material(g, m, program);
+            bound = mi;
+            glDrawElements(GL_TRIANGLES, (GLsizei)c->index_count, GL_UNSIGNED_INT,
+                           (const void *)(sizeof(uint32_t) * c->first_index));
         }
     }
     glBindVertexArray(0);
+    free(items);
 }

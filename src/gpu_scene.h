@@ -6,15 +6,29 @@
 
 #include <epoxy/gl.h>
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "scene.h"
+
+/* A run of at most GPU_CLUSTER_TRIANGLES triangles of one submesh, close
+ * together in space (sorted along a Morton curve of their centroids), with
+ * its bounds: the unit of culling and of front-to-back order. */
+#define GPU_CLUSTER_TRIANGLES 2048
+typedef struct GpuCluster {
+    uint32_t first_index; /* into the GPU index buffer */
+    uint32_t index_count;
+    int submesh;
+    float bounds_min[3], bounds_max[3];
+} GpuCluster;
 
 typedef struct GpuScene {
     GLuint vao;
     GLuint vbo;       /* Vertex[] */
-    GLuint ibo;       /* uint32 indices */
+    GLuint ibo;       /* uint32 indices, each submesh's triangles in cluster order */
     GLuint *textures; /* one per Scene.textures, sRGB with mipmaps */
     int texture_count;
+    GpuCluster *clusters; /* submesh by submesh, in scene order */
+    int cluster_count;
 } GpuScene;
 
 bool gpu_scene_create(GpuScene *g, const Scene *s);
@@ -25,11 +39,24 @@ typedef enum DrawFlags {
     DRAW_SKIP_EMITTERS = 1, /* light emitter geometry (shadow maps, RSM) */
 } DrawFlags;
 
+/* What a draw sees: clusters wholly outside the frustum of `view_proj` are
+ * skipped, and with `eye` the rest are drawn nearest first (so early depth
+ * rejects what they hide). NULL fields: every cluster, in scene order.
+ * `culled`, when set, receives the number of clusters skipped. */
+typedef struct DrawView {
+    const float *view_proj; /* column-major 4×4 (cglm mat4) */
+    const float *eye;       /* vec3 */
+    int *culled;
+} DrawView;
+
 /* Draws every submesh with `program`, setting the material uniforms
  * (LOC_MATERIAL_*) and binding its albedo texture to TEX_ALBEDO. */
 void gpu_scene_draw(const GpuScene *g, const Scene *s, GLuint program, DrawFlags flags);
 /* The same with opaque materials drawn by `opaque` (which may skip the
  * material altogether) and alpha-masked ones by `masked`. */
 void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags);
+/* gpu_scene_draw_split seen from `view` (NULL: the whole scene in order). */
+void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags,
+                         const DrawView *view);
 
 #endif

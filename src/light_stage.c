@@ -54,26 +54,25 @@ static bool rsm_map_create(RsmMap *m, bool cube, int size)
     GLenum target = cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
     m->size = size;
     m->cube = cube;
-    m->position = gl_texture_make(target, GL_RGBA32F, size, size, "rsm.position");
-    m->normal = gl_texture_make(target, GL_RGBA16F, size, size, "rsm.normal");
+    m->surfel = gl_texture_make(target, GL_RGBA32UI, size, size, "rsm.surfel");
     m->flux = gl_texture_make(target, GL_RGBA32F, size, size, "rsm.flux");
     m->depth = gl_texture_make(target, GL_DEPTH_COMPONENT32F, size, size, "rsm.depth");
-    const GLuint src[3] = {m->position, m->normal, m->flux};
-    const GLenum fmt[3] = {GL_RGBA32F, GL_RGBA16F, GL_RGBA32F};
-    glGenTextures(3, m->view); /* views need names that were never bound */
-    for (int i = 0; i < 3; i++) {
+    const GLuint src[2] = {m->surfel, m->flux};
+    const GLenum fmt[2] = {GL_RGBA32UI, GL_RGBA32F};
+    glGenTextures(2, m->view); /* views need names that were never bound */
+    for (int i = 0; i < 2; i++) {
         glTextureView(m->view[i], GL_TEXTURE_2D_ARRAY, src[i], fmt[i], 0, 1, 0, cube ? 6 : 1);
         glTextureParameteri(m->view[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTextureParameteri(m->view[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
-    return fbo_make(&m->fbo, src, 3, m->depth, cube, "rsm");
+    return fbo_make(&m->fbo, src, 2, m->depth, cube, "rsm");
 }
 
 static void rsm_map_destroy(RsmMap *m)
 {
-    GLuint t[4] = {m->position, m->normal, m->flux, m->depth};
-    glDeleteTextures(4, t);
-    glDeleteTextures(3, m->view);
+    GLuint t[3] = {m->surfel, m->flux, m->depth};
+    glDeleteTextures(3, t);
+    glDeleteTextures(2, m->view);
     glDeleteFramebuffers(1, &m->fbo);
     *m = (RsmMap){0};
 }
@@ -194,8 +193,10 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     ls->shadow_program = ls->shadow_programs[0][0] && ls->shadow_programs[0][1] && ls->shadow_programs[1][0] &&
                          ls->shadow_programs[1][1];
     ls->rsm_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm", .vert = "frame/scene.vert", .frag = "light/rsm.frag", .defines = NULL});
+    ls->rsm_program_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm_opaque", .vert = "frame/scene.vert",
+                                                                        .frag = "light/rsm.frag", .defines = "#define OPAQUE_DRAW\n"});
     ls->vpl_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "vpl_extract", .comp = "light/vpl_extract.comp", .defines = NULL});
-    if (!ls->shadow_program || !ls->rsm_program || !ls->vpl_program)
+    if (!ls->shadow_program || !ls->rsm_program || !ls->rsm_program_opaque || !ls->vpl_program)
         return false;
     GLint align = 256;
     glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
@@ -285,7 +286,13 @@ static void draw_faces(LightStage *ls, const Light *l, GLuint program, GLuint ma
         glProgramUniformMatrix4fv(program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
         if (masked != program)
             glProgramUniformMatrix4fv(masked, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
-        gpu_scene_draw_split(gs, ls->scene, program, masked, DRAW_SKIP_EMITTERS);
+        /* Clusters outside the face's frustum are skipped; the rest are
+         * drawn nearest to the light first (directional: scene order). */
+        int culled = 0;
+        DrawView view = {.view_proj = (const float *)f->view_proj[face],
+                         .eye = l->type == LIGHT_DIRECTIONAL ? NULL : l->position, .culled = &culled};
+        gpu_scene_draw_view(gs, ls->scene, program, masked, DRAW_SKIP_EMITTERS, ls->desc.no_cull ? NULL : &view);
+        ls->clusters_culled += culled;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
@@ -303,20 +310,22 @@ static void shadow_face(const LightStage *ls, int face, void *user)
 static void rsm_face(const LightStage *ls, int face, void *user)
 {
     RsmMap *m = user;
-    const GLuint src[3] = {m->position, m->normal, m->flux};
+    const GLuint src[2] = {m->surfel, m->flux};
     if (m->cube) {
-        for (int i = 0; i < 3; i++)
+        for (int i = 0; i < 2; i++)
             fbo_attach(m->fbo, GL_COLOR_ATTACHMENT0 + (GLenum)i, src[i], true, face);
         fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, true, face);
     }
+    const GLuint zero_u[4] = {0, 0, 0, 0};
     const float zero[4] = {0, 0, 0, 0}, one = 1.f;
-    for (int i = 0; i < 3; i++)
-        glClearNamedFramebufferfv(m->fbo, GL_COLOR, i, zero);
+    glClearNamedFramebufferuiv(m->fbo, GL_COLOR, 0, zero_u);
+    glClearNamedFramebufferfv(m->fbo, GL_COLOR, 1, zero);
     glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
     /* The face (or spot) axis is the view's −z row. */
     const float *v = (const float *)m->frame.view[face];
     vec3 axis = {-v[2], -v[6], -v[10]};
     glProgramUniform3fv(ls->rsm_program, LOC_RSM_FACE_AXIS, 1, axis);
+    glProgramUniform3fv(ls->rsm_program_opaque, LOC_RSM_FACE_AXIS, 1, axis);
 }
 
 /* What the VPLs depend on: the lights, the RSM sizes and the seed. */
@@ -397,7 +406,9 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         /* Texel area on the projection plane: ortho (2r/res)², perspective at
          * distance 1: k² with k = 2·tan(fov/2)/res. */
         glProgramUniform1f(ls->rsm_program, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
-        draw_faces(ls, &s->lights[i], ls->rsm_program, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face, m);
+        glProgramUniform1f(ls->rsm_program_opaque, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
+        draw_faces(ls, &s->lights[i], ls->rsm_program_opaque, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face,
+                   m);
     }
     if (timing)
         gpu_timer_end(t);
@@ -414,9 +425,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     glUseProgram(ls->vpl_program);
     for (int i = 0; i < ls->light_count; i++) {
         const RsmMap *m = &ls->rsm[i];
-        glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
-        glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
-        glBindTextureUnit(TEX_RSM_FLUX, m->view[2]);
+        light_stage_bind_rsm_layers(ls, i);
         GLuint n = (GLuint)m->size;
         glDispatchCompute((n + 7) / 8, (n + 7) / 8, m->cube ? 6 : 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -438,9 +447,15 @@ void light_stage_bind_rsm(const LightStage *ls, int i)
 {
     const RsmMap *m = &ls->rsm[i];
     bind_slot(ls, i, SLOT_RSM);
-    glBindTextureUnit(TEX_RSM_POSITION, m->position);
-    glBindTextureUnit(TEX_RSM_NORMAL, m->normal);
+    glBindTextureUnit(TEX_RSM_SURFEL, m->surfel);
     glBindTextureUnit(TEX_RSM_FLUX, m->flux);
+}
+
+void light_stage_bind_rsm_layers(const LightStage *ls, int i)
+{
+    const RsmMap *m = &ls->rsm[i];
+    glBindTextureUnit(TEX_RSM_SURFEL, m->view[0]);
+    glBindTextureUnit(TEX_RSM_FLUX, m->view[1]);
 }
 
 void light_stage_bind_vpls(const LightStage *ls)

@@ -46,11 +46,11 @@ typedef struct ShadowMap {
 typedef struct RsmMap {
     int size;          /* texels per side (per face) */
     bool cube;
-    GLuint position;   /* RGBA32F: xyz, w = 1 where a surface */
-    GLuint normal;     /* RGBA16F: normal of the lit side */
-    GLuint flux;       /* RGBA32F: reflected flux Φ (W) */
+    GLuint surfel;     /* RGBA32UI: position and normal of the lit side, packed
+                          (shaders/common/rsm_surfel.glsl); 0 where no surface */
+    GLuint flux;       /* RGBA32F: reflected flux Φ (W), a = surface area (m²) */
     GLuint depth;      /* DEPTH32F */
-    GLuint view[3];    /* 2D-array views of position, normal, flux (compute passes) */
+    GLuint view[2];    /* 2D-array views of surfel and flux (compute passes) */
     GLuint fbo;
     ShadowFrame frame; /* projection of the last frame */
     uint64_t key;      /* what it was last drawn for (0: never) */
@@ -70,6 +70,7 @@ typedef struct LightStageDesc {
     int vpl_count;        /* > 0: RSM size per light from this VPL budget */
     unsigned vpl_seed;    /* seed of the VPLs' fixed random ξ */
     bool cache;           /* redraw maps only when their light or size changed */
+    bool no_cull;         /* draw every cluster into every face (culling's baseline in tests) */
 } LightStageDesc;
 
 typedef struct LightStage {
@@ -85,9 +86,11 @@ typedef struct LightStage {
     int vpl_extractions;  /* how many times VPLs were extracted */
     int map_draws;        /* shadow maps and RSMs drawn, in all */
     int faces_drawn;      /* map faces the scene was drawn into, in all */
+    int clusters_culled;  /* clusters those faces skipped (outside their frustum), in all */
     GLuint shadow_programs[2][2]; /* [directional][alpha-masked], from the program cache */
     GLuint shadow_program;        /* nonzero when all four built */
     GLuint rsm_program, vpl_program; /* from the program cache */
+    GLuint rsm_program_opaque;       /* rsm_program for opaque materials: early depth */
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
 } LightStage;
 
@@ -110,8 +113,12 @@ void light_stage_invalidate(LightStage *ls);
 /* Binds light i's shadow-lookup block to UBO_LIGHT and its shadow map (or a
  * dummy) to TEX_SHADOW_2D/CUBE. */
 void light_stage_bind_shadow(const LightStage *ls, int i);
-/* Binds light i's RSM block to UBO_LIGHT and the RSM to TEX_RSM_*. */
+/* Binds light i's RSM block to UBO_LIGHT and the RSM (2D or cube) to
+ * TEX_RSM_SURFEL and TEX_RSM_FLUX. */
 void light_stage_bind_rsm(const LightStage *ls, int i);
+/* Binds light i's RSM as 2D arrays (one layer, or six for a cube) to the
+ * same units, for compute passes that walk its texels. */
+void light_stage_bind_rsm_layers(const LightStage *ls, int i);
 /* Binds the VPL buffer to SSBO_VPL and SSBO_COUNTERS. */
 void light_stage_bind_vpls(const LightStage *ls);
 /* The VPL count of the last extraction (waits for the GPU). */

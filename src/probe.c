@@ -70,7 +70,7 @@ bool probe_run(ProbeResult *out)
     program_cache_create(&pc);
     for (int c = 0; c < 2 && ok; c++) {
         for (int k = 0; k < 3; k++)
-            glBindTextureUnit((GLuint)(TEX_RSM_POSITION + k), maps[c][k]);
+            glBindTextureUnit((GLuint)(TEX_PROBE_MAP + k), maps[c][k]);
         glBindImageTexture(IMG_OUT, result, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         for (int f = c ? 1 : 0; f <= 3 && ok; f++) {
             char defs[96];

@@ -25,6 +25,7 @@ static LightStageDesc light_desc(const RenderSettings *rs)
     d.vpl_count = t->rsm_from_vpl_count ? gp->vpl_count : 0;
     d.vpl_seed = gp->vpl_seed;
     d.cache = rs->cache;
+    d.no_cull = rs->no_cull;
     return d;
 }
 
@@ -220,7 +221,7 @@ void renderer_frame(Renderer *r, const Camera *cam)
     light_stage_run(&r->lights, &r->gpu_scene, t);
 
     gpu_timer_begin(t, "gbuffer");
-    pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, &r->gbuffer);
+    pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, !r->settings.no_cull, &r->gbuffer);
     gpu_timer_end(t);
 
     gpu_timer_begin(t, "direct");

@@ -55,6 +55,7 @@ typedef struct RenderSettings {
     bool timings;     /* per-pass GPU timer queries */
     bool timing_sync; /* also wall time per pass (glFinish around passes) */
     bool cache;       /* keep light products (shadow maps, RSMs) until their light or size changes */
+    bool no_cull;     /* draw every cluster in scene order (culling's baseline in tests) */
     int ssaa;         /* N×N supersampling with a box filter; 0 or 1: off */
     AaMode aa;        /* post-process AA of the tone-mapped image */
 } RenderSettings;

@@ -5,6 +5,10 @@
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 
+#ifdef OPAQUE_DRAW
+layout(early_fragment_tests) in;
+#endif
+
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;

@@ -6,17 +6,21 @@
 #include "shared/gpu_types.h"
 #include "common/lights.glsl"
 #include "common/material.glsl"
+#include "common/rsm_surfel.glsl"
 
 layout(location = LOC_RSM_FACE_AXIS) uniform vec3 u_face_axis; // unit axis of this face / spot
 layout(location = LOC_RSM_TEXEL_AREA) uniform float u_texel_area; // a (perspective) or A (ortho)
+
+#ifdef OPAQUE_DRAW
+layout(early_fragment_tests) in;
+#endif
 
 in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
 
-layout(location = 0) out vec4 o_position;
-layout(location = 1) out vec4 o_normal;
-layout(location = 2) out vec4 o_flux;
+layout(location = 0) out uvec4 o_surfel; // position, normal (common/rsm_surfel.glsl)
+layout(location = 1) out vec4 o_flux;
 
 void main()
 {
@@ -47,7 +51,6 @@ void main()
         float c = abs(dot(normalize(d), u_face_axis));
         area = u_texel_area * c * c * c * dot(d, d) / cos_s;
     }
-    o_position = vec4(v_world, 1.0);
-    o_normal = vec4(n, 0.0);
+    o_surfel = rsm_surfel_pack(v_world, n);
     o_flux = vec4(albedo * power, area);
 }

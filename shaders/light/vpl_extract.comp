@@ -3,11 +3,11 @@
 // counts them. The RSM layers are read through 2D-array views (a 2D RSM is
 // one layer, a cube RSM six).
 #include "shared/gpu_types.h"
+#include "common/rsm_surfel.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = TEX_RSM_POSITION) uniform sampler2DArray r_position;
-layout(binding = TEX_RSM_NORMAL) uniform sampler2DArray r_normal;
+layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray r_surfel;
 layout(binding = TEX_RSM_FLUX) uniform sampler2DArray r_flux;
 layout(location = LOC_VPL_STRIDE) uniform int u_stride; // keep every stride-th texel per axis (subsampling)
 layout(location = LOC_VPL_SEED) uniform uint u_seed; // seed of the VPLs' random ξ
@@ -25,19 +25,19 @@ uint hash_u32(uint x)
 
 void main()
 {
-    ivec3 size = textureSize(r_position, 0);
+    ivec3 size = textureSize(r_surfel, 0);
     ivec3 id = ivec3(gl_GlobalInvocationID.xy * uint(u_stride), gl_GlobalInvocationID.z);
     if (id.x >= size.x || id.y >= size.y || id.z >= size.z)
         return;
-    vec4 p = texelFetch(r_position, id, 0);
+    uvec4 s = texelFetch(r_surfel, id, 0);
     vec4 fa = texelFetch(r_flux, id, 0) * float(u_stride * u_stride); // flux, area
     vec3 flux = fa.rgb;
-    if (p.w == 0.0 || max(flux.r, max(flux.g, flux.b)) <= 0.0)
+    if (!rsm_surfel_valid(s) || max(flux.r, max(flux.g, flux.b)) <= 0.0)
         return;
     uint texel = uint(id.x + size.x * (id.y + size.y * id.z));
     float xi = (float(hash_u32(texel ^ hash_u32(u_seed + 0x9e3779b9u)) >> 8) + 1.0) / 16777216.0;
     uint i = atomicAdd(counters[0], 1u);
-    vpls[i].position_xi = vec4(p.xyz, xi);
-    vpls[i].normal = vec4(texelFetch(r_normal, id, 0).xyz, 0.0);
+    vpls[i].position_xi = vec4(rsm_surfel_position(s), xi);
+    vpls[i].normal = vec4(rsm_surfel_normal(s), 0.0);
     vpls[i].flux = vec4(flux, fa.a);
 }

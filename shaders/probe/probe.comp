@@ -12,13 +12,13 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #ifdef CUBE
-layout(binding = TEX_RSM_POSITION) uniform samplerCube t_position;
-layout(binding = TEX_RSM_NORMAL) uniform samplerCube t_normal;
-layout(binding = TEX_RSM_FLUX) uniform samplerCube t_flux;
+layout(binding = TEX_PROBE_MAP) uniform samplerCube t_position;
+layout(binding = TEX_PROBE_MAP + 1) uniform samplerCube t_normal;
+layout(binding = TEX_PROBE_MAP + 2) uniform samplerCube t_flux;
 #else
-layout(binding = TEX_RSM_POSITION) uniform sampler2D t_position;
-layout(binding = TEX_RSM_NORMAL) uniform sampler2D t_normal;
-layout(binding = TEX_RSM_FLUX) uniform sampler2D t_flux;
+layout(binding = TEX_PROBE_MAP) uniform sampler2D t_position;
+layout(binding = TEX_PROBE_MAP + 1) uniform sampler2D t_normal;
+layout(binding = TEX_PROBE_MAP + 2) uniform sampler2D t_flux;
 #endif
 layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_result;
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };

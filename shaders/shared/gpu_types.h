@@ -39,9 +39,9 @@
 #define TEX_GB_ALBEDO 5
 #define TEX_GB_EMISSION 6
 #define TEX_HDR 7
-#define TEX_RSM_POSITION 8
-#define TEX_RSM_NORMAL 9
-#define TEX_RSM_FLUX 10
+#define TEX_RSM_SURFEL 8 /* RGBA32UI: position bits, octahedral normal (common/rsm_surfel.glsl) */
+#define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..2 at 8 + k */
+#define TEX_RSM_FLUX 10  /* RGBA32F: Φ rgb, a = area */
 #define TEX_GI 11        /* indirect irradiance */
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */

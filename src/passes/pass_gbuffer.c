@@ -7,20 +7,26 @@
 bool pass_gbuffer_create(PassGbuffer *p, ProgramCache *pc)
 {
     p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer", .vert = "frame/scene.vert", .frag = "frame/gbuffer.frag"});
-    return p->program != 0;
+    p->program_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer_opaque", .vert = "frame/scene.vert",
+                                                                   .frag = "frame/gbuffer.frag", .defines = "#define OPAQUE_DRAW\n"});
+    return p->program != 0 && p->program_opaque != 0;
 }
 
 void pass_gbuffer_destroy(PassGbuffer *p)
 {
     p->program = 0;
+    p->program_opaque = 0;
 }
 
-void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, GBuffer *out)
+void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull, GBuffer *out)
 {
     mat4 vp;
     camera_view_proj(cam, (float)out->width / (float)out->height, vp);
-    glProgramUniformMatrix4fv(p->program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
-    glProgramUniform3fv(p->program, LOC_EYE, 1, cam->position);
+    const GLuint programs[2] = {p->program_opaque, p->program};
+    for (int i = 0; i < 2; i++) {
+        glProgramUniformMatrix4fv(programs[i], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
+        glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
+    }
     const float zero[4] = {0, 0, 0, 0}, one = 1.f;
     for (int i = 0; i < 4; i++)
         glClearNamedFramebufferfv(out->fbo, GL_COLOR, i, zero);
@@ -31,7 +37,10 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
     glDepthFunc(GL_LESS);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
-    glUseProgram(p->program);
-    gpu_scene_draw(gs, s, p->program, DRAW_ALL);
+    /* Opaque materials with early depth, nearest clusters first so it
+     * rejects what they hide; alpha-masked ones after, with their discard.
+     * Clusters outside the view frustum are skipped. */
+    DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = &p->culled};
+    gpu_scene_draw_view(gs, s, p->program_opaque, p->program, DRAW_ALL, cull ? &view : NULL);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

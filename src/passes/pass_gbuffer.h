@@ -12,12 +12,16 @@
 #include "targets.h"
 
 typedef struct PassGbuffer {
-    GLuint program;
+    GLuint program;        /* every material (alpha-masked ones discard holes) */
+    GLuint program_opaque; /* opaque materials only: early depth */
+    int culled; /* clusters outside the view in the last run */
 } PassGbuffer;
 
 /* Its program comes from `pc`. */
 bool pass_gbuffer_create(PassGbuffer *p, ProgramCache *pc);
 void pass_gbuffer_destroy(PassGbuffer *p);
-void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, GBuffer *out);
+/* With `cull`, clusters outside the camera's frustum are skipped and the
+ * rest drawn nearest first; the image is the same either way. */
+void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull, GBuffer *out);
 
 #endif

@@ -10,16 +10,23 @@
 #ifndef LPV_SURFEL_GLSL
 #define LPV_SURFEL_GLSL
 
+// surfel_position: xyz, w = 1 where the texel holds a surface.
 #ifdef GBUFFER
 layout(binding = TEX_GB_POSITION) uniform sampler2D s_position;
 layout(binding = TEX_GB_NORMAL) uniform sampler2D s_normal;
-#define SURFEL_FETCH(tex, q) texelFetch(tex, (q).xy, 0)
+vec4 surfel_position(ivec3 q) { return texelFetch(s_position, q.xy, 0); }
+vec3 surfel_normal(ivec3 q) { return texelFetch(s_normal, q.xy, 0).xyz; }
 ivec3 surfel_size() { return ivec3(textureSize(s_position, 0), 1); }
 #else
-layout(binding = TEX_RSM_POSITION) uniform sampler2DArray s_position;
-layout(binding = TEX_RSM_NORMAL) uniform sampler2DArray s_normal;
-#define SURFEL_FETCH(tex, q) texelFetch(tex, q, 0)
-ivec3 surfel_size() { return textureSize(s_position, 0); }
+#include "common/rsm_surfel.glsl"
+layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray s_surfel;
+vec4 surfel_position(ivec3 q)
+{
+    uvec4 s = texelFetch(s_surfel, q, 0);
+    return vec4(rsm_surfel_position(s), rsm_surfel_valid(s) ? 1.0 : 0.0);
+}
+vec3 surfel_normal(ivec3 q) { return rsm_surfel_normal(texelFetch(s_surfel, q, 0)); }
+ivec3 surfel_size() { return textureSize(s_surfel, 0); }
 #endif
 
 // The shorter valid difference to the neighbours along `axis`; zero if none.
@@ -31,7 +38,7 @@ vec3 surfel_tangent(ivec3 q, ivec3 axis, ivec2 size, vec3 p)
         ivec3 r = q + s * axis;
         if (any(lessThan(r.xy, ivec2(0))) || any(greaterThanEqual(r.xy, size)))
             continue;
-        vec4 o = SURFEL_FETCH(s_position, r);
+        vec4 o = surfel_position(r);
         if (o.w == 0.0)
             continue;
         vec3 d = o.xyz - p;
@@ -48,13 +55,13 @@ vec3 surfel_tangent(ivec3 q, ivec3 axis, ivec2 size, vec3 p)
 bool lpv_surfel(ivec3 q, float max_area, out vec3 p, out vec3 n, out float area)
 {
     ivec2 size = surfel_size().xy;
-    vec4 pw = SURFEL_FETCH(s_position, q);
+    vec4 pw = surfel_position(q);
     p = pw.xyz;
     n = vec3(0.0, 1.0, 0.0);
     area = 0.0;
     if (pw.w == 0.0)
         return false;
-    n = normalize(SURFEL_FETCH(s_normal, q).xyz);
+    n = normalize(surfel_normal(q));
     vec3 du = surfel_tangent(q, ivec3(1, 0, 0), size, p), dv = surfel_tangent(q, ivec3(0, 1, 0), size, p);
     bool u = du != vec3(0.0), v = dv != vec3(0.0);
     area = u && v ? abs(dot(cross(du, dv), n)) : u ? dot(du, du) : v ? dot(dv, dv) : 0.0;

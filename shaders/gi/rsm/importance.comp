@@ -51,8 +51,8 @@ void main()
 }
 #elif defined(MODE_SAMPLE)
 layout(binding = TEX_INPUT) uniform sampler2DArray u_pyramid;
-layout(binding = TEX_RSM_POSITION) uniform sampler2DArray r_position;
-layout(binding = TEX_RSM_NORMAL) uniform sampler2DArray r_normal;
+#include "common/rsm_surfel.glsl"
+layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray r_surfel;
 layout(binding = TEX_RSM_FLUX) uniform sampler2DArray r_flux;
 layout(std430, binding = SSBO_SAMPLES) writeonly buffer SampleBlock { GpuVpl samples[]; };
 
@@ -130,12 +130,12 @@ void main()
     ivec3 t = ivec3(p, face);
     float lum = texelFetch(u_pyramid, t, 0).r;
     vec3 flux = texelFetch(r_flux, t, 0).rgb;
-    vec4 pos = texelFetch(r_position, t, 0);
+    uvec4 s = texelFetch(r_surfel, t, 0);
     // Φ_t / p_t with p_t = lum_t / total; empty texels (p = 0) are never
     // chosen unless the whole map is dark, and then carry nothing.
-    vec3 w = lum > 0.0 && pos.w > 0.0 ? flux * (total / lum) : vec3(0.0);
-    samples[i].position_xi = vec4(pos.xyz, 0.0);
-    samples[i].normal = vec4(texelFetch(r_normal, t, 0).xyz, 0.0);
+    vec3 w = lum > 0.0 && rsm_surfel_valid(s) ? flux * (total / lum) : vec3(0.0);
+    samples[i].position_xi = vec4(rsm_surfel_position(s), 0.0);
+    samples[i].normal = vec4(rsm_surfel_normal(s), 0.0);
     samples[i].flux = vec4(w, 0.0);
 }
 #endif

@@ -17,13 +17,12 @@
 layout(std430, binding = SSBO_PATTERN) readonly buffer PatternBlock { vec4 pattern[]; };
 layout(std430, binding = SSBO_SAMPLES) readonly buffer SampleBlock { GpuVpl rsm_samples[]; };
 
+#include "common/rsm_surfel.glsl"
 #ifdef RSM_CUBE
-layout(binding = TEX_RSM_POSITION) uniform samplerCube rsm_position;
-layout(binding = TEX_RSM_NORMAL) uniform samplerCube rsm_normal;
+layout(binding = TEX_RSM_SURFEL) uniform usamplerCube rsm_surfel;
 layout(binding = TEX_RSM_FLUX) uniform samplerCube rsm_flux;
 #else
-layout(binding = TEX_RSM_POSITION) uniform sampler2D rsm_position;
-layout(binding = TEX_RSM_NORMAL) uniform sampler2D rsm_normal;
+layout(binding = TEX_RSM_SURFEL) uniform usampler2D rsm_surfel;
 layout(binding = TEX_RSM_FLUX) uniform sampler2D rsm_flux;
 #endif
 
@@ -64,23 +63,24 @@ vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count, bool unbiased,
         vec2 q = st + scale * smp.xy;
 #ifdef RSM_CUBE
         vec3 D = a + q.x * r + q.y * u;
-        vec3 xp = textureLod(rsm_position, D, 0.0).xyz;
-        vec4 np = textureLod(rsm_normal, D, 0.0);
+        uvec4 s = textureLod(rsm_surfel, D, 0.0);
         vec3 flux = textureLod(rsm_flux, D, 0.0).rgb;
-        vec3 Dn = normalize(D);
-        float jac = pow(abs(dot(Dn, a)) / abs(dot(Dn, major_axis(D))), 3.0);
+        // Texels per plane area where D meets its own face, relative to the
+        // face of x: (|D·a| / |D·major(D)|)³ with D·a = 1, i.e. m⁻³ for
+        // m = max(1, |q.x|, |q.y|) (D's components along a, r, u are 1, q).
+        float m = max(1.0, max(abs(q.x), abs(q.y)));
+        float jac = 1.0 / (m * m * m);
 #else
         if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, vec2(1.0)))) {
             if (!unbiased)
                 wsum += smp.z * smp.z; // a sample of empty space still counts in the average
             continue;
         }
-        vec3 xp = textureLod(rsm_position, q, 0.0).xyz;
-        vec4 np = textureLod(rsm_normal, q, 0.0);
+        uvec4 s = textureLod(rsm_surfel, q, 0.0);
         vec3 flux = textureLod(rsm_flux, q, 0.0).rgb;
         float jac = 1.0;
 #endif
-        vec3 e = vpl_irradiance(x, n, xp, np.xyz, flux);
+        vec3 e = vpl_irradiance(x, n, rsm_surfel_position(s), rsm_surfel_normal(s), flux);
         if (unbiased) {
             sum += e * (2.0 * smp.z * jac);
         } else {

@@ -372,8 +372,7 @@ static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
             if (pi == 0) {
                 for (int i = 0; i < ls->light_count; i++) {
                     const RsmMap *m = &ls->rsm[i];
-                    glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
-                    glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
+                    light_stage_bind_rsm_layers(ls, i);
                     glDispatchCompute((GLuint)(m->size + 7) / 8, (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
                 }
             } else {
@@ -414,8 +413,7 @@ static void inject_geometry(LpvGi *l, const GiFrame *f)
         glUseProgram(l->geom_rsm);
         for (int i = 0; i < ls->light_count; i++) {
             const RsmMap *m = &ls->rsm[i];
-            glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
-            glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
+            light_stage_bind_rsm_layers(ls, i);
             glDrawArrays(GL_POINTS, 0, m->size * m->size * (m->cube ? 6 : 1));
         }
         if (l->params.lpv_gbuffer_occlusion) {

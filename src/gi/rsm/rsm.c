@@ -183,9 +183,7 @@ static void importance_run(RsmGi *g, const LightStage *ls, int i)
     const RsmMap *m = &ls->rsm[i];
     int layers = m->cube ? 6 : 1, top = g->pyramid_levels[i] - 1;
     int p = 1 << top;
-    glBindTextureUnit(TEX_RSM_POSITION, m->view[0]);
-    glBindTextureUnit(TEX_RSM_NORMAL, m->view[1]);
-    glBindTextureUnit(TEX_RSM_FLUX, m->view[2]);
+    light_stage_bind_rsm_layers(ls, i);
     glBindImageTexture(IMG_OUT, g->pyramid[i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
     glUseProgram(g->importance[0]);
     glDispatchCompute((GLuint)(p + 7) / 8, (GLuint)(p + 7) / 8, (GLuint)layers);

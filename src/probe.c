@@ -122,7 +122,7 @@ double probe_bound(const ProbeResult *r, bool vpl, bool cube, double from_list)
 {
     if (vpl)
         return r->evals_ssbo;
-    double tex = cube ? r->evals_cube[3] : r->evals_2d[3];
+    double tex = cube ? r->evals_cube[PROBE_RSM_FETCHES] : r->evals_2d[PROBE_RSM_FETCHES];
     /* Time per evaluation adds up over the two kinds of sample. */
     return 1.0 / ((1.0 - from_list) / tex + from_list / r->evals_ssbo);
 }

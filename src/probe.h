@@ -8,6 +8,10 @@
 
 #include <stdbool.h>
 
+/* Texture fetches per RSM gather sample (shaders/common/rsm_surfel.glsl:
+ * surfel + flux): the probe kernel that bounds the gathers. */
+#define PROBE_RSM_FETCHES 2
+
 typedef struct ProbeResult {
     double evals_2d[4];   /* evaluations/s with 0..3 fetches per sample from 2D maps */
     double evals_cube[4]; /* the same from cube maps ([0] = [0] of 2D) */

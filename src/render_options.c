@@ -226,8 +226,8 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
 }
 
 /* The gather's evaluations/s over its passes' GPU time and, with a probe
- * result, the fraction of the matching bound (3 fetches per sample: RSM
- * position/normal/flux, or a VPL's three vec4). */
+ * result, the fraction of the matching bound (PROBE_RSM_FETCHES fetches per
+ * RSM sample: surfel and flux; or a VPL's three vec4). */
 static void print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
 {
     static const char *const passes[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
@@ -247,8 +247,8 @@ static void print_gather_efficiency(const Renderer *r, const RenderStats *st, co
     if (have) {
         double bound = probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list);
         printf("gather_probe_bound: %.4g (%s)\n", bound,
-               st->gather_vpl ? "ssbo_vpl" : st->gather_from_list > 0 ? (st->gather_cube ? "cube_fetch3 + ssbo_vpl" : "2d_fetch3 + ssbo_vpl")
-                              : st->gather_cube ? "cube_fetch3" : "2d_fetch3");
+               st->gather_vpl ? "ssbo_vpl" : st->gather_from_list > 0 ? (st->gather_cube ? "cube_fetch2 + ssbo_vpl" : "2d_fetch2 + ssbo_vpl")
+                              : st->gather_cube ? "cube_fetch2" : "2d_fetch2");
         printf("gather_fraction_of_bound: %.3f\n", rate / bound);
     }
 }

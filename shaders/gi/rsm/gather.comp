@@ -22,7 +22,7 @@ layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
 #ifdef MODE_LIST
-layout(std430, binding = SSBO_PIXEL_LIST) readonly buffer PixelList { uint list_count; uint list[]; };
+layout(std430, binding = SSBO_PIXEL_LIST) readonly buffer PixelList { uint list_count; uint groups_x, groups_y, groups_z; uint list[]; };
 #endif
 layout(location = LOC_GATHER_EXHAUSTIVE) uniform int u_exhaustive;
 layout(location = LOC_GATHER_ACCUMULATE) uniform int u_accumulate;
@@ -75,7 +75,8 @@ void main()
     ivec2 px = min(gid * f + f / 2, ivec2(u_frame.width, u_frame.height) - 1), at = gid;
     int first = 0, stride = 1, count = N;
 #elif defined(MODE_LIST)
-    uint index = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    // Dispatched indirectly (interp.comp): 64 consecutive entries per group.
+    uint index = gl_WorkGroupID.x * 64u + gl_LocalInvocationIndex;
     if (index >= list_count)
         return;
     uint code = list[index];

@@ -12,18 +12,21 @@ layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
 layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(binding = TEX_INPUT) uniform sampler2D u_lowres;
 layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
-layout(std430, binding = SSBO_PIXEL_LIST) buffer PixelList { uint list_count; uint list[]; };
+// The list: its count, then the arguments of the indirect dispatch of the
+// full gathers (one 64-lane group per 64 entries), then the entries. Each
+// 8×8 tile appends its pixels as one contiguous run in row order, so that
+// neighbouring lanes of the full gather shade neighbouring pixels.
+layout(std430, binding = SSBO_PIXEL_LIST) buffer PixelList { uint list_count; uint groups_x, groups_y, groups_z; uint list[]; };
 
-void main()
+shared uint s_count, s_base;
+
+// Interpolated irradiance of pixel px, or false if it needs a full gather.
+bool interpolate(ivec2 px, out vec4 result)
 {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(px, ivec2(u_frame.width, u_frame.height))))
-        return;
+    result = vec4(0.0);
     vec4 p = texelFetch(g_position, px, 0);
-    if (p.w == 0.0) {
-        imageStore(o_irradiance, px, vec4(0.0));
-        return;
-    }
+    if (p.w == 0.0)
+        return true;
     vec3 n = texelFetch(g_normal, px, 0).xyz;
     int f = u_gi.interp_factor;
     float max_dist = u_gi.interp_dist * distance(p.xyz, u_frame.camera.xyz);
@@ -46,10 +49,28 @@ void main()
         wsum += w;
         usable++;
     }
-    if (usable >= 3) {
-        imageStore(o_irradiance, px, vec4(sum / wsum, 1.0));
-    } else {
-        uint i = atomicAdd(list_count, 1u);
-        list[i] = uint(px.x) | (uint(px.y) << 16);
+    result = vec4(sum / max(wsum, 1e-30), 1.0);
+    return usable >= 3;
+}
+
+void main()
+{
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (gl_LocalInvocationIndex == 0u)
+        s_count = 0u;
+    barrier();
+    bool inside = all(lessThan(px, ivec2(u_frame.width, u_frame.height)));
+    vec4 e;
+    bool listed = inside && !interpolate(px, e);
+    if (inside && !listed)
+        imageStore(o_irradiance, px, e);
+    uint slot = listed ? atomicAdd(s_count, 1u) : 0u;
+    barrier();
+    if (gl_LocalInvocationIndex == 0u && s_count > 0u) {
+        s_base = atomicAdd(list_count, s_count);
+        atomicMax(groups_x, (s_base + s_count + 63u) / 64u);
     }
+    barrier();
+    if (listed)
+        list[s_base + slot] = uint(px.x) | (uint(px.y) << 16);
 }

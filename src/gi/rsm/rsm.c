@@ -24,6 +24,10 @@
 #include "log.h"
 #include "shader.h"
 
+/* The interp pixel list: count, indirect dispatch arguments (x, y, z),
+ * then the entries (gi/rsm/interp.comp). */
+#define PIXEL_LIST_HEADER 4
+
 typedef enum RsmVariant { RSM_FULL, RSM_INTERP, RSM_INTERLEAVED } RsmVariant;
 typedef enum GatherLayout { GATHER_FULL, GATHER_LOWRES, GATHER_LIST, GATHER_INTERLEAVED, GATHER_LAYOUTS } GatherLayout;
 
@@ -111,7 +115,7 @@ static bool rsm_resize(void *state, int w, int h)
     if (g->variant == RSM_INTERP) {
         g->lowres = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->gpu.low_width, g->gpu.low_height, "gi.lowres");
         glCreateBuffers(1, &g->list);
-        glNamedBufferStorage(g->list, (GLsizeiptr)(sizeof(uint32_t) * (1 + (size_t)w * h)), NULL,
+        glNamedBufferStorage(g->list, (GLsizeiptr)(sizeof(uint32_t) * (PIXEL_LIST_HEADER + (size_t)w * h)), NULL,
                              GL_DYNAMIC_STORAGE_BIT);
         glObjectLabel(GL_BUFFER, g->list, -1, "gi.pixel_list");
     } else if (g->variant == RSM_INTERLEAVED) {
@@ -305,7 +309,14 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
             case GATHER_INTERLEAVED:
                 gi_dispatch_pixels(g->il.di_w, g->il.di_h);
                 break;
-            default: /* FULL; LIST: one thread per possible entry, those past the count return at once */
+            case GATHER_LIST: /* 64 entries per group, as many as interp.comp counted */
+                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, g->list);
+                glDispatchComputeIndirect(sizeof(uint32_t));
+                glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+                glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                                GL_SHADER_STORAGE_BARRIER_BIT);
+                break;
+            default:
                 gi_dispatch_pixels(g->width, g->height);
                 break;
             }
@@ -335,8 +346,9 @@ static void rsm_run(void *state, const GiFrame *f)
         gather_lights(g, f, GATHER_LOWRES, f->irradiance);
         gpu_timer_end(t);
         gpu_timer_begin(t, "rsm_interp");
-        const uint32_t zero = 0;
-        glNamedBufferSubData(g->list, 0, sizeof zero, &zero);
+        /* Count 0; the full gathers' indirect dispatch: 0 × 1 × 1 groups. */
+        const uint32_t header[PIXEL_LIST_HEADER] = {0, 0, 1, 1};
+        glNamedBufferSubData(g->list, 0, sizeof header, header);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PIXEL_LIST, g->list);
         glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
         glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
@@ -344,6 +356,7 @@ static void rsm_run(void *state, const GiFrame *f)
         glBindImageTexture(IMG_OUT, f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glUseProgram(g->interp);
         gi_dispatch_pixels(g->width, g->height);
+        glMemoryBarrier(GL_COMMAND_BARRIER_BIT); /* the list's dispatch arguments */
         gpu_timer_end(t);
         gpu_timer_begin(t, "rsm_gather_full");
         gather_lights(g, f, GATHER_LIST, f->irradiance);

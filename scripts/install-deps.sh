@@ -5,7 +5,7 @@ set -euo pipefail
 PKGS=(build-essential cmake pkg-config
       libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       libcglm-dev libstb-dev libassimp-dev libglfw3-dev libembree-dev
-      libcjson-dev libcmocka-dev
+      libcjson-dev libcmocka-dev libopenexr-dev
       xvfb xauth)  # xvfb/xauth: the window test runs 'rtgi view' under xvfb-run
 missing=()
 for p in "${PKGS[@]}"; do

@@ -65,6 +65,7 @@ void cmd_bench_help(void)
            "  --exposure E       exposure of FLIP and SSIM (default: the scene's)\n"
            "  --cache DIR        reference cache (default: out/ref-cache)\n"
            "  --threads T        reference threads (default: all cores)\n"
+           "  --markdown         also print the results as a Markdown table on stdout\n"
            "  --quiet            errors only\n"
            "  --OPTION VALUE     any setting of `rtgi render --help` for every technique\n"
            "                     (bench sets --vpls 16384 unless given)\n",
@@ -359,6 +360,15 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     }
     cJSON_AddItemToObject(o, "gpu_ms", json_num(e->gpu_ms));
     cJSON_AddItemToObject(o, "frame_ms", json_num(e->frame_ms));
+    /* The technique's counters of the last frame, per pixel where they are. */
+    const RenderStats *st = &r->stats;
+    double px = (double)e->rs.width * e->rs.height;
+    cJSON *sj = cJSON_AddObjectToObject(o, "stats");
+    cJSON_AddNumberToObject(sj, "vpl_count", st->vpl_count);
+    cJSON_AddNumberToObject(sj, "vpl_evaluations_per_pixel", (double)st->vpl_evaluations / px);
+    cJSON_AddNumberToObject(sj, "vpl_candidates_per_pixel", (double)st->vpl_candidates / px);
+    cJSON_AddNumberToObject(sj, "gather_evaluations_per_pixel", (double)st->gather_evaluations / px);
+    cJSON_AddNumberToObject(sj, "gathered_pixels", st->gathered_pixels);
     cJSON *m = cJSON_AddObjectToObject(o, "metrics");
     cJSON_AddItemToObject(m, "rmse", json_num(e->rmse));
     cJSON_AddItemToObject(m, "relmse", json_num(e->relmse));
@@ -376,6 +386,40 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     return o;
 }
 
+static double num(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* The results as a Markdown table (what scripts/bench-*.sh print). */
+static void print_markdown(const cJSON *doc)
+{
+    const cJSON *ref = cJSON_GetObjectItem(doc, "reference");
+    printf("%s, %dx%d, reference %s %d spp, %s, %s\n\n", cJSON_GetObjectItem(doc, "scene")->valuestring,
+           (int)num(doc, "width"), (int)num(doc, "height"), cJSON_GetObjectItem(ref, "mode")->valuestring,
+           (int)num(ref, "spp"), cJSON_GetObjectItem(doc, "gl_renderer")->valuestring,
+           cJSON_GetObjectItem(doc, "commit")->valuestring);
+    printf("| technique | GPU ms per pass | GPU ms | ms/frame | VPLs | evaluations/pixel | RMSE | relMSE | FLIP | "
+           "mean ÷ ref |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    const cJSON *e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(doc, "techniques")) {
+        printf("| %s | ", cJSON_GetObjectItem(e, "label")->valuestring);
+        const cJSON *p;
+        bool first = true;
+        cJSON_ArrayForEach(p, cJSON_GetObjectItem(e, "passes")) {
+            printf("%s%s %.1f", first ? "" : ", ", cJSON_GetObjectItem(p, "name")->valuestring, num(p, "gpu_ms"));
+            first = false;
+        }
+        const cJSON *st = cJSON_GetObjectItem(e, "stats"), *m = cJSON_GetObjectItem(e, "metrics");
+        double ev = num(st, "vpl_evaluations_per_pixel");
+        if (!(ev > 0))
+            ev = num(st, "gather_evaluations_per_pixel");
+        printf(" | %.1f | %.1f | %.0f | %.0f | %.5f | %.5f | %.4f | %.3f |\n", num(e, "gpu_ms"), num(e, "frame_ms"),
+               num(st, "vpl_count"), ev, num(m, "rmse"), num(m, "relmse"), num(m, "flip"), num(m, "mean_ratio"));
+    }
+}
+
 /* Writes `text` atomically to DIR/name. */
 static bool write_text(const char *dir, const char *name, const char *text)
 {
@@ -389,7 +433,7 @@ static bool write_text(const char *dir, const char *name, const char *text)
     return util_atomic_commit(&af, "bench");
 }
 
-static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--out", "--quiet", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--threads", "--verbose", NULL};
+static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--quiet", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--threads", "--verbose", NULL};
 
 int cmd_bench(int argc, char **argv)
 {
@@ -397,6 +441,7 @@ int cmd_bench(int argc, char **argv)
     const char *cache = "out/ref-cache";
     int width = 256, height = 256, frames = 3;
     float exposure = -1.f;
+    bool markdown = false;
     PtSettings ps;
     pt_settings_default(&ps);
     ps.spp = 256;
@@ -457,6 +502,8 @@ int cmd_bench(int argc, char **argv)
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1024, &ps.threads))
                 return 2;
+        } else if (!strcmp(opt, "--markdown")) {
+            markdown = true;
         } else if (!strcmp(opt, "--quiet")) {
             log_set_level(LOG_ERROR);
         } else if (!strcmp(opt, "--verbose")) {
@@ -655,6 +702,8 @@ int cmd_bench(int argc, char **argv)
         if (!report_html_write(p, doc, imgs, n + 1))
             goto done;
     }
+    if (markdown)
+        print_markdown(doc);
     rc = 0;
     log_info("bench", "wrote %s/bench.json and %s/report.html (%d techniques)", out, out, n);
 done:

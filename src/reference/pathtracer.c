@@ -366,11 +366,14 @@ static void *worker(void *arg)
 }
 
 /* Progress on stderr: a bar redrawn in place on a terminal, else one line
- * every 5 s (logs); with the samples reached, rays/s and the time left. */
+ * every 5 s (logs) and a last one; with the samples reached, rays/s and the
+ * time left. */
 static void draw_progress(Job *j, double frac, double elapsed, bool last)
 {
     bool tty = isatty(STDERR_FILENO);
-    if (!tty && !last && elapsed - j->printed_at < 5.0)
+    /* Off a terminal a render under 5 s prints nothing (the final line only
+     * closes earlier ones). */
+    if (!tty && (last ? j->printed_at <= 0 : elapsed - j->printed_at < 5.0))
         return;
     j->printed_at = elapsed;
     double rps = elapsed > 0 ? (double)atomic_load(&j->rays) / elapsed : 0.0;

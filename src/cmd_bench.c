@@ -25,6 +25,7 @@
 #include "gl_context.h"
 #include "image.h"
 #include "log.h"
+#include "version.h" /* generated: RTGI_VERSION */
 #include "metrics.h"
 #include "reference/pathtracer.h"
 #include "render_options.h"
@@ -32,10 +33,6 @@
 #include "report_html.h"
 #include "settings.h"
 #include "util.h"
-
-#ifndef RTGI_VERSION
-#define RTGI_VERSION "unknown"
-#endif
 
 /* Raise when the reference's light transport changes: old cache entries
  * then no longer match. */

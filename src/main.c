@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "json_util.h"
 #include "log.h"
+#include "version.h" /* generated: RTGI_VERSION */
 
 static void usage(FILE *f)
 {

@@ -5,8 +5,9 @@ set -euo pipefail
 PKGS=(build-essential cmake pkg-config
       libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       libcglm-dev libstb-dev libassimp-dev libglfw3-dev libembree-dev
-      libcjson-dev libcmocka-dev
-      xvfb xauth)  # xvfb/xauth: the window test runs 'rtgi view' under xvfb-run
+      libcjson-dev libcmocka-dev libopenexr-dev
+      xvfb xauth   # xvfb/xauth: the window test runs 'rtgi view' under xvfb-run
+      chromium)    # test_bench opens the report of rtgi bench in headless Chromium
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")

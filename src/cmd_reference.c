@@ -1,4 +1,5 @@
 /* cmd_reference.c — `rtgi reference`: the path-traced ground truth. */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,8 +21,10 @@ void cmd_reference_help(void)
            "  --sampler sobol|independent   Owen-scrambled Sobol' or independent random numbers (default: sobol)\n"
            "  --seed S           random seed (default: 1); same seed → same image\n"
            "  --threads T        worker threads (default: all cores)\n"
-           "  --size WxH         image size (default: 256x256)\n"
-           "  --out FILE.pfm|FILE.png   (default: out/reference.pfm)\n"
+           "  --size WxH         image size (default: 256x256, as rtgi render)\n"
+           "  --out FILE.pfm|FILE.exr|FILE.png   (default: out/reference.pfm); an EXR records the\n"
+           "                     samples per pixel reached in its header (int attribute rtgi_spp)\n"
+           "  --half             EXR output as half floats (default: float32)\n"
            "  --exposure E       for PNG output (default: scene's)\n"
            "  --max-depth N      path vertices at most (default: 64)\n"
            "  --no-rr            disable Russian roulette\n"
@@ -32,11 +35,32 @@ void cmd_reference_help(void)
            "  --png FILE.png     also write the tone-mapped PNG\n"
            "  --emitter-mask FILE.png   also write the mask of pixels that see an emitter\n"
            "                     (black; render --emitter-mask writes the same one)\n"
-           "  --quiet            no progress bar\n");
+           "  --quiet            no progress (else on stderr: samples, rays/s, time left)\n"
+           "Ctrl-C (SIGINT) finishes the current pass (a few samples per pixel) and writes the\n"
+           "image with the samples reached ('spp:' line; EXR attribute rtgi_spp); a second\n"
+           "Ctrl-C ends the program at once.\n");
 }
 
 /* The options this command knows (for "did you mean"). */
-static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--quiet", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--threads", "--variance", "--verbose", NULL};
+static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--quiet", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--threads", "--variance", "--verbose", NULL};
+
+/* Set by SIGINT: the path tracer finishes its pass and stops. */
+static volatile int g_interrupted;
+
+static void on_sigint(int sig)
+{
+    (void)sig;
+    g_interrupted = 1;
+}
+
+/* Writes the mean image by extension; an EXR carries the samples per pixel. */
+static bool write_mean(const char *out, const ImageF *mean, float exposure, bool half, int spp, int spp_asked)
+{
+    if (!util_ends_with(out, ".exr"))
+        return image_write(out, mean, exposure);
+    ImageAttr attrs[2] = {{"rtgi_spp", spp}, {"rtgi_spp_requested", spp_asked}};
+    return image_write_exr(out, mean, half, attrs, 2);
+}
 
 int cmd_reference(int argc, char **argv)
 {
@@ -46,7 +70,7 @@ int cmd_reference(int argc, char **argv)
     set.threads = cores > 0 ? (int)cores : 1;
     const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL, *png = NULL, *emitter_mask = NULL;
     float exposure = -1.f, light_scale = -1.f;
-    bool quiet = false;
+    bool quiet = false, half = false;
     CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
@@ -89,8 +113,8 @@ int cmd_reference(int argc, char **argv)
         } else if (!strcmp(opt, "--out")) {
             CLI_VALUE(&a, v);
             out = v;
-            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
-                log_error("cli", "--out: '%s' must end in .png or .pfm", v);
+            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
+                log_error("cli", "--out: '%s' must end in .png, .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--png")) {
@@ -110,8 +134,8 @@ int cmd_reference(int argc, char **argv)
         } else if (!strcmp(opt, "--variance")) {
             CLI_VALUE(&a, v);
             var_out = v;
-            if (!util_ends_with(v, ".pfm")) {
-                log_error("cli", "--variance: '%s' must end in .pfm", v);
+            if (!util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
+                log_error("cli", "--variance: '%s' must end in .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--exposure")) {
@@ -130,6 +154,8 @@ int cmd_reference(int argc, char **argv)
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 100000, &set.rr_depth))
                 return 2;
+        } else if (!strcmp(opt, "--half")) {
+            half = true;
         } else if (!strcmp(opt, "--no-rr")) {
             set.russian_roulette = false;
         } else if (!strcmp(opt, "--no-jitter")) {
@@ -146,7 +172,8 @@ int cmd_reference(int argc, char **argv)
     }
     if (cli_failed(&a))
         return 2;
-    set.progress = !quiet && isatty(STDERR_FILENO);
+    set.progress = !quiet;
+    set.stop = &g_interrupted;
 
     /* The path tracer holds two double sums per channel and pixel, the mean
      * and the variance images: check that they fit before it allocates. */
@@ -169,13 +196,23 @@ int cmd_reference(int argc, char **argv)
     ImageF mean = {0}, var = {0};
     PtStats st = {0};
     int rc = 1;
-    if (pt_render(&scene, &set, &mean, var_out ? &var : NULL, &st)) {
+    /* Ctrl-C: finish the pass, write what was reached; a second one kills. */
+    struct sigaction sa = {0}, old_sa;
+    sa.sa_handler = on_sigint;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_sa);
+    bool rendered = pt_render(&scene, &set, &mean, var_out ? &var : NULL, &st);
+    sigaction(SIGINT, &old_sa, NULL);
+    if (rendered && st.spp < set.spp)
+        log_info("reference", "interrupted: writing the partial image with %d of %d spp", st.spp, set.spp);
+    if (rendered) {
         float e = exposure >= 0.f ? exposure : scene.exposure;
         /* All outputs or none: a later failure removes the earlier ones. */
-        bool ok = image_write(out, &mean, e);
+        bool ok = write_mean(out, &mean, e, half, st.spp, set.spp);
         if (ok && png && !(ok = image_write_png(png, &mean, e)))
             remove(out);
-        if (ok && var_out && !(ok = image_write_pfm(var_out, &var))) {
+        if (ok && var_out && !(ok = write_mean(var_out, &var, 1.f, false, st.spp, set.spp))) {
             remove(out);
             if (png)
                 remove(png);
@@ -190,8 +227,11 @@ int cmd_reference(int argc, char **argv)
         if (ok) {
             rc = 0;
             printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene.source,
-                   pt_mode_names[set.mode], set.width, set.height, set.spp, set.threads,
+                   pt_mode_names[set.mode], set.width, set.height, st.spp, set.threads,
                    (unsigned long long)set.seed);
+            printf("spp: %d\n", st.spp);
+            if (st.spp < set.spp)
+                printf("interrupted: %d of %d spp\n", st.spp, set.spp);
             printf("sampler: %s\n", pt_sampler_names[set.sampler]);
             printf("time_s: %.3f\n", st.seconds);
             printf("rays: %llu\n", (unsigned long long)st.rays);

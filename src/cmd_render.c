@@ -3,6 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <epoxy/gl.h>
+
 #include "commands.h"
 #include "gl_context.h"
 #include "image.h"
@@ -17,6 +19,30 @@
 #else
 #define RTGI_DEBUG_BUILD false
 #endif
+
+/* Frames of one run: after a first frame over 2 s, each frame reports on
+ * stderr (a long render is never silent) with the time left. */
+typedef struct FrameClock {
+    int done, total;  /* frames drawn, frames this run will draw */
+    double first_s;   /* the first frame's time (s), < 0 before it */
+} FrameClock;
+
+static void frame(Renderer *r, const Camera *cam, FrameClock *c)
+{
+    bool measure = c->first_s < 0 || c->first_s > 2.0;
+    double t0 = util_seconds();
+    renderer_frame(r, cam);
+    if (!measure)
+        return;
+    glFinish(); /* the frame's work, not only its submission */
+    double s = util_seconds() - t0;
+    c->done++;
+    if (c->first_s < 0)
+        c->first_s = s;
+    if (c->first_s > 2.0 && log_get_level() <= LOG_INFO)
+        fprintf(stderr, "render: frame %d of %d took %.1f s; about %.0f s left\n", c->done, c->total, s,
+                s * (c->total - c->done));
+}
 
 void cmd_render_help(void)
 {
@@ -48,16 +74,18 @@ int cmd_render(int argc, char **argv)
     Renderer r;
     if (renderer_create(&r, &scene, &rs)) {
         int frames = 1;
+        /* warm-up + timed + one + steady frames with --timings */
+        FrameClock clock = {0, o.timings ? o.warmup + 2 * o.frames + 1 : 1, -1.0};
         double t0 = util_seconds();
         if (o.timings) { /* untimed warm-up frames, then the timed ones */
             for (int f = 0; f < o.warmup; f++)
-                renderer_frame(&r, &scene.camera);
+                frame(&r, &scene.camera, &clock);
             gpu_timer_reset(&r.timer);
             t0 = util_seconds();
             frames = o.frames;
         }
         for (int f = 0; f < frames; f++)
-            renderer_frame(&r, &scene.camera);
+            frame(&r, &scene.camera, &clock);
         double t1 = util_seconds();
         /* Nothing non-finite leaves the renderer: the LDR image would hide it. */
         ImageF hdr = {0};
@@ -73,8 +101,8 @@ int cmd_render(int argc, char **argv)
                 ok = false;
             }
         }
-        if (ok && util_ends_with(o.out, ".pfm")) {
-            ok = image_write_pfm(o.out, &hdr);
+        if (ok && (util_ends_with(o.out, ".pfm") || util_ends_with(o.out, ".exr"))) {
+            ok = image_write(o.out, &hdr, 1.f); /* linear radiance */
         } else if (ok) {
             uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */
             ok = image_write_png8(o.out, rs.width, rs.height, rgb);
@@ -105,11 +133,11 @@ int cmd_render(int argc, char **argv)
                 RenderSettings steady = rs;
                 steady.cache = true;
                 if (renderer_apply(&r, &steady)) {
-                    renderer_frame(&r, &scene.camera); /* draws the products once */
+                    frame(&r, &scene.camera, &clock); /* draws the products once */
                     gpu_timer_reset(&r.timer);
                     double s0 = util_seconds();
                     for (int f = 0; f < frames; f++)
-                        renderer_frame(&r, &scene.camera);
+                        frame(&r, &scene.camera, &clock);
                     render_options_print_steady(&r, 1e3 * (t1 - t0) / frames, 1e3 * (util_seconds() - s0) / frames);
                 }
             }

@@ -12,6 +12,8 @@ void cmd_view_help(void);
 int cmd_compare(int argc, char **argv);
 void cmd_compare_help(void);
 int cmd_probe(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+void cmd_bench_help(void);
 void cmd_probe_help(void);
 
 #endif

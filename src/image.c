@@ -177,6 +177,8 @@ bool image_read(const char *path, ImageF *img)
 {
     if (util_ends_with(path, ".pfm"))
         return image_read_pfm(path, img);
+    if (util_ends_with(path, ".exr"))
+        return image_read_exr(path, img);
     size_t size = 0;
     char *data = util_read_input("image", "image", path, UTIL_MAX_INPUT_BYTES, &size);
     if (!data)
@@ -188,7 +190,7 @@ bool image_read(const char *path, ImageF *img)
     bool png = size >= 8 && memcmp(u, "\x89PNG\r\n\x1a\n", 8) == 0;
     bool jpeg = size >= 3 && u[0] == 0xff && u[1] == 0xd8 && u[2] == 0xff;
     if (!png && !jpeg) {
-        log_error("image", "%s: cannot read image (not a PNG or JPEG file, nor .pfm)", path);
+        log_error("image", "%s: cannot read image (not a PNG or JPEG file, nor .pfm or .exr)", path);
         free(data);
         return false;
     }
@@ -221,8 +223,10 @@ bool image_write(const char *path, const ImageF *img, float exposure)
 {
     if (util_ends_with(path, ".pfm"))
         return image_write_pfm(path, img);
+    if (util_ends_with(path, ".exr"))
+        return image_write_exr(path, img, false, NULL, 0);
     if (util_ends_with(path, ".png"))
         return image_write_png(path, img, exposure);
-    log_error("image", "%s: unknown output format (use .png or .pfm)", path);
+    log_error("image", "%s: unknown output format (use .png, .pfm or .exr)", path);
     return false;
 }

@@ -1,7 +1,8 @@
 /* image.h — linear RGB float images and their files.
  * Row 0 is the top row everywhere in memory; PFM files store rows bottom-up
  * and are converted on read/write. PNG is 8-bit sRGB: written from radiance
- * through exposure and the sRGB curve, read back to linear. */
+ * through exposure and the sRGB curve, read back to linear. EXR is linear,
+ * float32 or half. */
 #ifndef RTGI_IMAGE_H
 #define RTGI_IMAGE_H
 
@@ -42,11 +43,31 @@ bool image_read_pfm(const char *path, ImageF *img);
 bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb);
 /* Tone maps (radiance × exposure, clamp, sRGB) and writes a PNG. */
 bool image_write_png(const char *path, const ImageF *img, float exposure);
-/* Reads PFM (by the .pfm extension) as is, or PNG/JPEG (by their
+/* Reads PFM or EXR (by the .pfm and .exr extensions) as is, or PNG/JPEG (by their
  * signatures; other formats are refused) decoded from sRGB to linear [0,1]. */
 bool image_read(const char *path, ImageF *img);
-/* Writes .pfm as linear or .png tone-mapped, by the file's extension. */
+/* Writes .pfm or .exr as linear (EXR: float32) or .png tone-mapped, by the
+ * file's extension. */
 bool image_write(const char *path, const ImageF *img, float exposure);
+
+/* OpenEXR (Debian libopenexr-dev, its C API `openexr.h`): one scanline part,
+ * channels R, G, B, ZIP compression. An integer attribute of the header,
+ * e.g. {"rtgi_spp", 256}. */
+typedef struct ImageAttr {
+    const char *name;
+    int value;
+} ImageAttr;
+/* Writes RGB as float32 or (half) float16: half refuses values beyond its
+ * range (65504) instead of writing infinities. `attrs` (n of them, may be
+ * NULL) go into the header. Atomic, as the other writers. */
+bool image_write_exr(const char *path, const ImageF *img, bool half, const ImageAttr *attrs, int nattrs);
+/* Reads the first part of a scanline EXR: channels R, G, B (or Y, copied to
+ * all three), any pixel type, converted to float. Tiled/deep files and files
+ * without those channels are refused with one line naming the file. */
+bool image_read_exr(const char *path, ImageF *img);
+/* The integer attribute `name` of an EXR's header; false after logging if
+ * the file is not an EXR or has no such integer attribute. */
+bool image_read_exr_attr(const char *path, const char *name, int *value);
 
 float srgb_encode(float linear); /* linear [0,1] → sRGB [0,1] */
 float srgb_decode(float encoded);

@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "json_util.h"
 #include "log.h"
+#include "version.h" /* generated: RTGI_VERSION */
 
 static void usage(FILE *f)
 {
@@ -18,6 +19,8 @@ static void usage(FILE *f)
             "  reference   path-trace the same scene on the CPU (Embree): ground truth\n"
             "  compare     error metrics between two images (RMSE, relMSE, SSIM, FLIP)\n"
             "  probe       this device's throughput on gather-shaped work (evaluations/s)\n"
+            "  bench       time and measure a list of techniques against the reference:\n"
+            "              DIR/bench.json and a self-contained DIR/report.html\n"
             "run 'rtgi <command> --help' for a command's options, 'rtgi --version' for the version;\n"
             "options take their value as '--opt value' or '--opt=value'\n"
             "every command also takes --lenient: unknown keys in a scene file are\n"
@@ -61,6 +64,8 @@ int main(int argc, char **argv)
         return cmd_compare(argc - 2, argv + 2);
     if (!strcmp(cmd, "probe"))
         return cmd_probe(argc - 2, argv + 2);
+    if (!strcmp(cmd, "bench"))
+        return cmd_bench(argc - 2, argv + 2);
     log_error("cli", "unknown command '%s' (see rtgi --help)", cmd);
     return 2;
 }

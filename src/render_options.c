@@ -20,9 +20,10 @@ void render_options_help(void)
                 "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
         "  --shadow none|hard|pcf|pcss   shadow technique (default: pcss)\n"
         "  --gi TECHNIQUE                indirect light (default: none), see below\n"
-        "  --size WxH                    image size (default: 512x512)\n"
+        "  --size WxH                    image size (default: 256x256, as rtgi reference; view: 512x512)\n"
         "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
-        "  --out FILE.png|FILE.pfm       output; PNG tone-mapped sRGB, PFM linear radiance\n"
+        "  --out FILE.png|FILE.pfm|FILE.exr   output; PNG tone-mapped sRGB, PFM/EXR (float32)\n"
+        "                                linear radiance\n"
         "                                (default: out/render.png)\n"
         "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
         "  --emitter-mask FILE.png       also write the mask of pixels that see an emitter\n"
@@ -61,7 +62,7 @@ void render_options_init(RenderOptions *o, bool view)
     o->scene = "cornell";
     o->out = view ? NULL : "out/render.png";
     o->shadow = SHADOW_MODE_PCSS;
-    o->width = o->height = 512;
+    o->width = o->height = view ? 512 : 256; /* render: as rtgi reference */
     o->exposure = -1.f;
     o->light_scale = -1.f;
     o->ssaa = 1;
@@ -105,8 +106,8 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--out")) {
             CLI_VALUE(&a, v);
             o->out = v;
-            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
-                log_error("cli", "--out: '%s' must end in .png or .pfm", v);
+            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
+                log_error("cli", "--out: '%s' must end in .png, .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--png")) {

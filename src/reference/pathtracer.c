@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "camera.h"
 #include "log.h"
@@ -46,6 +47,9 @@ typedef struct Job {
     atomic_int next_tile;
     atomic_int tiles_done;
     atomic_uint_fast64_t rays;
+    double *sum, *sum2;    /* per pixel and channel: sums of the samples and their squares */
+    int s0, s1;            /* the current pass: sample indices [s0, s1) */
+    double printed_at;     /* when the last progress line was printed (s since the start) */
 } Job;
 
 /* ---------------------------------------------------------------- lights
@@ -321,6 +325,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
     }
 }
 
+/* Samples [s0, s1) of every pixel of one tile, added to the job's sums. */
 static void render_tile(Job *j, int tile, uint64_t *rays)
 {
     const PtSettings *s = j->set;
@@ -329,8 +334,8 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
         for (int x = tx * TILE; x < (tx + 1) * TILE && x < s->width; x++) {
             size_t pix = (size_t)y * s->width + x;
             Sampler smp = sampler_make(s->sampler, s->seed, pix);
-            double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
-            for (int k = 0; k < s->spp; k++) {
+            double *sum = j->sum + 3 * pix, *sum2 = j->sum2 + 3 * pix;
+            for (int k = j->s0; k < j->s1; k++) {
                 sampler_start(&smp, (uint32_t)k);
                 float jit[2] = {0.5f, 0.5f};
                 if (s->pixel_jitter)
@@ -344,37 +349,42 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
                     sum2[c] += (double)v * v;
                 }
             }
-            for (int c = 0; c < 3; c++) {
-                double m = sum[c] / s->spp;
-                j->mean->rgb[3 * pix + c] = (float)m;
-                if (j->variance) {
-                    double var = s->spp > 1 ? (sum2[c] - s->spp * m * m) / (s->spp - 1) : 0.0;
-                    j->variance->rgb[3 * pix + c] = (float)(fmax(var, 0.0) / s->spp);
-                }
-            }
         }
 }
 
 static void *worker(void *arg)
 {
     Job *j = arg;
-    uint64_t rays = 0;
     int n = j->tiles_x * j->tiles_y;
     for (int t; (t = atomic_fetch_add(&j->next_tile, 1)) < n;) {
+        uint64_t rays = 0;
         render_tile(j, t, &rays);
+        atomic_fetch_add(&j->rays, rays);
         atomic_fetch_add(&j->tiles_done, 1);
     }
-    atomic_fetch_add(&j->rays, rays);
     return NULL;
 }
 
-static void draw_progress(int done, int total, double elapsed)
+/* Progress on stderr: a bar redrawn in place on a terminal, else one line
+ * every 5 s (logs) and a last one; with the samples reached, rays/s and the
+ * time left. */
+static void draw_progress(Job *j, double frac, double elapsed, bool last)
 {
-    int width = 40, filled = total ? done * width / total : width;
-    fprintf(stderr, "\rreference [");
-    for (int i = 0; i < width; i++)
-        fputc(i < filled ? '#' : ' ', stderr);
-    fprintf(stderr, "] %3d%%  %.1fs", total ? 100 * done / total : 100, elapsed);
+    bool tty = isatty(STDERR_FILENO);
+    /* Off a terminal a render under 5 s prints nothing (the final line only
+     * closes earlier ones). */
+    if (!tty && (last ? j->printed_at <= 0 : elapsed - j->printed_at < 5.0))
+        return;
+    j->printed_at = elapsed;
+    double rps = elapsed > 0 ? (double)atomic_load(&j->rays) / elapsed : 0.0;
+    double eta = frac > 0 ? elapsed * (1.0 - frac) / frac : 0.0;
+    char bar[41];
+    int filled = (int)(frac * 40);
+    for (int i = 0; i < 40; i++)
+        bar[i] = i < filled ? '#' : ' ';
+    bar[40] = 0;
+    fprintf(stderr, "%sreference [%s] %3d%%  %d/%d spp  %.1f s  %.2f Mrays/s  ETA %.1f s%s", tty ? "\r" : "", bar,
+            (int)(100 * frac), j->s0, j->set->spp, elapsed, rps / 1e6, eta, tty && !last ? "" : "\n");
     fflush(stderr);
 }
 
@@ -428,34 +438,71 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
     j->variance = variance;
     j->tiles_x = (set->width + TILE - 1) / TILE;
     j->tiles_y = (set->height + TILE - 1) / TILE;
-    atomic_init(&j->next_tile, 0);
-    atomic_init(&j->tiles_done, 0);
+    size_t npix = (size_t)set->width * (size_t)set->height;
+    j->sum = calloc(npix * 3, sizeof(double));
+    j->sum2 = calloc(npix * 3, sizeof(double));
+    if (!j->sum || !j->sum2) {
+        log_error("reference", "cannot allocate the %dx%d sums (%.2f GiB)", set->width, set->height,
+                  (double)(npix * 6 * sizeof(double)) / (1u << 30));
+        free(j->sum), free(j->sum2), free(th);
+        pt_scene_destroy(&j->ps);
+        free(j);
+        image_free(mean);
+        if (variance)
+            image_free(variance);
+        return false;
+    }
     atomic_init(&j->rays, 0);
 
-    double t0 = util_seconds();
-    int started = 0;
-    for (; started < nthreads; started++)
-        if (pthread_create(&th[started], NULL, worker, j) != 0)
-            break;
-    if (started == 0) /* no thread at all: render on this one */
-        worker(j);
+    /* Passes of about 2^18 samples: short enough that a stop request ends
+     * within seconds, long enough that threads stay busy. The schedule
+     * depends on the size only, so a seed gives one image. */
+    int pass_spp = (int)((((size_t)1 << 18) + npix - 1) / npix);
+    pass_spp = pass_spp < 1 ? 1 : (pass_spp > set->spp ? set->spp : pass_spp);
     int total = j->tiles_x * j->tiles_y;
-    if (set->progress) {
-        while (atomic_load(&j->tiles_done) < total) {
-            draw_progress(atomic_load(&j->tiles_done), total, util_seconds() - t0);
+    double t0 = util_seconds();
+    bool stopped = false;
+    for (j->s0 = 0; j->s0 < set->spp && !stopped; j->s0 = j->s1) {
+        j->s1 = j->s0 + pass_spp < set->spp ? j->s0 + pass_spp : set->spp;
+        atomic_store(&j->next_tile, 0);
+        atomic_store(&j->tiles_done, 0);
+        int started = 0;
+        for (; started < nthreads; started++)
+            if (pthread_create(&th[started], NULL, worker, j) != 0)
+                break;
+        if (started == 0) /* no thread at all: render on this one */
+            worker(j);
+        while (set->progress && atomic_load(&j->tiles_done) < total) {
+            double frac = (j->s0 + (double)atomic_load(&j->tiles_done) / total * (j->s1 - j->s0)) / set->spp;
+            draw_progress(j, frac, util_seconds() - t0, false);
             nanosleep(&(struct timespec){0, 200000000L}, NULL);
         }
-        draw_progress(total, total, util_seconds() - t0);
-        fputc('\n', stderr);
+        for (int i = 0; i < started; i++)
+            pthread_join(th[i], NULL);
+        stopped = set->stop && *set->stop;
     }
-    for (int i = 0; i < started; i++)
-        pthread_join(th[i], NULL);
+    int spp = j->s0; /* the passes completed */
+    if (set->progress) {
+        j->s0 = spp;
+        draw_progress(j, (double)spp / set->spp, util_seconds() - t0, true);
+    }
+    for (size_t i = 0; i < npix * 3; i++) {
+        double m = j->sum[i] / spp;
+        mean->rgb[i] = (float)m;
+        if (variance) {
+            double var = spp > 1 ? (j->sum2[i] - spp * m * m) / (spp - 1) : 0.0;
+            variance->rgb[i] = (float)(fmax(var, 0.0) / spp);
+        }
+    }
     free(th);
     double secs = util_seconds() - t0;
     if (stats) {
         stats->seconds = secs;
         stats->rays = atomic_load(&j->rays);
+        stats->spp = spp;
     }
+    free(j->sum);
+    free(j->sum2);
     pt_scene_destroy(&j->ps);
     free(j);
     return true;

@@ -7,6 +7,9 @@
  * a pixel's samples depend only on (seed, pixel, sample index) — Owen-
  * scrambled Sobol' pairs by default, or independent numbers (sampler.h) —
  * so the result is identical for a given seed whatever the thread count.
+ * The image is rendered in passes of a few samples per pixel each (about
+ * 2^18 samples a pass), summed in double precision; `stop` ends it after
+ * the current pass with the samples reached.
  * Rays leave surfaces offset by 256 ulps of each coordinate along the
  * geometric normal (Wächter & Binder 2019; pt_scene.h).
  *
@@ -51,13 +54,16 @@ typedef struct PtSettings {
     bool russian_roulette;
     int rr_depth;          /* bounces before roulette starts */
     bool pixel_jitter;     /* false: every sample through the pixel centre */
-    bool progress;         /* progress bar on stderr */
+    bool progress;         /* progress on stderr: a bar on a terminal, else a line every few seconds */
+    const volatile int *stop; /* may be NULL; when it becomes non-zero (e.g. from a SIGINT handler) the
+                                 render finishes its current pass and stops there (PtStats.spp) */
     PtSampler sampler;     /* default: PT_SAMPLER_SOBOL */
 } PtSettings;
 
 typedef struct PtStats {
     double seconds;
     uint64_t rays;         /* closest-hit, all-hit and shadow rays */
+    int spp;               /* samples per pixel reached: PtSettings.spp unless stopped early */
 } PtStats;
 
 void pt_settings_default(PtSettings *s);

@@ -1,0 +1,721 @@
+/* cmd_bench.c — `rtgi bench`: every listed technique (shadow × GI × settings)
+ * of one scene rendered in-process with per-pass timings, measured against a
+ * cached path-traced reference with the emitters masked out, written as
+ * DIR/bench.json (schema in the README, "Benchmarks") and the self-contained
+ * DIR/report.html (report_html.c).
+ *
+ * References are cached in --cache DIR (default out/ref-cache) as EXR files
+ * named by a hash of what decides their pixels: the scene's content
+ * (geometry, materials, textures, lights, camera), the size, the mode, the
+ * samples per pixel and BENCH_REF_VERSION (raise it when the path tracer's
+ * light transport changes). */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "cli.h"
+#include "commands.h"
+#include "gl_context.h"
+#include "image.h"
+#include "log.h"
+#include "version.h" /* generated: RTGI_VERSION */
+#include "metrics.h"
+#include "reference/pathtracer.h"
+#include "render_options.h"
+#include "renderer.h"
+#include "report_html.h"
+#include "settings.h"
+#include "util.h"
+
+/* Raise when the reference's light transport changes: old cache entries
+ * then no longer match. */
+#define BENCH_REF_VERSION 1
+#define BENCH_MAX_ENTRIES 64
+
+static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
+static const char *const k_default_gi =
+    "none,rsm,rsm-interp,rsm-interleaved,vpl-clamped,vpl-slc,vpl-interleaved,vpl-metalights,lpv";
+
+void cmd_bench_help(void)
+{
+    printf("usage: rtgi bench --out DIR [options]\n"
+           "Renders each technique with per-pass timings, compares it with a cached path-traced\n"
+           "reference (emitters masked out) and writes DIR/bench.json and DIR/report.html.\n"
+           "  --out DIR          output directory (required); images go to DIR/images/\n"
+           "  --scene S          cornell|FILE.json|FILE.gltf|FILE.obj (default: cornell)\n"
+           "  --size WxH         image size (default: 256x256)\n"
+           "  --gi LIST          comma-separated techniques, each optionally with settings:\n"
+           "                     NAME[:key=value[:key=value]] with settings-table keys, e.g.\n"
+           "                     rsm:samples=100,vpl-slc:vpls=65536 (default:\n"
+           "                     %s)\n"
+           "  --shadow LIST      comma-separated shadow techniques (default: pcss)\n"
+           "  --spp N            reference samples per pixel (default: 256)\n"
+           "  --ref-mode MODE    full|direct|one-bounce|one-bounce-novis|indirect (default: full)\n"
+           "  --frames N         timed frames per technique after one warm-up frame (default: 3)\n"
+           "  --exposure E       exposure of FLIP and SSIM (default: the scene's)\n"
+           "  --cache DIR        reference cache (default: out/ref-cache)\n"
+           "  --threads T        reference threads (default: all cores)\n"
+           "  --markdown         also print the results as a Markdown table on stdout\n"
+           "  --quiet            errors only\n"
+           "  --OPTION VALUE     any setting of `rtgi render --help` for every technique\n"
+           "                     (bench sets --vpls 16384 unless given)\n",
+           k_default_gi);
+}
+
+/* One technique to measure and what was measured. */
+typedef struct BenchEntry {
+    char label[160];        /* "pcss + rsm (samples=100)" */
+    char id[48];            /* file-name stem: "e03_pcss_rsm" */
+    char overrides[128];    /* "samples=100" or "" */
+    int shadow, gi;
+    Settings set;           /* settings given for this entry (over the base ones) */
+    bool given[64];
+    RenderSettings rs;
+    double frame_ms;        /* wall time per frame (glFinish around passes) */
+    double gpu_ms;          /* sum of the passes' GPU times */
+    ImageF img;             /* radiance */
+    float *flip_map;        /* per-pixel FLIP */
+    double rmse, relmse, ssim, flip, mean_ratio;
+} BenchEntry;
+
+/* FNV-1a over what decides the reference's pixels, field by field (no
+ * struct padding). */
+static uint64_t scene_hash(const Scene *s)
+{
+    uint64_t h = util_hash_bytes(1469598103934665603ull, "rtgi-ref", 8);
+    int v = BENCH_REF_VERSION;
+    h = util_hash_bytes(h, &v, sizeof v);
+    h = util_hash_bytes(h, s->vertices, sizeof(Vertex) * s->vertex_count);
+    h = util_hash_bytes(h, s->indices, sizeof(uint32_t) * s->index_count);
+    for (int i = 0; i < s->submesh_count; i++) {
+        const Submesh *m = &s->submeshes[i];
+        h = util_hash_bytes(h, &m->first_index, sizeof m->first_index);
+        h = util_hash_bytes(h, &m->index_count, sizeof m->index_count);
+        h = util_hash_bytes(h, &m->material, sizeof m->material);
+    }
+    for (int i = 0; i < s->material_count; i++) {
+        const Material *m = &s->materials[i];
+        int b = m->alpha_mask;
+        h = util_hash_bytes(h, m->albedo, sizeof(vec3));
+        h = util_hash_bytes(h, &m->albedo_tex, sizeof m->albedo_tex);
+        h = util_hash_bytes(h, &b, sizeof b);
+        h = util_hash_bytes(h, &m->alpha_cutoff, sizeof m->alpha_cutoff);
+        h = util_hash_bytes(h, m->emission, sizeof(vec3));
+        h = util_hash_bytes(h, &m->light_index, sizeof m->light_index);
+    }
+    for (int i = 0; i < s->texture_count; i++) {
+        const Texture *t = &s->textures[i];
+        h = util_hash_bytes(h, &t->width, sizeof t->width);
+        h = util_hash_bytes(h, &t->height, sizeof t->height);
+        if (t->rgba)
+            h = util_hash_bytes(h, t->rgba, (size_t)t->width * t->height * 4);
+    }
+    for (int i = 0; i < s->light_count; i++) {
+        const Light *l = &s->lights[i];
+        int type = l->type;
+        h = util_hash_bytes(h, &type, sizeof type);
+        h = util_hash_bytes(h, l->position, sizeof(vec3));
+        h = util_hash_bytes(h, l->direction, sizeof(vec3));
+        h = util_hash_bytes(h, l->color, sizeof(vec3));
+        h = util_hash_bytes(h, &l->size, sizeof l->size);
+        h = util_hash_bytes(h, &l->spot_inner, sizeof l->spot_inner);
+        h = util_hash_bytes(h, &l->spot_outer, sizeof l->spot_outer);
+        h = util_hash_bytes(h, l->quad_u, sizeof(vec3));
+        h = util_hash_bytes(h, l->quad_v, sizeof(vec3));
+    }
+    const Camera *c = &s->camera;
+    h = util_hash_bytes(h, c->position, sizeof(vec3));
+    h = util_hash_bytes(h, c->forward, sizeof(vec3));
+    h = util_hash_bytes(h, c->up, sizeof(vec3));
+    h = util_hash_bytes(h, &c->fov_y, sizeof c->fov_y);
+    return h;
+}
+
+/* mkdir -p for one or two levels; false after logging. */
+static bool make_dir(const char *path)
+{
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++)
+        if (*p == '/') {
+            *p = 0;
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+                log_error("bench", "%s: cannot create directory (%s)", buf, strerror(errno));
+                return false;
+            }
+            *p = '/';
+        }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+        log_error("bench", "%s: cannot create directory (%s)", buf, strerror(errno));
+        return false;
+    }
+    struct stat st;
+    if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        log_error("bench", "%s: not a directory", buf);
+        return false;
+    }
+    return true;
+}
+
+/* The cached reference, or a new one rendered and cached. */
+static bool get_reference(const Scene *scene, const PtSettings *ps, const char *cache, ImageF *ref, char *path,
+                          size_t cap, bool *reused)
+{
+    uint64_t h = scene_hash(scene);
+    h = util_hash_bytes(h, &ps->width, sizeof ps->width);
+    h = util_hash_bytes(h, &ps->height, sizeof ps->height);
+    int mode = ps->mode, sampler = ps->sampler;
+    h = util_hash_bytes(h, &mode, sizeof mode);
+    h = util_hash_bytes(h, &sampler, sizeof sampler);
+    h = util_hash_bytes(h, &ps->spp, sizeof ps->spp);
+    snprintf(path, cap, "%s/ref_%dx%d_%s_%dspp_%016llx.exr", cache, ps->width, ps->height, pt_mode_names[ps->mode],
+             ps->spp, (unsigned long long)h);
+    *reused = false;
+    if (access(path, F_OK) == 0) {
+        int spp = 0;
+        if (image_read_exr_attr(path, "rtgi_spp", &spp) && spp == ps->spp && image_read(path, ref) &&
+            ref->width == ps->width && ref->height == ps->height) {
+            *reused = true;
+            log_info("bench", "reusing the cached reference %s", path);
+            return true;
+        }
+        image_free(ref);
+        log_info("bench", "%s: unusable cached reference; rendering it again", path);
+    }
+    if (!make_dir(cache))
+        return false;
+    log_info("bench", "rendering the reference (%s, %d spp, %dx%d) into %s", pt_mode_names[ps->mode], ps->spp,
+             ps->width, ps->height, path);
+    PtStats st = {0};
+    if (!pt_render(scene, ps, ref, NULL, &st))
+        return false;
+    ImageAttr attrs[2] = {{"rtgi_spp", st.spp}, {"rtgi_spp_requested", ps->spp}};
+    return image_write_exr(path, ref, false, attrs, 2);
+}
+
+/* Splits "NAME[:key=value...]" and fills the entry's settings. */
+static bool parse_gi_item(const char *item, BenchEntry *e)
+{
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", item);
+    char *save = NULL, *name = strtok_r(buf, ":", &save);
+    if (!name) {
+        log_error("cli", "--gi: empty technique in the list");
+        return false;
+    }
+    if ((e->gi = cli_choice("--gi", name, gi_technique_names())) < 0)
+        return false;
+    settings_default(&e->set);
+    for (char *kv; (kv = strtok_r(NULL, ":", &save));) {
+        char *eq = strchr(kv, '=');
+        if (!eq) {
+            log_error("cli", "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
+            return false;
+        }
+        *eq = 0;
+        const SettingDesc *d = settings_find_key("gi", kv);
+        if (!d)
+            d = settings_find_key("shadow", kv);
+        if (!d) {
+            log_error("cli", "--gi: '%s' is not a setting key (see the settings table in rtgi render --help)", kv);
+            return false;
+        }
+        bool on = !strcmp(eq + 1, "on") || !strcmp(eq + 1, "true") || !strcmp(eq + 1, "1");
+        if (d->type == SETTING_FLAG && !on) {
+            log_error("cli", "--gi: %s is a flag: give %s=on", kv, kv);
+            return false;
+        }
+        if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : eq + 1, &e->set))
+            return false;
+        e->given[d - settings_table] = true;
+        size_t n = strlen(e->overrides);
+        snprintf(e->overrides + n, sizeof e->overrides - n, "%s%s=%s", n ? ", " : "", kv, eq + 1);
+    }
+    return true;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The 99th percentile of the luminance of the pixels `mask` selects. */
+static double percentile99(const ImageF *img, const uint8_t *mask)
+{
+    size_t np = (size_t)img->width * img->height, n = 0;
+    float *l = malloc(np * sizeof(float));
+    if (!l)
+        return 0;
+    for (size_t i = 0; i < np; i++)
+        if (!mask || mask[i])
+            l[n++] = luminance(img->rgb + 3 * i);
+    qsort(l, n, sizeof(float), cmp_float);
+    double p = n ? l[(size_t)(0.99 * (n - 1))] : 0;
+    free(l);
+    return p;
+}
+
+static double masked_mean(const ImageF *img, const uint8_t *mask)
+{
+    double s = 0;
+    size_t n = 0, np = (size_t)img->width * img->height;
+    for (size_t i = 0; i < np; i++)
+        if (!mask || mask[i]) {
+            s += luminance(img->rgb + 3 * i);
+            n++;
+        }
+    return n ? s / n : 0;
+}
+
+static cJSON *json_num(double v)
+{
+    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
+}
+
+/* What the machine is: the CPU model and its cores (the reference's device;
+ * GL's renderer is recorded beside it). */
+static void device_name(char *out, size_t cap)
+{
+    snprintf(out, cap, "unknown CPU");
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char line[512];
+    while (f && fgets(line, sizeof line, f))
+        if (!strncmp(line, "model name", 10)) {
+            char *c = strchr(line, ':');
+            if (c) {
+                c += 1 + (c[1] == ' ');
+                c[strcspn(c, "\n")] = 0;
+                snprintf(out, cap, "%s", c);
+            }
+            break;
+        }
+    if (f)
+        fclose(f);
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    size_t len = strlen(out);
+    snprintf(out + len, cap - len, ", %ld cores", n);
+}
+
+/* Renders one entry: warm-up, timed frames, read-back. false after logging. */
+static bool bench_render(Renderer *r, bool *created, const Scene *scene, BenchEntry *e, int frames)
+{
+    bool ok = *created ? renderer_apply(r, &e->rs) : renderer_create(r, scene, &e->rs);
+    *created = true;
+    if (!ok)
+        return false;
+    renderer_invalidate(r);
+    renderer_frame(r, &scene->camera); /* warm-up: compiles, allocates */
+    gpu_timer_reset(&r->timer);
+    double t0 = util_seconds();
+    for (int f = 0; f < frames; f++)
+        renderer_frame(r, &scene->camera);
+    e->frame_ms = 1e3 * (util_seconds() - t0) / frames;
+    renderer_collect_stats(r);
+    e->gpu_ms = 0;
+    for (int i = 0; i < r->timer.pass_count; i++)
+        e->gpu_ms += r->timer.passes[i].gpu_ms / (r->timer.frames > 0 ? r->timer.frames : 1);
+    if (!renderer_read_hdr(r, &e->img)) {
+        log_error("bench", "%s: cannot read back the image", e->label);
+        return false;
+    }
+    return image_check_finite(&e->img, e->label);
+}
+
+static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "id", e->id);
+    cJSON_AddStringToObject(o, "label", e->label);
+    cJSON_AddStringToObject(o, "shadow", k_shadow_names[e->shadow]);
+    cJSON_AddStringToObject(o, "gi", gi_technique_names()[e->gi]);
+    cJSON_AddStringToObject(o, "overrides", e->overrides);
+    cJSON *set = cJSON_AddObjectToObject(o, "settings");
+    Settings s = {e->rs.shadow_params, e->rs.gi_params};
+    for (int i = 0; i < settings_count; i++) {
+        const SettingDesc *d = &settings_table[i];
+        char key[96], val[64];
+        snprintf(key, sizeof key, "%s.%s", d->group, d->key);
+        settings_format(d, &s, val, sizeof val);
+        cJSON_AddStringToObject(set, key, val);
+    }
+    cJSON *passes = cJSON_AddArrayToObject(o, "passes");
+    int frames = r->timer.frames > 0 ? r->timer.frames : 1;
+    for (int i = 0; i < r->timer.pass_count; i++) {
+        cJSON *p = cJSON_CreateObject();
+        cJSON_AddStringToObject(p, "name", r->timer.passes[i].name);
+        cJSON_AddItemToObject(p, "gpu_ms", json_num(r->timer.passes[i].gpu_ms / frames));
+        cJSON_AddItemToObject(p, "wall_ms", json_num(r->timer.sync ? r->timer.passes[i].cpu_ms / frames : NAN));
+        cJSON_AddItemToArray(passes, p);
+    }
+    cJSON_AddItemToObject(o, "gpu_ms", json_num(e->gpu_ms));
+    cJSON_AddItemToObject(o, "frame_ms", json_num(e->frame_ms));
+    /* The technique's counters of the last frame, per pixel where they are. */
+    const RenderStats *st = &r->stats;
+    double px = (double)e->rs.width * e->rs.height;
+    cJSON *sj = cJSON_AddObjectToObject(o, "stats");
+    cJSON_AddNumberToObject(sj, "vpl_count", st->vpl_count);
+    cJSON_AddNumberToObject(sj, "vpl_evaluations_per_pixel", (double)st->vpl_evaluations / px);
+    cJSON_AddNumberToObject(sj, "vpl_candidates_per_pixel", (double)st->vpl_candidates / px);
+    cJSON_AddNumberToObject(sj, "gather_evaluations_per_pixel", (double)st->gather_evaluations / px);
+    cJSON_AddNumberToObject(sj, "gathered_pixels", st->gathered_pixels);
+    cJSON *m = cJSON_AddObjectToObject(o, "metrics");
+    cJSON_AddItemToObject(m, "rmse", json_num(e->rmse));
+    cJSON_AddItemToObject(m, "relmse", json_num(e->relmse));
+    cJSON_AddItemToObject(m, "ssim", json_num(e->ssim));
+    cJSON_AddItemToObject(m, "flip", json_num(e->flip));
+    cJSON_AddItemToObject(m, "mean_ratio", json_num(e->mean_ratio));
+    cJSON *img = cJSON_AddObjectToObject(o, "images");
+    char p[96];
+    snprintf(p, sizeof p, "images/%s.png", e->id);
+    cJSON_AddStringToObject(img, "png", p);
+    snprintf(p, sizeof p, "images/%s.exr", e->id);
+    cJSON_AddStringToObject(img, "exr", p);
+    snprintf(p, sizeof p, "images/%s_flip.png", e->id);
+    cJSON_AddStringToObject(img, "flip_png", p);
+    return o;
+}
+
+static double num(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* The results as a Markdown table (what scripts/bench-*.sh print). */
+static void print_markdown(const cJSON *doc)
+{
+    const cJSON *ref = cJSON_GetObjectItem(doc, "reference");
+    printf("%s, %dx%d, reference %s %d spp, %s, %s\n\n", cJSON_GetObjectItem(doc, "scene")->valuestring,
+           (int)num(doc, "width"), (int)num(doc, "height"), cJSON_GetObjectItem(ref, "mode")->valuestring,
+           (int)num(ref, "spp"), cJSON_GetObjectItem(doc, "gl_renderer")->valuestring,
+           cJSON_GetObjectItem(doc, "commit")->valuestring);
+    printf("| technique | GPU ms per pass | GPU ms | ms/frame | VPLs | evaluations/pixel | RMSE | relMSE | FLIP | "
+           "mean ÷ ref |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    const cJSON *e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(doc, "techniques")) {
+        printf("| %s | ", cJSON_GetObjectItem(e, "label")->valuestring);
+        const cJSON *p;
+        bool first = true;
+        cJSON_ArrayForEach(p, cJSON_GetObjectItem(e, "passes")) {
+            printf("%s%s %.1f", first ? "" : ", ", cJSON_GetObjectItem(p, "name")->valuestring, num(p, "gpu_ms"));
+            first = false;
+        }
+        const cJSON *st = cJSON_GetObjectItem(e, "stats"), *m = cJSON_GetObjectItem(e, "metrics");
+        double ev = num(st, "vpl_evaluations_per_pixel");
+        if (!(ev > 0))
+            ev = num(st, "gather_evaluations_per_pixel");
+        printf(" | %.1f | %.1f | %.0f | %.0f | %.5f | %.5f | %.4f | %.3f |\n", num(e, "gpu_ms"), num(e, "frame_ms"),
+               num(st, "vpl_count"), ev, num(m, "rmse"), num(m, "relmse"), num(m, "flip"), num(m, "mean_ratio"));
+    }
+}
+
+/* Writes `text` atomically to DIR/name. */
+static bool write_text(const char *dir, const char *name, const char *text)
+{
+    char path[1100];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    AtomicFile af;
+    if (!util_atomic_open(&af, "bench", path))
+        return false;
+    if (fputs(text, af.f) == EOF)
+        af.failed = true;
+    return util_atomic_commit(&af, "bench");
+}
+
+static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--quiet", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--threads", "--verbose", NULL};
+
+int cmd_bench(int argc, char **argv)
+{
+    const char *out = NULL, *scene_name = "cornell", *gi_list = k_default_gi, *shadow_list = "pcss";
+    const char *cache = "out/ref-cache";
+    int width = 256, height = 256, frames = 3;
+    float exposure = -1.f;
+    bool markdown = false;
+    PtSettings ps;
+    pt_settings_default(&ps);
+    ps.spp = 256;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    ps.threads = cores > 0 ? (int)cores : 1;
+    Settings base;
+    settings_default(&base);
+    bool base_given[64] = {false};
+    const SettingDesc *vpls = settings_find_key("gi", "vpls");
+    base.gi.vpl_count = 16384; /* what the benchmarks use */
+    base_given[vpls - settings_table] = true;
+
+    CliArgs a = {.argc = argc, .argv = argv};
+    const char *opt, *v;
+    while ((opt = cli_next(&a))) {
+        const SettingDesc *d;
+        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+            cmd_bench_help();
+            return 0;
+        } else if (!strcmp(opt, "--out")) {
+            CLI_VALUE(&a, v);
+            out = v;
+        } else if (!strcmp(opt, "--scene")) {
+            CLI_VALUE(&a, v);
+            scene_name = v;
+        } else if (!strcmp(opt, "--size")) {
+            CLI_VALUE(&a, v);
+            if (!cli_size(opt, v, 8192, &width, &height))
+                return 2;
+        } else if (!strcmp(opt, "--gi")) {
+            CLI_VALUE(&a, v);
+            gi_list = v;
+        } else if (!strcmp(opt, "--shadow")) {
+            CLI_VALUE(&a, v);
+            shadow_list = v;
+        } else if (!strcmp(opt, "--spp")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 1 << 20, &ps.spp))
+                return 2;
+        } else if (!strcmp(opt, "--ref-mode")) {
+            CLI_VALUE(&a, v);
+            int m = cli_choice(opt, v, pt_mode_names);
+            if (m < 0)
+                return 2;
+            ps.mode = (PtMode)m;
+        } else if (!strcmp(opt, "--frames")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 1000, &frames))
+                return 2;
+        } else if (!strcmp(opt, "--exposure")) {
+            CLI_VALUE(&a, v);
+            if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
+                return 2;
+        } else if (!strcmp(opt, "--cache")) {
+            CLI_VALUE(&a, v);
+            cache = v;
+        } else if (!strcmp(opt, "--threads")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 1024, &ps.threads))
+                return 2;
+        } else if (!strcmp(opt, "--markdown")) {
+            markdown = true;
+        } else if (!strcmp(opt, "--quiet")) {
+            log_set_level(LOG_ERROR);
+        } else if (!strcmp(opt, "--verbose")) {
+            log_set_level(LOG_DEBUG);
+        } else if ((d = settings_find_option(opt))) {
+            if (d->type != SETTING_FLAG)
+                CLI_VALUE(&a, v);
+            if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : v, &base))
+                return 2;
+            base_given[d - settings_table] = true;
+        } else {
+            const char *known[128];
+            int n = 0;
+            for (int i = 0; k_bench_own[i]; i++)
+                known[n++] = k_bench_own[i];
+            for (int i = 0; i < settings_count && n < 127; i++)
+                known[n++] = settings_table[i].option;
+            known[n] = NULL;
+            cli_unknown_option("bench", opt, known);
+            return 2;
+        }
+    }
+    if (cli_failed(&a))
+        return 2;
+    if (!out) {
+        log_error("cli", "bench: --out DIR is required (see rtgi bench --help)");
+        return 2;
+    }
+
+    /* The entries: every shadow × every GI item. */
+    static BenchEntry entries[BENCH_MAX_ENTRIES];
+    int n = 0;
+    char sbuf[256], gbuf[2048];
+    snprintf(sbuf, sizeof sbuf, "%s", shadow_list);
+    char *ss = NULL;
+    for (char *sh = strtok_r(sbuf, ",", &ss); sh; sh = strtok_r(NULL, ",", &ss)) {
+        int shadow = cli_choice("--shadow", sh, k_shadow_names);
+        if (shadow < 0)
+            return 2;
+        snprintf(gbuf, sizeof gbuf, "%s", gi_list);
+        char *gs = NULL;
+        for (char *gi = strtok_r(gbuf, ",", &gs); gi; gi = strtok_r(NULL, ",", &gs)) {
+            if (n == BENCH_MAX_ENTRIES) {
+                log_error("cli", "bench: more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
+                return 2;
+            }
+            BenchEntry *e = &entries[n];
+            memset(e, 0, sizeof *e);
+            if (!parse_gi_item(gi, e))
+                return 2;
+            e->shadow = shadow;
+            const char *gname = gi_technique_names()[e->gi];
+            snprintf(e->label, sizeof e->label, "%s + %s%s%s%s", sh, gname, e->overrides[0] ? " (" : "",
+                     e->overrides, e->overrides[0] ? ")" : "");
+            snprintf(e->id, sizeof e->id, "e%02d_%s_%s", n, sh, gname);
+            n++;
+        }
+    }
+    if (n == 0) {
+        log_error("cli", "bench: --gi and --shadow select no technique");
+        return 2;
+    }
+
+    Scene scene;
+    if (!scene_load(&scene, scene_name))
+        return 1;
+    ps.width = width;
+    ps.height = height;
+    ps.progress = log_get_level() <= LOG_INFO;
+    char images_dir[1100], ref_path[1400];
+    snprintf(images_dir, sizeof images_dir, "%s/images", out);
+    int rc = 1;
+    ImageF ref = {0};
+    uint8_t *mask = NULL;
+    GlContext *gl = NULL;
+    Renderer r;
+    bool created = false, reused = false;
+    cJSON *doc = NULL;
+    char *text = NULL;
+    if (!make_dir(out) || !make_dir(images_dir))
+        goto done;
+    if (!get_reference(&scene, &ps, cache, &ref, ref_path, sizeof ref_path, &reused))
+        goto done;
+    size_t np = (size_t)width * height;
+    if (!(mask = util_malloc("bench", "the emitter mask", np, 1)) || !pt_emitter_mask(&scene, width, height, mask))
+        goto done;
+    size_t selected = 0;
+    for (size_t i = 0; i < np; i++)
+        selected += mask[i] != 0;
+    if (!selected) {
+        log_error("bench", "%s: every pixel sees an emitter: nothing to measure", scene.source);
+        goto done;
+    }
+    float metric_exposure = exposure >= 0.f ? exposure : scene.exposure;
+    double p99 = percentile99(&ref, mask);
+    double display_exposure = p99 > 0 ? 1.0 / p99 : metric_exposure;
+    double ref_mean = masked_mean(&ref, mask);
+    char p[1400];
+    snprintf(p, sizeof p, "%s/reference.exr", images_dir);
+    if (!image_write_exr(p, &ref, false, NULL, 0))
+        goto done;
+    snprintf(p, sizeof p, "%s/reference.png", images_dir);
+    if (!image_write_png(p, &ref, (float)display_exposure))
+        goto done;
+
+    if (!(gl = gl_context_create(false)))
+        goto done;
+    for (int i = 0; i < n; i++) {
+        BenchEntry *e = &entries[i];
+        RenderOptions o;
+        render_options_init(&o, false);
+        o.width = width;
+        o.height = height;
+        o.shadow = e->shadow;
+        o.gi = e->gi;
+        o.timings = true;
+        o.set = base;
+        memcpy(o.given, base_given, sizeof o.given);
+        for (int k = 0; k < settings_count; k++)
+            if (e->given[k]) {
+                settings_copy(&settings_table[k], &o.set, &e->set);
+                o.given[k] = true;
+            }
+        render_options_settings(&o, &scene, &e->rs);
+        log_info("bench", "[%d/%d] %s", i + 1, n, e->label);
+        if (!bench_render(&r, &created, &scene, e, frames))
+            goto done;
+        if (!(e->flip_map = util_malloc("bench", "the FLIP map", np, sizeof(float))))
+            goto done;
+        e->rmse = metric_rmse(&e->img, &ref, mask, NULL);
+        e->relmse = metric_relmse(&e->img, &ref, mask, NULL);
+        e->ssim = metric_ssim(&e->img, &ref, metric_exposure, mask, NULL);
+        e->flip = metric_flip(&e->img, &ref, metric_exposure, FLIP_DEFAULT_PPD, mask, e->flip_map);
+        e->mean_ratio = ref_mean > 0 ? masked_mean(&e->img, mask) / ref_mean : NAN;
+        if (metric_alloc_failures())
+            goto done;
+        for (size_t k = 0; k < np; k++) /* the masked pixels show as zero error */
+            if (!mask[k])
+                e->flip_map[k] = 0.f;
+        snprintf(p, sizeof p, "%s/%s.exr", images_dir, e->id);
+        if (!image_write_exr(p, &e->img, false, NULL, 0))
+            goto done;
+        snprintf(p, sizeof p, "%s/%s.png", images_dir, e->id);
+        if (!image_write_png(p, &e->img, (float)display_exposure))
+            goto done;
+        snprintf(p, sizeof p, "%s/%s_flip.png", images_dir, e->id);
+        if (!metric_write_heatmap(p, e->flip_map, width, height))
+            goto done;
+        log_info("bench", "  %.2f ms/frame (GPU %.2f ms), relmse %.5f, flip %.4f, mean ratio %.3f", e->frame_ms,
+                 e->gpu_ms, e->relmse, e->flip, e->mean_ratio);
+        /* The timings of this entry go into the JSON now: the renderer's
+         * timer is reset by the next one. */
+        if (!doc) {
+            doc = cJSON_CreateObject();
+            cJSON_AddNumberToObject(doc, "schema", 1);
+            cJSON_AddStringToObject(doc, "commit", RTGI_VERSION);
+            char date[64];
+            time_t now = time(NULL);
+            strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
+            cJSON_AddStringToObject(doc, "date", date);
+            char dev[256];
+            device_name(dev, sizeof dev);
+            cJSON_AddStringToObject(doc, "device", dev);
+            cJSON_AddStringToObject(doc, "gl_renderer", gl_context_renderer(gl));
+            cJSON_AddStringToObject(doc, "scene", scene.source);
+            cJSON_AddNumberToObject(doc, "width", width);
+            cJSON_AddNumberToObject(doc, "height", height);
+            cJSON_AddNumberToObject(doc, "frames", frames);
+            cJSON *rj = cJSON_AddObjectToObject(doc, "reference");
+            cJSON_AddStringToObject(rj, "mode", pt_mode_names[ps.mode]);
+            cJSON_AddNumberToObject(rj, "spp", ps.spp);
+            cJSON_AddStringToObject(rj, "cache", ref_path);
+            cJSON_AddBoolToObject(rj, "reused", reused);
+            cJSON_AddStringToObject(rj, "png", "images/reference.png");
+            cJSON_AddStringToObject(rj, "exr", "images/reference.exr");
+            cJSON_AddNumberToObject(doc, "spp", ps.spp);
+            cJSON_AddNumberToObject(doc, "metric_exposure", metric_exposure);
+            cJSON_AddNumberToObject(doc, "display_exposure", display_exposure);
+            cJSON_AddNumberToObject(doc, "masked_pixels", (double)(np - selected));
+            cJSON_AddStringToObject(doc, "timing",
+                                    "gpu_ms: timer queries; wall_ms: glFinish around each pass; frame_ms: wall "
+                                    "time per frame; means over the timed frames after one warm-up frame");
+            cJSON_AddArrayToObject(doc, "techniques");
+        }
+        cJSON_AddItemToArray(cJSON_GetObjectItem(doc, "techniques"), entry_json(e, &r));
+    }
+    text = cJSON_Print(doc);
+    if (!text || !write_text(out, "bench.json", text))
+        goto done;
+    {
+        ReportImage imgs[BENCH_MAX_ENTRIES + 1];
+        imgs[0] = (ReportImage){"reference", &ref, NULL};
+        for (int i = 0; i < n; i++)
+            imgs[i + 1] = (ReportImage){entries[i].id, &entries[i].img, entries[i].flip_map};
+        snprintf(p, sizeof p, "%s/report.html", out);
+        if (!report_html_write(p, doc, imgs, n + 1))
+            goto done;
+    }
+    if (markdown)
+        print_markdown(doc);
+    rc = 0;
+    log_info("bench", "wrote %s/bench.json and %s/report.html (%d techniques)", out, out, n);
+done:
+    if (created)
+        renderer_destroy(&r);
+    gl_context_destroy(gl);
+    for (int i = 0; i < n; i++) {
+        image_free(&entries[i].img);
+        free(entries[i].flip_map);
+        entries[i].flip_map = NULL;
+    }
+    free(text);
+    cJSON_Delete(doc);
+    free(mask);
+    image_free(&ref);
+    scene_free(&scene);
+    return rc;
+}

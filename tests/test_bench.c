@@ -1,0 +1,234 @@
+/* test_bench.c — `rtgi bench`: the bench.json schema (one entry per
+ * technique, the measured values sane against the reference: no GI is
+ * darker than the reference, a GI technique brings the mean nearer), the
+ * reference cache (a second run reuses it and measures the same), and
+ * report.html in headless Chromium: it loads without errors and draws one
+ * scatter point per technique. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cjson/cJSON.h>
+
+#include "test_util.h"
+#include "util.h"
+
+#define DIR RTGI_TEST_TMP "/bench_out"
+#define CACHE RTGI_TEST_TMP "/bench_cache"
+
+static cJSON *g_doc;
+
+static cJSON *load_json(void)
+{
+    size_t n = 0;
+    char *text = util_read_file(DIR "/bench.json", &n);
+    assert_non_null(text);
+    cJSON *doc = cJSON_Parse(text);
+    free(text);
+    assert_non_null(doc);
+    return doc;
+}
+
+static const cJSON *field(const cJSON *o, const char *key, int type_check)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!v)
+        fail_msg("bench.json: no \"%s\"", key);
+    switch (type_check) {
+    case 's': assert_true(cJSON_IsString(v) && v->valuestring[0]); break;
+    case 'n': assert_true(cJSON_IsNumber(v) && isfinite(v->valuedouble)); break;
+    case 'o': assert_true(cJSON_IsObject(v)); break;
+    case 'a': assert_true(cJSON_IsArray(v)); break;
+    case 'b': assert_true(cJSON_IsBool(v)); break;
+    }
+    return v;
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s' '%s'", DIR, CACHE);
+    if (system(cmd) != 0)
+        return -1;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "bench", "--size", "48x48", "--gi", "none,rsm,vpl-slc:vpls=1024", "--spp", "16",
+                          "--frames", "1", "--threads", "2", "--cache", CACHE, "--out", DIR, NULL);
+    if (rc != 0)
+        fprintf(stderr, "bench failed (%d): %s\n", rc, err ? err : "");
+    free(err);
+    return rc;
+}
+
+static void schema(void **state)
+{
+    (void)state;
+    cJSON *doc = g_doc = load_json();
+    field(doc, "commit", 's');
+    field(doc, "date", 's');
+    field(doc, "device", 's');
+    field(doc, "gl_renderer", 's');
+    field(doc, "scene", 's');
+    assert_int_equal((int)field(doc, "width", 'n')->valuedouble, 48);
+    assert_int_equal((int)field(doc, "height", 'n')->valuedouble, 48);
+    assert_int_equal((int)field(doc, "spp", 'n')->valuedouble, 16);
+    field(doc, "display_exposure", 'n');
+    field(doc, "metric_exposure", 'n');
+    const cJSON *ref = field(doc, "reference", 'o');
+    assert_string_equal(field(ref, "mode", 's')->valuestring, "full");
+    assert_false(cJSON_IsTrue(field(ref, "reused", 'b')));
+    assert_int_equal(access(field(ref, "cache", 's')->valuestring, R_OK), 0);
+    const cJSON *t = field(doc, "techniques", 'a');
+    assert_int_equal(cJSON_GetArraySize(t), 3);
+    static const char *const gi[] = {"none", "rsm", "vpl-slc"};
+    double ratio[3];
+    for (int i = 0; i < 3; i++) {
+        const cJSON *e = cJSON_GetArrayItem(t, i);
+        assert_string_equal(field(e, "gi", 's')->valuestring, gi[i]);
+        assert_string_equal(field(e, "shadow", 's')->valuestring, "pcss");
+        field(e, "label", 's');
+        field(e, "id", 's');
+        const cJSON *set = field(e, "settings", 'o');
+        assert_string_equal(field(set, "gi.vpls", 's')->valuestring, i == 2 ? "1024" : "16384");
+        const cJSON *passes = field(e, "passes", 'a');
+        assert_true(cJSON_GetArraySize(passes) >= 3);
+        double sum = 0;
+        for (int k = 0; k < cJSON_GetArraySize(passes); k++) {
+            const cJSON *p = cJSON_GetArrayItem(passes, k);
+            field(p, "name", 's');
+            double ms = field(p, "gpu_ms", 'n')->valuedouble;
+            assert_true(ms >= 0);
+            field(p, "wall_ms", 'n');
+            sum += ms;
+        }
+        assert_true(fabs(sum - field(e, "gpu_ms", 'n')->valuedouble) < 1e-6 * (1 + sum));
+        assert_true(field(e, "frame_ms", 'n')->valuedouble > 0);
+        const cJSON *m = field(e, "metrics", 'o');
+        double rmse = field(m, "rmse", 'n')->valuedouble, relmse = field(m, "relmse", 'n')->valuedouble;
+        double flip = field(m, "flip", 'n')->valuedouble, ssim = field(m, "ssim", 'n')->valuedouble;
+        ratio[i] = field(m, "mean_ratio", 'n')->valuedouble;
+        assert_true(rmse > 0 && relmse > 0 && flip > 0 && flip < 1 && ssim > 0 && ssim <= 1);
+        const cJSON *img = field(e, "images", 'o');
+        const char *keys[] = {"png", "exr", "flip_png"};
+        for (int k = 0; k < 3; k++) {
+            char path[1024];
+            snprintf(path, sizeof path, "%s/%s", DIR, field(img, keys[k], 's')->valuestring);
+            assert_int_equal(access(path, R_OK), 0);
+        }
+    }
+    /* Measured: without GI the Cornell box lacks its indirect light (about
+     * 40% of the mean); one bounce brings most of it back. */
+    print_message("mean ratio: none %.3f, rsm %.3f, vpl-slc %.3f\n", ratio[0], ratio[1], ratio[2]);
+    assert_true(ratio[0] < 0.75);
+    for (int i = 1; i < 3; i++)
+        assert_true(ratio[i] > ratio[0] + 0.1 && ratio[i] < 1.1);
+}
+
+/* A second run reuses the cached reference and measures the same errors. */
+static void cache_reused(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "bench", "--size", "48x48", "--gi", "none", "--spp", "16", "--frames", "1",
+                          "--cache", CACHE, "--out", DIR "/again", NULL);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(err, "reusing the cached reference"));
+    free(err);
+    size_t n = 0;
+    char *text = util_read_file(DIR "/again/bench.json", &n);
+    assert_non_null(text);
+    cJSON *doc = cJSON_Parse(text);
+    free(text);
+    assert_true(cJSON_IsTrue(field(field(doc, "reference", 'o'), "reused", 'b')));
+    const cJSON *a = field(cJSON_GetArrayItem(field(doc, "techniques", 'a'), 0), "metrics", 'o');
+    const cJSON *b = field(cJSON_GetArrayItem(field(g_doc, "techniques", 'a'), 0), "metrics", 'o');
+    assert_true(fabs(field(a, "relmse", 'n')->valuedouble - field(b, "relmse", 'n')->valuedouble) < 1e-9);
+    cJSON_Delete(doc);
+}
+
+static void bad_options(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "bench", "--gi", "rsm", NULL);
+    test_expect_cli_error(rc, err, 2, "--out", NULL);
+    rc = test_run_cli(&err, "bench", "--out", DIR "/x", "--gi", "rsn", NULL);
+    test_expect_cli_error(rc, err, 2, "rsn", "rsm");
+    rc = test_run_cli(&err, "bench", "--out", DIR "/x", "--gi", "rsm:samplez=4", NULL);
+    test_expect_cli_error(rc, err, 2, "samplez", NULL);
+    rc = test_run_cli(&err, "bench", "--out", DIR "/x", "--gi", "rsm:samples=0", NULL);
+    test_expect_cli_error(rc, err, 2, "samples", NULL);
+    rc = test_run_cli(&err, "bench", "--out", DIR "/x", "--shadow", "pcs", NULL);
+    test_expect_cli_error(rc, err, 2, "pcs", "pcss");
+    rc = test_run_cli(&err, "bench", "--out", DIR "/x", "--sise", "8x8", NULL);
+    test_expect_cli_error(rc, err, 2, "--sise", "--size");
+    assert_int_not_equal(access(DIR "/x", F_OK), 0); /* nothing written */
+}
+
+/* The page in headless Chromium: no errors, one scatter point per technique. */
+static void report_in_chromium(void **state)
+{
+    (void)state;
+    const char *chromium = access("/usr/bin/chromium", X_OK) == 0 ? "/usr/bin/chromium" : NULL;
+    if (!chromium) {
+        print_message("SKIP: /usr/bin/chromium is not installed (scripts/install-deps.sh installs it)\n");
+        skip();
+    }
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd,
+             "%s --headless --disable-gpu --no-sandbox --user-data-dir=%s/bench_chromium --enable-logging=stderr "
+             "--virtual-time-budget=20000 --dump-dom file://%s/report.html 2>%s/bench_chromium.log",
+             chromium, RTGI_TEST_TMP, DIR, RTGI_TEST_TMP);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    char *dom = NULL;
+    size_t cap = 0, len = 0;
+    char buf[65536];
+    for (size_t k; (k = fread(buf, 1, sizeof buf, p)) > 0;) {
+        if (len + k + 1 > cap) {
+            cap = 2 * (len + k + 1);
+            dom = realloc(dom, cap);
+            assert_non_null(dom);
+        }
+        memcpy(dom + len, buf, k);
+        len += k;
+        dom[len] = 0;
+    }
+    int rc = pclose(p);
+    assert_int_equal(rc, 0);
+    assert_non_null(dom);
+    char *title = strstr(dom, "<title>");
+    assert_non_null(title);
+    print_message("%.60s\n", title);
+    assert_true(strncmp(title, "<title>ok:3</title>", 19) == 0);
+    free(dom);
+    /* Chromium logs page errors as "Uncaught ..." console lines. */
+    char log[1024];
+    snprintf(log, sizeof log, "%s/bench_chromium.log", RTGI_TEST_TMP);
+    char *text = util_read_file(log, NULL);
+    if (text) {
+        assert_null(strstr(text, "Uncaught"));
+        free(text);
+    }
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    cJSON_Delete(g_doc);
+    return 0;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(schema),
+        cmocka_unit_test(cache_reused),
+        cmocka_unit_test(bad_options),
+        cmocka_unit_test(report_in_chromium),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}

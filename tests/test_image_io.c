@@ -1,0 +1,227 @@
+/* test_image_io.c — EXR in and out (round trips, bad files, no partial
+ * output) and the reference's Ctrl-C: a SIGINT to a running `rtgi
+ * reference` writes the partial image with the samples reached, identical
+ * to a render asked for that many samples. */
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "test_util.h"
+#include "util.h"
+
+static const char *tmp(const char *name)
+{
+    static char path[4][512];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(path[k], sizeof path[k], "%s/imageio_%s", RTGI_TEST_TMP, name);
+    return path[k];
+}
+
+static bool exists(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0;
+}
+
+/* A 37×23 image with values over many octaves, negative and tiny ones. */
+static void make_image(ImageF *img)
+{
+    assert_true(image_alloc(img, 37, 23));
+    for (int i = 0; i < 37 * 23 * 3; i++)
+        img->rgb[i] = (float)(pow(2.0, (i % 35) - 20) * ((i % 7) == 3 ? -1.0 : 1.0) * (1.0 + (i % 13) / 13.0));
+}
+
+static void exr_float_round_trip_is_exact(void **state)
+{
+    (void)state;
+    ImageF a, b = {0};
+    make_image(&a);
+    const char *p = tmp("float.exr");
+    ImageAttr attr = {"rtgi_spp", 123};
+    assert_true(image_write_exr(p, &a, false, &attr, 1));
+    assert_true(image_read(p, &b));
+    assert_int_equal(b.width, 37);
+    assert_int_equal(b.height, 23);
+    assert_memory_equal(a.rgb, b.rgb, sizeof(float) * 37 * 23 * 3);
+    int spp = 0;
+    assert_true(image_read_exr_attr(p, "rtgi_spp", &spp));
+    assert_int_equal(spp, 123);
+    assert_false(image_read_exr_attr(p, "no_such_attr", &spp));
+    /* image_write by extension writes float32 too. */
+    const char *q = tmp("float2.exr");
+    image_free(&b);
+    assert_true(image_write(q, &a, 1.f));
+    assert_true(image_read(q, &b));
+    assert_memory_equal(a.rgb, b.rgb, sizeof(float) * 37 * 23 * 3);
+    image_free(&a);
+    image_free(&b);
+}
+
+static void exr_half_round_trip_within_half_precision(void **state)
+{
+    (void)state;
+    ImageF a, b = {0};
+    make_image(&a);
+    const char *p = tmp("half.exr");
+    assert_true(image_write_exr(p, &a, true, NULL, 0));
+    assert_true(image_read_exr(p, &b));
+    double worst = 0;
+    for (int i = 0; i < 37 * 23 * 3; i++) {
+        float v = a.rgb[i];
+        if (fabsf(v) < 6.2e-5f) /* subnormal halves: absolute step 2^-24 */
+            assert_true(fabsf(b.rgb[i] - v) <= 0x1p-24f);
+        else
+            worst = fmax(worst, fabs((double)b.rgb[i] - v) / fabs(v));
+    }
+    assert_true(worst <= 0x1p-11); /* round to nearest, 10-bit mantissa */
+    assert_true(worst > 0);       /* it really is half */
+    struct stat sf, sh;
+    assert_int_equal(stat(tmp("float.exr"), &sf), 0);
+    assert_int_equal(stat(p, &sh), 0);
+    /* A value beyond half's range is refused; nothing is left behind. */
+    const char *q = tmp("overflow.exr");
+    remove(q);
+    a.rgb[5] = 1e6f;
+    assert_false(image_write_exr(q, &a, true, NULL, 0));
+    assert_false(exists(q));
+    /* So are NaNs, in float too. */
+    a.rgb[5] = NAN;
+    assert_false(image_write_exr(q, &a, false, NULL, 0));
+    assert_false(exists(q));
+    image_free(&a);
+    image_free(&b);
+}
+
+static void bad_and_truncated_exr_are_errors(void **state)
+{
+    (void)state;
+    ImageF a, b = {0};
+    make_image(&a);
+    const char *good = tmp("good.exr");
+    assert_true(image_write_exr(good, &a, false, NULL, 0));
+    size_t size = 0;
+    char *data = util_read_file(good, &size);
+    assert_non_null(data);
+    /* Truncated at several points: header, offset table, pixel data. */
+    size_t cuts[] = {3, 20, 200, size / 2, size - 1};
+    for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; k++) {
+        const char *p = tmp("cut.exr");
+        FILE *f = fopen(p, "wb");
+        assert_non_null(f);
+        fwrite(data, 1, cuts[k], f);
+        fclose(f);
+        assert_false(image_read(p, &b));
+        assert_null(b.rgb);
+    }
+    /* Not an EXR at all, and an empty file. */
+    assert_false(image_read(test_tmp_file("imageio_text.exr", "hello, this is not an EXR file\n"), &b));
+    assert_false(image_read(test_tmp_file("imageio_empty.exr", ""), &b));
+    /* Garbage in the pixel data (after the header): error or finite values, never a crash. */
+    const char *p = tmp("garbage.exr");
+    for (size_t i = size / 2; i < size; i++)
+        data[i] = (char)(i * 37);
+    FILE *f = fopen(p, "wb");
+    fwrite(data, 1, size, f);
+    fclose(f);
+    if (image_read(p, &b))
+        image_free(&b);
+    free(data);
+    /* Through the CLI: one line naming the file, exit 1. */
+    char *err = NULL;
+    int rc = test_run_cli(&err, "compare", tmp("cut.exr"), good, NULL);
+    test_expect_cli_error(rc, err, 1, "cut.exr", "EXR");
+    image_free(&a);
+}
+
+/* render --out x.exr and reference --out x.exr are read back by compare. */
+static void cli_writes_and_compares_exr(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    const char *r = tmp("render.exr"), *ref = tmp("ref.exr"), *rp = tmp("render.pfm");
+    assert_int_equal(test_run_cli(&err, "render", "--size", "32x32", "--out", r, NULL), 0);
+    free(err);
+    assert_int_equal(test_run_cli(&err, "render", "--size", "32x32", "--out", rp, NULL), 0);
+    free(err);
+    assert_int_equal(test_run_cli(&err, "reference", "--size", "32x32", "--spp", "4", "--quiet", "--out", ref, NULL), 0);
+    free(err);
+    ImageF a = {0}, b = {0};
+    assert_true(image_read(r, &a));
+    assert_true(image_read(rp, &b));
+    assert_memory_equal(a.rgb, b.rgb, sizeof(float) * 32 * 32 * 3); /* EXR float32 = PFM */
+    int spp = 0;
+    assert_true(image_read_exr_attr(ref, "rtgi_spp", &spp));
+    assert_int_equal(spp, 4);
+    assert_int_equal(test_run_cli(&err, "compare", r, ref, NULL), 0);
+    free(err);
+    image_free(&a);
+    image_free(&b);
+}
+
+/* Ctrl-C: the running reference finishes its pass and writes what it has. */
+static void reference_sigint_writes_partial_image(void **state)
+{
+    (void)state;
+    const char *out = tmp("partial.exr"), *log = tmp("partial_stdout.txt");
+    remove(out);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        if (!freopen(log, "w", stdout) || !freopen("/dev/null", "w", stderr))
+            _exit(127);
+        execl(RTGI_BINARY, RTGI_BINARY, "reference", "--size", "64x64", "--spp", "1000000", "--threads", "2",
+              "--out", out, (char *)NULL);
+        _exit(127);
+    }
+    /* Long enough for the scene and BVH, short of 10^6 spp (hours). */
+    nanosleep(&(struct timespec){3, 0}, NULL);
+    kill(pid, SIGINT);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+    int spp = 0;
+    assert_true(image_read_exr_attr(out, "rtgi_spp", &spp));
+    print_message("interrupted at %d spp\n", spp);
+    assert_true(spp >= 1 && spp < 1000000);
+    char *text = util_read_file(log, NULL);
+    assert_non_null(text);
+    char want[64];
+    snprintf(want, sizeof want, "spp: %d\n", spp);
+    assert_non_null(strstr(text, want));
+    assert_non_null(strstr(text, "interrupted:"));
+    free(text);
+    /* The partial image is the image of that many samples. */
+    char spp_s[16];
+    snprintf(spp_s, sizeof spp_s, "%d", spp);
+    const char *full = tmp("asked.exr");
+    char *err = NULL;
+    assert_int_equal(test_run_cli(&err, "reference", "--size", "64x64", "--spp", spp_s, "--threads", "2", "--quiet",
+                                  "--out", full, NULL), 0);
+    free(err);
+    ImageF a = {0}, b = {0};
+    assert_true(image_read(out, &a));
+    assert_true(image_read(full, &b));
+    assert_memory_equal(a.rgb, b.rgb, sizeof(float) * 64 * 64 * 3);
+    image_free(&a);
+    image_free(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(exr_float_round_trip_is_exact),
+        cmocka_unit_test(exr_half_round_trip_within_half_precision),
+        cmocka_unit_test(bad_and_truncated_exr_are_errors),
+        cmocka_unit_test(cli_writes_and_compares_exr),
+        cmocka_unit_test(reference_sigint_writes_partial_image),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -43,14 +43,23 @@ typedef struct Camera {
 
 typedef struct Texture {
     int width, height;
-    uint8_t *rgba; /* sRGB-encoded RGBA8, row 0 = top, owned */
+    uint8_t *rgba; /* RGBA8, row 0 = top, owned: sRGB-encoded colour, or data when `linear` */
+    bool linear;   /* data (glTF metallicRoughness), not colour: no sRGB decoding */
     char name[256];
 } Texture;
 
+/* glTF metallic-roughness material (SPEC §1b; the BRDF is src/brdf.h).
+ * Built-in surfaces and OBJ materials have specular 0 and metallic 0: they
+ * are Lambertian, f = albedo/π. A scene file's "materials" object sets any
+ * of these per material name (README "Scene files"). */
 typedef struct Material {
     char name[64];
-    vec3 albedo;        /* linear; multiplies the texture */
-    int albedo_tex;     /* index into Scene.textures or -1 */
+    vec3 albedo;        /* base colour factor, linear; multiplies the texture */
+    int albedo_tex;     /* base colour texture: index into Scene.textures or -1 */
+    float metallic;     /* factor in [0,1]; multiplies the texture's B */
+    float roughness;    /* perceptual roughness factor in [0,1] (α = r²); multiplies the texture's G */
+    float specular;     /* dielectric reflectance weight: F0 = 0.04·specular (0: Lambertian) */
+    int mr_tex;         /* metallicRoughness texture (linear; G roughness, B metallic) or -1 */
     bool alpha_mask;    /* texels with alpha < alpha_cutoff are holes */
     float alpha_cutoff;
     vec3 emission;      /* radiance of an emitter surface (front face only) */

@@ -139,10 +139,25 @@ static void constants_match_c_enums(void **state)
     glDeleteProgram(prog);
 }
 
+/* Texture units past the 32 a fragment stage may use at once are still
+ * valid bindings below GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS (GL 4.5: ≥ 80). */
+static void texture_units_exist(void **state)
+{
+    (void)state;
+    GLint units = 0;
+    glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &units);
+    print_message("GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS = %d\n", units);
+    const int used[] = {TEX_LDR, TEX_GB_SPECULAR, TEX_MATERIAL_MR, TEX_LPV_OUTER + 5};
+    for (size_t i = 0; i < sizeof used / sizeof used[0]; i++)
+        assert_true(used[i] < units);
+    assert_true(TEX_GB_SPECULAR != TEX_MATERIAL_MR && TEX_GB_SPECULAR > TEX_LDR && TEX_MATERIAL_MR > TEX_LDR);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(blocks_match_c),
+        cmocka_unit_test(texture_units_exist),
         cmocka_unit_test(constants_match_c_enums),
     };
     return cmocka_run_group_tests_name("layout", tests, test_gl_setup, test_gl_teardown);

@@ -1,0 +1,74 @@
+// brdf.glsl — the one BRDF of rtgi, identical to src/brdf.c (see brdf.h for
+// the formulas); tests/test_brdf.c checks both agree to 1e-5. Needs
+// common/math.glsl.
+//   f(v, l) = (1 − F)·ρ_d/π + D·V·F, F Schlick with F90 = min(1, 50·max(F0)),
+//   D GGX, V height-correlated Smith, α = max(roughness, 0.03)².
+// The G-buffer's specular attachment holds F0 (rgb) and the perceptual
+// roughness (a); its albedo attachment holds ρ_d = (1 − metallic)·base.
+
+const float BRDF_MIN_ROUGHNESS = 0.03;
+const float BRDF_DIELECTRIC_F0 = 0.04;
+
+// Perceptual (glTF) roughness → GGX α.
+float brdf_alpha(float roughness)
+{
+    float r = max(roughness, BRDF_MIN_ROUGHNESS);
+    return r * r;
+}
+
+// ρ_d and F0 from the glTF parameters (specular: dielectric weight, F0 = 0.04·specular).
+void brdf_surface(vec3 base, float metallic, float specular, out vec3 diffuse, out vec3 f0)
+{
+    diffuse = (1.0 - metallic) * base;
+    f0 = (1.0 - metallic) * BRDF_DIELECTRIC_F0 * specular + metallic * base;
+}
+
+// Schlick Fresnel, F90 = min(1, 50·max(F0)).
+vec3 brdf_fresnel(vec3 f0, float cos_theta)
+{
+    float f90 = min(1.0, 50.0 * max(f0.r, max(f0.g, f0.b)));
+    float m = 1.0 - clamp(cos_theta, 0.0, 1.0);
+    float m5 = m * m * m * m * m;
+    return f0 + (vec3(f90) - f0) * m5;
+}
+
+float brdf_ggx_d(float n_dot_h, float alpha)
+{
+    float a2 = alpha * alpha;
+    float t = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    return a2 / (PI * t * t);
+}
+
+// Height-correlated Smith visibility G2 / (4 n·l n·v).
+float brdf_smith_v(float nv, float nl, float alpha)
+{
+    float a2 = alpha * alpha;
+    float gv = nl * sqrt(nv * nv * (1.0 - a2) + a2);
+    float gl = nv * sqrt(nl * nl * (1.0 - a2) + a2);
+    return 0.5 / (gv + gl);
+}
+
+// f(v, l) split into its lobes (without the cosine); zero below the surface.
+void brdf_eval_lobes(vec3 diffuse_albedo, vec3 f0, float roughness, vec3 n, vec3 v, vec3 l,
+                     out vec3 diffuse, out vec3 specular)
+{
+    float nv = dot(n, v), nl = dot(n, l);
+    diffuse = vec3(0.0);
+    specular = vec3(0.0);
+    if (nv <= 0.0 || nl <= 0.0)
+        return;
+    vec3 h = normalize(v + l);
+    float nh = max(dot(n, h), 0.0), vh = max(dot(v, h), 0.0);
+    vec3 f = brdf_fresnel(f0, vh);
+    float a = brdf_alpha(roughness);
+    float dv = brdf_ggx_d(nh, a) * brdf_smith_v(nv, nl, a);
+    diffuse = (vec3(1.0) - f) * diffuse_albedo / PI;
+    specular = f * dv;
+}
+
+vec3 brdf_eval(vec3 diffuse_albedo, vec3 f0, float roughness, vec3 n, vec3 v, vec3 l)
+{
+    vec3 d, s;
+    brdf_eval_lobes(diffuse_albedo, f0, roughness, n, v, l, d, s);
+    return d + s;
+}

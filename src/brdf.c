@@ -58,7 +58,7 @@ float brdf_smith_v(float nv, float nl, float alpha)
 void brdf_eval_lobes(const BrdfSurface *s, const vec3 n, const vec3 v, const vec3 l, vec3 diffuse, vec3 specular)
 {
     float nv = glm_vec3_dot((float *)n, (float *)v), nl = glm_vec3_dot((float *)n, (float *)l);
-    if (nv <= 0.f || nl <= 0.f) {
+    if (nl <= 0.f) {
         if (diffuse)
             glm_vec3_zero(diffuse);
         if (specular)
@@ -71,7 +71,9 @@ void brdf_eval_lobes(const BrdfSurface *s, const vec3 n, const vec3 v, const vec
     float nh = fmaxf(glm_vec3_dot((float *)n, h), 0.f), vh = fmaxf(glm_vec3_dot((float *)v, h), 0.f);
     brdf_fresnel(s->f0, vh, f);
     float a = brdf_alpha(s->roughness);
-    float dv = brdf_ggx_d(nh, a) * brdf_smith_v(nv, nl, a);
+    /* A view below the shading normal's horizon (interpolated normals near
+     * silhouettes) sees the diffuse lobe only. */
+    float dv = nv > 0.f ? brdf_ggx_d(nh, a) * brdf_smith_v(nv, nl, a) : 0.f;
     for (int c = 0; c < 3; c++) {
         if (diffuse)
             diffuse[c] = (1.f - f[c]) * s->diffuse[c] / GLM_PIf;
@@ -154,7 +156,7 @@ float brdf_spec_prob(const BrdfSurface *s, float n_dot_v)
     for (int c = 0; c < 3; c++)
         d[c] = (1.f - f[c]) * s->diffuse[c];
     float ls = luminance(f), ld = luminance(d);
-    return ls + ld > 0.f ? ls / (ls + ld) : 0.f;
+    return n_dot_v > 0.f && ls + ld > 0.f ? ls / (ls + ld) : 0.f;
 }
 
 bool brdf_sample(const BrdfSurface *s, const vec3 wo, float u0, float u1, float u2, vec3 wi)
@@ -177,9 +179,9 @@ bool brdf_sample(const BrdfSurface *s, const vec3 wo, float u0, float u1, float 
 
 float brdf_pdf(const BrdfSurface *s, const vec3 wo, const vec3 wi)
 {
-    if (wo[2] <= 0.f || wi[2] <= 0.f)
+    if (wi[2] <= 0.f)
         return 0.f;
-    float p = brdf_spec_prob(s, wo[2]);
+    float p = brdf_spec_prob(s, wo[2]); /* 0 for wo below the horizon */
     float pdf = (1.f - p) * wi[2] / GLM_PIf;
     if (p > 0.f)
         pdf += p * brdf_spec_pdf(wo, wi, brdf_alpha(s->roughness));

@@ -14,8 +14,9 @@
  * (F0 = 0.04) and metal, 0 when F0 = 0, so a material with specular 0 and
  * metallic 0 (the built-in Cornell surfaces, OBJ materials) is exactly
  * Lambertian, f = ρ/π, as before glossy materials existed.
- * Vectors are unit, in any frame, with n the shading normal; f = 0 unless
- * both v and l are above the surface. */
+ * Vectors are unit, in any frame, with n the shading normal; f = 0 for l
+ * below the surface, and the specular lobe is 0 for v below it (a shading
+ * normal may face away from the viewer near silhouettes). */
 #ifndef RTGI_BRDF_H
 #define RTGI_BRDF_H
 

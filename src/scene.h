@@ -92,7 +92,12 @@ typedef struct ShadowParams {
     int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
     int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
+    int area_light;        /* AreaLightMode: quad lights' exact polygon irradiance, or a point at the centre */
 } ShadowParams;
+
+/* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
+ * shared/gpu_types.h). */
+typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
 
 typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
 

@@ -48,20 +48,21 @@ float brdf_smith_v(float nv, float nl, float alpha)
     return 0.5 / (gv + gl);
 }
 
-// f(v, l) split into its lobes (without the cosine); zero below the surface.
+// f(v, l) split into its lobes (without the cosine); zero for l below the
+// surface, no specular lobe for v below it.
 void brdf_eval_lobes(vec3 diffuse_albedo, vec3 f0, float roughness, vec3 n, vec3 v, vec3 l,
                      out vec3 diffuse, out vec3 specular)
 {
     float nv = dot(n, v), nl = dot(n, l);
     diffuse = vec3(0.0);
     specular = vec3(0.0);
-    if (nv <= 0.0 || nl <= 0.0)
+    if (nl <= 0.0)
         return;
     vec3 h = normalize(v + l);
     float nh = max(dot(n, h), 0.0), vh = max(dot(v, h), 0.0);
     vec3 f = brdf_fresnel(f0, vh);
     float a = brdf_alpha(roughness);
-    float dv = brdf_ggx_d(nh, a) * brdf_smith_v(nv, nl, a);
+    float dv = nv > 0.0 ? brdf_ggx_d(nh, a) * brdf_smith_v(nv, nl, a) : 0.0;
     diffuse = (vec3(1.0) - f) * diffuse_albedo / PI;
     specular = f * dv;
 }

@@ -25,3 +25,65 @@ vec3 light_irradiance(GpuLight l, vec3 x, vec3 n, out vec3 to_light)
     to_light = d * inversesqrt(d2);
     return light_intensity(l, -to_light) * max(dot(n, to_light), 0.0) / d2;
 }
+
+// ---- Quad lights as the real polygon (SPEC §1: exact diffuse irradiance) ----
+
+// Irradiance per unit radiance, E/L, at x with normal n from the convex
+// polygon p[0..3] (world space): Lambert's formula
+//   E/L = ½ Σ_i θ_i · (n · ĝ_i),  θ_i the angle subtended by edge i, ĝ_i the
+// unit normal of the plane through x and that edge,
+// after clipping the polygon to the horizon of x (the half-space n·(p − x) ≥ 0).
+float polygon_irradiance(vec3 x, vec3 n, vec3 p[4])
+{
+    // Sutherland–Hodgman against the tangent plane: at most 5 vertices.
+    vec3 q[5];
+    int m = 0;
+    for (int i = 0; i < 4; i++) {
+        vec3 a = p[i] - x, b = p[(i + 1) % 4] - x;
+        float da = dot(a, n), db = dot(b, n);
+        if (da >= 0.0)
+            q[m++] = a;
+        if ((da >= 0.0) != (db >= 0.0))
+            q[m++] = a + (b - a) * (da / (da - db));
+    }
+    if (m < 3)
+        return 0.0;
+    float sum = 0.0;
+    for (int i = 0; i < m; i++) {
+        vec3 a = normalize(q[i]), b = normalize(q[(i + 1) % m]);
+        vec3 c = cross(a, b);
+        float s = length(c);
+        if (s > 1e-12)
+            sum += atan(s, dot(a, b)) * dot(c, n) / s;
+    }
+    return 0.5 * abs(sum);
+}
+
+// The four corners of a quad light at its size (counter-clockwise about u × v).
+void quad_corners(GpuLight l, out vec3 p[4])
+{
+    vec3 c = l.position_type.xyz, hu = 0.5 * l.quad_u.xyz, hv = 0.5 * l.quad_v.xyz;
+    p[0] = c - hu - hv;
+    p[1] = c + hu - hv;
+    p[2] = c + hu + hv;
+    p[3] = c - hu + hv;
+}
+
+// Point of the quad light closest to the ray x + t·r (the representative
+// point of Karis 2013 for the specular lobe): where the ray meets the
+// light's plane, clamped to the rectangle; the centre if it never does.
+vec3 quad_representative_point(GpuLight l, vec3 x, vec3 r)
+{
+    vec3 c = l.position_type.xyz, nl = l.direction_width.xyz;
+    float denom = dot(r, nl);
+    vec3 p = c;
+    if (denom < -1e-6) {
+        float t = dot(c - x, nl) / denom;
+        if (t > 0.0)
+            p = x + t * r;
+    }
+    vec3 u = l.quad_u.xyz, v = l.quad_v.xyz;
+    vec3 d = p - c;
+    float su = clamp(dot(d, u) / dot(u, u), -0.5, 0.5), sv = clamp(dot(d, v) / dot(v, v), -0.5, 0.5);
+    return c + su * u + sv * v;
+}

@@ -1,8 +1,16 @@
-// frame/direct.frag — deferred direct shading of one light: Lambert f = ρ/π,
-// irradiance from the light model, shadow visibility; plus emitted
+// frame/direct.frag — deferred direct shading of one light with the BRDF of
+// common/brdf.glsl (Lambert + GGX; Lambertian surfaces have F0 = 0):
+// f · irradiance from the light model · shadow visibility; plus emitted
 // radiance when u_add_emission is set (once per frame). Additive blend.
+// Quad lights (u_area_light = AREA_LIGHT_EXACT and a size > 0): the diffuse
+// lobe takes the polygon's exact unoccluded irradiance (Lambert's formula,
+// clipped to the horizon), the specular lobe a representative point with
+// Karis' (2013) lobe widening; both times the shadow-map visibility toward
+// the light's centre. AREA_LIGHT_POINT keeps the point at the centre with
+// I(θ) = L·A·cosθ.
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
+#include "common/brdf.glsl"
 #include "common/lights.glsl"
 #include "common/shadow.glsl"
 
@@ -10,7 +18,9 @@ layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
 layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(binding = TEX_GB_ALBEDO) uniform sampler2D g_albedo;
 layout(binding = TEX_GB_EMISSION) uniform sampler2D g_emission;
+layout(binding = TEX_GB_SPECULAR) uniform sampler2D g_specular;
 layout(location = LOC_DIRECT_EMISSION) uniform int u_add_emission;
+layout(location = LOC_DIRECT_AREA_LIGHT) uniform int u_area_light;
 
 out vec4 o_radiance;
 
@@ -23,11 +33,49 @@ void main()
     vec3 x = p.xyz;
     vec3 n = texelFetch(g_normal, px, 0).xyz;
     vec3 albedo = texelFetch(g_albedo, px, 0).rgb;
+    vec4 spec = texelFetch(g_specular, px, 0);
+    vec3 v = normalize(u_frame.camera.xyz - x);
     vec3 l;
     vec3 e = light_irradiance(u_light, x, n, l);
     vec3 radiance = vec3(0.0);
-    if (max(e.r, max(e.g, e.b)) > 0.0)
-        radiance = albedo / PI * e * shadow_visibility(x, n, l, gl_FragCoord.xy);
+    bool polygon = int(u_light.position_type.w) == LIGHT_QUAD && u_area_light == AREA_LIGHT_EXACT &&
+                   u_light.quad_v.w > 0.0;
+    bool glossy = max(spec.r, max(spec.g, spec.b)) > 0.0;
+    if (polygon) {
+        // One-sided: nothing behind the emitting plane.
+        vec3 lc = u_light.position_type.xyz;
+        if (dot(x - lc, u_light.direction_width.xyz) > 0.0) {
+            vec3 corners[4];
+            quad_corners(u_light, corners);
+            vec3 radiance_l = u_light.color.rgb / u_light.quad_v.w; // L = (L·A) / A
+            vec3 e_poly = radiance_l * polygon_irradiance(x, n, corners);
+            // (1 − F) of the diffuse lobe toward the centre, which may lie
+            // below the horizon while part of the polygon is above it.
+            vec3 fd = (vec3(1.0) - brdf_fresnel(spec.rgb, max(dot(v, normalize(v + l)), 0.0))) * albedo / PI;
+            vec3 lit = fd * e_poly;
+            if (glossy && dot(n, v) > 0.0) {
+                vec3 rp = quad_representative_point(u_light, x, reflect(-v, n));
+                vec3 dl = rp - x;
+                float d2 = max(dot(dl, dl), 1e-12);
+                vec3 ls = dl * inversesqrt(d2);
+                float cos_l = max(dot(-ls, u_light.direction_width.xyz), 0.0);
+                float nl = max(dot(n, ls), 0.0);
+                // Karis' normalisation: the lobe widened by the light's
+                // angular radius keeps its energy, (α/α')².
+                float a = brdf_alpha(spec.a);
+                float radius = sqrt(u_light.quad_v.w / PI);
+                float a2 = min(1.0, a + radius / (2.0 * sqrt(d2)));
+                vec3 fd2, fs2;
+                brdf_eval_lobes(albedo, spec.rgb, spec.a, n, v, ls, fd2, fs2);
+                lit += fs2 * (a * a) / (a2 * a2) * u_light.color.rgb * cos_l * nl / d2;
+            }
+            if (max(lit.r, max(lit.g, lit.b)) > 0.0)
+                radiance = lit * shadow_visibility(x, n, l, gl_FragCoord.xy);
+        }
+    } else if (max(e.r, max(e.g, e.b)) > 0.0) {
+        vec3 f = glossy ? brdf_eval(albedo, spec.rgb, spec.a, n, v, l) : albedo / PI;
+        radiance = f * e * shadow_visibility(x, n, l, gl_FragCoord.xy);
+    }
     if (u_add_emission != 0)
         radiance += texelFetch(g_emission, px, 0).rgb;
     o_radiance = vec4(radiance, 1.0);

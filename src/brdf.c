@@ -27,11 +27,23 @@ void brdf_fresnel(const vec3 f0, float cos_theta, vec3 out)
         out[c] = f0[c] + (f90 - f0[c]) * m5;
 }
 
-float brdf_ggx_d(float n_dot_h, float alpha)
+/* D from cos²θh and sin²θh given apart: (n·h)²(α² − 1) + 1 = cos²·α² + sin²
+ * without the cancellation near the peak, where sin² ≪ 1. */
+static float ggx_d_cs(float c2, float s2, float alpha)
 {
     float a2 = alpha * alpha;
-    float t = n_dot_h * n_dot_h * (a2 - 1.f) + 1.f;
+    float t = c2 * a2 + s2;
     return a2 / (GLM_PIf * t * t);
+}
+
+float brdf_diffuse_transmission(float fv, float fl, float f0)
+{
+    return f0 < 1.f - 1e-4f ? (1.f - fv) * (1.f - fl) / (1.f - f0) : 0.f;
+}
+
+float brdf_ggx_d(float n_dot_h, float alpha)
+{
+    return ggx_d_cs(n_dot_h * n_dot_h, fmaxf(0.f, 1.f - n_dot_h * n_dot_h), alpha);
 }
 
 float brdf_smith_lambda(float c, float alpha)
@@ -65,18 +77,22 @@ void brdf_eval_lobes(const BrdfSurface *s, const vec3 n, const vec3 v, const vec
             glm_vec3_zero(specular);
         return;
     }
-    vec3 h, f;
+    vec3 h, f, nxh;
     glm_vec3_add((float *)v, (float *)l, h);
     glm_vec3_normalize(h);
+    glm_vec3_cross((float *)n, h, nxh);
     float nh = fmaxf(glm_vec3_dot((float *)n, h), 0.f), vh = fmaxf(glm_vec3_dot((float *)v, h), 0.f);
     brdf_fresnel(s->f0, vh, f);
     float a = brdf_alpha(s->roughness);
     /* A view below the shading normal's horizon (interpolated normals near
      * silhouettes) sees the diffuse lobe only. */
-    float dv = nv > 0.f ? brdf_ggx_d(nh, a) * brdf_smith_v(nv, nl, a) : 0.f;
+    float dv = nv > 0.f ? ggx_d_cs(nh * nh, glm_vec3_dot(nxh, nxh), a) * brdf_smith_v(nv, nl, a) : 0.f;
+    vec3 fv, fl;
+    brdf_fresnel(s->f0, nv, fv);
+    brdf_fresnel(s->f0, nl, fl);
     for (int c = 0; c < 3; c++) {
         if (diffuse)
-            diffuse[c] = (1.f - f[c]) * s->diffuse[c] / GLM_PIf;
+            diffuse[c] = brdf_diffuse_transmission(fv[c], fl[c], s->f0[c]) * s->diffuse[c] / GLM_PIf;
         if (specular)
             specular[c] = f[c] * dv;
     }
@@ -127,7 +143,7 @@ float brdf_vndf_pdf(const vec3 wo, const vec3 h, float alpha)
     float oh = glm_vec3_dot((float *)wo, (float *)h);
     if (wo[2] <= 0.f || h[2] <= 0.f || oh <= 0.f)
         return 0.f;
-    return brdf_smith_g1(wo[2], alpha) * oh * brdf_ggx_d(h[2], alpha) / wo[2];
+    return brdf_smith_g1(wo[2], alpha) * oh * ggx_d_cs(h[2] * h[2], h[0] * h[0] + h[1] * h[1], alpha) / wo[2];
 }
 
 float brdf_spec_pdf(const vec3 wo, const vec3 wi, float alpha)

@@ -2,14 +2,20 @@
  * the tests; shaders/common/brdf.glsl is the same code in GLSL, and
  * tests/test_brdf.c checks that both give the same values to 1e-5.
  *
- *   f(v, l) = (1 − F)·ρ_d/π + D·V·F
+ *   f(v, l) = T·ρ_d/π + D·V·F(v·h)
+ *   T   = (1 − F(n·v))(1 − F(n·l)) / (1 − F0)          (what enters the diffuse base)
  *   ρ_d = (1 − metallic)·base colour                 (diffuse albedo)
- *   F   = F0 + (F90 − F0)(1 − v·h)^5                  (Schlick)
+ *   F(c) = F0 + (F90 − F0)(1 − c)^5                   (Schlick)
  *   F0  = mix(0.04·specular, base colour, metallic), F90 = min(1, 50·max(F0))
  *   D   = α² / (π ((n·h)²(α² − 1) + 1)²)              (GGX / Trowbridge–Reitz)
  *   V   = G2 / (4 n·l n·v), G2 height-correlated Smith (Heitz 2014)
  *   α   = roughness², roughness clamped to ≥ BRDF_MIN_ROUGHNESS
  *
+ * T is the (1 − F) of SPEC §1b taken symmetrically: with 1 − F(v·h), a
+ * white dielectric reflects up to 6% more than it receives (the diffuse
+ * lobe gives up less than the specular one takes, measured by test_brdf);
+ * the product of the two directions' transmissions, normalised to 1 at
+ * normal incidence, keeps f reciprocal and ∫ f cos ≤ 1.
  * F90 = min(1, 50·max(F0)) is Filament's rule: 1 for every real dielectric
  * (F0 = 0.04) and metal, 0 when F0 = 0, so a material with specular 0 and
  * metallic 0 (the built-in Cornell surfaces, OBJ materials) is exactly
@@ -38,6 +44,9 @@ typedef struct BrdfSurface {
 void brdf_surface(const vec3 base, float metallic, float roughness, float specular, BrdfSurface *out);
 
 float brdf_alpha(float roughness);
+/* The diffuse lobe's factor T from F(n·v), F(n·l) and F0 of one channel
+ * (0 where F0 = 1: nothing enters). */
+float brdf_diffuse_transmission(float fv, float fl, float f0);
 /* Schlick Fresnel with F90 = min(1, 50·max(F0)). */
 void brdf_fresnel(const vec3 f0, float cos_theta, vec3 out);
 /* GGX normal distribution for cos θ_h = n·h. */

@@ -1,7 +1,8 @@
 // brdf.glsl — the one BRDF of rtgi, identical to src/brdf.c (see brdf.h for
 // the formulas); tests/test_brdf.c checks both agree to 1e-5. Needs
 // common/math.glsl.
-//   f(v, l) = (1 − F)·ρ_d/π + D·V·F, F Schlick with F90 = min(1, 50·max(F0)),
+//   f(v, l) = T·ρ_d/π + D·V·F(v·h), T = (1 − F(n·v))(1 − F(n·l)) / (1 − F0),
+//   F Schlick with F90 = min(1, 50·max(F0)),
 //   D GGX, V height-correlated Smith, α = max(roughness, 0.03)².
 // The G-buffer's specular attachment holds F0 (rgb) and the perceptual
 // roughness (a); its albedo attachment holds ρ_d = (1 − metallic)·base.
@@ -32,11 +33,26 @@ vec3 brdf_fresnel(vec3 f0, float cos_theta)
     return f0 + (vec3(f90) - f0) * m5;
 }
 
-float brdf_ggx_d(float n_dot_h, float alpha)
+// GGX D from cos²θh and sin²θh given apart (no cancellation near the peak).
+float brdf_ggx_d_cs(float c2, float s2, float alpha)
 {
     float a2 = alpha * alpha;
-    float t = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
+    float t = c2 * a2 + s2;
     return a2 / (PI * t * t);
+}
+
+// The diffuse lobe's T = (1 − F(n·v))(1 − F(n·l)) / (1 − F0) per channel (0 where F0 = 1).
+vec3 brdf_diffuse_transmission(vec3 fv, vec3 fl, vec3 f0)
+{
+    vec3 t;
+    for (int c = 0; c < 3; c++)
+        t[c] = f0[c] < 1.0 - 1e-4 ? (1.0 - fv[c]) * (1.0 - fl[c]) / (1.0 - f0[c]) : 0.0;
+    return t;
+}
+
+float brdf_ggx_d(float n_dot_h, float alpha)
+{
+    return brdf_ggx_d_cs(n_dot_h * n_dot_h, max(0.0, 1.0 - n_dot_h * n_dot_h), alpha);
 }
 
 // Height-correlated Smith visibility G2 / (4 n·l n·v).
@@ -62,8 +78,9 @@ void brdf_eval_lobes(vec3 diffuse_albedo, vec3 f0, float roughness, vec3 n, vec3
     float nh = max(dot(n, h), 0.0), vh = max(dot(v, h), 0.0);
     vec3 f = brdf_fresnel(f0, vh);
     float a = brdf_alpha(roughness);
-    float dv = nv > 0.0 ? brdf_ggx_d(nh, a) * brdf_smith_v(nv, nl, a) : 0.0;
-    diffuse = (vec3(1.0) - f) * diffuse_albedo / PI;
+    vec3 nxh = cross(n, h);
+    float dv = nv > 0.0 ? brdf_ggx_d_cs(nh * nh, dot(nxh, nxh), a) * brdf_smith_v(nv, nl, a) : 0.0;
+    diffuse = brdf_diffuse_transmission(brdf_fresnel(f0, nv), brdf_fresnel(f0, nl), f0) * diffuse_albedo / PI;
     specular = f * dv;
 }
 

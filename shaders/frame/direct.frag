@@ -48,11 +48,14 @@ void main()
             vec3 corners[4];
             quad_corners(u_light, corners);
             vec3 radiance_l = u_light.color.rgb / u_light.quad_v.w; // L = (L·A) / A
-            vec3 e_poly = radiance_l * polygon_irradiance(x, n, corners);
-            // (1 − F) of the diffuse lobe toward the centre, which may lie
-            // below the horizon while part of the polygon is above it.
-            vec3 fd = (vec3(1.0) - brdf_fresnel(spec.rgb, max(dot(v, normalize(v + l)), 0.0))) * albedo / PI;
-            vec3 lit = fd * e_poly;
+            vec3 fvec = polygon_vector(x, n, corners);
+            vec3 e_poly = radiance_l * dot(fvec, n);
+            // The diffuse lobe's Fresnel transmission toward the polygon's
+            // mean light direction (the vector irradiance's).
+            float nl_mean = dot(n, fvec) * inversesqrt(max(dot(fvec, fvec), 1e-30));
+            vec3 t = brdf_diffuse_transmission(brdf_fresnel(spec.rgb, dot(n, v)), brdf_fresnel(spec.rgb, nl_mean),
+                                               spec.rgb);
+            vec3 lit = t * albedo / PI * e_poly;
             if (glossy && dot(n, v) > 0.0) {
                 vec3 rp = quad_representative_point(u_light, x, reflect(-v, n));
                 vec3 dl = rp - x;

@@ -75,22 +75,3 @@ void quad_corners(GpuLight l, out vec3 p[4])
     p[2] = c + hu + hv;
     p[3] = c - hu + hv;
 }
-
-// Point of the quad light closest to the ray x + t·r (the representative
-// point of Karis 2013 for the specular lobe): where the ray meets the
-// light's plane, clamped to the rectangle; the centre if it never does.
-vec3 quad_representative_point(GpuLight l, vec3 x, vec3 r)
-{
-    vec3 c = l.position_type.xyz, nl = l.direction_width.xyz;
-    float denom = dot(r, nl);
-    vec3 p = c;
-    if (denom < -1e-6) {
-        float t = dot(c - x, nl) / denom;
-        if (t > 0.0)
-            p = x + t * r;
-    }
-    vec3 u = l.quad_u.xyz, v = l.quad_v.xyz;
-    vec3 d = p - c;
-    float su = clamp(dot(d, u) / dot(u, u), -0.5, 0.5), sv = clamp(dot(d, v) / dot(v, v), -0.5, 0.5);
-    return c + su * u + sv * v;
-}

@@ -4,8 +4,8 @@
 // radiance when u_add_emission is set (once per frame). Additive blend.
 // Quad lights (u_area_light = AREA_LIGHT_EXACT and a size > 0): the diffuse
 // lobe takes the polygon's exact unoccluded irradiance (Lambert's formula,
-// clipped to the horizon), the specular lobe a representative point with
-// Karis' (2013) lobe widening; both times the shadow-map visibility toward
+// clipped to the horizon), the specular lobe a quadrature over the
+// rectangle (quad_specular); both times the shadow-map visibility toward
 // the light's centre. AREA_LIGHT_POINT keeps the point at the centre with
 // I(θ) = L·A·cosθ.
 #include "shared/gpu_types.h"
@@ -23,6 +23,40 @@ layout(location = LOC_DIRECT_EMISSION) uniform int u_add_emission;
 layout(location = LOC_DIRECT_AREA_LIGHT) uniform int u_area_light;
 
 out vec4 o_radiance;
+
+// Specular radiance at x (normal n, view v) from quad light l of radiance
+// L: the midpoint rule over QUAD_SPEC_CELLS² cells of the rectangle,
+//   Σ f_s(v, ω_k) L cos θ_x cos θ_l / r² A_cell,
+// with the GGX lobe widened by the angular size of a cell (α'² = α² +
+// (½·cell/r)², energy kept by (α/α')², as Karis 2013 does for sphere
+// lights) so that a lobe narrower than a cell is not missed between cells.
+// f0, roughness as brdf_eval's.
+const int QUAD_SPEC_CELLS = 8;
+
+vec3 quad_specular(GpuLight l, vec3 radiance, vec3 x, vec3 n, vec3 v, vec3 f0, float roughness)
+{
+    vec3 c = l.position_type.xyz, nl = l.direction_width.xyz, u = l.quad_u.xyz, w = l.quad_v.xyz;
+    float cell_area = l.quad_v.w / float(QUAD_SPEC_CELLS * QUAD_SPEC_CELLS), cell = sqrt(cell_area);
+    float a = brdf_alpha(roughness), nv = dot(n, v);
+    vec3 sum = vec3(0.0);
+    for (int i = 0; i < QUAD_SPEC_CELLS; i++)
+        for (int j = 0; j < QUAD_SPEC_CELLS; j++) {
+            vec2 st = (vec2(i, j) + 0.5) / float(QUAD_SPEC_CELLS) - 0.5;
+            vec3 d = c + st.x * u + st.y * w - x;
+            float r2 = dot(d, d);
+            vec3 ls = d * inversesqrt(r2);
+            float cos_l = -dot(ls, nl), cos_x = dot(n, ls);
+            if (cos_l <= 0.0 || cos_x <= 0.0)
+                continue;
+            float spread = 0.5 * cell * inversesqrt(r2);
+            float a2 = sqrt(a * a + spread * spread);
+            vec3 h = normalize(v + ls), nxh = cross(n, h);
+            float nh = max(dot(n, h), 0.0);
+            float dv = brdf_ggx_d_cs(nh * nh, dot(nxh, nxh), a2) * (a * a) / (a2 * a2) * brdf_smith_v(nv, cos_x, a);
+            sum += brdf_fresnel(f0, max(dot(v, h), 0.0)) * dv * cos_x * cos_l / r2;
+        }
+    return sum * radiance * cell_area;
+}
 
 void main()
 {
@@ -56,22 +90,8 @@ void main()
             vec3 t = brdf_diffuse_transmission(brdf_fresnel(spec.rgb, dot(n, v)), brdf_fresnel(spec.rgb, nl_mean),
                                                spec.rgb);
             vec3 lit = t * albedo / PI * e_poly;
-            if (glossy && dot(n, v) > 0.0) {
-                vec3 rp = quad_representative_point(u_light, x, reflect(-v, n));
-                vec3 dl = rp - x;
-                float d2 = max(dot(dl, dl), 1e-12);
-                vec3 ls = dl * inversesqrt(d2);
-                float cos_l = max(dot(-ls, u_light.direction_width.xyz), 0.0);
-                float nl = max(dot(n, ls), 0.0);
-                // Karis' normalisation: the lobe widened by the light's
-                // angular radius keeps its energy, (α/α')².
-                float a = brdf_alpha(spec.a);
-                float radius = sqrt(u_light.quad_v.w / PI);
-                float a2 = min(1.0, a + radius / (2.0 * sqrt(d2)));
-                vec3 fd2, fs2;
-                brdf_eval_lobes(albedo, spec.rgb, spec.a, n, v, ls, fd2, fs2);
-                lit += fs2 * (a * a) / (a2 * a2) * u_light.color.rgb * cos_l * nl / d2;
-            }
+            if (glossy && dot(n, v) > 0.0)
+                lit += quad_specular(u_light, radiance_l, x, n, v, spec.rgb, spec.a);
             if (max(lit.r, max(lit.g, lit.b)) > 0.0)
                 radiance = lit * shadow_visibility(x, n, l, gl_FragCoord.xy);
         }

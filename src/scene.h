@@ -1,14 +1,15 @@
 /* scene.h — the one scene description that the rasterizer and the path
- * tracer both read: triangles with per-material albedo (constant or
- * texture, with alpha masks), lights in physical units, a pinhole camera,
+ * tracer both read: triangles with glTF metallic-roughness materials
+ * (constant or texture, with alpha masks), lights in physical units, a pinhole camera,
  * and per-technique parameters that a scene file may set.
  *
  * Units: metres, +y up, radiance in W/(m²·sr). Light "power" quantities:
  *   directional  color = irradiance E (W/m²) on a plane facing the light
  *   spot, point  color = intensity I (W/sr) on the axis / in every direction
  *   quad         color = emitted radiance L (W/(m²·sr)), one-sided along
- *                direction; the rasterizer treats it as a point at its centre
- *                with I(θ) = L·A·cosθ.
+ *                direction; the rasterizer integrates the polygon exactly
+ *                for the diffuse lobe (--area-light exact) or treats it as a
+ *                point at its centre with I(θ) = L·A·cosθ (--area-light point).
  * Every light's `size` scales its emitter (quad extents, sphere/disk
  * diameter, sun angular diameter); size 0 makes it a point with the same
  * intensity distribution, on which both renderers must agree exactly. */

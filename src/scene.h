@@ -1,14 +1,15 @@
 /* scene.h — the one scene description that the rasterizer and the path
- * tracer both read: triangles with per-material albedo (constant or
- * texture, with alpha masks), lights in physical units, a pinhole camera,
+ * tracer both read: triangles with glTF metallic-roughness materials
+ * (constant or texture, with alpha masks), lights in physical units, a pinhole camera,
  * and per-technique parameters that a scene file may set.
  *
  * Units: metres, +y up, radiance in W/(m²·sr). Light "power" quantities:
  *   directional  color = irradiance E (W/m²) on a plane facing the light
  *   spot, point  color = intensity I (W/sr) on the axis / in every direction
  *   quad         color = emitted radiance L (W/(m²·sr)), one-sided along
- *                direction; the rasterizer treats it as a point at its centre
- *                with I(θ) = L·A·cosθ.
+ *                direction; the rasterizer integrates the polygon exactly
+ *                for the diffuse lobe (--area-light exact) or treats it as a
+ *                point at its centre with I(θ) = L·A·cosθ (--area-light point).
  * Every light's `size` scales its emitter (quad extents, sphere/disk
  * diameter, sun angular diameter); size 0 makes it a point with the same
  * intensity distribution, on which both renderers must agree exactly. */
@@ -43,14 +44,23 @@ typedef struct Camera {
 
 typedef struct Texture {
     int width, height;
-    uint8_t *rgba; /* sRGB-encoded RGBA8, row 0 = top, owned */
+    uint8_t *rgba; /* RGBA8, row 0 = top, owned: sRGB-encoded colour, or data when `linear` */
+    bool linear;   /* data (glTF metallicRoughness), not colour: no sRGB decoding */
     char name[256];
 } Texture;
 
+/* glTF metallic-roughness material (SPEC §1b; the BRDF is src/brdf.h).
+ * Built-in surfaces and OBJ materials have specular 0 and metallic 0: they
+ * are Lambertian, f = albedo/π. A scene file's "materials" object sets any
+ * of these per material name (README "Scene files"). */
 typedef struct Material {
     char name[64];
-    vec3 albedo;        /* linear; multiplies the texture */
-    int albedo_tex;     /* index into Scene.textures or -1 */
+    vec3 albedo;        /* base colour factor, linear; multiplies the texture */
+    int albedo_tex;     /* base colour texture: index into Scene.textures or -1 */
+    float metallic;     /* factor in [0,1]; multiplies the texture's B */
+    float roughness;    /* perceptual roughness factor in [0,1] (α = r²); multiplies the texture's G */
+    float specular;     /* dielectric reflectance weight: F0 = 0.04·specular (0: Lambertian) */
+    int mr_tex;         /* metallicRoughness texture (linear; G roughness, B metallic) or -1 */
     bool alpha_mask;    /* texels with alpha < alpha_cutoff are holes */
     float alpha_cutoff;
     vec3 emission;      /* radiance of an emitter surface (front face only) */
@@ -83,7 +93,12 @@ typedef struct ShadowParams {
     int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
     int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
+    int area_light;        /* AreaLightMode: quad lights' exact polygon irradiance, or a point at the centre */
 } ShadowParams;
+
+/* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
+ * shared/gpu_types.h). */
+typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
 
 typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
 

@@ -15,6 +15,7 @@
 static const char *const k_weightings[] = {"paper", "unbiased", "importance", NULL};
 static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 static const char *const k_lpv_inject[] = {"compute", "points", NULL};
+static const char *const k_area_lights[] = {"exact", "point", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -40,6 +41,8 @@ const SettingDesc settings_table[] = {
      "PCSS search/filter radius cap (texels)"},
     {"shadow", "filter_bias", "--filter-bias", SETTING_ENUM, SH(filter_bias), 0, 0, 1, 0, k_filter_biases,
      "PCF/PCSS: receiver-plane depth + 1-texel bias, Poisson disk; legacy: slope bias x filter radius, spiral"},
+    {"shadow", "area_light", "--area-light", SETTING_ENUM, SH(area_light), 0, 0, 1, 0, k_area_lights,
+     "quad lights: exact polygon irradiance (diffuse) + representative point (specular); point: a point at the centre"},
     /* Reflective shadow maps (SPEC §3). */
     {"gi", "rsm_size", "--rsm-size", SETTING_INT, GI(rsm_size), 0, 4, 4096, 512, NULL,
      "RSM texels per side, per cube face for point/quad lights"},

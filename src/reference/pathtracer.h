@@ -1,7 +1,9 @@
 /* pathtracer.h — the CPU reference: unidirectional path tracing on Embree 3
  * over the same Scene the rasterizer draws (SPEC §7).
  * Next-event estimation for every light type, MIS (power heuristic) with
- * BSDF sampling for quad area lights, cosine-weighted diffuse bounces,
+ * BSDF sampling for quad area lights (the only emitters BSDF rays can hit),
+ * bounces that sample the BRDF of brdf.h (GGX visible normals or the
+ * cosine lobe, chosen by the ratio of Fresnel to diffuse reflectance),
  * Russian roulette after `rr_depth` bounces with survival probability from
  * the path throughput (compensated by 1/p). Multithreaded over 16×16 tiles;
  * a pixel's samples depend only on (seed, pixel, sample index) — Owen-

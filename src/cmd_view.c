@@ -52,7 +52,7 @@ void cmd_view_help(void)
            "  --out FILE                    the image P saves, and with --frames the last frame:\n"
            "                                .png as shown, .pfm linear radiance (default: out/view.png)\n"
            "  --window-out FILE.png         what Shift-P saves: the window, panel included\n"
-           "                                (default: out/window.png)\n"
+           "                                (default: out/window.png); with --frames, the last frame's\n"
            "  --slow-ms MS                  techniques estimated above MS per frame need a\n"
            "                                confirming click (default: 1000)\n"
            "  --no-panel                    start with the panel hidden (H shows it)\n"
@@ -362,6 +362,10 @@ static bool ui_test_step(UiTest *t, View *v, int frame, int fw, int fh)
     Renderer *r = v->renderer;
     char path[1024];
     switch (frame) {
+    case 0: /* the window shows the frame alone until the A/B steps */
+        if (v->ab)
+            v->ab->mode = AB_FRAME;
+        break;
     case 2: /* exposure through the panel's path: live, nothing remade */
         t->links = shader_link_count();
         t->remakes = r->remakes;
@@ -499,6 +503,8 @@ int cmd_view(int argc, char **argv)
     if (ok && vo.compare) {
         ok = have_ab = ab_view_create(&ab, vo.compare);
         v.ab = have_ab ? &ab : NULL;
+        if (have_ab && v.show_panel) /* the split starts mid-way across the image beside the panel */
+            ab.split = 0.5f + (6.f + view_panel_width(o.width)) / (2.f * (float)o.width);
     }
     bool have_renderer = ok; /* a failed create is destroyed too */
     if (ok)
@@ -543,6 +549,8 @@ int cmd_view(int argc, char **argv)
         ui_frame_begin();
         view_panel_draw(&v, fw, fh);
         ui_frame_end();
+        if (vo.window_out && o.frames > 0 && frame == o.frames - 1)
+            v.window_shot = true; /* scripted: the last frame's window */
         if (v.window_shot) {
             save_window(&v, v.window_path, fw, fh);
             v.window_shot = false;

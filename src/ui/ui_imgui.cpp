@@ -31,7 +31,7 @@ extern "C" bool ui_create(GLFWwindow *window)
     io.IniFilename = nullptr; // no imgui.ini beside the user's files
     io.LogFilename = nullptr;
     ImGui::StyleColorsDark();
-    ImGui::GetStyle().Alpha = 0.92f;
+    ImGui::GetStyle().Colors[ImGuiCol_WindowBg].w = 1.f; /* opaque: the frame's noise stays out of the panel */
     if (!ImGui_ImplGlfw_InitForOpenGL(window, true)) {
         log_error("ui", "Dear ImGui: cannot attach to the GLFW window");
         ImGui::DestroyContext();

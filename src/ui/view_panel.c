@@ -342,10 +342,10 @@ static void compare_section(View *v)
     if (ui_button("Measure RMSE"))
         v->ab_rmse = ab_view_rmse(ab, v->renderer);
     ui_same_line();
-    if (v->ab_rmse >= 0)
-        ui_text("RMSE %.5g", v->ab_rmse);
-    else
-        ui_text("(same size only)");
+    if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
+        ui_text("reference %dx%d: stretched, no RMSE", ab->reference.width, ab->reference.height);
+    else if (v->ab_rmse >= 0)
+        ui_text("RMSE %.5g (radiance)", v->ab_rmse);
 }
 
 static void capture_section(View *v)
@@ -366,11 +366,13 @@ static void capture_section(View *v)
     ui_text("from %s", dir ? dir : "(embedded)");
 }
 
+float view_panel_width(int fw) { return fminf(360.f, 0.5f * (float)fw); }
+
 void view_panel_draw(View *v, int fw, int fh)
 {
     if (!v->show_panel)
         return;
-    float w = fminf(360.f, 0.5f * (float)fw);
+    float w = view_panel_width(fw);
     if (!ui_window_begin("rtgi (H hides)", &v->show_panel, 6.f, 6.f, w, (float)fh - 12.f)) {
         ui_window_end();
         return;

@@ -82,6 +82,8 @@ void view_camera_json(const View *v, char *out, size_t cap);
 void view_record_timings(View *v, double frame_ms, bool is_cost);
 /* Sets the status line (and logs it). */
 void view_status(View *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* The panel's width (pixels, from its left edge at 6) in a window fw wide. */
+float view_panel_width(int fw);
 /* Draws the panel for this frame (between ui_frame_begin and ui_frame_end). */
 void view_panel_draw(View *v, int fw, int fh);
 

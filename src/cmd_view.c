@@ -247,7 +247,11 @@ static void on_log(LogLevel level, const char *tag, const char *message, void *u
     View *v = user;
     if (level < LOG_ERROR)
         return;
-    snprintf(v->status, sizeof v->status, "[%s] %s", tag, message);
+    size_t len = strlen(v->status);
+    if (v->reloading && v->status_error && len + 4 < sizeof v->status) /* a reload's errors, first one first */
+        snprintf(v->status + len, sizeof v->status - len, " | [%s] %s", tag, message);
+    else
+        snprintf(v->status, sizeof v->status, "[%s] %s", tag, message);
     v->status_error = true;
 }
 
@@ -335,7 +339,11 @@ static void reload_shaders(View *v)
             shader_set_directory(dir);
     }
     v->status[0] = 0;
-    bool ok = program_cache_reload(&v->renderer->programs) && (!v->ab || ab_view_reload(v->ab));
+    v->status_error = false;
+    v->reloading = true;
+    bool ok = program_cache_reload(&v->renderer->programs);
+    ok = (!v->ab || ab_view_reload(v->ab)) && ok;
+    v->reloading = false;
     renderer_invalidate(v->renderer); /* uniforms set once per light product are set again */
     if (ok)
         view_status(v, false, "shaders reloaded from %s", shader_directory() ? shader_directory() : "(embedded)");
@@ -400,27 +408,46 @@ static bool ui_test_step(UiTest *t, View *v, int frame, int fw, int fh)
             view_select_gi(v, v->pending_gi, true);
         printf("ui-test: confirmed: gi %s\n", gi_techniques[v->settings.gi]->name);
         break;
-    case 11:
+    case 10:
+        v->show_panel = false;
+        break;
+    case 11: {
         printf("ui-test: technique switch: renderer remakes +%d\n", r->remakes - t->remakes);
+        ui_test_path(t, "before_reload.png", path, sizeof path);
+        save_window(v, path, fw, fh);
+        /* Hot reload with a shader broken on disk (the test names it): the
+         * error reaches the panel and the previous program stays. */
+        const char *broken = getenv("RTGI_UI_TEST_BREAK_SHADER");
+        FILE *f = broken ? fopen(broken, "a") : NULL;
+        if (f) {
+            fputs("\n#error broken by the ui test\n", f);
+            fclose(f);
+        }
+        v->reload = true;
+        break;
+    }
+    case 12:
+        printf("ui-test: reload: %s: %s\n", v->status_error ? "failed" : "ok", v->status);
+        ui_test_path(t, "after_reload.png", path, sizeof path);
+        save_window(v, path, fw, fh);
         if (!v->ab)
             return false;
-        v->show_panel = false;
         v->ab->mode = AB_REFERENCE;
         break;
-    case 13:
+    case 14:
         ui_test_path(t, "ab_reference.png", path, sizeof path);
         save_window(v, path, fw, fh);
         v->ab->mode = AB_DIFFERENCE;
         v->ab->diff_scale = 0.05f;
         break;
-    case 15:
+    case 16:
         ui_test_path(t, "ab_difference.png", path, sizeof path);
         save_window(v, path, fw, fh);
         printf("ui-test: rmse %.6g\n", ab_view_rmse(v->ab, r));
         v->ab->mode = AB_SPLIT;
         v->ab->split = 0.5f;
         break;
-    case 17:
+    case 18:
         ui_test_path(t, "ab_split.png", path, sizeof path);
         save_window(v, path, fw, fh);
         return false;
@@ -534,6 +561,11 @@ int cmd_view(int argc, char **argv)
         }
         if (v.dirty) {
             interval_clean = false;
+            const RenderSettings *was = &r.settings, *now_s = &v.settings;
+            if (memcmp(&was->gi_params, &now_s->gi_params, sizeof was->gi_params) ||
+                memcmp(&was->shadow_params, &now_s->shadow_params, sizeof was->shadow_params) ||
+                was->shadow != now_s->shadow || was->ssaa != now_s->ssaa || was->aa != now_s->aa)
+                memset(v.measured_px, 0, sizeof v.measured_px); /* the measured costs were for other settings */
             /* Remakes only what the change touches (nothing for exposure). */
             ok = renderer_apply(&r, &v.settings);
             v.dirty = false;

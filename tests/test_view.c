@@ -6,6 +6,8 @@
  *     (while a technique switch does remake: the counter counts);
  *   - a technique estimated over --slow-ms is not entered by the G key's
  *     path until confirmed;
+ *   - hot reload with a broken shader on disk: the error names the file,
+ *     the previous program stays and the relinked others draw the same;
  *   - the panel is drawn (the window differs from the render where the
  *     panel is, and only there); captures are valid PNG/PFM;
  *   - the A/B view of --compare shows the reference tone-mapped, the
@@ -65,12 +67,16 @@ static void panel_script(void **state)
                                   rsm_pfm, "--quiet", NULL),
                      0);
 
-    char cmd[4096], log[1024];
+    char cmd[8192], log[1024];
     path_in(log, sizeof log, "view.log");
+    /* Shaders from a copy on disk, so that the script's hot reload can meet
+     * a broken one (it appends an #error to tonemap.frag before reloading). */
     snprintf(cmd, sizeof cmd,
+             "rm -rf '%s/shaders' && cp -r '%s/shaders' '%s/shaders' && "
+             "RTGI_UI_TEST_BREAK_SHADER='%s/shaders/frame/tonemap.frag' "
              "xvfb-run -a '%s' view --size %s --rsm-samples 32 --exposure 1 --slow-ms 1 --compare '%s' "
-             "--ui-test '%s' 2>'%s'",
-             RTGI_BINARY, size, none_pfm, g_dir, log);
+             "--shader-dir '%s/shaders' --ui-test '%s' 2>'%s'",
+             g_dir, RTGI_SOURCE_DIR, g_dir, g_dir, RTGI_BINARY, size, none_pfm, g_dir, g_dir, log);
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
     char out[8192];
@@ -96,6 +102,24 @@ static void panel_script(void **state)
     /* Slow techniques wait for their click, from the G key too. */
     assert_non_null(strstr(out, "ui-test: G: gi none, pending rsm,"));
     assert_non_null(strstr(out, "ui-test: confirmed: gi rsm"));
+
+    /* Hot reload: the broken shader's error names its file, its previous
+     * program stays, and every other program, relinked, draws the same. */
+    v = find_line(out, "ui-test: reload: ");
+    assert_non_null(v);
+    assert_true(!strncmp(v, "failed: ", 8));
+    const char *eol = strchr(v, '\n');
+    const char *named = strstr(v, "tonemap.frag");
+    assert_true(named && (!eol || named < eol));
+    ImageF before = read_image("before_reload.png"), after = read_image("after_reload.png");
+    double reload_diff = 0;
+    for (int i = 0; i < W * H * 3; i++)
+        reload_diff = fmax(reload_diff, fabsf(before.rgb[i] - after.rgb[i]));
+    print_message("reload: max |after - before| %.4f\n", reload_diff);
+    assert_true(reload_diff <= 1e-6);
+    assert_true(test_image_mean(&after) > 0.05);
+    image_free(&before);
+    image_free(&after);
 
     /* The panel is drawn: the window differs from the render where the
      * panel is (its left half), and only there. */

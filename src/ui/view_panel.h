@@ -52,8 +52,9 @@ typedef struct View {
     char pass_name[GPU_TIMER_MAX_PASSES][32];
     double pass_ms[GPU_TIMER_MAX_PASSES]; /* mean GPU ms per frame */
     double gpu_ms, frame_ms;    /* their sum; mean wall ms per frame */
-    char status[512];           /* the last capture / reload message */
+    char status[1024];          /* the last capture / reload message */
     bool status_error;
+    bool reloading;             /* a shader reload is under way: its errors accumulate in status */
     char shot_path[256];        /* P: .png (as shown), .pfm/.exr (radiance) */
     char window_path[256];      /* Shift-P: .png of the window */
     AbView *ab;                 /* --compare, or NULL */

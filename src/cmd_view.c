@@ -374,6 +374,12 @@ static bool ui_test_step(UiTest *t, View *v, int frame, int fw, int fh)
         if (v->ab)
             v->ab->mode = AB_FRAME;
         break;
+    case 1: { /* what "Copy as scene JSON" copies */
+        char json[256];
+        view_camera_json(v, json, sizeof json);
+        printf("ui-test: camera {%s}\n", json);
+        break;
+    }
     case 2: /* exposure through the panel's path: live, nothing remade */
         t->links = shader_link_count();
         t->remakes = r->remakes;

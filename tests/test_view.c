@@ -6,6 +6,7 @@
  *     (while a technique switch does remake: the counter counts);
  *   - a technique estimated over --slow-ms is not entered by the G key's
  *     path until confirmed;
+ *   - "copy as scene JSON" loads back as the camera it was copied from;
  *   - hot reload with a broken shader on disk: the error names the file,
  *     the previous program stays and the relinked others draw the same;
  *   - the panel is drawn (the window differs from the render where the
@@ -102,6 +103,24 @@ static void panel_script(void **state)
     /* Slow techniques wait for their click, from the G key too. */
     assert_non_null(strstr(out, "ui-test: G: gi none, pending rsm,"));
     assert_non_null(strstr(out, "ui-test: confirmed: gi rsm"));
+
+    /* "Copy as scene JSON" is a scene file's camera: loaded back, it is the
+     * camera the window started from (the scene's). */
+    v = find_line(out, "ui-test: camera {");
+    assert_non_null(v);
+    char scene_json[512];
+    int len = (int)(strchr(v, '\n') - v) - 1; /* without the closing brace */
+    snprintf(scene_json, sizeof scene_json, "{\"builtin\": \"cornell\", %.*s}\n", len, v);
+    Scene copied, cornell;
+    assert_true(scene_load(&copied, test_tmp_file("camera_copy.json", scene_json)));
+    assert_true(scene_load(&cornell, "cornell"));
+    for (int i = 0; i < 3; i++) {
+        assert_float_equal(copied.camera.position[i], cornell.camera.position[i], 1e-3);
+        assert_float_equal(copied.camera.forward[i], cornell.camera.forward[i], 1e-3);
+    }
+    assert_float_equal(copied.camera.fov_y, cornell.camera.fov_y, 1e-3);
+    scene_free(&copied);
+    scene_free(&cornell);
 
     /* Hot reload: the broken shader's error names its file, its previous
      * program stays, and every other program, relinked, draws the same. */

@@ -41,8 +41,8 @@ static double gather_evaluations(const View *v, int gi, double px)
     case GI_RSM:
     case GI_RSM_INTERLEAVED: /* per pixel: its samples (interleaving splits the pattern, not the count) */
         return px * samples;
-    case GI_RSM_INTERP: /* low-res gathers plus about a quarter of the pixels in full */
-        return px * samples * (1.0 / (p->interp_factor * p->interp_factor) + 0.25);
+    case GI_RSM_INTERP: /* low-res gathers plus a tenth of the pixels in full (Cornell: 5%) */
+        return px * samples * (1.0 / (p->interp_factor * p->interp_factor) + 0.1);
     case GI_VPL_ALL:
         return px * vpl_upper_bound(v, gi) * p->vpl_keep;
     case GI_VPL_CLAMPED:

@@ -20,9 +20,11 @@
 
 #define VIEW_HISTORY 120
 /* Gather evaluations/s assumed before one is measured in the window: what
- * llvmpipe sustained on this project's 2-core machine (vpl-all, 608,517
- * VPLs at 256x256 in 140 s, issue 15). Measured values replace it. */
-#define VIEW_DEFAULT_EVALS_PER_S 2.8e8
+ * `rtgi probe` measures for VPL loops and two-fetch RSM gathers on llvmpipe
+ * on this project's 2-core machine (probe_ssbo_vpl 1.8e7/s, 2d_fetch2
+ * 1.7e7/s, cube_fetch2 1.1e7/s), and what vpl-all sustained there (1.35e7/s,
+ * 12,705 VPLs at 96x96). Measured values replace it. */
+#define VIEW_DEFAULT_EVALS_PER_S 1.5e7
 
 typedef struct View {
     const Scene *scene;         /* borrowed */

@@ -44,6 +44,7 @@
 #define TEX_RSM_FLUX 10
 #define TEX_GI 11        /* indirect irradiance */
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
+#define TEX_REFERENCE 12 /* the window's A/B view: the --compare image (shares TEX_INPUT's unit) */
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
 #define TEX_LDR 31       /* tone-mapped colour (FXAA's input, linear filtering) */
 #define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
@@ -51,7 +52,6 @@
 #define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
 #define TEX_LPV_SUM 16   /* lpv lookup: accumulated SH of every VPL in cascade k: 16 + 3k + channel (16..24) */
 #define TEX_LPV_OUTER 25 /* lpv lookup: same, only VPLs outside cascade k-1: 25 + 3(k-1) + channel (25..30) */
-#define TEX_REFERENCE 12 /* the window's A/B view: the --compare image (shares TEX_INPUT's unit) */
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */

@@ -4,7 +4,7 @@
  * The window's render size is its framebuffer size. --frames N exits after
  * N frames and --out saves the last frame (scripted screenshots, e.g. under
  * xvfb-run); --ui-test DIR runs a fixed script through the panel's actions
- * and reports what it measured (the window test, tests/test_cli.c). */
+ * and reports what it measured (src/ui/view_script.c; tests/test_view.c). */
 #include <epoxy/gl.h> /* before GLFW, which must not pull in GL/gl.h */
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -12,7 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "commands.h"
 #include "gl_context.h"
@@ -23,6 +22,7 @@
 #include "ui/ab_view.h"
 #include "ui/ui.h"
 #include "ui/view_panel.h"
+#include "ui/view_script.h"
 #include "util.h"
 
 void cmd_view_help(void)
@@ -272,198 +272,6 @@ static void view_move(View *v, GLFWwindow *w, float dt)
             glm_vec3_muladds(moves[i].axis, moves[i].sign * step, v->camera.position);
 }
 
-/* ---- Captures --------------------------------------------------------------- */
-
-/* The rendered image: .png as shown (tone-mapped, after FXAA), any other
- * extension through image_write as linear radiance. */
-static bool save_image(View *v, const char *path)
-{
-    Renderer *r = v->renderer;
-    util_ensure_parent_dir(path);
-    bool ok;
-    if (util_ends_with(path, ".png")) {
-        uint8_t *rgb = renderer_read_ldr(r);
-        ok = rgb && image_write_png8(path, r->settings.width, r->settings.height, rgb);
-        free(rgb);
-    } else {
-        ImageF img;
-        ok = renderer_read_hdr(r, &img);
-        if (ok) {
-            ok = image_write(path, &img, r->settings.exposure);
-            image_free(&img);
-        }
-    }
-    if (ok)
-        view_status(v, false, "wrote %s", path);
-    else
-        view_status(v, true, "%s: not written (see the terminal)", path);
-    return ok;
-}
-
-/* The window's back buffer as shown (panel included), before the swap. */
-static bool save_window(View *v, const char *path, int fw, int fh)
-{
-    uint8_t *rgb = malloc(3 * (size_t)fw * fh), *row = malloc(3 * (size_t)fw);
-    bool ok = rgb && row;
-    if (ok) {
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-        glReadBuffer(GL_BACK);
-        glPixelStorei(GL_PACK_ALIGNMENT, 1);
-        glReadPixels(0, 0, fw, fh, GL_RGB, GL_UNSIGNED_BYTE, rgb);
-        for (int y = 0; y < fh / 2; y++) { /* GL rows are bottom-up */
-            memcpy(row, rgb + 3 * (size_t)y * fw, 3 * (size_t)fw);
-            memcpy(rgb + 3 * (size_t)y * fw, rgb + 3 * (size_t)(fh - 1 - y) * fw, 3 * (size_t)fw);
-            memcpy(rgb + 3 * (size_t)(fh - 1 - y) * fw, row, 3 * (size_t)fw);
-        }
-        util_ensure_parent_dir(path);
-        ok = image_write_png8(path, fw, fh, rgb);
-    }
-    free(rgb);
-    free(row);
-    if (ok)
-        view_status(v, false, "wrote %s", path);
-    else
-        view_status(v, true, "%s: window capture not written", path);
-    return ok;
-}
-
-/* F5: every program rebuilt from the shader files; a program that fails
- * keeps its previous build and the error shows in the panel. */
-static void reload_shaders(View *v)
-{
-    if (!shader_directory()) {
-        char dir[1024];
-        snprintf(dir, sizeof dir, "%s/shaders", RTGI_SOURCE_DIR);
-        struct stat st;
-        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode))
-            shader_set_directory(dir);
-    }
-    v->status[0] = 0;
-    v->status_error = false;
-    v->reloading = true;
-    bool ok = program_cache_reload(&v->renderer->programs);
-    ok = (!v->ab || ab_view_reload(v->ab)) && ok;
-    v->reloading = false;
-    renderer_invalidate(v->renderer); /* uniforms set once per light product are set again */
-    if (ok)
-        view_status(v, false, "shaders reloaded from %s", shader_directory() ? shader_directory() : "(embedded)");
-    else if (!v->status_error)
-        view_status(v, true, "shader reload failed; the previous programs stay (see the terminal)");
-}
-
-/* ---- The window test's script ----------------------------------------------- */
-
-typedef struct UiTest {
-    const char *dir;
-    int links, remakes; /* counters before the step being measured */
-} UiTest;
-
-static void ui_test_path(const UiTest *t, const char *name, char *out, size_t cap)
-{
-    snprintf(out, cap, "%s/%s", t->dir, name);
-}
-
-/* One step per frame number; returns false when the script is over. Prints
- * "ui-test: ..." lines that tests/test_cli.c reads. */
-static bool ui_test_step(UiTest *t, View *v, int frame, int fw, int fh)
-{
-    Renderer *r = v->renderer;
-    char path[1024];
-    switch (frame) {
-    case 0: /* the window shows the frame alone until the A/B steps */
-        if (v->ab)
-            v->ab->mode = AB_FRAME;
-        break;
-    case 1: { /* what "Copy as scene JSON" copies */
-        char json[256];
-        view_camera_json(v, json, sizeof json);
-        printf("ui-test: camera {%s}\n", json);
-        break;
-    }
-    case 2: /* exposure through the panel's path: live, nothing remade */
-        t->links = shader_link_count();
-        t->remakes = r->remakes;
-        v->settings.exposure *= 2.f;
-        v->dirty = true;
-        break;
-    case 4:
-        printf("ui-test: exposure x2: program links +%d, renderer remakes +%d\n", shader_link_count() - t->links,
-               r->remakes - t->remakes);
-        ui_test_path(t, "window_panel.png", path, sizeof path);
-        save_window(v, path, fw, fh);
-        v->show_panel = false;
-        break;
-    case 6:
-        ui_test_path(t, "window_nopanel.png", path, sizeof path);
-        save_window(v, path, fw, fh);
-        ui_test_path(t, "shot.png", path, sizeof path);
-        save_image(v, path);
-        ui_test_path(t, "shot.pfm", path, sizeof path);
-        save_image(v, path);
-        v->show_panel = true;
-        break;
-    case 7: /* the G key's path into the next technique */
-        t->remakes = r->remakes;
-        view_cycle_gi(v, 1);
-        printf("ui-test: G: gi %s, pending %s, estimate %.3g ms, slow above %.3g ms\n",
-               gi_techniques[v->settings.gi]->name, v->pending_gi >= 0 ? gi_techniques[v->pending_gi]->name : "none",
-               view_estimate_ms(v, v->pending_gi >= 0 ? v->pending_gi : (int)v->settings.gi), v->slow_ms);
-        break;
-    case 9: /* its confirming click */
-        if (v->pending_gi >= 0)
-            view_select_gi(v, v->pending_gi, true);
-        printf("ui-test: confirmed: gi %s\n", gi_techniques[v->settings.gi]->name);
-        break;
-    case 10:
-        v->show_panel = false;
-        break;
-    case 11: {
-        printf("ui-test: technique switch: renderer remakes +%d\n", r->remakes - t->remakes);
-        ui_test_path(t, "before_reload.png", path, sizeof path);
-        save_window(v, path, fw, fh);
-        /* Hot reload with a shader broken on disk (the test names it): the
-         * error reaches the panel and the previous program stays. */
-        const char *broken = getenv("RTGI_UI_TEST_BREAK_SHADER");
-        FILE *f = broken ? fopen(broken, "a") : NULL;
-        if (f) {
-            fputs("\n#error broken by the ui test\n", f);
-            fclose(f);
-        }
-        v->reload = true;
-        break;
-    }
-    case 12:
-        printf("ui-test: reload: %s: %s\n", v->status_error ? "failed" : "ok", v->status);
-        ui_test_path(t, "after_reload.png", path, sizeof path);
-        save_window(v, path, fw, fh);
-        if (!v->ab)
-            return false;
-        v->ab->mode = AB_REFERENCE;
-        break;
-    case 14:
-        ui_test_path(t, "ab_reference.png", path, sizeof path);
-        save_window(v, path, fw, fh);
-        v->ab->mode = AB_DIFFERENCE;
-        v->ab->diff_scale = 0.05f;
-        break;
-    case 16:
-        ui_test_path(t, "ab_difference.png", path, sizeof path);
-        save_window(v, path, fw, fh);
-        printf("ui-test: rmse %.6g\n", ab_view_rmse(v->ab, r));
-        v->ab->mode = AB_SPLIT;
-        v->ab->split = 0.5f;
-        break;
-    case 18:
-        ui_test_path(t, "ab_split.png", path, sizeof path);
-        save_window(v, path, fw, fh);
-        return false;
-    default:
-        break;
-    }
-    fflush(stdout);
-    return true;
-}
-
 /* ---- The command ------------------------------------------------------------- */
 
 int cmd_view(int argc, char **argv)
@@ -543,7 +351,7 @@ int cmd_view(int argc, char **argv)
     if (ok)
         ok = renderer_create(&r, &scene, &v.settings);
     log_set_hook(on_log, &v);
-    UiTest test = {.dir = vo.ui_test};
+    ViewScript script = {.dir = vo.ui_test};
     int frame = 0, interval_frames = 0;
     bool interval_clean = false; /* no remake, reload or first frame in the interval: its time is a cost */
     double last = glfwGetTime(), interval_start = last;
@@ -561,7 +369,7 @@ int cmd_view(int argc, char **argv)
             v.dirty = true;
         }
         if (v.reload) {
-            reload_shaders(&v);
+            view_reload_shaders(&v);
             v.reload = false;
             interval_clean = false;
         }
@@ -590,14 +398,14 @@ int cmd_view(int argc, char **argv)
         if (vo.window_out && o.frames > 0 && frame == o.frames - 1)
             v.window_shot = true; /* scripted: the last frame's window */
         if (v.window_shot) {
-            save_window(&v, v.window_path, fw, fh);
+            view_save_window(&v, v.window_path, fw, fh);
             v.window_shot = false;
         }
         if (v.screenshot) {
-            save_image(&v, v.shot_path);
+            view_save_image(&v, v.shot_path);
             v.screenshot = false;
         }
-        if (test.dir && !ui_test_step(&test, &v, frame, fw, fh))
+        if (script.dir && !view_script_step(&script, &v, frame, fw, fh))
             glfwSetWindowShouldClose(win, GLFW_TRUE);
         glfwSwapBuffers(win);
         frame++;
@@ -622,7 +430,7 @@ int cmd_view(int argc, char **argv)
     }
     log_set_hook(NULL, NULL);
     rc = ok ? 0 : 1;
-    if (ok && o.out && o.frames > 0 && !save_image(&v, o.out))
+    if (ok && o.out && o.frames > 0 && !view_save_image(&v, o.out))
         rc = 1;
     if (have_renderer)
         renderer_destroy(&r);

@@ -4,9 +4,12 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "log.h"
+#include "util.h"
 #include "shader.h"
 #include "ui/ui.h"
 
@@ -165,6 +168,85 @@ void view_record_timings(View *v, double frame_ms, bool is_cost)
         if (st->gather_evaluations > 0)
             v->evals_per_s = (double)st->gather_evaluations / (ms * 1e-3);
     }
+}
+
+/* ---- Captures and reload ---------------------------------------------------- */
+
+/* The rendered image: .png as shown (tone-mapped, after FXAA), any other
+ * extension through image_write as linear radiance. */
+bool view_save_image(View *v, const char *path)
+{
+    Renderer *r = v->renderer;
+    util_ensure_parent_dir(path);
+    bool ok;
+    if (util_ends_with(path, ".png")) {
+        uint8_t *rgb = renderer_read_ldr(r);
+        ok = rgb && image_write_png8(path, r->settings.width, r->settings.height, rgb);
+        free(rgb);
+    } else {
+        ImageF img;
+        ok = renderer_read_hdr(r, &img);
+        if (ok) {
+            ok = image_write(path, &img, r->settings.exposure);
+            image_free(&img);
+        }
+    }
+    if (ok)
+        view_status(v, false, "wrote %s", path);
+    else
+        view_status(v, true, "%s: not written (see the terminal)", path);
+    return ok;
+}
+
+/* The window's back buffer as shown (panel included), before the swap. */
+bool view_save_window(View *v, const char *path, int fw, int fh)
+{
+    uint8_t *rgb = malloc(3 * (size_t)fw * fh), *row = malloc(3 * (size_t)fw);
+    bool ok = rgb && row;
+    if (ok) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+        glReadBuffer(GL_BACK);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, fw, fh, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+        for (int y = 0; y < fh / 2; y++) { /* GL rows are bottom-up */
+            memcpy(row, rgb + 3 * (size_t)y * fw, 3 * (size_t)fw);
+            memcpy(rgb + 3 * (size_t)y * fw, rgb + 3 * (size_t)(fh - 1 - y) * fw, 3 * (size_t)fw);
+            memcpy(rgb + 3 * (size_t)(fh - 1 - y) * fw, row, 3 * (size_t)fw);
+        }
+        util_ensure_parent_dir(path);
+        ok = image_write_png8(path, fw, fh, rgb);
+    }
+    free(rgb);
+    free(row);
+    if (ok)
+        view_status(v, false, "wrote %s", path);
+    else
+        view_status(v, true, "%s: window capture not written", path);
+    return ok;
+}
+
+/* F5: every program rebuilt from the shader files; a program that fails
+ * keeps its previous build and the error shows in the panel. */
+void view_reload_shaders(View *v)
+{
+    if (!shader_directory()) {
+        char dir[1024];
+        snprintf(dir, sizeof dir, "%s/shaders", RTGI_SOURCE_DIR);
+        struct stat st;
+        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode))
+            shader_set_directory(dir);
+    }
+    v->status[0] = 0;
+    v->status_error = false;
+    v->reloading = true;
+    bool ok = program_cache_reload(&v->renderer->programs);
+    ok = (!v->ab || ab_view_reload(v->ab)) && ok;
+    v->reloading = false;
+    renderer_invalidate(v->renderer); /* uniforms set once per light product are set again */
+    if (ok)
+        view_status(v, false, "shaders reloaded from %s", shader_directory() ? shader_directory() : "(embedded)");
+    else if (!v->status_error)
+        view_status(v, true, "shader reload failed; the previous programs stay (see the terminal)");
 }
 
 /* ---- The panel ------------------------------------------------------------- */

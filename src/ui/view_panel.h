@@ -85,6 +85,17 @@ void view_camera_json(const View *v, char *out, size_t cap);
 void view_record_timings(View *v, double frame_ms, bool is_cost);
 /* Sets the status line (and logs it). */
 void view_status(View *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* Saves the rendered image: .png as shown (tone-mapped, after FXAA), any
+ * other extension through image_write as linear radiance. The outcome goes
+ * to the status line; false on failure. */
+bool view_save_image(View *v, const char *path);
+/* Saves the window's back buffer as shown, panel included (call before the
+ * swap), as PNG. */
+bool view_save_window(View *v, const char *path, int fw, int fh);
+/* Hot reload: every program rebuilt from the shader files (--shader-dir,
+ * else the source tree's shaders/); one that fails keeps its previous build
+ * and its error shows in the panel's status. */
+void view_reload_shaders(View *v);
 /* The panel's width (pixels, from its left edge at 6) in a window fw wide. */
 float view_panel_width(int fw);
 /* Draws the panel for this frame (between ui_frame_begin and ui_frame_end). */

@@ -217,6 +217,40 @@ static void panel_script(void **state)
         image_free(all[i]);
 }
 
+/* A PNG reference is display-referred: the A/B view shows it as it is (not
+ * exposed again), and F5 without --shader-dir reloads from the source tree. */
+static void png_reference(void **state)
+{
+    (void)state;
+    char dir[600], ref[700], shot[700], cmd[4096];
+    snprintf(dir, sizeof dir, "%s/view_png", RTGI_TEST_TMP);
+    snprintf(ref, sizeof ref, "%s/ref.png", dir);
+    snprintf(shot, sizeof shot, "%s/ab_reference.png", dir);
+    util_ensure_parent_dir(ref);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "64x48", "--exposure", "2", "--out", ref, "--quiet", NULL),
+                     0);
+    snprintf(cmd, sizeof cmd, "xvfb-run -a '%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
+             RTGI_BINARY, ref, dir);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    static char out[16384];
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    if (pclose(p) != 0)
+        fail_msg("rtgi view --compare ref.png --ui-test failed: %s", out);
+    assert_non_null(strstr(out, "ui-test: reload: ok"));
+    assert_non_null(strstr(out, "ui-test: rmse -1")); /* no RMSE against a display-referred image */
+    ImageF want, got;
+    assert_true(image_read(ref, &want) && image_read(shot, &got));
+    double worst = 0;
+    for (int i = 0; i < 64 * 48 * 3; i++)
+        worst = fmax(worst, fabsf(srgb_encode(want.rgb[i]) - srgb_encode(got.rgb[i])));
+    print_message("PNG reference shown as is: worst %.4f\n", worst);
+    assert_true(worst <= 1.5 / 255);
+    image_free(&want);
+    image_free(&got);
+}
+
 static void help_and_options(void **state)
 {
     (void)state;
@@ -282,6 +316,7 @@ int main(void)
         cmocka_unit_test(help_and_options),
         cmocka_unit_test(out_by_extension),
         cmocka_unit_test(panel_script),
+        cmocka_unit_test(png_reference),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -83,6 +83,7 @@
 #define LOC_AB_SPLIT 11         /* ui/ab_view.frag: float, split position in [0, 1] of the width */
 #define LOC_AB_EXPOSURE 12      /* ui/ab_view.frag: float, the reference's exposure */
 #define LOC_AB_DIFF_SCALE 13    /* ui/ab_view.frag: float, |difference| shown as full heat */
+#define LOC_AB_REF_DISPLAY 14   /* ui/ab_view.frag: int, 1 if the reference is display-referred (PNG/JPEG) */
 #define LOC_GATHER_EXHAUSTIVE 10 /* rsm gather: int, sum every VPL instead of sampling */
 #define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
 #define LOC_IMPORTANCE_LEVEL 10 /* gi/rsm/importance.comp: int, pyramid level written / top level */

@@ -13,6 +13,7 @@ layout(location = LOC_AB_MODE) uniform int u_mode;
 layout(location = LOC_AB_SPLIT) uniform float u_split;
 layout(location = LOC_AB_EXPOSURE) uniform float u_exposure;
 layout(location = LOC_AB_DIFF_SCALE) uniform float u_diff_scale;
+layout(location = LOC_AB_REF_DISPLAY) uniform int u_ref_display;
 
 in vec2 v_uv;
 out vec4 o_color;
@@ -32,10 +33,15 @@ vec3 heat(float t)
 
 void main()
 {
-    vec3 ref = texture(u_reference, v_uv).rgb * u_exposure;
+    // A display-referred reference (PNG) is already exposed and clamped:
+    // it is compared with the frame's clamped exposed radiance.
+    vec3 ref = texture(u_reference, v_uv).rgb * (u_ref_display != 0 ? 1.0 : u_exposure);
     vec3 frame_ldr = texture(u_ldr, v_uv).rgb; // decoded from sRGB by the texture
     if (u_mode == 3) {
-        vec3 d = abs(texture(u_hdr, v_uv).rgb * u_exposure - ref);
+        vec3 frame = texture(u_hdr, v_uv).rgb * u_exposure;
+        if (u_ref_display != 0)
+            frame = clamp(frame, 0.0, 1.0);
+        vec3 d = abs(frame - ref);
         o_color = vec4(heat(max(d.r, max(d.g, d.b)) / u_diff_scale), 1.0);
         return;
     }

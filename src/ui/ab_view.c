@@ -8,6 +8,7 @@
 #include "metrics.h"
 #include "shader.h"
 #include "shared/gpu_types.h"
+#include "util.h"
 
 static GLuint build_program(void)
 {
@@ -22,6 +23,7 @@ bool ab_view_create(AbView *v, const char *path)
     v->diff_scale = 0.1f;
     if (!image_read(path, &v->reference)) /* logs "<path>: <problem>" */
         return false;
+    v->display = !util_ends_with(path, ".pfm") && !util_ends_with(path, ".exr");
     int w = v->reference.width, h = v->reference.height;
     float *rows = malloc(sizeof(float) * 3 * (size_t)w * h);
     if (!rows) {
@@ -47,7 +49,8 @@ bool ab_view_create(AbView *v, const char *path)
         ab_view_destroy(v);
         return false;
     }
-    log_info("view", "--compare %s: %dx%d reference", path, w, h);
+    log_info("view", "--compare %s: %dx%d reference, %s", path, w, h,
+             v->display ? "display-referred (shown as is)" : "radiance (shown at the window's exposure)");
     return true;
 }
 
@@ -76,6 +79,7 @@ void ab_view_draw(const AbView *v, const Renderer *r, int fw, int fh)
     glProgramUniform1f(v->program, LOC_AB_SPLIT, v->split);
     glProgramUniform1f(v->program, LOC_AB_EXPOSURE, r->settings.exposure);
     glProgramUniform1f(v->program, LOC_AB_DIFF_SCALE, v->diff_scale > 0 ? v->diff_scale : 1e-6f);
+    glProgramUniform1i(v->program, LOC_AB_REF_DISPLAY, v->display ? 1 : 0);
     glBindTextureUnit(TEX_HDR, r->hdr.texture);
     glBindTextureUnit(TEX_LDR, r->ldr.texture);
     glBindTextureUnit(TEX_REFERENCE, v->texture);
@@ -84,7 +88,7 @@ void ab_view_draw(const AbView *v, const Renderer *r, int fw, int fh)
 
 double ab_view_rmse(const AbView *v, Renderer *r)
 {
-    if (v->reference.width != r->settings.width || v->reference.height != r->settings.height)
+    if (v->display || v->reference.width != r->settings.width || v->reference.height != r->settings.height)
         return -1;
     ImageF frame;
     if (!renderer_read_hdr(r, &frame))

@@ -18,6 +18,7 @@ typedef enum AbMode { AB_FRAME = 0, AB_REFERENCE = 1, AB_SPLIT = 2, AB_DIFFERENC
 
 typedef struct AbView {
     ImageF reference;   /* the reference radiance, row 0 = top (for the RMSE readout) */
+    bool display;       /* read from PNG/JPEG: already exposed and clamped (shown as is, no RMSE) */
     GLuint texture;     /* RGB32F, the reference bottom-up as GL samples it */
     GLuint program;     /* owned */
     GLuint vao;         /* owned, empty */
@@ -36,7 +37,8 @@ bool ab_view_reload(AbView *v);
 /* Draws the view of `r`'s last frame into the default framebuffer (fw × fh). */
 void ab_view_draw(const AbView *v, const Renderer *r, int fw, int fh);
 /* RMSE of `r`'s last frame against the reference (radiance, the same size
- * only; -1 if the sizes differ or memory runs out). */
+ * only; -1 if the sizes differ, the reference is display-referred or memory
+ * runs out). */
 double ab_view_rmse(const AbView *v, Renderer *r);
 
 #endif

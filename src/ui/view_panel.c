@@ -426,6 +426,8 @@ static void compare_section(View *v)
     ui_same_line();
     if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
         ui_text("reference %dx%d: stretched, no RMSE", ab->reference.width, ab->reference.height);
+    else if (ab->display)
+        ui_text("PNG reference: no RMSE (use .pfm)");
     else if (v->ab_rmse >= 0)
         ui_text("RMSE %.5g (radiance)", v->ab_rmse);
 }

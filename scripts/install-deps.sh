@@ -3,6 +3,7 @@
 # Runs apt-get as root, or through sudo when not root.
 set -euo pipefail
 PKGS=(build-essential cmake pkg-config
+      libimgui-dev  # Dear ImGui + its GLFW/OpenGL3 back-ends: the panel of 'rtgi view'
       libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       libcglm-dev libstb-dev libassimp-dev libglfw3-dev libembree-dev
       libcjson-dev libcmocka-dev libopenexr-dev

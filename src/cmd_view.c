@@ -1,7 +1,10 @@
-/* cmd_view.c — `rtgi view`: the renderer in a window (GLFW), with a camera
- * and technique toggles; per-pass GPU time in the title. Same options as
- * `render`; --frames N exits after N frames and --out saves the last frame
- * (for scripted screenshots, e.g. under xvfb-run). */
+/* cmd_view.c — `rtgi view`: the renderer in a window (GLFW) with a Dear
+ * ImGui panel (src/ui/view_panel.c): camera, technique and settings,
+ * timings, captures, shader hot reload and the A/B view of --compare.
+ * The window's render size is its framebuffer size. --frames N exits after
+ * N frames and --out saves the last frame (scripted screenshots, e.g. under
+ * xvfb-run); --ui-test DIR runs a fixed script through the panel's actions
+ * and reports what it measured (src/ui/view_script.c; tests/test_view.c). */
 #include <epoxy/gl.h> /* before GLFW, which must not pull in GL/gl.h */
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -15,29 +18,124 @@
 #include "log.h"
 #include "render_options.h"
 #include "renderer.h"
+#include "shader.h"
+#include "ui/ab_view.h"
+#include "ui/ui.h"
+#include "ui/view_panel.h"
+#include "ui/view_script.h"
 #include "util.h"
 
 void cmd_view_help(void)
 {
     printf("usage: rtgi view [options]\n"
-           "An interactive window: WASD move, Q/E down/up, Shift faster, left-drag to look,\n"
-           "1-4 shadows none/hard/pcf/pcss, G/Shift-G next/previous GI technique,\n"
-           "+/- exposure, F FXAA on/off, R reset camera, T print timings, P screenshot, H help, Esc quit.\n"
-           "--frames N exits after N frames; --out FILE.png saves the last frame.\n");
-    render_options_help();
+           "The renderer in a window with a panel (Dear ImGui): technique and shadow pickers,\n"
+           "every technique setting with its range, live exposure, per-pass GPU ms and a\n"
+           "history plot, the camera as scene JSON, captures, shader reload, A/B comparison.\n"
+           "keys: WASD move, Q/E down/up, Shift faster, left-drag look, R reset camera,\n"
+           "  1-4 shadows none/hard/pcf/pcss, G/Shift-G next/previous GI technique (slow ones\n"
+           "  ask for a click first), +/- exposure, F FXAA on/off, C cycle the A/B view,\n"
+           "  T print timings, P save the image, Shift-P save the window (panel included),\n"
+           "  F5 reload shaders (from --shader-dir, else the source tree's shaders/),\n"
+           "  H hide/show the panel, Esc quit.\n"
+           "options:\n"
+           "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
+           "  --size WxH                    window and render size (default: 512x512)\n"
+           "  --shadow none|hard|pcf|pcss   shadow technique (default: pcss)\n"
+           "  --gi TECHNIQUE                indirect light (default: none), see below\n"
+           "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
+           "  --light-scale S               scale every light's emitter size (0: point lights)\n"
+           "  --ssaa N                      N x N supersampling, box filter (default: 1, off)\n"
+           "  --aa none|fxaa                post-process AA (default: fxaa)\n"
+           "  --compare FILE                reference image for the A/B view (split, reference,\n"
+           "                                difference): .pfm radiance at the window's exposure,\n"
+           "                                .png shown as it is\n"
+           "  --frames N                    exit after N frames (default: 0, run until closed)\n"
+           "  --out FILE                    the image P saves, and with --frames the last frame:\n"
+           "                                .png as shown, .pfm linear radiance (default: out/view.png)\n"
+           "  --window-out FILE.png         what Shift-P saves: the window, panel included\n"
+           "                                (default: out/window.png); with --frames, the last frame's\n"
+           "  --slow-ms MS                  techniques estimated above MS per frame need a\n"
+           "                                confirming click (default: 1000)\n"
+           "  --no-panel                    start with the panel hidden (H shows it)\n"
+           "  --ui-test DIR                 run the window test's script, write its captures to DIR\n"
+           "  --shader-dir DIR              read shaders from DIR instead of the embedded copies\n"
+           "  --debug                       GL debug context, KHR_debug messages logged\n"
+           "  --quiet | --verbose\n");
+    printf("GI techniques (--gi):\n");
+    for (int i = 0; gi_techniques[i]; i++)
+        printf("  %-18s %s\n", gi_techniques[i]->name, gi_techniques[i]->summary);
+    printf("shadow parameters (default: the scene file's, else the value shown):\n");
+    settings_print_help(stdout, "shadow");
+    printf("GI parameters (default: the scene file's, else the value shown):\n");
+    settings_print_help(stdout, "gi");
 }
 
-typedef struct View {
-    Camera camera;         /* current camera */
-    Camera home;           /* the scene's camera, for R */
-    float yaw, pitch;      /* radians; forward = (cos p sin y, sin p, cos p cos y) */
-    float speed;           /* metres per second */
-    RenderSettings settings;
-    bool dirty;            /* settings changed: rebuild the renderer */
-    bool dragging;
-    double last_x, last_y;
-    bool print_timings, screenshot;
-} View;
+/* The options only `view` has, taken out of argv before the shared parser. */
+typedef struct ViewOptions {
+    const char *compare;    /* --compare FILE */
+    const char *ui_test;    /* --ui-test DIR */
+    const char *window_out; /* --window-out FILE.png */
+    double slow_ms;         /* --slow-ms */
+    bool no_panel;
+} ViewOptions;
+
+/* Takes view's own options out of argv (both "--opt value" and
+ * "--opt=value"); refuses render's options that a window has no use for.
+ * 0: go on, else an exit status (2). */
+static int view_options_take(ViewOptions *vo, int *argc, char **argv)
+{
+    static const char *const render_only[] = {"--png", "--timings", "--warmup", "--probe", "--emitter-mask", NULL};
+    static const char *const own[] = {"--compare", "--ui-test", "--window-out", "--slow-ms", NULL};
+    int n = 0;
+    for (int i = 0; i < *argc; i++) {
+        const char *a = argv[i];
+        size_t len = strcspn(a, "=");
+        for (int k = 0; render_only[k]; k++)
+            if (strlen(render_only[k]) == len && !strncmp(a, render_only[k], len)) {
+                log_error("cli", "view: %.*s is an option of 'rtgi render' (see rtgi view --help)", (int)len, a);
+                return 2;
+            }
+        if (!strcmp(a, "--no-panel")) {
+            vo->no_panel = true;
+            continue;
+        }
+        int which = -1;
+        for (int k = 0; own[k]; k++)
+            if (strlen(own[k]) == len && !strncmp(a, own[k], len))
+                which = k;
+        if (which < 0) {
+            argv[n++] = argv[i];
+            continue;
+        }
+        const char *value = a[len] == '=' ? a + len + 1 : (i + 1 < *argc ? argv[++i] : NULL);
+        if (!value || !*value) {
+            log_error("cli", "%s needs a value", own[which]);
+            return 2;
+        }
+        if (which == 0) {
+            vo->compare = value;
+        } else if (which == 1) {
+            vo->ui_test = value;
+        } else if (which == 2) {
+            if (!util_ends_with(value, ".png")) {
+                log_error("cli", "--window-out: '%s' must end in .png", value);
+                return 2;
+            }
+            vo->window_out = value;
+        } else {
+            char *end;
+            vo->slow_ms = strtod(value, &end);
+            if (*end || !(vo->slow_ms > 0) || !isfinite(vo->slow_ms)) {
+                log_error("cli", "--slow-ms: '%s' is not a positive number of milliseconds", value);
+                return 2;
+            }
+        }
+    }
+    *argc = n;
+    return 0;
+}
+
+/* ---- Input ------------------------------------------------------------------ */
 
 static void view_set_angles(View *v, const Camera *c)
 {
@@ -61,9 +159,10 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
 {
     (void)scancode;
     View *v = glfwGetWindowUserPointer(w);
-    if (action != GLFW_PRESS)
+    if (action != GLFW_PRESS || ui_wants_keyboard())
         return;
     RenderSettings *s = &v->settings;
+    bool shift = (mods & GLFW_MOD_SHIFT) != 0;
     switch (key) {
     case GLFW_KEY_ESCAPE:
         glfwSetWindowShouldClose(w, GLFW_TRUE);
@@ -73,9 +172,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         v->dirty = true;
         break;
     case GLFW_KEY_G:
-        s->gi = (GiMode)((s->gi + ((mods & GLFW_MOD_SHIFT) ? GI_MODE_COUNT - 1 : 1)) % GI_MODE_COUNT);
-        v->dirty = true;
-        log_info("view", "GI: %s", gi_technique_names()[s->gi]);
+        view_cycle_gi(v, shift ? -1 : 1);
         break;
     case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD:
         s->exposure *= 1.25f;
@@ -90,6 +187,10 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         v->dirty = true;
         log_info("view", "AA: %s", s->aa == AA_FXAA ? "fxaa" : "none");
         break;
+    case GLFW_KEY_C:
+        if (v->ab)
+            v->ab->mode = (AbMode)((v->ab->mode + 1) % AB_MODE_COUNT);
+        break;
     case GLFW_KEY_R:
         v->camera = v->home;
         view_set_angles(v, &v->camera);
@@ -98,10 +199,16 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
         v->print_timings = true;
         break;
     case GLFW_KEY_P:
-        v->screenshot = true;
+        if (shift)
+            v->window_shot = true;
+        else
+            v->screenshot = true;
+        break;
+    case GLFW_KEY_F5:
+        v->reload = true;
         break;
     case GLFW_KEY_H:
-        cmd_view_help();
+        v->show_panel = !v->show_panel;
         break;
     default:
         break;
@@ -113,7 +220,7 @@ static void on_button(GLFWwindow *w, int button, int action, int mods)
     (void)mods;
     View *v = glfwGetWindowUserPointer(w);
     if (button == GLFW_MOUSE_BUTTON_LEFT) {
-        v->dragging = action == GLFW_PRESS;
+        v->dragging = action == GLFW_PRESS && !ui_wants_mouse();
         glfwGetCursorPos(w, &v->last_x, &v->last_y);
     }
 }
@@ -135,9 +242,25 @@ static void on_glfw_error(int code, const char *msg)
     log_error("view", "GLFW error %d: %s", code, msg);
 }
 
+/* Shader errors (and other errors) of the window go to the panel's status. */
+static void on_log(LogLevel level, const char *tag, const char *message, void *user)
+{
+    View *v = user;
+    if (level < LOG_ERROR)
+        return;
+    size_t len = strlen(v->status);
+    if (v->reloading && v->status_error && len + 4 < sizeof v->status) /* a reload's errors, first one first */
+        snprintf(v->status + len, sizeof v->status - len, " | [%s] %s", tag, message);
+    else
+        snprintf(v->status, sizeof v->status, "[%s] %s", tag, message);
+    v->status_error = true;
+}
+
 /* Continuous movement from the keys held this frame. */
 static void view_move(View *v, GLFWwindow *w, float dt)
 {
+    if (ui_wants_keyboard())
+        return;
     float step = v->speed * dt * (glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 4.f : 1.f);
     vec3 right;
     glm_vec3_cross(v->camera.forward, v->camera.up, right);
@@ -150,22 +273,17 @@ static void view_move(View *v, GLFWwindow *w, float dt)
             glm_vec3_muladds(moves[i].axis, moves[i].sign * step, v->camera.position);
 }
 
-static bool save_screenshot(Renderer *r, const char *path)
-{
-    uint8_t *rgb = renderer_read_ldr(r);
-    util_ensure_parent_dir(path);
-    bool ok = image_write_png8(path, r->settings.width, r->settings.height, rgb);
-    free(rgb);
-    if (ok)
-        log_info("view", "wrote %s", path);
-    return ok;
-}
+/* ---- The command ------------------------------------------------------------- */
 
 int cmd_view(int argc, char **argv)
 {
+    ViewOptions vo = {.slow_ms = 1000.0};
+    int rc = view_options_take(&vo, &argc, argv);
+    if (rc != 0)
+        return rc;
     RenderOptions o;
     render_options_init(&o, true);
-    int rc = render_options_parse(&o, argc, argv, cmd_view_help);
+    rc = render_options_parse(&o, argc, argv, cmd_view_help);
     if (rc != 0)
         return rc < 0 ? 0 : rc;
     Scene scene;
@@ -191,27 +309,53 @@ int cmd_view(int argc, char **argv)
         return 1;
     }
     glfwMakeContextCurrent(win);
-    glfwSwapInterval(o.frames > 0 ? 0 : 1);
+    glfwSwapInterval(o.frames > 0 || vo.ui_test ? 0 : 1);
     if (o.debug)
         gl_install_debug_callback();
 
-    View v = {0};
+    Renderer r;
+    View v;
+    memset(&v, 0, sizeof v);
+    v.scene = &scene;
+    v.renderer = &r;
+    v.slow_ms = vo.slow_ms;
+    v.pending_gi = -1;
+    v.ab_rmse = -1;
+    v.show_panel = !vo.no_panel;
+    snprintf(v.shot_path, sizeof v.shot_path, "%s", o.out ? o.out : "out/view.png");
+    snprintf(v.window_path, sizeof v.window_path, "%s", vo.window_out ? vo.window_out : "out/window.png");
     render_options_settings(&o, &scene, &v.settings);
     v.settings.timings = true;
     v.settings.cache = true; /* the window's common case: lights still, camera moving */
     v.settings.timing_sync = false;
+    v.edit.shadow = v.settings.shadow_params;
+    v.edit.gi = v.settings.gi_params;
     v.camera = v.home = scene.camera;
     view_set_angles(&v, &v.camera);
     v.speed = 0.25f * glm_vec3_distance(scene.bounds_min, scene.bounds_max);
     glfwSetWindowUserPointer(win, &v);
+    /* Ours first: ImGui's callbacks chain to them. */
     glfwSetKeyCallback(win, on_key);
     glfwSetMouseButtonCallback(win, on_button);
     glfwSetCursorPosCallback(win, on_cursor);
 
-    Renderer r;
-    bool ok = renderer_create(&r, &scene, &v.settings);
-    int frame = 0;
-    double last = glfwGetTime(), title_time = last;
+    AbView ab;
+    bool ok = ui_create(win);
+    bool have_ab = false;
+    if (ok && vo.compare) {
+        ok = have_ab = ab_view_create(&ab, vo.compare);
+        v.ab = have_ab ? &ab : NULL;
+        if (have_ab && v.show_panel) /* the split starts mid-way across the image beside the panel */
+            ab.split = 0.5f + (6.f + view_panel_width(o.width)) / (2.f * (float)o.width);
+    }
+    bool have_renderer = ok; /* a failed create is destroyed too */
+    if (ok)
+        ok = renderer_create(&r, &scene, &v.settings);
+    log_set_hook(on_log, &v);
+    ViewScript script = {.dir = vo.ui_test};
+    int frame = 0, interval_frames = 0;
+    bool interval_clean = false; /* no remake, reload or first frame in the interval: its time is a cost */
+    double last = glfwGetTime(), interval_start = last;
     while (ok && !glfwWindowShouldClose(win) && (o.frames == 0 || frame < o.frames)) {
         glfwPollEvents();
         double now = glfwGetTime();
@@ -225,7 +369,18 @@ int cmd_view(int argc, char **argv)
             v.settings.height = fh;
             v.dirty = true;
         }
+        if (v.reload) {
+            view_reload_shaders(&v);
+            v.reload = false;
+            interval_clean = false;
+        }
         if (v.dirty) {
+            interval_clean = false;
+            const RenderSettings *was = &r.settings, *now_s = &v.settings;
+            if (memcmp(&was->gi_params, &now_s->gi_params, sizeof was->gi_params) ||
+                memcmp(&was->shadow_params, &now_s->shadow_params, sizeof was->shadow_params) ||
+                was->shadow != now_s->shadow || was->ssaa != now_s->ssaa || was->aa != now_s->aa)
+                memset(v.measured_px, 0, sizeof v.measured_px); /* the measured costs were for other settings */
             /* Remakes only what the change touches (nothing for exposure). */
             ok = renderer_apply(&r, &v.settings);
             v.dirty = false;
@@ -233,35 +388,56 @@ int cmd_view(int argc, char **argv)
                 break;
         }
         renderer_frame(&r, &v.camera);
-        glBlitNamedFramebuffer(r.ldr.fbo, 0, 0, 0, r.ldr.width, r.ldr.height, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT,
-                               GL_NEAREST);
-        glfwSwapBuffers(win);
-        frame++;
-        if (v.print_timings) {
-            render_options_print_timings(&r, (const char *)glGetString(GL_RENDERER), 0.0);
-            v.print_timings = false;
+        if (v.ab)
+            ab_view_draw(v.ab, &r, fw, fh);
+        else
+            glBlitNamedFramebuffer(r.ldr.fbo, 0, 0, 0, r.ldr.width, r.ldr.height, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT,
+                                   GL_NEAREST);
+        ui_frame_begin();
+        view_panel_draw(&v, fw, fh);
+        ui_frame_end();
+        if (vo.window_out && o.frames > 0 && frame == o.frames - 1)
+            v.window_shot = true; /* scripted: the last frame's window */
+        if (v.window_shot) {
+            view_save_window(&v, v.window_path, fw, fh);
+            v.window_shot = false;
         }
         if (v.screenshot) {
-            save_screenshot(&r, o.out ? o.out : "out/view.png");
+            view_save_image(&v, v.shot_path);
             v.screenshot = false;
         }
-        if (now - title_time > 0.5 && r.timer.frames > 0) {
-            double total = 0;
-            for (int i = 0; i < r.timer.pass_count; i++)
-                total += r.timer.passes[i].gpu_ms / r.timer.frames;
+        if (script.dir && !view_script_step(&script, &v, frame, fw, fh))
+            glfwSetWindowShouldClose(win, GLFW_TRUE);
+        glfwSwapBuffers(win);
+        frame++;
+        interval_frames++;
+        double end = glfwGetTime();
+        if (v.print_timings) {
+            render_options_print_timings(&r, (const char *)glGetString(GL_RENDERER), v.frame_ms);
+            v.print_timings = false;
+        }
+        if ((end - interval_start > 0.5 || interval_frames >= 30) && r.timer.frames > 0) {
+            view_record_timings(&v, 1e3 * (end - interval_start) / interval_frames, interval_clean);
             char title[768];
-            snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms GPU", scene.source,
+            snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms/frame — H: panel", scene.source,
                      (const char *[]){"none", "hard", "pcf", "pcss"}[v.settings.shadow],
-                     gi_technique_names()[v.settings.gi], total);
+                     gi_techniques[v.settings.gi]->name, v.frame_ms);
             glfwSetWindowTitle(win, title);
             gpu_timer_reset(&r.timer);
-            title_time = now;
+            interval_start = end;
+            interval_frames = 0;
+            interval_clean = true;
         }
     }
+    log_set_hook(NULL, NULL);
     rc = ok ? 0 : 1;
-    if (ok && o.out && o.frames > 0 && !save_screenshot(&r, o.out))
+    if (ok && o.out && o.frames > 0 && !view_save_image(&v, o.out))
         rc = 1;
-    renderer_destroy(&r);
+    if (have_renderer)
+        renderer_destroy(&r);
+    if (have_ab)
+        ab_view_destroy(&ab);
+    ui_destroy();
     glfwDestroyWindow(win);
     glfwTerminate();
     scene_free(&scene);

@@ -4,6 +4,14 @@
 #include <stdio.h>
 
 static LogLevel g_level = LOG_INFO;
+static LogHook g_hook;
+static void *g_hook_user;
+
+void log_set_hook(LogHook hook, void *user)
+{
+    g_hook = hook;
+    g_hook_user = user;
+}
 
 void log_set_level(LogLevel level) { g_level = level; }
 LogLevel log_get_level(void) { return g_level; }
@@ -11,6 +19,14 @@ LogLevel log_get_level(void) { return g_level; }
 void log_msg(LogLevel level, const char *tag, const char *fmt, ...)
 {
     static const char *names[] = {"debug", "info", "warning", "error"};
+    if (g_hook && level < LOG_QUIET) {
+        char text[1024];
+        va_list hp;
+        va_start(hp, fmt);
+        vsnprintf(text, sizeof text, fmt, hp);
+        va_end(hp);
+        g_hook(level, tag, text, g_hook_user);
+    }
     if (level < g_level || level >= LOG_QUIET)
         return;
     va_list ap;

@@ -10,6 +10,10 @@ typedef enum LogLevel { LOG_DEBUG, LOG_INFO, LOG_WARN, LOG_ERROR, LOG_QUIET } Lo
 /* Messages below `level` are dropped. Default: LOG_INFO. */
 void log_set_level(LogLevel level);
 LogLevel log_get_level(void);
+/* A hook sees every message (before the level filter, without the prefix),
+ * e.g. the window's panel showing the last shader error; NULL removes it. */
+typedef void (*LogHook)(LogLevel level, const char *tag, const char *message, void *user);
+void log_set_hook(LogHook hook, void *user);
 void log_msg(LogLevel level, const char *tag, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 

@@ -170,9 +170,12 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
     bool technique = rs->gi != old.gi || memcmp(&rs->gi_params, &old.gi_params, sizeof rs->gi_params) != 0;
     LightStageDesc ld = light_desc(rs);
     bool lights = memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
+    bool timer = rs->timings != old.timings || rs->timing_sync != old.timing_sync;
+    if (technique || lights || resized || timer || rs->aa != old.aa)
+        r->remakes++;
     if (technique || lights)
         technique_destroy(r); /* it may hold sizes of the old light products */
-    if (rs->timings != old.timings || rs->timing_sync != old.timing_sync) {
+    if (timer) {
         gpu_timer_destroy(&r->timer);
         gpu_timer_create(&r->timer, rs->timings, rs->timing_sync);
     }

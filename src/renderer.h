@@ -88,6 +88,8 @@ typedef struct Renderer {
     PassTonemap pass_tonemap;
     PassResolve pass_resolve;
     PassFxaa pass_fxaa;
+    int remakes;               /* renderer_apply calls that remade something (technique, light products,
+                                  targets, timer); an exposure change remakes nothing */
 } Renderer;
 
 /* Needs a current GL 4.5 context. false after logging (destroy it then). */

@@ -15,6 +15,9 @@ typedef struct {
 extern const EmbeddedShader rtgi_embedded_shaders[];
 
 static char g_dir[1024];
+static int g_links; /* programs linked so far (shader_link_count) */
+
+int shader_link_count(void) { return g_links; }
 
 void shader_set_directory(const char *dir)
 {
@@ -28,6 +31,8 @@ static const char *shader_dir(void)
     const char *env = getenv("RTGI_SHADER_DIR");
     return (env && env[0]) ? env : NULL;
 }
+
+const char *shader_directory(void) { return shader_dir(); }
 
 char *shader_read_source(const char *path)
 {
@@ -224,6 +229,7 @@ static bool link_into(GLuint prog, const char *label, const GLuint *stages, int 
     for (int i = 0; i < n; i++)
         glAttachShader(prog, stages[i]);
     glLinkProgram(prog);
+    g_links++;
     for (int i = 0; i < n; i++)
         glDeleteShader(stages[i]);
     return link_ok(prog, label, "");

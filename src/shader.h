@@ -14,6 +14,12 @@
 
 /* Directory to read shaders from, or NULL for the embedded copies. */
 void shader_set_directory(const char *dir);
+/* The directory set by shader_set_directory or RTGI_SHADER_DIR, or NULL
+ * (the embedded copies). */
+const char *shader_directory(void);
+/* Programs linked since start-up (hot reloads included): the window's test
+ * checks that an exposure change links none. */
+int shader_link_count(void);
 
 /* Returns the text of a shader file (caller frees), or NULL after logging. */
 char *shader_read_source(const char *path);

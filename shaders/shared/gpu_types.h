@@ -44,6 +44,7 @@
 #define TEX_RSM_FLUX 10  /* RGBA32F: Φ rgb, a = area */
 #define TEX_GI 11        /* indirect irradiance */
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
+#define TEX_REFERENCE 12 /* the window's A/B view: the --compare image (shares TEX_INPUT's unit) */
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
 #define TEX_LDR 31       /* tone-mapped colour (FXAA's input, linear filtering) */
 #define TEX_GB_SPECULAR 32 /* G-buffer specular: rgb F0, a perceptual roughness (α = a²); past the 0..31
@@ -83,6 +84,11 @@
 #define LOC_COMPOSITE_SPECULAR 10 /* composite.frag: int, add the specular image */
 #define LOC_VPL_STRIDE 10       /* vpl_extract.comp: int, keep every stride-th texel per axis */
 #define LOC_VPL_SEED 11         /* vpl_extract.comp: uint, seed of the VPLs' random ξ */
+#define LOC_AB_MODE 10          /* ui/ab_view.frag: int, 0 render, 1 reference, 2 split, 3 difference */
+#define LOC_AB_SPLIT 11         /* ui/ab_view.frag: float, split position in [0, 1] of the width */
+#define LOC_AB_EXPOSURE 12      /* ui/ab_view.frag: float, the reference's exposure */
+#define LOC_AB_DIFF_SCALE 13    /* ui/ab_view.frag: float, |difference| shown as full heat */
+#define LOC_AB_REF_DISPLAY 14   /* ui/ab_view.frag: int, 1 if the reference is display-referred (PNG/JPEG) */
 #define LOC_GATHER_EXHAUSTIVE 10 /* rsm gather: int, sum every VPL instead of sampling */
 #define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
 #define LOC_IMPORTANCE_LEVEL 10 /* gi/rsm/importance.comp: int, pyramid level written / top level */

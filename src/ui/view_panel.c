@@ -1,0 +1,489 @@
+/* view_panel.c — see view_panel.h. */
+#include "ui/view_panel.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "log.h"
+#include "util.h"
+#include "shader.h"
+#include "ui/ui.h"
+
+static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss"};
+static const char *const k_ab_names[] = {"frame", "reference", "split", "difference"};
+
+/* ---- Cost ------------------------------------------------------------------ */
+
+/* VPLs the light stage would make (every RSM texel lit: an upper bound). */
+static double vpl_upper_bound(const View *v, int gi)
+{
+    const GiParams *p = &v->settings.gi_params;
+    double n = 0;
+    for (int i = 0; i < v->scene->light_count; i++) {
+        const Light *l = &v->scene->lights[i];
+        int faces = (l->type == LIGHT_POINT || l->type == LIGHT_QUAD) ? 6 : 1;
+        int s = gi_techniques[gi]->rsm_from_vpl_count && p->vpl_count > 0
+                    ? light_stage_rsm_size_for_vpls(l, p->vpl_count)
+                    : p->rsm_size;
+        n += (double)faces * s * s;
+    }
+    return n;
+}
+
+/* Gather evaluations of one frame of `gi` at `px` shading pixels. */
+static double gather_evaluations(const View *v, int gi, double px)
+{
+    const GiParams *p = &v->settings.gi_params;
+    double samples = p->exhaustive ? vpl_upper_bound(v, gi) : p->samples;
+    double subsets = (double)p->interleave_n * p->interleave_m;
+    switch ((GiMode)gi) {
+    case GI_RSM:
+    case GI_RSM_INTERLEAVED: /* per pixel: its samples (interleaving splits the pattern, not the count) */
+        return px * samples;
+    case GI_RSM_INTERP: /* low-res gathers plus a tenth of the pixels in full (Cornell: 5%) */
+        return px * samples * (1.0 / (p->interp_factor * p->interp_factor) + 0.1);
+    case GI_VPL_ALL:
+        return px * vpl_upper_bound(v, gi) * p->vpl_keep;
+    case GI_VPL_CLAMPED:
+    case GI_VPL_SLC: /* tiles visit every VPL in the worst case */
+        return px * vpl_upper_bound(v, gi);
+    case GI_VPL_INTERLEAVED:
+    case GI_VPL_METALIGHTS:
+        return px * vpl_upper_bound(v, gi) / subsets;
+    case GI_LPV: {
+        double cells = pow(p->lpv_size, 3) * p->lpv_cascades;
+        int steps = p->lpv_iterations > 0 ? p->lpv_iterations : p->lpv_size;
+        return cells * steps * 6 + vpl_upper_bound(v, gi) * p->lpv_cascades + px;
+    }
+    default:
+        return 0;
+    }
+}
+
+double view_estimate_ms(const View *v, int gi)
+{
+    int n = renderer_ssaa(&v->settings);
+    double px = (double)v->settings.width * v->settings.height * n * n;
+    if (v->measured_px[gi] > 0)
+        return v->measured_ms[gi] * px / v->measured_px[gi];
+    double base = v->measured_px[GI_NONE] > 0 ? v->measured_ms[GI_NONE] * px / v->measured_px[GI_NONE] : 0;
+    double rate = v->evals_per_s > 0 ? v->evals_per_s : VIEW_DEFAULT_EVALS_PER_S;
+    return base + 1e3 * gather_evaluations(v, gi, px) / rate;
+}
+
+bool view_gi_is_slow(const View *v, int gi)
+{
+    return gi != GI_NONE && view_estimate_ms(v, gi) > v->slow_ms;
+}
+
+bool view_select_gi(View *v, int gi, bool confirmed)
+{
+    if (gi == (int)v->settings.gi) {
+        v->pending_gi = -1;
+        return true;
+    }
+    if (!confirmed && view_gi_is_slow(v, gi)) {
+        v->pending_gi = gi;
+        view_status(v, false, "%s: about %.1f s per frame at %dx%d; confirm in the panel to switch",
+                    gi_techniques[gi]->name, view_estimate_ms(v, gi) / 1e3, v->settings.width, v->settings.height);
+        v->show_panel = true;
+        return false;
+    }
+    v->pending_gi = -1;
+    v->settings.gi = (GiMode)gi;
+    v->dirty = true;
+    log_info("view", "GI: %s", gi_techniques[gi]->name);
+    return true;
+}
+
+void view_cycle_gi(View *v, int step)
+{
+    int from = v->pending_gi >= 0 ? v->pending_gi : (int)v->settings.gi;
+    view_select_gi(v, (from + step + GI_MODE_COUNT) % GI_MODE_COUNT, false);
+}
+
+/* ---- Bookkeeping ---------------------------------------------------------- */
+
+void view_status(View *v, bool error, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(v->status, sizeof v->status, fmt, ap);
+    va_end(ap);
+    v->status_error = error;
+    if (error)
+        log_error("view", "%s", v->status);
+    else
+        log_info("view", "%s", v->status);
+}
+
+void view_camera_json(const View *v, char *out, size_t cap)
+{
+    const Camera *c = &v->camera;
+    float t[3];
+    for (int i = 0; i < 3; i++)
+        t[i] = c->position[i] + c->forward[i];
+    snprintf(out, cap,
+             "\"camera\": {\"position\": [%.4f, %.4f, %.4f], \"target\": [%.4f, %.4f, %.4f], "
+             "\"fov_y_deg\": %.2f}",
+             (double)c->position[0], (double)c->position[1], (double)c->position[2], (double)t[0], (double)t[1],
+             (double)t[2], (double)(c->fov_y * 180.f / GLM_PIf));
+}
+
+void view_record_timings(View *v, double frame_ms, bool is_cost)
+{
+    Renderer *r = v->renderer;
+    GpuTimer *t = &r->timer;
+    v->frame_ms = frame_ms;
+    v->gpu_ms = 0;
+    v->pass_count = 0;
+    for (int i = 0; i < t->pass_count && t->frames > 0; i++) {
+        snprintf(v->pass_name[v->pass_count], sizeof v->pass_name[0], "%s", t->passes[i].name);
+        v->pass_ms[v->pass_count] = t->passes[i].gpu_ms / t->frames;
+        v->gpu_ms += v->pass_ms[v->pass_count++];
+    }
+    v->history[v->history_next] = (float)frame_ms;
+    v->history_next = (v->history_next + 1) % VIEW_HISTORY;
+    if (v->history_count < VIEW_HISTORY)
+        v->history_count++;
+    if (!is_cost)
+        return;
+    int gi = (int)r->settings.gi, n = renderer_ssaa(&r->settings);
+    v->measured_ms[gi] = frame_ms;
+    v->measured_px[gi] = (double)r->settings.width * r->settings.height * n * n;
+    /* The device's gather rate, from this technique's counters and its gather passes. */
+    static const char *const gathers[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
+                                          "rsm_gather_interleaved", "vpl_shade", NULL};
+    double ms = 0;
+    for (int i = 0; gathers[i]; i++) {
+        double m = gpu_timer_mean_ms(t, gathers[i], false);
+        ms += m > 0 ? m : 0;
+    }
+    if (gi != GI_NONE && ms > 0.5) {
+        const RenderStats *st = renderer_collect_stats(r);
+        if (st->gather_evaluations > 0)
+            v->evals_per_s = (double)st->gather_evaluations / (ms * 1e-3);
+    }
+}
+
+/* ---- Captures and reload ---------------------------------------------------- */
+
+/* The rendered image: .png as shown (tone-mapped, after FXAA), any other
+ * extension through image_write as linear radiance. */
+bool view_save_image(View *v, const char *path)
+{
+    Renderer *r = v->renderer;
+    util_ensure_parent_dir(path);
+    bool ok;
+    if (util_ends_with(path, ".png")) {
+        uint8_t *rgb = renderer_read_ldr(r);
+        ok = rgb && image_write_png8(path, r->settings.width, r->settings.height, rgb);
+        free(rgb);
+    } else {
+        ImageF img;
+        ok = renderer_read_hdr(r, &img);
+        if (ok) {
+            ok = image_write(path, &img, r->settings.exposure);
+            image_free(&img);
+        }
+    }
+    if (ok)
+        view_status(v, false, "wrote %s", path);
+    else
+        view_status(v, true, "%s: not written (see the terminal)", path);
+    return ok;
+}
+
+/* The window's back buffer as shown (panel included), before the swap. */
+bool view_save_window(View *v, const char *path, int fw, int fh)
+{
+    uint8_t *rgb = malloc(3 * (size_t)fw * fh), *row = malloc(3 * (size_t)fw);
+    bool ok = rgb && row;
+    if (ok) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+        glReadBuffer(GL_BACK);
+        glPixelStorei(GL_PACK_ALIGNMENT, 1);
+        glReadPixels(0, 0, fw, fh, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+        for (int y = 0; y < fh / 2; y++) { /* GL rows are bottom-up */
+            memcpy(row, rgb + 3 * (size_t)y * fw, 3 * (size_t)fw);
+            memcpy(rgb + 3 * (size_t)y * fw, rgb + 3 * (size_t)(fh - 1 - y) * fw, 3 * (size_t)fw);
+            memcpy(rgb + 3 * (size_t)(fh - 1 - y) * fw, row, 3 * (size_t)fw);
+        }
+        util_ensure_parent_dir(path);
+        ok = image_write_png8(path, fw, fh, rgb);
+    }
+    free(rgb);
+    free(row);
+    if (ok)
+        view_status(v, false, "wrote %s", path);
+    else
+        view_status(v, true, "%s: window capture not written", path);
+    return ok;
+}
+
+/* F5: every program rebuilt from the shader files; a program that fails
+ * keeps its previous build and the error shows in the panel. */
+void view_reload_shaders(View *v)
+{
+    if (!shader_directory()) {
+        char dir[1024];
+        snprintf(dir, sizeof dir, "%s/shaders", RTGI_SOURCE_DIR);
+        struct stat st;
+        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode))
+            shader_set_directory(dir);
+    }
+    v->status[0] = 0;
+    v->status_error = false;
+    v->reloading = true;
+    bool ok = program_cache_reload(&v->renderer->programs);
+    ok = (!v->ab || ab_view_reload(v->ab)) && ok;
+    v->reloading = false;
+    renderer_invalidate(v->renderer); /* uniforms set once per light product are set again */
+    if (ok)
+        view_status(v, false, "shaders reloaded from %s", shader_directory() ? shader_directory() : "(embedded)");
+    else if (!v->status_error)
+        view_status(v, true, "shader reload failed; the previous programs stay (see the terminal)");
+}
+
+/* ---- The panel ------------------------------------------------------------- */
+
+/* One row of the settings table as a widget with its range; true when a
+ * change is committed (sliders: on release). */
+static bool setting_widget(View *v, const SettingDesc *d)
+{
+    void *field = (char *)&v->edit + d->offset;
+    char label[96], tip[320], range[64] = "";
+    snprintf(label, sizeof label, "%s##%s", d->key, d->option);
+    bool commit = false;
+    switch (d->type) {
+    case SETTING_INT: {
+        bool logarithmic = d->max / fmax(d->min, 1.0) > 1000;
+        ui_slider_int(label, (int *)field, (int)d->min, (int)d->max, logarithmic);
+        commit = ui_item_deactivated_after_edit();
+        snprintf(range, sizeof range, " [%.0f..%.0f]", d->min, d->max);
+        break;
+    }
+    case SETTING_UINT: {
+        int x = (int)*(unsigned *)field;
+        ui_slider_int(label, &x, (int)d->min, (int)fmin(d->max, 2147483647.0), true);
+        *(unsigned *)field = (unsigned)x;
+        commit = ui_item_deactivated_after_edit();
+        snprintf(range, sizeof range, " [%.0f..%.0f]", d->min, d->max);
+        break;
+    }
+    case SETTING_FLOAT: {
+        bool logarithmic = d->min > 0 ? d->max / d->min > 1000 : d->max > 100;
+        ui_slider_float(label, (float *)field, (float)d->min, (float)d->max, logarithmic, "%.4g");
+        commit = ui_item_deactivated_after_edit();
+        snprintf(range, sizeof range, " [%.6g..%.6g]", d->min, d->max);
+        break;
+    }
+    case SETTING_BOOL:
+    case SETTING_FLAG:
+        commit = ui_checkbox(label, (bool *)field);
+        break;
+    case SETTING_ENUM: {
+        int count = 0;
+        while (d->choices[count])
+            count++;
+        commit = ui_combo(label, (int *)field, d->choices, count);
+        break;
+    }
+    case SETTING_PAIR: {
+        int pair[2] = {*(int *)field, *(int *)((char *)&v->edit + d->offset2)};
+        ui_slider_int2(label, pair, (int)d->min, (int)d->max);
+        *(int *)field = pair[0];
+        *(int *)((char *)&v->edit + d->offset2) = pair[1];
+        commit = ui_item_deactivated_after_edit();
+        snprintf(range, sizeof range, " [%.0f..%.0f] each", d->min, d->max);
+        break;
+    }
+    }
+    snprintf(tip, sizeof tip, "%s%s\n%s, scene key %s.%s", d->help, range, d->option, d->group, d->key);
+    ui_tooltip(tip);
+    return commit;
+}
+
+static void technique_section(View *v)
+{
+    char labels[GI_MODE_COUNT][96];
+    const char *items[GI_MODE_COUNT];
+    for (int i = 0; i < GI_MODE_COUNT; i++) {
+        double ms = view_estimate_ms(v, i);
+        if (view_gi_is_slow(v, i))
+            snprintf(labels[i], sizeof labels[i], "%s  (slow: ~%.1f s/frame)", gi_techniques[i]->name, ms / 1e3);
+        else
+            snprintf(labels[i], sizeof labels[i], "%s", gi_techniques[i]->name);
+        items[i] = labels[i];
+    }
+    int gi = (int)v->settings.gi;
+    if (ui_combo("GI (G)", &gi, items, GI_MODE_COUNT))
+        view_select_gi(v, gi, false);
+    ui_tooltip(gi_techniques[v->settings.gi]->summary);
+    if (v->pending_gi >= 0) {
+        ui_text_colored(1.f, 0.7f, 0.2f, "%s: ~%.1f s per frame at %dx%d", gi_techniques[v->pending_gi]->name,
+                        view_estimate_ms(v, v->pending_gi) / 1e3, v->settings.width, v->settings.height);
+        if (ui_button("Switch anyway"))
+            view_select_gi(v, v->pending_gi, true);
+        ui_same_line();
+        if (ui_button("Cancel"))
+            v->pending_gi = -1;
+    }
+    int shadow = (int)v->settings.shadow;
+    if (ui_combo("shadows (1-4)", &shadow, k_shadow_names, 4)) {
+        v->settings.shadow = (ShadowMode)shadow;
+        v->dirty = true;
+    }
+    /* Exposure is live: renderer_apply remakes nothing for it. */
+    if (ui_slider_float("exposure (+/-)", &v->settings.exposure, 1e-3f, 1e3f, true, "%.3g"))
+        v->dirty = true;
+    bool fxaa = v->settings.aa == AA_FXAA;
+    if (ui_checkbox("FXAA (F)", &fxaa)) {
+        v->settings.aa = fxaa ? AA_FXAA : AA_NONE;
+        v->dirty = true;
+    }
+    int ssaa = renderer_ssaa(&v->settings);
+    ui_slider_int("supersampling", &ssaa, 1, 4, false);
+    if (ui_item_deactivated_after_edit()) {
+        v->settings.ssaa = ssaa;
+        v->dirty = true;
+    }
+}
+
+static void timings_section(View *v)
+{
+    ui_text("frame %.1f ms wall, %.1f ms GPU (sum of passes)", v->frame_ms, v->gpu_ms);
+    static const char *const headers[] = {"pass", "GPU ms"};
+    if (v->pass_count > 0 && ui_table_begin("passes", 2, headers)) {
+        for (int i = 0; i < v->pass_count; i++) {
+            char ms[32];
+            snprintf(ms, sizeof ms, "%.2f", v->pass_ms[i]);
+            const char *cells[2] = {v->pass_name[i], ms};
+            ui_table_row(cells, 2);
+        }
+        ui_table_end();
+    }
+    float hi = 0;
+    for (int i = 0; i < v->history_count; i++)
+        hi = fmaxf(hi, v->history[i]);
+    char overlay[64];
+    snprintf(overlay, sizeof overlay, "frame ms (max %.1f)", (double)hi);
+    int start = v->history_count < VIEW_HISTORY ? 0 : v->history_next;
+    ui_plot_lines("##history", v->history, v->history_count, start, overlay, 0.f, hi * 1.1f + 1e-3f, 60.f);
+}
+
+static void settings_section(View *v)
+{
+    const char *group = NULL;
+    for (int i = 0; i < settings_count; i++) {
+        const SettingDesc *d = &settings_table[i];
+        if (!group || strcmp(group, d->group)) {
+            group = d->group;
+            ui_separator();
+            ui_text("%s", group);
+        }
+        if (setting_widget(v, d)) {
+            v->settings.shadow_params = v->edit.shadow;
+            v->settings.gi_params = v->edit.gi;
+            v->dirty = true;
+        }
+    }
+}
+
+static void camera_section(View *v)
+{
+    const Camera *c = &v->camera;
+    ui_text("position %.3f %.3f %.3f", (double)c->position[0], (double)c->position[1], (double)c->position[2]);
+    ui_text("target   %.3f %.3f %.3f", (double)(c->position[0] + c->forward[0]),
+            (double)(c->position[1] + c->forward[1]), (double)(c->position[2] + c->forward[2]));
+    if (ui_button("Copy as scene JSON")) {
+        char json[256];
+        view_camera_json(v, json, sizeof json);
+        ui_set_clipboard(json);
+        printf("%s\n", json);
+        fflush(stdout);
+        view_status(v, false, "camera copied to the clipboard (and printed on stdout)");
+    }
+    ui_slider_float("speed m/s", &v->speed, 0.01f, 100.f, true, "%.3g");
+}
+
+static void compare_section(View *v)
+{
+    AbView *ab = v->ab;
+    int mode = (int)ab->mode;
+    if (ui_combo("view (C)", &mode, k_ab_names, AB_MODE_COUNT))
+        ab->mode = (AbMode)mode;
+    if (ab->mode == AB_SPLIT)
+        ui_slider_float("split", &ab->split, 0.f, 1.f, false, "%.2f");
+    if (ab->mode == AB_DIFFERENCE)
+        ui_slider_float("full heat at", &ab->diff_scale, 1e-4f, 10.f, true, "%.4g");
+    if (ui_button("Measure RMSE"))
+        v->ab_rmse = ab_view_rmse(ab, v->renderer);
+    ui_same_line();
+    if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
+        ui_text("reference %dx%d: stretched, no RMSE", ab->reference.width, ab->reference.height);
+    else if (ab->display)
+        ui_text("PNG reference: no RMSE (use .pfm)");
+    else if (v->ab_rmse >= 0)
+        ui_text("RMSE %.5g (radiance)", v->ab_rmse);
+}
+
+static void capture_section(View *v)
+{
+    ui_input_text("image", v->shot_path, sizeof v->shot_path);
+    ui_tooltip(".png: the image as shown; .pfm (and .exr where supported): linear radiance");
+    ui_same_line();
+    if (ui_button("Save (P)"))
+        v->screenshot = true;
+    ui_input_text("window", v->window_path, sizeof v->window_path);
+    ui_same_line();
+    if (ui_button("Save (Shift-P)"))
+        v->window_shot = true;
+    if (ui_button("Reload shaders (F5)"))
+        v->reload = true;
+    const char *dir = shader_directory();
+    ui_same_line();
+    ui_text("from %s", dir ? dir : "(embedded)");
+}
+
+float view_panel_width(int fw) { return fminf(360.f, 0.5f * (float)fw); }
+
+void view_panel_draw(View *v, int fw, int fh)
+{
+    if (!v->show_panel)
+        return;
+    float w = view_panel_width(fw);
+    if (!ui_window_begin("rtgi (H hides)", &v->show_panel, 6.f, 6.f, w, (float)fh - 12.f)) {
+        ui_window_end();
+        return;
+    }
+    ui_text("%s  %dx%d", v->scene->source, v->settings.width, v->settings.height);
+    if (v->status[0]) {
+        if (v->status_error)
+            ui_text_colored(1.f, 0.35f, 0.3f, "%s", v->status);
+        else
+            ui_text_wrapped("%s", v->status);
+    }
+    if (ui_header("Technique", true))
+        technique_section(v);
+    if (ui_header("Timings (T prints them)", true))
+        timings_section(v);
+    if (v->ab && ui_header("Compare (A/B)", true))
+        compare_section(v);
+    if (ui_header("Settings", false))
+        settings_section(v);
+    if (ui_header("Camera", false))
+        camera_section(v);
+    if (ui_header("Capture & shaders", false))
+        capture_section(v);
+    if (ui_header("Keys", false))
+        ui_text_wrapped("WASD move, Q/E down/up, Shift faster, left-drag look, R reset camera; 1-4 shadows; "
+                        "G/Shift-G technique (slow ones ask first); +/- exposure; F FXAA; C A/B view; "
+                        "T print timings; P save image, Shift-P save window; F5 reload shaders; "
+                        "H panel; Esc quit.");
+    ui_window_end();
+}

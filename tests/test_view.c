@@ -1,0 +1,322 @@
+/* test_view.c — `rtgi view`'s panel under a virtual X server (xvfb-run,
+ * GLX through Mesa llvmpipe): the window test's script (--ui-test) drives
+ * the panel's actions and the test checks what it measured and captured
+ * against the headless renderer's own images:
+ *   - exposure is live: no program linked, nothing in the renderer remade
+ *     (while a technique switch does remake: the counter counts);
+ *   - a technique estimated over --slow-ms is not entered by the G key's
+ *     path until confirmed;
+ *   - "copy as scene JSON" loads back as the camera it was copied from;
+ *   - hot reload with a broken shader on disk: the error names the file,
+ *     the previous program stays and the relinked others draw the same;
+ *   - the panel is drawn (the window differs from the render where the
+ *     panel is, and only there); captures are valid PNG/PFM;
+ *   - the A/B view of --compare shows the reference tone-mapped, the
+ *     difference heat map and the split exactly as computed here, and its
+ *     RMSE matches metric_rmse;
+ *   - `view --help` is view's own, render-only options are refused,
+ *     `view --out x.pfm` writes a PFM. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "metrics.h"
+#include "test_util.h"
+#include "util.h"
+
+enum { W = 192, H = 144 };
+
+static char g_dir[512];
+
+static void path_in(char *out, size_t cap, const char *name) { snprintf(out, cap, "%s/%s", g_dir, name); }
+
+static ImageF read_image(const char *name)
+{
+    char p[1024];
+    path_in(p, sizeof p, name);
+    ImageF img;
+    if (!image_read(p, &img))
+        fail_msg("%s: not a readable image", p);
+    return img;
+}
+
+/* The value of "ui-test: <key>" lines in `out`, or NULL. */
+static const char *find_line(const char *out, const char *key)
+{
+    const char *p = strstr(out, key);
+    return p ? p + strlen(key) : NULL;
+}
+
+static float heat(float t, int c)
+{
+    t = fminf(fmaxf(t, 0.f), 1.f);
+    return fminf(fmaxf(3.f * t - (float)c, 0.f), 1.f);
+}
+
+static void panel_script(void **state)
+{
+    (void)state;
+    snprintf(g_dir, sizeof g_dir, "%s/view_ui", RTGI_TEST_TMP);
+    util_ensure_parent_dir(g_dir);
+    char none_pfm[1024], rsm_pfm[1024], size[32];
+    snprintf(size, sizeof size, "%dx%d", W, H);
+    path_in(none_pfm, sizeof none_pfm, "ref_none.pfm");
+    path_in(rsm_pfm, sizeof rsm_pfm, "ref_rsm.pfm");
+    assert_int_equal(test_run_cli(NULL, "render", "--size", size, "--out", none_pfm, "--quiet", NULL), 0);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", size, "--gi", "rsm", "--rsm-samples", "32", "--out",
+                                  rsm_pfm, "--quiet", NULL),
+                     0);
+
+    char cmd[8192], log[1024];
+    path_in(log, sizeof log, "view.log");
+    /* Shaders from a copy on disk, so that the script's hot reload can meet
+     * a broken one (it appends an #error to tonemap.frag before reloading). */
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s/shaders' && cp -r '%s/shaders' '%s/shaders' && "
+             "RTGI_UI_TEST_BREAK_SHADER='%s/shaders/frame/tonemap.frag' "
+             "xvfb-run -a '%s' view --size %s --rsm-samples 32 --exposure 1 --slow-ms 1 --compare '%s' "
+             "--shader-dir '%s/shaders' --ui-test '%s' 2>'%s'",
+             g_dir, RTGI_SOURCE_DIR, g_dir, g_dir, RTGI_BINARY, size, none_pfm, g_dir, g_dir, log);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    char out[8192];
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    int rc = pclose(p);
+    if (rc != 0) {
+        char *err = util_read_file(log, NULL);
+        fail_msg("rtgi view --ui-test failed (%d): %s", rc, err ? err : "");
+    }
+    print_message("%s", out);
+
+    /* Exposure: live. A technique switch: remade (the counter counts). */
+    int links = -1, remakes = -1;
+    const char *v = find_line(out, "ui-test: exposure x2: ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "program links +%d, renderer remakes +%d", &links, &remakes), 2);
+    assert_int_equal(links, 0);
+    assert_int_equal(remakes, 0);
+    v = find_line(out, "ui-test: technique switch: renderer remakes +");
+    assert_non_null(v);
+    assert_true(atoi(v) >= 1);
+    /* Slow techniques wait for their click, from the G key too. */
+    assert_non_null(strstr(out, "ui-test: G: gi none, pending rsm,"));
+    assert_non_null(strstr(out, "ui-test: confirmed: gi rsm"));
+
+    /* "Copy as scene JSON" is a scene file's camera: loaded back, it is the
+     * camera the window started from (the scene's). */
+    v = find_line(out, "ui-test: camera {");
+    assert_non_null(v);
+    char scene_json[512];
+    int len = (int)(strchr(v, '\n') - v) - 1; /* without the closing brace */
+    snprintf(scene_json, sizeof scene_json, "{\"builtin\": \"cornell\", %.*s}\n", len, v);
+    Scene copied, cornell;
+    assert_true(scene_load(&copied, test_tmp_file("camera_copy.json", scene_json)));
+    assert_true(scene_load(&cornell, "cornell"));
+    for (int i = 0; i < 3; i++) {
+        assert_float_equal(copied.camera.position[i], cornell.camera.position[i], 1e-3);
+        assert_float_equal(copied.camera.forward[i], cornell.camera.forward[i], 1e-3);
+    }
+    assert_float_equal(copied.camera.fov_y, cornell.camera.fov_y, 1e-3);
+    scene_free(&copied);
+    scene_free(&cornell);
+
+    /* Hot reload: the broken shader's error names its file, its previous
+     * program stays, and every other program, relinked, draws the same. */
+    v = find_line(out, "ui-test: reload: ");
+    assert_non_null(v);
+    assert_true(!strncmp(v, "failed: ", 8));
+    const char *eol = strchr(v, '\n');
+    const char *named = strstr(v, "tonemap.frag");
+    assert_true(named && (!eol || named < eol));
+    ImageF before = read_image("before_reload.png"), after = read_image("after_reload.png");
+    double reload_diff = 0;
+    for (int i = 0; i < W * H * 3; i++)
+        reload_diff = fmax(reload_diff, fabsf(before.rgb[i] - after.rgb[i]));
+    print_message("reload: max |after - before| %.4f\n", reload_diff);
+    assert_true(reload_diff <= 1e-6);
+    assert_true(test_image_mean(&after) > 0.05);
+    image_free(&before);
+    image_free(&after);
+
+    /* The panel is drawn: the window differs from the render where the
+     * panel is (its left half), and only there. */
+    ImageF panel = read_image("window_panel.png"), bare = read_image("window_nopanel.png");
+    ImageF shot = read_image("shot.png"), shot_hdr = read_image("shot.pfm");
+    assert_int_equal(panel.width, W);
+    assert_int_equal(shot_hdr.width, W);
+    assert_int_equal(shot_hdr.height, H);
+    double in_panel = 0, outside = 0, vs_shot = 0, vs_hdr = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            for (int c = 0; c < 3; c++) {
+                float d = fabsf(image_px(&panel, x, y)[c] - image_px(&bare, x, y)[c]);
+                if (x > 12 && x < W / 2 - 12 && y > 12 && y < H - 12)
+                    in_panel += d;
+                else if (x > W / 2 + 12)
+                    outside = fmax(outside, d);
+                vs_shot = fmax(vs_shot, fabsf(image_px(&shot, x, y)[c] - image_px(&bare, x, y)[c]));
+                vs_hdr += fabsf(srgb_encode(fminf(image_px(&shot_hdr, x, y)[c] * 2.f, 1.f)) -
+                                srgb_encode(image_px(&shot, x, y)[c]));
+            }
+    in_panel /= 3.0 * (W / 2 - 25) * (H - 25);
+    vs_hdr /= 3.0 * W * H;
+    print_message("panel: mean |window - render| %.3f in the panel, max %.4f right of it; "
+                  "window vs P shot max %.4f; PNG vs PFM x exposure mean %.4f\n",
+                  in_panel, outside, vs_shot, vs_hdr);
+    assert_true(in_panel > 0.02);
+    assert_true(outside <= 1e-6);
+    assert_true(vs_shot <= 1e-6);
+    assert_true(vs_hdr < 0.01); /* FXAA only, on edges */
+    assert_int_equal(image_count_nonfinite(&shot_hdr, NULL, NULL), 0);
+
+    /* A/B: the reference alone, tone-mapped at the window's exposure (2). */
+    ImageF none, rsm;
+    assert_true(image_read(none_pfm, &none) && image_read(rsm_pfm, &rsm));
+    ImageF ab_ref = read_image("ab_reference.png"), ab_diff = read_image("ab_difference.png");
+    ImageF ab_split = read_image("ab_split.png");
+    double worst_ref = 0, worst_diff = 0, worst_split = 0, hot = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const float *a = image_px(&rsm, x, y), *b = image_px(&none, x, y);
+            float m = 0;
+            for (int c = 0; c < 3; c++)
+                m = fmaxf(m, fabsf(a[c] - b[c]) * 2.f);
+            hot += m / 0.05f >= 1.f;
+            for (int c = 0; c < 3; c++) {
+                float want = srgb_encode(fminf(b[c] * 2.f, 1.f));
+                worst_ref = fmax(worst_ref, fabsf(srgb_encode(image_px(&ab_ref, x, y)[c]) - want));
+                /* the heat map is written as is (not sRGB-encoded) */
+                worst_diff = fmax(worst_diff, fabsf(srgb_encode(image_px(&ab_diff, x, y)[c]) - heat(m / 0.05f, c)));
+                if (x > W / 2 + 1)
+                    worst_split = fmax(worst_split, fabsf(srgb_encode(image_px(&ab_split, x, y)[c]) - want));
+            }
+        }
+    const float *line = image_px(&ab_split, W / 2, H / 2);
+    print_message("A/B: reference worst %.4f, difference worst %.4f (%.0f%% pixels at full heat), split right "
+                  "half worst %.4f, split line %.2f %.2f %.2f\n",
+                  worst_ref, worst_diff, 100.0 * hot / (W * H), worst_split, (double)srgb_encode(line[0]),
+                  (double)srgb_encode(line[1]), (double)srgb_encode(line[2]));
+    assert_true(worst_ref <= 1.5 / 255);
+    assert_true(worst_diff <= 2.5 / 255);
+    assert_true(hot > 0.05 * W * H); /* the two differ: the heat map is not trivially black */
+    assert_true(worst_split <= 1.5 / 255);
+    assert_true(srgb_encode(line[0]) > 0.95f && srgb_encode(line[2]) < 0.05f);
+    double rmse = -1;
+    v = find_line(out, "ui-test: rmse ");
+    assert_non_null(v);
+    rmse = atof(v);
+    double want = metric_rmse(&rsm, &none, NULL, NULL);
+    print_message("A/B RMSE %.6g, metric_rmse of the headless renders %.6g\n", rmse, want);
+    assert_true(want > 0);
+    assert_true(fabs(rmse - want) <= 1e-4 * want + 1e-7);
+
+    ImageF *all[] = {&panel, &bare, &shot, &shot_hdr, &none, &rsm, &ab_ref, &ab_diff, &ab_split};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        image_free(all[i]);
+}
+
+/* A PNG reference is display-referred: the A/B view shows it as it is (not
+ * exposed again), and F5 without --shader-dir reloads from the source tree. */
+static void png_reference(void **state)
+{
+    (void)state;
+    char dir[600], ref[700], shot[700], cmd[4096];
+    snprintf(dir, sizeof dir, "%s/view_png", RTGI_TEST_TMP);
+    snprintf(ref, sizeof ref, "%s/ref.png", dir);
+    snprintf(shot, sizeof shot, "%s/ab_reference.png", dir);
+    util_ensure_parent_dir(ref);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "64x48", "--exposure", "2", "--out", ref, "--quiet", NULL),
+                     0);
+    snprintf(cmd, sizeof cmd, "xvfb-run -a '%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
+             RTGI_BINARY, ref, dir);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    static char out[16384];
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    if (pclose(p) != 0)
+        fail_msg("rtgi view --compare ref.png --ui-test failed: %s", out);
+    assert_non_null(strstr(out, "ui-test: reload: ok"));
+    assert_non_null(strstr(out, "ui-test: rmse -1")); /* no RMSE against a display-referred image */
+    ImageF want, got;
+    assert_true(image_read(ref, &want) && image_read(shot, &got));
+    double worst = 0;
+    for (int i = 0; i < 64 * 48 * 3; i++)
+        worst = fmax(worst, fabsf(srgb_encode(want.rgb[i]) - srgb_encode(got.rgb[i])));
+    print_message("PNG reference shown as is: worst %.4f\n", worst);
+    assert_true(worst <= 1.5 / 255);
+    image_free(&want);
+    image_free(&got);
+}
+
+static void help_and_options(void **state)
+{
+    (void)state;
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "'%s' view --help", RTGI_BINARY);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    static char out[65536];
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    assert_int_equal(pclose(p), 0);
+    assert_non_null(strstr(out, "usage: rtgi view"));
+    assert_non_null(strstr(out, "--compare FILE"));
+    assert_non_null(strstr(out, "F5"));
+    assert_non_null(strstr(out, "--rsm-samples")); /* the settings table */
+    assert_null(strstr(out, "--warmup"));
+    assert_null(strstr(out, "--png"));
+    assert_null(strstr(out, "--timings"));
+    assert_null(strstr(out, "default: 3"));
+    char *err = NULL;
+    int rc = test_run_cli(&err, "view", "--png", "x.png", NULL);
+    test_expect_cli_error(rc, err, 2, "--png", "rtgi render");
+    rc = test_run_cli(&err, "view", "--warmup=2", NULL);
+    test_expect_cli_error(rc, err, 2, "--warmup", "rtgi render");
+    rc = test_run_cli(&err, "view", "--slow-ms", "-1", NULL);
+    test_expect_cli_error(rc, err, 2, "--slow-ms", "positive");
+    rc = test_run_cli(&err, "view", "--compare", NULL);
+    test_expect_cli_error(rc, err, 2, "--compare", "needs a value");
+}
+
+/* --out x.pfm: linear radiance, not PNG bytes; a bad --compare file is one
+ * clear error. */
+static void out_by_extension(void **state)
+{
+    (void)state;
+    char pfm[1024];
+    snprintf(pfm, sizeof pfm, "%s/view_out.pfm", RTGI_TEST_TMP);
+    remove(pfm);
+    char *err = NULL;
+    int rc = test_run_exe(&err, "xvfb-run", "-a", RTGI_BINARY, "view", "--size", "32x32", "--shadow", "hard",
+                          "--frames", "1", "--out", pfm, NULL);
+    if (rc != 0)
+        fail_msg("rtgi view --out x.pfm failed (%d): %s", rc, err ? err : "");
+    free(err);
+    ImageF img;
+    assert_true(image_read_pfm(pfm, &img));
+    assert_int_equal(img.width, 32);
+    assert_int_equal(img.height, 32);
+    assert_int_equal(image_count_nonfinite(&img, NULL, NULL), 0);
+    assert_true(test_image_mean(&img) > 0.01);
+    image_free(&img);
+    rc = test_run_exe(&err, "xvfb-run", "-a", RTGI_BINARY, "view", "--size", "32x32", "--frames", "1", "--compare",
+                      "/nonexistent/ref.pfm", NULL);
+    assert_int_equal(rc, 1);
+    assert_non_null(err);
+    assert_non_null(strstr(err, "/nonexistent/ref.pfm"));
+    free(err);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(help_and_options),
+        cmocka_unit_test(out_by_extension),
+        cmocka_unit_test(panel_script),
+        cmocka_unit_test(png_reference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -266,7 +266,7 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
     printf("gathered_pixels: %u\n", st->gathered_pixels);
     if (rs->gi == GI_RSM_INTERP)
         printf("rsm_full_gather_fraction: %.4f\n", (double)st->full_gathers / pixels);
-    if (rs->gi >= GI_VPL_ALL) {
+    if (rs->gi >= GI_VPL_ALL && rs->gi <= GI_LPV) {
         printf("vpl_count: %u\n", st->vpl_count);
         printf("vpl_evaluations: %llu\n", (unsigned long long)st->vpl_evaluations);
         printf("vpl_evaluations_per_pixel: %.1f\n", (double)st->vpl_evaluations / pixels);
@@ -274,6 +274,10 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
         if (st->tile_overflow)
             printf("vpl_tile_overflow: %u\n", st->tile_overflow);
     }
+    if (st->gpu_bytes)
+        printf("gi_memory_mib: %.2f\n", (double)st->gpu_bytes / (1024.0 * 1024.0));
+    if (rs->gi == GI_VCT)
+        printf("vct_voxelizations: %d\n", st->voxelizations);
     print_gather_efficiency(r, st, s_probe_path);
 }
 

@@ -85,6 +85,8 @@ typedef struct ShadowParams {
     int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
 } ShadowParams;
 
+typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
+
 typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
 
 typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;
@@ -119,6 +121,16 @@ typedef struct GiParams {
     float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
     bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
     int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
+    /* Voxel cone tracing (SPEC §6). */
+    int vct_size;          /* voxels per side of the volume over the scene bounds */
+    bool vct_aniso;        /* six directional mip volumes (Crassin's anisotropic voxels) */
+    int vct_cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
+    int vct_bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */
+    float vct_step;        /* cone sampling step, in units of the cone's current diameter */
+    bool vct_ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
+    bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
+    float vct_roughness;   /* GGX perceptual roughness of the specular cone where no material gives one */
+    float vct_f0;          /* Fresnel F0 of the specular cone where no material gives one; 0 = no specular cone */
 } GiParams;
 
 

@@ -1,0 +1,64 @@
+// gi/vct/trace.comp — per pixel: the diffuse cone set → irradiance E (and,
+// with u_ao_out, ambient visibility in its alpha); one specular cone along
+// the reflection, its aperture from the GGX roughness, its radiance times
+// Schlick's Fresnel into the specular image. Cones start 1.5 voxels off the
+// surface along the normal, so that they leave the surface's own voxels.
+#include "shared/gpu_types.h"
+#include "common/math.glsl"
+#include "gi/vct/cone.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
+layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
+#ifdef TEX_GB_SPECULAR
+layout(binding = TEX_GB_SPECULAR) uniform sampler2D g_specular;
+#endif
+layout(binding = IMG_OUT, rgba32f) writeonly uniform image2D u_out;
+layout(binding = IMG_OUT2, rgba32f) writeonly uniform image2D u_out_specular;
+layout(location = LOC_VCT_AO_OUT) uniform int u_ao_out;
+
+void main()
+{
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (px.x >= u_frame.width || px.y >= u_frame.height)
+        return;
+    vec4 pos = texelFetch(g_position, px, 0);
+    if (pos.w == 0.0) {
+        imageStore(u_out, px, vec4(0.0, 0.0, 0.0, 1.0));
+        imageStore(u_out_specular, px, vec4(0.0));
+        return;
+    }
+    float voxel = u_vct.origin.w;
+    vec3 n = normalize(texelFetch(g_normal, px, 0).xyz);
+    vec3 p = pos.xyz + n * (1.5 * voxel);
+    float visibility;
+    vec3 e = vct_irradiance(p, n, voxel, visibility);
+    imageStore(u_out, px, vec4(e, u_ao_out != 0 ? clamp(visibility, 0.0, 1.0) : 1.0));
+
+    vec3 f0 = vec3(u_vct.f0);
+    float roughness = u_vct.roughness;
+#ifdef TEX_GB_SPECULAR
+    if (u_vct.has_material_specular != 0) {
+        vec4 s = texelFetch(g_specular, px, 0);
+        f0 = s.rgb;
+        roughness = s.a;
+    }
+#endif
+    vec3 spec = vec3(0.0);
+    if (max(f0.r, max(f0.g, f0.b)) > 0.0) {
+        vec3 v = normalize(u_frame.camera.xyz - pos.xyz);
+        vec3 r = reflect(-v, n);
+        // Aperture: the Phong lobe of the same width (exponent 2/α² − 2,
+        // α = roughness²) falls to 0.244 at the cone's half-angle.
+        float alpha = max(roughness * roughness, 1e-3);
+        float phong = max(2.0 / (alpha * alpha) - 2.0, 0.0);
+        float cos_half = pow(0.244, 1.0 / (phong + 1.0));
+        float tan_half = min(sqrt(max(1.0 - cos_half * cos_half, 0.0)) / max(cos_half, 1e-4), 1.0);
+        float occ;
+        vec4 l = vct_cone(p, r, tan_half, voxel, occ);
+        float nv = clamp(dot(n, v), 0.0, 1.0);
+        vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - nv, 5.0);
+        spec = fresnel * l.rgb;
+    }
+    imageStore(u_out_specular, px, vec4(spec, 1.0));
+}

@@ -1,0 +1,21 @@
+/* vct.h — hooks into a running `--gi vct` technique (its state is the
+ * renderer's gi_state while GI_VCT is selected), for tests and tools: where
+ * the volume lies and what its voxels hold. Not used by the frame. */
+#ifndef RTGI_GI_VCT_H
+#define RTGI_GI_VCT_H
+
+#include <stdbool.h>
+
+typedef enum VctVolume {
+    VCT_VOLUME_ALBEDO,   /* rgb albedo, a opacity (0 or 1) */
+    VCT_VOLUME_NORMAL,   /* xyz normal (sign-canonical) */
+    VCT_VOLUME_RADIANCE, /* rgb premultiplied outgoing radiance (W/(m²·sr)), a opacity; what the cones read */
+} VctVolume;
+
+/* Voxels per side, the volume's min corner (m) and voxel size (m). */
+void vct_grid(const void *state, int *n, float origin[3], float *voxel);
+/* Reads mip 0 of a volume of the last frame: out[((z·N + y)·N + x)·4 + c].
+ * `out` holds 4·N³ floats. Waits for the GPU. */
+bool vct_read_volume(void *state, VctVolume which, float *out);
+
+#endif

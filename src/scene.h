@@ -122,7 +122,8 @@ typedef struct GiParams {
     bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
     int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
     /* Voxel cone tracing (SPEC §6). */
-    int vct_size;          /* voxels per side of the volume over the scene bounds */
+    int vct_size;          /* voxels per side of the volume over the scene bounds (of each clipmap level) */
+    int vct_levels;        /* 1: one volume over the bounds; 2–4: a clipmap centred on the camera */
     bool vct_aniso;        /* six directional mip volumes (Crassin's anisotropic voxels) */
     int vct_cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
     int vct_bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */

@@ -96,6 +96,8 @@ const SettingDesc settings_table[] = {
     /* Voxel cone tracing (SPEC §6). */
     {"gi", "vct_size", "--vct-size", SETTING_INT, GI(vct_size), 0, 8, 256, 128, NULL,
      "vct: voxels per side of the volume over the scene bounds"},
+    {"gi", "vct_levels", "--vct-levels", SETTING_INT, GI(vct_levels), 0, 1, VCT_MAX_LEVELS, 1, NULL,
+     "vct: 1 = one volume over the scene bounds; 2-4 = a clipmap of nested volumes around the camera"},
     {"gi", "vct_aniso", "--vct-aniso", SETTING_BOOL, GI(vct_aniso), 0, 0, 1, 1, NULL,
      "vct: six directional mip volumes (anisotropic voxels) instead of one isotropic chain"},
     {"gi", "vct_cones", "--vct-cones", SETTING_ENUM, GI(vct_cones), 0, 0, 2, 0, k_vct_cones,

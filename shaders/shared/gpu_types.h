@@ -70,6 +70,7 @@
 #define SHADOW_MAX_SAMPLES 64 /* Poisson disk entries */
 #define LPV_MAX_CASCADES 3   /* nested LPV grids */
 #define VCT_MAX_CONES 16     /* diffuse cones of the largest set */
+#define VCT_MAX_LEVELS 4     /* clipmap levels */
 
 /* ---- Uniform locations -------------------------------------------------- */
 /* Every program that draws the scene's meshes (scene.vert + a fragment shader). */
@@ -105,6 +106,7 @@
 #define LOC_VCT_FIRST 11        /* vct mips: int, 1 when reading the isotropic level 0 (first anisotropic level) */
 #define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
+#define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile
@@ -216,12 +218,14 @@
     F(float, pad1)                                                                   \
     A(vec4, cascade, LPV_MAX_CASCADES) /* xyz: grid origin (min corner, m); w: cell size (m) */
 
-/* Voxel cone tracing (std140). Voxel (i,j,k) spans origin + [i, i+1)·voxel;
- * the anisotropic volumes start at mip 1 (their level l is mip l + 1). */
+/* Voxel cone tracing (std140). Level k of the clipmap (k = 0 finest; one
+ * level: the volume over the scene bounds) has N³ voxels, voxel (i,j,k')
+ * spanning level[k].xyz + [i, i+1)·level[k].w; the levels are stacked
+ * along z in one N × N × N·L texture (and the anisotropic volumes, which
+ * start at mip 1, in one N/2 × N/2 × N/2·L texture each). */
 #define GPU_VCT_PARAMS_FIELDS(F, A)                                                        \
-    F(vec4, origin)          /* xyz: min corner of the volume (m); w: voxel size (m) */     \
-    F(int, size)             /* N voxels per side */                                        \
-    F(int, levels)           /* mips of the radiance volume */                              \
+    F(int, size)             /* N voxels per side of a level */                             \
+    F(int, levels)           /* mips of a level: log2(N) + 1 */                             \
     F(int, aniso)            /* 1: sample the six directional volumes above mip 0 */        \
     F(int, cones)            /* diffuse cones in use */                                     \
     F(float, step)           /* sampling step, in cone diameters */                         \
@@ -231,7 +235,8 @@
     F(float, roughness)      /* perceptual roughness where no material gives one */         \
     F(float, f0)             /* Fresnel F0 where no material gives one; 0: no specular cone */ \
     F(float, max_distance)   /* cones stop after this distance (m) */                       \
-    F(float, pad0)                                                                          \
+    F(int, clip_levels)      /* L levels (1: one volume over the bounds) */                 \
+    A(vec4, level, VCT_MAX_LEVELS) /* xyz: min corner of level k (m); w: its voxel size (m) */ \
     A(vec4, cone, VCT_MAX_CONES) /* xyz: unit direction in the normal's frame (z = normal); w: weight ∫cosθ dω of its cell */ \
     A(vec4, cone_aperture, VCT_MAX_CONES) /* x: tan of the half-angle */
 
@@ -280,7 +285,7 @@ static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 ro
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
-static_assert(sizeof(GpuVctParams) == 4 * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
+static_assert(sizeof(GpuVctParams) == 3 * 16 + VCT_MAX_LEVELS * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
 #endif
 
 #endif

@@ -15,7 +15,7 @@ layout(binding = IMG_VCT_DST, rgba16f) writeonly uniform image3D u_dst;
 void main()
 {
     ivec3 v = ivec3(gl_GlobalInvocationID);
-    if (any(greaterThanEqual(v, ivec3(u_vct.size))))
+    if (any(greaterThanEqual(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels))))
         return;
     vec4 direct = texelFetch(u_radiance, v, 0);
     vec4 a = texelFetch(u_albedo, v, 0);
@@ -23,8 +23,8 @@ void main()
         imageStore(u_dst, v, direct);
         return;
     }
-    float voxel = u_vct.origin.w;
-    vec3 x = u_vct.origin.xyz + (vec3(v) + 0.5) * voxel;
+    float voxel;
+    vec3 x = vct_voxel_centre(v, voxel);
     vec3 n = texelFetch(u_normal, v, 0).xyz;
     float vis;
     vec3 e_front = vct_irradiance(x + n * (2.5 * voxel), n, voxel, vis);

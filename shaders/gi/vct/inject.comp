@@ -10,6 +10,7 @@
 #include "common/math.glsl"
 #include "common/lights.glsl"
 #include "common/shadow.glsl"
+#include "gi/vct/volume.glsl"
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(binding = TEX_VCT_ALBEDO) uniform sampler3D u_albedo;
@@ -17,9 +18,8 @@ layout(binding = TEX_VCT_NORMAL) uniform sampler3D u_normal;
 layout(binding = IMG_VCT_DST, rgba16f) uniform image3D u_radiance;
 layout(location = LOC_VCT_ACCUMULATE) uniform int u_accumulate;
 
-float visibility(vec3 x, vec3 n)
+float visibility(vec3 x, vec3 n, float voxel)
 {
-    float voxel = u_vct.origin.w;
     vec3 t, b;
     basis(n, t, b);
     float lit = 0.0;
@@ -35,12 +35,13 @@ float visibility(vec3 x, vec3 n)
 void main()
 {
     ivec3 v = ivec3(gl_GlobalInvocationID);
-    if (any(greaterThanEqual(v, ivec3(u_vct.size))))
+    if (any(greaterThanEqual(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels))))
         return;
     vec4 a = texelFetch(u_albedo, v, 0);
     vec3 l = vec3(0.0);
     if (a.a > 0.0) {
-        vec3 x = u_vct.origin.xyz + (vec3(v) + 0.5) * u_vct.origin.w;
+        float voxel;
+        vec3 x = vct_voxel_centre(v, voxel);
         vec3 n = texelFetch(u_normal, v, 0).xyz;
         vec3 to_light = int(u_light.position_type.w) == LIGHT_DIRECTIONAL ? -u_light.direction_width.xyz
                                                                            : normalize(u_light.position_type.xyz - x);
@@ -49,7 +50,7 @@ void main()
         vec3 dir;
         vec3 e = light_irradiance(u_light, x, n, dir);
         if (max(e.r, max(e.g, e.b)) > 0.0)
-            l = a.rgb / PI * e * visibility(x, n);
+            l = a.rgb / PI * e * visibility(x, n, voxel);
     }
     vec4 r = vec4(l * a.a, a.a);
     if (u_accumulate != 0)

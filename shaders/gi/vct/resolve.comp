@@ -14,7 +14,7 @@ void main()
 {
     ivec3 v = ivec3(gl_GlobalInvocationID);
     int size = u_vct.size;
-    if (any(greaterThanEqual(v, ivec3(size))))
+    if (any(greaterThanEqual(v, ivec3(size, size, size * u_vct.clip_levels))))
         return;
     uint i = 8u * uint((v.z * size + v.y) * size + v.x);
     uint count = voxels[i + 6u];

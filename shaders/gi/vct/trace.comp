@@ -31,7 +31,8 @@ void main()
         imageStore(u_out_specular, px, vec4(0.0));
         return;
     }
-    float voxel = u_vct.origin.w;
+    int k = vct_level_at(pos.xyz, 0.0);
+    float voxel = u_vct.level[k < 0 ? u_vct.clip_levels - 1 : k].w;
     vec3 n = normalize(texelFetch(g_normal, px, 0).xyz);
     vec3 p = pos.xyz + n * (2.5 * voxel);
     float visibility;

@@ -13,6 +13,7 @@
 #include "common/material.glsl"
 
 layout(std430, binding = SSBO_VCT_VOXELS) buffer Voxels { uint voxels[]; };
+layout(location = LOC_VCT_LEVEL) uniform int u_level; // clipmap level drawn: its slab of the stack
 
 in vec2 g_uv;
 in vec3 g_normal;
@@ -63,7 +64,7 @@ void add(ivec3 s, vec3 albedo, vec3 n)
     ivec3 v = unswizzle(s, g_axis);
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(size))))
         return;
-    uint i = 8u * uint((v.z * size + v.y) * size + v.x);
+    uint i = 8u * uint(((v.z + u_level * size) * size + v.y) * size + v.x);
     atomicAdd(voxels[i + 0u], uint(albedo.r * FIXED + 0.5));
     atomicAdd(voxels[i + 1u], uint(albedo.g * FIXED + 0.5));
     atomicAdd(voxels[i + 2u], uint(albedo.b * FIXED + 0.5));

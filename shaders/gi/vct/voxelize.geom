@@ -16,6 +16,8 @@ in vec3 v_world[];
 in vec3 v_normal[];
 in vec2 v_uv[];
 
+layout(location = LOC_VCT_LEVEL) uniform int u_level;
+
 out vec2 g_uv;
 out vec3 g_normal;
 flat out vec3 g_t0; // the triangle in swizzled voxel coordinates
@@ -36,7 +38,7 @@ void main()
 {
     vec3 p[3];
     for (int i = 0; i < 3; i++)
-        p[i] = (v_world[i] - u_vct.origin.xyz) / u_vct.origin.w;
+        p[i] = (v_world[i] - u_vct.level[u_level].xyz) / u_vct.level[u_level].w;
     vec3 n = cross(p[1] - p[0], p[2] - p[0]);
     vec3 an = abs(n);
     if (max(an.x, max(an.y, an.z)) <= 0.0)

@@ -19,7 +19,11 @@
  *                 ambient visibility with --vct-ao), one specular cone
  *                 along the reflection → the specular image
  * Volume: N³ voxels over a cube around the scene bounds (one voxel of
- * margin each side). A camera-centred clipmap is not implemented.
+ * margin each side), or with --vct-levels L > 1 a clipmap of L levels of
+ * N³ voxels centred on the camera, each twice the last, the coarsest
+ * holding the scene; the levels are stacked along z in one texture per
+ * volume (power-of-two N keeps every mip's levels apart) and revoxelized
+ * when the camera moves a level by a voxel.
  * Inputs: the scene's meshes, the light stage's shadow maps, the G-buffer.
  * Outputs: irradiance (alpha: ambient visibility), specular radiance.
  * Owns: its volumes, framebuffer, UBO (programs come from the cache). */
@@ -43,11 +47,14 @@ enum { ANISO_DIRS = 6 };
 typedef struct VctGi {
     GiParams params;
     ProgramCache *pc;        /* borrowed: owns the programs */
-    int n;                   /* voxels per side */
+    int n;                   /* voxels per side of a level */
+    int clip;                /* clipmap levels L (1: one volume over the bounds) */
     int levels;              /* mips of the radiance volumes */
-    GLuint albedo, normal;   /* RGBA16F N³, one level */
-    GLuint radiance[2];      /* RGBA16F N³ with mips: direct; direct + bounce (--vct-bounces 2) */
-    GLuint aniso[ANISO_DIRS];/* RGBA16F (N/2)³ with mips (--vct-aniso) */
+    vec3 bmin, bmax;         /* scene bounds */
+    float coarsest;          /* clipmap: side of the coarsest level (m); 0 before the first frame */
+    GLuint albedo, normal;   /* RGBA16F N×N×N·L, one level */
+    GLuint radiance[2];      /* RGBA16F N×N×N·L with mips: direct; direct + bounce (--vct-bounces 2) */
+    GLuint aniso[ANISO_DIRS];/* RGBA16F N/2×N/2×N/2·L with mips (--vct-aniso) */
     GLuint fbo;              /* attachment-less N×N, for the voxelization */
     GLuint ubo;              /* GpuVctParams */
     GLuint voxelize, resolve, inject, aniso_prog, bounce, trace; /* programs */
@@ -169,13 +176,18 @@ static uint64_t volume_bytes(int n, int levels)
 static void *vct_create(const GiCreateInfo *ci)
 {
     const GiParams *p = ci->params;
-    int n = p->vct_size;
+    int n = p->vct_size, clip = p->vct_levels;
+    if (clip > 1 && (n & (n - 1))) {
+        log_error("vct", "--vct-levels %d: the clipmap needs a power-of-two --vct-size (got %d)", clip, n);
+        return NULL;
+    }
     int levels = gl_mip_levels(n, n, n);
-    uint64_t bytes = 2 * volume_bytes(n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * volume_bytes(n, levels) +
-                     (p->vct_aniso ? ANISO_DIRS * volume_bytes(n / 2 > 0 ? n / 2 : 1, levels - 1) : 0);
-    uint64_t peak = bytes + (uint64_t)n * n * n * 32u; /* the voxelization's sums, while it runs */
+    uint64_t bytes = (uint64_t)clip * (2 * volume_bytes(n, 1) +
+                                       (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * volume_bytes(n, levels) +
+                                       (p->vct_aniso ? ANISO_DIRS * volume_bytes(n / 2 > 0 ? n / 2 : 1, levels - 1) : 0));
+    uint64_t peak = bytes + (uint64_t)clip * n * n * n * 32u; /* the voxelization's sums, while it runs */
     char what[64];
-    snprintf(what, sizeof what, "--vct-size %d", n);
+    snprintf(what, sizeof what, "--vct-size %d with --vct-levels %d", n, clip);
     if (!gpu_budget_check(peak, what))
         return NULL;
     VctGi *v = calloc(1, sizeof *v);
@@ -186,6 +198,7 @@ static void *vct_create(const GiCreateInfo *ci)
     v->params = *p;
     v->pc = ci->programs;
     v->n = n;
+    v->clip = clip;
     v->levels = levels;
     v->bytes = bytes;
     v->width = ci->width;
@@ -197,13 +210,14 @@ static void *vct_create(const GiCreateInfo *ci)
     v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp");
     v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp");
     bool ok = v->voxelize && v->resolve && v->inject && v->aniso_prog && v->bounce && v->trace;
-    ok = ok && (v->albedo = gl_texture3d_make(GL_RGBA16F, n, n, n, 1, TEX_FILTER_NEAREST, "vct.albedo")) &&
-         (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, n, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
-         (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, n, levels, TEX_FILTER_LINEAR, "vct.radiance"));
+    int d = n * clip; /* the levels stacked along z */
+    ok = ok && (v->albedo = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.albedo")) &&
+         (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
+         (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance"));
     if (ok && p->vct_bounces > 1)
-        ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, n, levels, TEX_FILTER_LINEAR, "vct.radiance2"));
+        ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance2"));
     for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_DIRS; i++)
-        ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, n / 2, n / 2, n / 2, levels - 1, TEX_FILTER_LINEAR,
+        ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, n / 2, n / 2, d / 2, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
     ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize"));
     if (!ok) {
@@ -213,21 +227,23 @@ static void *vct_create(const GiCreateInfo *ci)
     }
     v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params");
 
-    /* The volume: a cube around the bounds with a voxel of margin each side. */
+    /* One level: a cube around the bounds with a voxel of margin each side
+     * (placed here); a clipmap is placed per frame around the camera. */
     GpuVctParams *u = &v->gpu;
-    vec3 bmin, bmax, ext, mid;
-    glm_vec3_copy((float *)ci->scene->bounds_min, bmin);
-    glm_vec3_copy((float *)ci->scene->bounds_max, bmax);
-    glm_vec3_sub(bmax, bmin, ext);
-    glm_vec3_add(bmax, bmin, mid);
+    vec3 ext, mid;
+    glm_vec3_copy((float *)ci->scene->bounds_min, v->bmin);
+    glm_vec3_copy((float *)ci->scene->bounds_max, v->bmax);
+    glm_vec3_sub(v->bmax, v->bmin, ext);
+    glm_vec3_add(v->bmax, v->bmin, mid);
     glm_vec3_scale(mid, 0.5f, mid);
     float largest = fmaxf(ext[0], fmaxf(ext[1], ext[2]));
     if (largest <= 0.f)
         largest = 1.f;
     float voxel = largest / (float)(n > 2 ? n - 2 : n);
     for (int a = 0; a < 3; a++)
-        u->origin[a] = mid[a] - 0.5f * voxel * (float)n;
-    u->origin[3] = voxel;
+        u->level[0][a] = mid[a] - 0.5f * voxel * (float)n;
+    u->level[0][3] = voxel;
+    u->clip_levels = clip;
     u->size = n;
     u->levels = levels;
     u->aniso = p->vct_aniso && v->aniso[0] ? 1 : 0;
@@ -248,12 +264,46 @@ static void *vct_create(const GiCreateInfo *ci)
     return v;
 }
 
+/* Clipmap: level k has voxels of coarsest/N/2^(L-1-k), its origin snapped
+ * to whole voxels around the camera; the coarsest holds the scene bounds
+ * around the camera (remade 25% larger, and everything revoxelized, when
+ * the camera moves so far that it no longer does). Clears `voxelized`
+ * when a level moved. */
+static void place_levels(VctGi *v, const Camera *cam)
+{
+    if (v->clip == 1)
+        return;
+    GpuVctParams *u = &v->gpu;
+    float half = 0.f;
+    for (int a = 0; a < 3; a++)
+        half = fmaxf(half, fmaxf(fabsf(v->bmin[a] - cam->position[a]), fabsf(v->bmax[a] - cam->position[a])));
+    float need = 2.f * half * (float)v->n / (float)(v->n - 4); /* two voxels of margin and snapping */
+    if (v->coarsest < need) {
+        v->coarsest = 1.25f * need;
+        v->voxelized = false;
+    }
+    for (int k = 0; k < v->clip; k++) {
+        float voxel = v->coarsest / (float)v->n / (float)(1 << (v->clip - 1 - k));
+        vec4 o;
+        for (int a = 0; a < 3; a++)
+            o[a] = (floorf(cam->position[a] / voxel) - (float)(v->n / 2)) * voxel;
+        o[3] = voxel;
+        if (memcmp(o, u->level[k], sizeof o)) {
+            glm_vec4_copy(o, u->level[k]);
+            v->voxelized = false;
+        }
+    }
+    u->max_distance = sqrtf(3.f) * v->coarsest;
+    glNamedBufferSubData(v->ubo, 0, sizeof *u, u);
+}
+
 /* ---- Passes -------------------------------------------------------------------- */
 
-static void dispatch_volume(int n)
+/* A 4×4×4-group compute pass over an n × n × n·layers volume. */
+static void dispatch_volume(int n, int layers)
 {
     GLuint g = (GLuint)(n + 3) / 4;
-    glDispatchCompute(g, g, g);
+    glDispatchCompute(g, g, (GLuint)(n * layers + 3) / 4);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
@@ -262,7 +312,7 @@ static void dispatch_volume(int n)
  * albedo and normal volumes, frees the sums. */
 static bool voxelize(VctGi *v, const GiFrame *f)
 {
-    size_t n3 = (size_t)v->n * v->n * v->n;
+    size_t n3 = (size_t)v->n * v->n * v->n * (size_t)v->clip;
     glFinish(); /* once per technique: its wall time is worth the wait */
     double t0 = util_seconds();
     GLuint sums;
@@ -283,7 +333,10 @@ static bool voxelize(VctGi *v, const GiFrame *f)
     mat4 id;
     glm_mat4_identity(id);
     glProgramUniformMatrix4fv(v->voxelize, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)id);
-    gpu_scene_draw(f->gpu_scene, f->scene, v->voxelize, DRAW_SKIP_EMITTERS);
+    for (int k = 0; k < v->clip; k++) {
+        glProgramUniform1i(v->voxelize, LOC_VCT_LEVEL, k);
+        gpu_scene_draw(f->gpu_scene, f->scene, v->voxelize, DRAW_SKIP_EMITTERS);
+    }
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
@@ -292,7 +345,7 @@ static bool voxelize(VctGi *v, const GiFrame *f)
     glUseProgram(v->resolve);
     gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    dispatch_volume(v->n);
+    dispatch_volume(v->n, v->clip);
     glDeleteBuffers(1, &sums);
     glFinish();
     v->voxelize_ms = 1e3 * (util_seconds() - t0);
@@ -312,7 +365,7 @@ static void inject(VctGi *v, const GiFrame *f)
     for (int i = 0; i < lights; i++) {
         light_stage_bind_shadow(f->lights, i);
         glProgramUniform1i(v->inject, LOC_VCT_ACCUMULATE, i > 0);
-        dispatch_volume(v->n);
+        dispatch_volume(v->n, v->clip);
     }
 }
 
@@ -332,7 +385,7 @@ static void build_mips(VctGi *v, GLuint tex)
                 gl_texture3d_bind_image(IMG_VCT_SRC, v->aniso[d], l - 1, GL_READ_ONLY, GL_RGBA16F);
             gl_texture3d_bind_image(IMG_VCT_DST, v->aniso[d], l, GL_WRITE_ONLY, GL_RGBA16F);
             int s = (v->n / 2) >> l;
-            dispatch_volume(s > 0 ? s : 1);
+            dispatch_volume(s > 0 ? s : 1, v->clip);
         }
     }
 }
@@ -348,6 +401,7 @@ static void vct_run(void *state, const GiFrame *f)
 {
     VctGi *v = state;
     GpuTimer *t = f->timer;
+    place_levels(v, f->camera);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_VCT, v->ubo);
     if (!v->voxelized) {
         gpu_timer_begin(t, "vct_voxelize");
@@ -368,7 +422,7 @@ static void vct_run(void *state, const GiFrame *f)
         glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
         glBindTextureUnit(TEX_VCT_NORMAL, v->normal);
         gl_texture3d_bind_image(IMG_VCT_DST, v->radiance[1], 0, GL_WRITE_ONLY, GL_RGBA16F);
-        dispatch_volume(v->n);
+        dispatch_volume(v->n, v->clip);
         gpu_timer_end(t);
         gpu_timer_begin(t, "vct_mips");
         build_mips(v, v->radiance[1]);
@@ -407,8 +461,8 @@ void vct_grid(const void *state, int *n, float origin[3], float *voxel)
     const VctGi *v = state;
     *n = v->n;
     for (int a = 0; a < 3; a++)
-        origin[a] = v->gpu.origin[a];
-    *voxel = v->gpu.origin[3];
+        origin[a] = v->gpu.level[0][a];
+    *voxel = v->gpu.level[0][3];
 }
 
 bool vct_read_volume(void *state, VctVolume which, float *out)
@@ -417,7 +471,7 @@ bool vct_read_volume(void *state, VctVolume which, float *out)
     GLuint tex = which == VCT_VOLUME_ALBEDO   ? v->albedo
                  : which == VCT_VOLUME_NORMAL ? v->normal
                                               : v->radiance[v->params.vct_bounces > 1 ? 1 : 0];
-    size_t n3 = (size_t)v->n * v->n * v->n;
+    size_t n3 = (size_t)v->n * v->n * v->n * (size_t)v->clip;
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out);
     return true;

@@ -12,10 +12,12 @@ typedef enum VctVolume {
     VCT_VOLUME_RADIANCE, /* rgb premultiplied outgoing radiance (W/(m²·sr)), a opacity; what the cones read */
 } VctVolume;
 
-/* Voxels per side, the volume's min corner (m) and voxel size (m). */
+/* Voxels per side, the min corner (m) and voxel size (m) of the volume
+ * (clipmap: of its finest level). */
 void vct_grid(const void *state, int *n, float origin[3], float *voxel);
 /* Reads mip 0 of a volume of the last frame: out[((z·N + y)·N + x)·4 + c].
- * `out` holds 4·N³ floats. Waits for the GPU. */
+ * `out` holds 4·N³·L floats (L clipmap levels stacked along z). Waits for
+ * the GPU. */
 bool vct_read_volume(void *state, VctVolume which, float *out);
 
 #endif

@@ -243,11 +243,59 @@ static void voxelizes_once(void **state)
     scene_free(&s);
 }
 
+/* ---- Clipmap ------------------------------------------------------------- */
+
+/* --vct-levels 3: levels of whole voxels around the camera, each voxel
+ * twice the last; a camera move within a finest voxel revoxelizes
+ * nothing, a move of three finest voxels revoxelizes and shifts the finest
+ * level by whole voxels. */
+static void clipmap_follows_the_camera(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 16;
+    gp.vct_levels = 3;
+    Renderer r;
+    vct_renderer(&r, &s, 16, 16, &gp);
+    Camera cam = s.camera;
+    renderer_frame(&r, &cam);
+    float o[3][3], vox[3];
+    for (int k = 0; k < 3; k++) {
+        vct_level(r.gi_state, k, o[k], &vox[k]);
+        for (int a = 0; a < 3; a++)
+            assert_true(fabs(o[k][a] / vox[k] - round(o[k][a] / vox[k])) < 1e-3);
+        if (k > 0)
+            assert_true(fabsf(vox[k] - 2.f * vox[k - 1]) < 1e-5f * vox[k]);
+        /* The camera sits in the middle of every level. */
+        for (int a = 0; a < 3; a++)
+            assert_true(cam.position[a] > o[k][a] + 7.f * vox[k] && cam.position[a] < o[k][a] + 9.f * vox[k]);
+    }
+    assert_int_equal(renderer_collect_stats(&r)->voxelizations, 1);
+    /* Within the finest voxel the camera is in (the coarser ones hold it). */
+    float f = cam.position[0] / vox[0] - floorf(cam.position[0] / vox[0]);
+    cam.position[0] += (f < 0.5f ? 0.3f : -0.3f) * vox[0];
+    renderer_frame(&r, &cam);
+    assert_int_equal(renderer_collect_stats(&r)->voxelizations, 1);
+    cam.position[0] += 3.f * vox[0];
+    renderer_frame(&r, &cam);
+    assert_int_equal(renderer_collect_stats(&r)->voxelizations, 2);
+    float o2[3], v2;
+    vct_level(r.gi_state, 0, o2, &v2);
+    double shift = (o2[0] - o[0][0]) / vox[0];
+    assert_true(fabs(shift - round(shift)) < 1e-3 && round(shift) >= 2 && round(shift) <= 4);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 /* ---- The Cornell box against the path tracer --------------------------- */
 
 /* The Cornell box with its light as a point and hard shadows, 64² pixels,
  * 32³ voxels, 6 cones. Measured (llvmpipe) relMSE against one-bounce: vct
- * 0.0086, isotropic mips 0.0222, no GI 0.0359; against full: 1 bounce
+ * 0.0086, isotropic mips 0.0222, a 2-level clipmap 0.0259 (its levels
+ * centre on the camera outside the box: coarser voxels), no GI 0.0359; against full: 1 bounce
  * 0.0229, 2 bounces 0.0121, no GI 0.0745. The bound sits between vct and
  * no GI; the second bounce must lower the error against full. */
 #define VCT_CORNELL_BOUND 0.015 /* relMSE against one-bounce */
@@ -261,8 +309,11 @@ static void cornell_against_reference(void **state)
     scene_rescale_lights(&s, 0.f);
     GiParams gp = s.gi;
     gp.vct_size = 32;
-    ImageF one, iso, two, none, ob, full;
+    ImageF one, iso, two, none, ob, full, clip;
     test_render_gi(&s, W, H, GI_VCT, &gp, &one);
+    gp.vct_levels = 2;
+    test_render_gi(&s, W, H, GI_VCT, &gp, &clip);
+    gp.vct_levels = 1;
     gp.vct_aniso = false;
     test_render_gi(&s, W, H, GI_VCT, &gp, &iso);
     gp.vct_aniso = true;
@@ -274,16 +325,18 @@ static void cornell_against_reference(void **state)
     double v_ob = metric_relmse(&one, &ob, NULL, NULL), i_ob = metric_relmse(&iso, &ob, NULL, NULL);
     double n_ob = metric_relmse(&none, &ob, NULL, NULL);
     double v_full = metric_relmse(&one, &full, NULL, NULL), t_full = metric_relmse(&two, &full, NULL, NULL);
-    double n_full = metric_relmse(&none, &full, NULL, NULL);
-    print_message("relMSE vs one-bounce: vct %.4f (isotropic %.4f) none %.4f; vs full: vct 1 bounce %.4f, "
-                  "2 bounces %.4f, none %.4f\n",
-                  v_ob, i_ob, n_ob, v_full, t_full, n_full);
+    double n_full = metric_relmse(&none, &full, NULL, NULL), c_ob = metric_relmse(&clip, &ob, NULL, NULL);
+    print_message("relMSE vs one-bounce: vct %.4f (isotropic %.4f, 2-level clipmap %.4f) none %.4f; vs full: vct 1 "
+                  "bounce %.4f, 2 bounces %.4f, none %.4f\n",
+                  v_ob, i_ob, c_ob, n_ob, v_full, t_full, n_full);
+    assert_true(c_ob < n_ob);
     assert_true(v_ob < VCT_CORNELL_BOUND);
     assert_true(n_ob > VCT_CORNELL_BOUND); /* the bound means something */
     assert_true(i_ob < n_ob);
     assert_true(t_full < v_full);           /* the second bounce helps against the full reference */
     assert_true(t_full < 0.6 * n_full);
     image_free(&one);
+    image_free(&clip);
     image_free(&iso);
     image_free(&two);
     image_free(&none);
@@ -447,6 +500,10 @@ static void bad_vct_settings(void **state)
     test_expect_cli_error(rc, err, 2, "--vct-bounces", NULL);
     rc = test_run_cli(&err, "render", "--gi", "vct", "--vct-step", "0", NULL);
     test_expect_cli_error(rc, err, 2, "--vct-step", NULL);
+    rc = test_run_cli(&err, "render", "--gi", "vct", "--vct-levels", "5", NULL);
+    test_expect_cli_error(rc, err, 2, "--vct-levels", NULL);
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--gi", "vct", "--vct-levels", "2", "--vct-size", "24", NULL);
+    test_expect_cli_error(rc, err, 1, "--vct-levels", "power-of-two");
     rc = test_run_cli(&err, "render", "--gi", "vct", "--vct-aniso", "maybe", NULL);
     test_expect_cli_error(rc, err, 2, "--vct-aniso", NULL);
     const char *path = test_tmp_file("badvct.json", "{ \"builtin\": \"cornell\", \"gi\": { \"vct_cones\": 7 } }\n");
@@ -466,6 +523,7 @@ int main(void)
         cmocka_unit_test(voxelization_is_watertight),
         cmocka_unit_test(injection_matches_lambert),
         cmocka_unit_test(voxelizes_once),
+        cmocka_unit_test(clipmap_follows_the_camera),
         cmocka_unit_test(cornell_against_reference),
         cmocka_unit_test(closed_box),
         cmocka_unit_test(specular_cone),

@@ -465,6 +465,14 @@ void vct_grid(const void *state, int *n, float origin[3], float *voxel)
     *voxel = v->gpu.level[0][3];
 }
 
+void vct_level(const void *state, int k, float origin[3], float *voxel)
+{
+    const VctGi *v = state;
+    for (int a = 0; a < 3; a++)
+        origin[a] = v->gpu.level[k][a];
+    *voxel = v->gpu.level[k][3];
+}
+
 bool vct_read_volume(void *state, VctVolume which, float *out)
 {
     VctGi *v = state;

@@ -15,6 +15,8 @@ typedef enum VctVolume {
 /* Voxels per side, the min corner (m) and voxel size (m) of the volume
  * (clipmap: of its finest level). */
 void vct_grid(const void *state, int *n, float origin[3], float *voxel);
+/* Clipmap level k's min corner (m) and voxel size (m) in the last frame. */
+void vct_level(const void *state, int k, float origin[3], float *voxel);
 /* Reads mip 0 of a volume of the last frame: out[((z·N + y)·N + x)·4 + c].
  * `out` holds 4·N³·L floats (L clipmap levels stacked along z). Waits for
  * the GPU. */

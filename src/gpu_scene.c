@@ -33,7 +33,7 @@ bool gpu_scene_create(GpuScene *g, const Scene *s)
         for (int m = t->width > t->height ? t->width : t->height; m > 1; m >>= 1)
             levels++;
         glCreateTextures(GL_TEXTURE_2D, 1, &g->textures[i]);
-        glTextureStorage2D(g->textures[i], levels, GL_SRGB8_ALPHA8, t->width, t->height);
+        glTextureStorage2D(g->textures[i], levels, t->linear ? GL_RGBA8 : GL_SRGB8_ALPHA8, t->width, t->height);
         glTextureSubImage2D(g->textures[i], 0, 0, 0, t->width, t->height, GL_RGBA, GL_UNSIGNED_BYTE, t->rgba);
         glGenerateTextureMipmap(g->textures[i]);
         glTextureParameteri(g->textures[i], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
@@ -80,8 +80,12 @@ void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLui
             glProgramUniform1i(program, LOC_MATERIAL_HAS_TEX, m->albedo_tex >= 0);
             glProgramUniform1f(program, LOC_MATERIAL_CUTOFF, m->alpha_mask ? m->alpha_cutoff : -1.f);
             glProgramUniform3fv(program, LOC_MATERIAL_EMISSION, 1, m->emission);
+            glProgramUniform4f(program, LOC_MATERIAL_PBR, m->metallic, m->roughness, m->specular,
+                               m->mr_tex >= 0 ? 1.f : 0.f);
             if (m->albedo_tex >= 0)
                 glBindTextureUnit(TEX_ALBEDO, g->textures[m->albedo_tex]);
+            if (m->mr_tex >= 0)
+                glBindTextureUnit(TEX_MATERIAL_MR, g->textures[m->mr_tex]);
             glDrawElements(GL_TRIANGLES, (GLsizei)sm->index_count, GL_UNSIGNED_INT,
                            (const void *)(sizeof(uint32_t) * sm->first_index));
         }

@@ -13,7 +13,7 @@ typedef struct GpuScene {
     GLuint vao;
     GLuint vbo;       /* Vertex[] */
     GLuint ibo;       /* uint32 indices */
-    GLuint *textures; /* one per Scene.textures, sRGB with mipmaps */
+    GLuint *textures; /* one per Scene.textures, sRGB (colour) or RGBA8 (linear data) with mipmaps */
     int texture_count;
 } GpuScene;
 
@@ -26,7 +26,8 @@ typedef enum DrawFlags {
 } DrawFlags;
 
 /* Draws every submesh with `program`, setting the material uniforms
- * (LOC_MATERIAL_*) and binding its albedo texture to TEX_ALBEDO. */
+ * (LOC_MATERIAL_*) and binding its albedo texture to TEX_ALBEDO and its
+ * metallicRoughness texture to TEX_MATERIAL_MR. */
 void gpu_scene_draw(const GpuScene *g, const Scene *s, GLuint program, DrawFlags flags);
 /* The same with opaque materials drawn by `opaque` (which may skip the
  * material altogether) and alpha-masked ones by `masked`. */

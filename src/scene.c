@@ -49,6 +49,10 @@ int scene_add_material(Scene *s, const char *name, const vec3 albedo)
     snprintf(m->name, sizeof m->name, "%s", name);
     glm_vec3_copy((float *)albedo, m->albedo);
     m->albedo_tex = -1;
+    m->metallic = 0.f;
+    m->roughness = 1.f;
+    m->specular = 0.f; /* Lambertian unless a loader or the scene file says otherwise */
+    m->mr_tex = -1;
     m->alpha_cutoff = 0.5f;
     m->light_index = -1;
     return s->material_count++;

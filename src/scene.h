@@ -43,14 +43,23 @@ typedef struct Camera {
 
 typedef struct Texture {
     int width, height;
-    uint8_t *rgba; /* sRGB-encoded RGBA8, row 0 = top, owned */
+    uint8_t *rgba; /* RGBA8, row 0 = top, owned: sRGB-encoded colour, or data when `linear` */
+    bool linear;   /* data (glTF metallicRoughness), not colour: no sRGB decoding */
     char name[256];
 } Texture;
 
+/* glTF metallic-roughness material (SPEC §1b; the BRDF is src/brdf.h).
+ * Built-in surfaces and OBJ materials have specular 0 and metallic 0: they
+ * are Lambertian, f = albedo/π. A scene file's "materials" object sets any
+ * of these per material name (README "Scene files"). */
 typedef struct Material {
     char name[64];
-    vec3 albedo;        /* linear; multiplies the texture */
-    int albedo_tex;     /* index into Scene.textures or -1 */
+    vec3 albedo;        /* base colour factor, linear; multiplies the texture */
+    int albedo_tex;     /* base colour texture: index into Scene.textures or -1 */
+    float metallic;     /* factor in [0,1]; multiplies the texture's B */
+    float roughness;    /* perceptual roughness factor in [0,1] (α = r²); multiplies the texture's G */
+    float specular;     /* dielectric reflectance weight: F0 = 0.04·specular (0: Lambertian) */
+    int mr_tex;         /* metallicRoughness texture (linear; G roughness, B metallic) or -1 */
     bool alpha_mask;    /* texels with alpha < alpha_cutoff are holes */
     float alpha_cutoff;
     vec3 emission;      /* radiance of an emitter surface (front face only) */
@@ -83,9 +92,13 @@ typedef struct ShadowParams {
     int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
     int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
+    int area_light;        /* AreaLightMode: quad lights' exact polygon irradiance, or a point at the centre */
 } ShadowParams;
 
 typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
+/* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
+ * shared/gpu_types.h). */
+typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
 
 typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
 
@@ -130,8 +143,8 @@ typedef struct GiParams {
     float vct_step;        /* cone sampling step, in units of the cone's current diameter */
     bool vct_ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
     bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
-    float vct_roughness;   /* GGX perceptual roughness of the specular cone where no material gives one */
-    float vct_f0;          /* Fresnel F0 of the specular cone where no material gives one; 0 = no specular cone */
+    float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
+    float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
 } GiParams;
 
 

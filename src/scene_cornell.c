@@ -3,44 +3,53 @@
  * converted from millimetres to metres. Albedos are the linear-sRGB values
  * derived from the measured spectra; the light's radiance is the derived
  * linear-sRGB emission, taken as W/(m²·sr). The light quad is lowered 1 mm
- * below the ceiling and emits downward only. */
+ * below the ceiling and emits downward only.
+ * Each surface has its own material, named after it (floor, ceiling,
+ * back_wall, left_wall, right_wall, short_block, tall_block), so that a
+ * scene file's "materials" can make one of them glossy; all are Lambertian
+ * by default. */
 #include <string.h>
 
 #include "scene.h"
 
 typedef struct {
     const char *material; /* "white" | "red" | "green" */
+    const char *surface;  /* the material's name */
     float v[4][3];        /* millimetres */
 } CornellFace;
 
 static const CornellFace k_faces[] = {
-    {"white", {{552.8f, 0, 0}, {0, 0, 0}, {0, 0, 559.2f}, {549.6f, 0, 559.2f}}},                 /* floor */
-    {"white", {{556, 548.8f, 0}, {556, 548.8f, 559.2f}, {0, 548.8f, 559.2f}, {0, 548.8f, 0}}},   /* ceiling */
-    {"white", {{549.6f, 0, 559.2f}, {0, 0, 559.2f}, {0, 548.8f, 559.2f}, {556, 548.8f, 559.2f}}}, /* back */
-    {"green", {{0, 0, 559.2f}, {0, 0, 0}, {0, 548.8f, 0}, {0, 548.8f, 559.2f}}},                 /* right */
-    {"red", {{552.8f, 0, 0}, {549.6f, 0, 559.2f}, {556, 548.8f, 559.2f}, {556, 548.8f, 0}}},     /* left */
-    {"white", {{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}}},               /* short block */
-    {"white", {{290, 0, 114}, {290, 165, 114}, {240, 165, 272}, {240, 0, 272}}},
-    {"white", {{130, 0, 65}, {130, 165, 65}, {290, 165, 114}, {290, 0, 114}}},
-    {"white", {{82, 0, 225}, {82, 165, 225}, {130, 165, 65}, {130, 0, 65}}},
-    {"white", {{240, 0, 272}, {240, 165, 272}, {82, 165, 225}, {82, 0, 225}}},
-    {"white", {{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}}},             /* tall block */
-    {"white", {{423, 0, 247}, {423, 330, 247}, {472, 330, 406}, {472, 0, 406}}},
-    {"white", {{472, 0, 406}, {472, 330, 406}, {314, 330, 456}, {314, 0, 456}}},
-    {"white", {{314, 0, 456}, {314, 330, 456}, {265, 330, 296}, {265, 0, 296}}},
-    {"white", {{265, 0, 296}, {265, 330, 296}, {423, 330, 247}, {423, 0, 247}}},
+    {"white", "floor", {{552.8f, 0, 0}, {0, 0, 0}, {0, 0, 559.2f}, {549.6f, 0, 559.2f}}},                 /* floor */
+    {"white", "ceiling", {{556, 548.8f, 0}, {556, 548.8f, 559.2f}, {0, 548.8f, 559.2f}, {0, 548.8f, 0}}},   /* ceiling */
+    {"white", "back_wall", {{549.6f, 0, 559.2f}, {0, 0, 559.2f}, {0, 548.8f, 559.2f}, {556, 548.8f, 559.2f}}}, /* back */
+    {"green", "right_wall", {{0, 0, 559.2f}, {0, 0, 0}, {0, 548.8f, 0}, {0, 548.8f, 559.2f}}},                 /* right */
+    {"red", "left_wall", {{552.8f, 0, 0}, {549.6f, 0, 559.2f}, {556, 548.8f, 559.2f}, {556, 548.8f, 0}}},     /* left */
+    {"white", "short_block", {{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}}},               /* short block */
+    {"white", "short_block", {{290, 0, 114}, {290, 165, 114}, {240, 165, 272}, {240, 0, 272}}},
+    {"white", "short_block", {{130, 0, 65}, {130, 165, 65}, {290, 165, 114}, {290, 0, 114}}},
+    {"white", "short_block", {{82, 0, 225}, {82, 165, 225}, {130, 165, 65}, {130, 0, 65}}},
+    {"white", "short_block", {{240, 0, 272}, {240, 165, 272}, {82, 165, 225}, {82, 0, 225}}},
+    {"white", "tall_block", {{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}}},             /* tall block */
+    {"white", "tall_block", {{423, 0, 247}, {423, 330, 247}, {472, 330, 406}, {472, 0, 406}}},
+    {"white", "tall_block", {{472, 0, 406}, {472, 330, 406}, {314, 330, 456}, {314, 0, 456}}},
+    {"white", "tall_block", {{314, 0, 456}, {314, 330, 456}, {265, 330, 296}, {265, 0, 296}}},
+    {"white", "tall_block", {{265, 0, 296}, {265, 330, 296}, {423, 330, 247}, {423, 0, 247}}},
 };
 
 void scene_build_cornell(Scene *s)
 {
     scene_init(s);
     strcpy(s->source, "cornell");
-    int white = scene_add_material(s, "white", (vec3){0.7381f, 0.7361f, 0.7376f});
-    int red = scene_add_material(s, "red", (vec3){0.4899f, 0.0504f, 0.0509f});
-    int green = scene_add_material(s, "green", (vec3){0.0689f, 0.3985f, 0.0864f});
+    const vec3 white = {0.7381f, 0.7361f, 0.7376f}, red = {0.4899f, 0.0504f, 0.0509f},
+               green = {0.0689f, 0.3985f, 0.0864f};
+    int m = -1;
     for (size_t f = 0; f < sizeof k_faces / sizeof k_faces[0]; f++) {
         const CornellFace *cf = &k_faces[f];
-        int m = strcmp(cf->material, "red") == 0 ? red : strcmp(cf->material, "green") == 0 ? green : white;
+        if (f == 0 || strcmp(cf->surface, k_faces[f - 1].surface) != 0)
+            m = scene_add_material(s, cf->surface,
+                                   strcmp(cf->material, "red") == 0     ? red
+                                   : strcmp(cf->material, "green") == 0 ? green
+                                                                         : white);
         vec3 p[4];
         for (int i = 0; i < 4; i++)
             for (int k = 0; k < 3; k++)

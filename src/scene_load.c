@@ -30,10 +30,11 @@
 #define TEXTURE_MAX_SIZE 16384                /* texels per side (GL_MAX_TEXTURE_SIZE of common GPUs) */
 #define MESH_MAX_BYTES ((size_t)1 << 31)      /* mesh or texture file size */
 
-static int load_texture(Scene *s, const struct aiScene *ai, const char *dir, const char *name)
+/* Loads (or finds) texture `name`: colour (sRGB) or, when `linear`, data. */
+static int load_texture(Scene *s, const struct aiScene *ai, const char *dir, const char *name, bool linear)
 {
     for (int i = 0; i < s->texture_count; i++)
-        if (strcmp(s->textures[i].name, name) == 0)
+        if (strcmp(s->textures[i].name, name) == 0 && s->textures[i].linear == linear)
             return i;
     int w = 0, h = 0, n;
     unsigned char *px = NULL;
@@ -89,6 +90,7 @@ static int load_texture(Scene *s, const struct aiScene *ai, const char *dir, con
     }
     t->width = w;
     t->height = h;
+    t->linear = linear;
     memcpy(t->rgba, px, (size_t)w * h * 4);
     stbi_image_free(px);
     snprintf(t->name, sizeof t->name, "%s", name);
@@ -107,8 +109,10 @@ static bool merge_opacity(Scene *s, int albedo_tex, int opacity_tex)
     return true;
 }
 
+/* One material; glTF files (`gltf`) bring metallic-roughness parameters
+ * and a dielectric F0 of 0.04, other formats are Lambertian. */
 static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMaterial *am,
-                          const char *dir, int *out)
+                          const char *dir, bool gltf, int *out)
 {
     struct aiString name = {0};
     aiGetMaterialString(am, AI_MATKEY_NAME, &name);
@@ -123,12 +127,37 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
     struct aiString tex;
     if (aiGetMaterialTexture(am, aiTextureType_DIFFUSE, 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
         aiReturn_SUCCESS) {
-        int t = load_texture(s, ai, dir, tex.data);
+        int t = load_texture(s, ai, dir, tex.data, false);
         if (t == -2)
             return false;
         s->materials[m].albedo_tex = t;
     }
     mat = &s->materials[m];
+    if (gltf) {
+        /* glTF 2.0 defaults: metallic 1, roughness 1 (assimp fills them in). */
+        float f = 1.f;
+        unsigned int one = 1;
+        mat->specular = 1.f;
+        mat->metallic = aiGetMaterialFloatArray(am, AI_MATKEY_METALLIC_FACTOR, &f, &one) == aiReturn_SUCCESS
+                            ? glm_clamp(f, 0.f, 1.f) : 1.f;
+        one = 1;
+        f = 1.f;
+        mat->roughness = aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &f, &one) == aiReturn_SUCCESS
+                             ? glm_clamp(f, 0.f, 1.f) : 1.f;
+        /* assimp 5.2 files the metallicRoughness texture as UNKNOWN. */
+        if (aiGetMaterialTexture(am, aiTextureType_UNKNOWN, 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
+            aiReturn_SUCCESS) {
+            int t = load_texture(s, ai, dir, tex.data, true);
+            if (t == -2)
+                return false;
+            mat = &s->materials[m];
+            mat->mr_tex = t;
+        }
+        struct aiColor4D e = {0, 0, 0, 1};
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &e) == aiReturn_SUCCESS && isfinite(e.r) &&
+            isfinite(e.g) && isfinite(e.b))
+            glm_vec3_copy((vec3){fmaxf(e.r, 0.f), fmaxf(e.g, 0.f), fmaxf(e.b, 0.f)}, mat->emission);
+    }
     struct aiString mode;
     if (aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, &mode) == aiReturn_SUCCESS &&
         strcmp(mode.data, "MASK") == 0) {
@@ -140,7 +169,7 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
     }
     if (aiGetMaterialTexture(am, aiTextureType_OPACITY, 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
             aiReturn_SUCCESS && mat->albedo_tex >= 0) {
-        int t = load_texture(s, ai, dir, tex.data);
+        int t = load_texture(s, ai, dir, tex.data, false);
         if (t == -2)
             return false;
         mat = &s->materials[m];
@@ -329,8 +358,9 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
     util_dirname(path, dir, sizeof dir);
     int *mat_map = util_malloc("scene", "the material map", (size_t)ai->mNumMaterials + 1, sizeof(int));
     bool ok = mat_map != NULL;
+    bool gltf = util_ends_with(path, ".gltf") || util_ends_with(path, ".glb");
     for (unsigned i = 0; ok && i < ai->mNumMaterials; i++)
-        ok = load_material(s, ai, ai->mMaterials[i], dir, &mat_map[i]);
+        ok = load_material(s, ai, ai->mMaterials[i], dir, gltf, &mat_map[i]);
     mat3 nrm_m;
     glm_mat4_pick3((vec4 *)transform, nrm_m);
     glm_mat3_inv(nrm_m, nrm_m);
@@ -811,6 +841,52 @@ static void parse_quads(Ctx *c, Scene *s, const cJSON *arr)
     c->where[0] = 0;
 }
 
+static const char *const k_material_keys[] = {"base_color", "metallic", "roughness", "specular", "emission", NULL};
+
+/* The "materials" object: per material name (a mesh's material, a built-in
+ * surface such as the Cornell box's "tall_block", or "quad<i>"), any of
+ * base_color, metallic, roughness, specular (dielectric F0 = 0.04 ×
+ * specular; 0 is Lambertian) and emission, replacing what the scene had. */
+static void parse_materials(Ctx *c, Scene *s, const cJSON *obj)
+{
+    if (!cJSON_IsObject(obj)) {
+        bad(c, "materials", "must be an object of material name -> parameters");
+        return;
+    }
+    const cJSON *e;
+    cJSON_ArrayForEach(e, obj)
+    {
+        snprintf(c->where, sizeof c->where, "materials.%.40s", e->string);
+        if (!cJSON_IsObject(e)) {
+            bad(c, NULL, "must be an object");
+            return;
+        }
+        if (!check_keys(c, e, k_material_keys))
+            return;
+        int found = 0;
+        for (int i = 0; i < s->material_count && c->ok; i++) {
+            Material *m = &s->materials[i];
+            if (m->light_index >= 0 || strcmp(m->name, e->string) != 0)
+                continue;
+            found++;
+            get_color(c, e, "base_color", m->albedo, false, 1.f);
+            get_num_in(c, e, "metallic", &m->metallic, 0.f, false, 1.f);
+            get_num_in(c, e, "roughness", &m->roughness, 0.f, false, 1.f);
+            get_num_in(c, e, "specular", &m->specular, 0.f, false, 1.f);
+            get_color(c, e, "emission", m->emission, false, SCENE_MAX_POWER);
+        }
+        if (c->ok && !found) {
+            char names[256] = "";
+            for (int i = 0; i < s->material_count && strlen(names) < 200; i++)
+                snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? ", " : "",
+                         s->materials[i].name);
+            bad(c, NULL, "no material of that name in the scene (it has: %s)", names);
+            return;
+        }
+    }
+    c->where[0] = 0;
+}
+
 /* The "shadow" and "gi" objects: the settings table's one parser. */
 static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
 {
@@ -823,8 +899,9 @@ static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
     s->gi = set.gi;
 }
 
-static const char *const k_top_keys[] = {"builtin", "mesh", "mesh_scale", "mesh_translate", "quads", "camera",
-                                         "lights",  "exposure", "shadow", "gi", NULL};
+static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "mesh_translate", "quads",
+                                         "materials", "camera", "lights",     "exposure",       "shadow",
+                                         "gi",        NULL};
 
 static bool load_json(Scene *s, const char *path)
 {
@@ -905,6 +982,9 @@ static bool load_json(Scene *s, const char *path)
         parse_quads(&c, s, quads);
     if (s->vertex_count == 0 && c.ok)
         bad(&c, NULL, "no geometry (give \"builtin\", \"mesh\" or \"quads\")");
+    const cJSON *materials = cJSON_GetObjectItemCaseSensitive(root, "materials");
+    if (materials && c.ok)
+        parse_materials(&c, s, materials);
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
     if (lights && c.ok) {
         if (!cJSON_IsArray(lights)) {

@@ -16,6 +16,7 @@ static const char *const k_weightings[] = {"paper", "unbiased", "importance", NU
 static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 static const char *const k_lpv_inject[] = {"compute", "points", NULL};
 static const char *const k_vct_cones[] = {"6", "9", "16", NULL};
+static const char *const k_area_lights[] = {"exact", "point", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -41,6 +42,8 @@ const SettingDesc settings_table[] = {
      "PCSS search/filter radius cap (texels)"},
     {"shadow", "filter_bias", "--filter-bias", SETTING_ENUM, SH(filter_bias), 0, 0, 1, 0, k_filter_biases,
      "PCF/PCSS: receiver-plane depth + 1-texel bias, Poisson disk; legacy: slope bias x filter radius, spiral"},
+    {"shadow", "area_light", "--area-light", SETTING_ENUM, SH(area_light), 0, 0, 1, 0, k_area_lights,
+     "quad lights: exact polygon irradiance (diffuse) + representative point (specular); point: a point at the centre"},
     /* Reflective shadow maps (SPEC §3). */
     {"gi", "rsm_size", "--rsm-size", SETTING_INT, GI(rsm_size), 0, 4, 4096, 512, NULL,
      "RSM texels per side, per cube face for point/quad lights"},
@@ -111,9 +114,9 @@ const SettingDesc settings_table[] = {
     {"gi", "vct_conservative", "--vct-conservative", SETTING_BOOL, GI(vct_conservative), 0, 0, 1, 1, NULL,
      "vct: conservative voxelization (every voxel a triangle touches); off: fragment centres only"},
     {"gi", "vct_roughness", "--vct-roughness", SETTING_FLOAT, GI(vct_roughness), 0, 0, 1, 0.3, NULL,
-     "vct: GGX perceptual roughness of the specular cone where the material gives none"},
+     "vct: with --vct-f0 > 0, the GGX perceptual roughness of every surface's specular cone"},
     {"gi", "vct_f0", "--vct-f0", SETTING_FLOAT, GI(vct_f0), 0, 0, 1, 0, NULL,
-     "vct: Fresnel F0 of the specular cone where the material gives none (0 = no specular cone)"},
+     "vct: > 0: F0 of every surface's specular cone instead of the material's (tests); 0 = the material's"},
 };
 /* clang-format on */
 const int settings_count = (int)(sizeof settings_table / sizeof settings_table[0]);

@@ -93,6 +93,11 @@ void shadow_frame_to_gpu(const Light *l, const ShadowFrame *f, int res, GpuLight
         vec3 n;
         glm_vec3_cross((float *)l->quad_u, (float *)l->quad_v, n);
         glm_vec3_scale((float *)l->color, glm_vec3_norm(n), g->color); /* L·A */
+        /* The emitter polygon at the light's size (its radiance is then
+         * L·A / A_size); size 0 leaves A_size 0: a point. */
+        glm_vec3_scale((float *)l->quad_u, l->size, g->quad_u);
+        glm_vec3_scale((float *)l->quad_v, l->size, g->quad_v);
+        g->quad_v[3] = light_quad_area(l);
     } else {
         memcpy(g->color, l->color, sizeof(vec3));
     }

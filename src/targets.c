@@ -89,15 +89,16 @@ bool gbuffer_create(GBuffer *g, int w, int h)
     g->normal = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.normal");
     g->albedo = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.albedo");
     g->emission = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.emission");
+    g->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.specular");
     g->depth = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, w, h, "gbuffer.depth");
-    const GLuint colors[4] = {g->position, g->normal, g->albedo, g->emission};
-    return fbo_make(&g->fbo, colors, 4, g->depth, false, "gbuffer");
+    const GLuint colors[5] = {g->position, g->normal, g->albedo, g->emission, g->specular};
+    return fbo_make(&g->fbo, colors, 5, g->depth, false, "gbuffer");
 }
 
 void gbuffer_destroy(GBuffer *g)
 {
-    GLuint tex[5] = {g->position, g->normal, g->albedo, g->emission, g->depth};
-    glDeleteTextures(5, tex);
+    GLuint tex[6] = {g->position, g->normal, g->albedo, g->emission, g->specular, g->depth};
+    glDeleteTextures(6, tex);
     glDeleteFramebuffers(1, &g->fbo);
     *g = (GBuffer){0};
 }

@@ -11,8 +11,9 @@ typedef struct GBuffer {
     GLuint fbo;
     GLuint position; /* RGBA32F: world xyz, w = 1 where geometry */
     GLuint normal;   /* RGBA16F: unit normal facing the camera */
-    GLuint albedo;   /* RGBA16F: linear albedo */
+    GLuint albedo;   /* RGBA16F: linear diffuse albedo ρ_d = (1 − metallic)·base colour */
     GLuint emission; /* RGBA16F: emitted radiance */
+    GLuint specular; /* RGBA16F: F0 rgb, a = perceptual roughness (glTF; α = roughness²); unit TEX_GB_SPECULAR */
     GLuint depth;    /* DEPTH32F */
 } GBuffer;
 

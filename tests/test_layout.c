@@ -130,23 +130,39 @@ static void constants_match_c_enums(void **state)
     glUseProgram(prog);
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    int v[14];
+    int v[16];
     glGetNamedBufferSubData(out, 0, sizeof v, v);
-    const int want[14] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD,
+    const int want[16] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD,
                           SHADOW_MODE_NONE,  SHADOW_MODE_HARD, SHADOW_MODE_PCF, SHADOW_MODE_PCSS,
                           0, SHADOW_BIAS_RECEIVER_PLANE, SHADOW_BIAS_LEGACY,
-                          RSM_WEIGHT_PAPER, RSM_WEIGHT_UNBIASED, RSM_WEIGHT_IMPORTANCE};
-    for (int i = 0; i < 14; i++)
+                          RSM_WEIGHT_PAPER, RSM_WEIGHT_UNBIASED, RSM_WEIGHT_IMPORTANCE,
+                          AREA_LIGHT_MODE_EXACT, AREA_LIGHT_MODE_POINT};
+    for (int i = 0; i < 16; i++)
         assert_int_equal(v[i], want[i]);
     GLuint bufs[3] = {out, vpl, ubo};
     glDeleteBuffers(3, bufs);
     glDeleteProgram(prog);
 }
 
+/* Texture units past the 32 a fragment stage may use at once are still
+ * valid bindings below GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS (GL 4.5: ≥ 80). */
+static void texture_units_exist(void **state)
+{
+    (void)state;
+    GLint units = 0;
+    glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &units);
+    print_message("GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS = %d\n", units);
+    const int used[] = {TEX_LDR, TEX_GB_SPECULAR, TEX_MATERIAL_MR, TEX_LPV_OUTER + 5};
+    for (size_t i = 0; i < sizeof used / sizeof used[0]; i++)
+        assert_true(used[i] < units);
+    assert_true(TEX_GB_SPECULAR != TEX_MATERIAL_MR && TEX_GB_SPECULAR > TEX_LDR && TEX_MATERIAL_MR > TEX_LDR);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(blocks_match_c),
+        cmocka_unit_test(texture_units_exist),
         cmocka_unit_test(constants_match_c_enums),
     };
     return cmocka_run_group_tests_name("layout", tests, test_gl_setup, test_gl_teardown);

@@ -86,7 +86,12 @@ static void sponza_loads_and_renders(void **state)
 /* Issue 10: the default RSM gather recovers Sponza's one bounce from the
  * sun: its mean indirect light (gi − none) is within 15% of the path
  * tracer's (one-bounce-novis − direct); the paper's weighting, the old
- * default, recovered 38%. scenes/sponza.json's camera down the nave. */
+ * default, recovered 38%. scenes/sponza.json's camera down the nave.
+ * RSM bounces are diffuse (SPEC §1b), so this compares the diffuse bounce:
+ * Sponza's glTF materials are made Lambertian (specular 0, metallic 0) in
+ * both renderers. With its glossy materials the reference's bounce is
+ * larger by the specular part RSM leaves out (printed: RSM recovered 67%
+ * of it when measured, issue 13). */
 static void sponza_rsm_recovers_the_bounce(void **state)
 {
     (void)state;
@@ -100,6 +105,24 @@ static void sponza_rsm_recovers_the_bounce(void **state)
     assert_true(scene_load(&s, scene_file));
     scene_rescale_lights(&s, 0.f); /* a parallel sun in both renderers */
     enum { W = 80, H = 45 };
+    {
+        GiParams gp = s.gi;
+        gp.rsm_size = 256;
+        ImageF gi, none, novis, direct;
+        test_render_gi(&s, W, H, GI_RSM, &gp, &gi);
+        test_render_gi(&s, W, H, GI_NONE, &gp, &none);
+        test_reference(&s, W, H, PT_ONE_BOUNCE_NOVIS, 16, &novis);
+        test_reference(&s, W, H, PT_DIRECT, 16, &direct);
+        double r = (test_image_mean(&gi) - test_image_mean(&none)) / (test_image_mean(&novis) - test_image_mean(&direct));
+        print_message("Sponza with its glossy materials: RSM indirect mean / reference's glossy bounce %.3f\n", r);
+        image_free(&gi);
+        image_free(&none);
+        image_free(&novis);
+        image_free(&direct);
+    }
+    for (int i = 0; i < s.material_count; i++)
+        if (s.materials[i].light_index < 0)
+            s.materials[i].specular = s.materials[i].metallic = 0.f;
     GiParams gp = s.gi;
     gp.rsm_size = 256;
     ImageF gi, paper, none, novis, direct;

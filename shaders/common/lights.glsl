@@ -25,3 +25,53 @@ vec3 light_irradiance(GpuLight l, vec3 x, vec3 n, out vec3 to_light)
     to_light = d * inversesqrt(d2);
     return light_intensity(l, -to_light) * max(dot(n, to_light), 0.0) / d2;
 }
+
+// ---- Quad lights as the real polygon (SPEC §1: exact diffuse irradiance) ----
+
+// Vector irradiance per unit radiance at x from the convex polygon p[0..3]
+// (world space) clipped to the horizon of x with normal n (the half-space
+// n·(p − x) ≥ 0): Lambert's formula  F = ½ Σ_i θ_i ĝ_i,  θ_i the angle
+// edge i subtends, ĝ_i the unit normal of the plane through x and that edge,
+// oriented so that E/L = n·F ≥ 0. F's direction is the polygon's mean
+// light direction.
+vec3 polygon_vector(vec3 x, vec3 n, vec3 p[4])
+{
+    // Sutherland–Hodgman against the tangent plane: at most 5 vertices.
+    vec3 q[5];
+    int m = 0;
+    for (int i = 0; i < 4; i++) {
+        vec3 a = p[i] - x, b = p[(i + 1) % 4] - x;
+        float da = dot(a, n), db = dot(b, n);
+        if (da >= 0.0)
+            q[m++] = a;
+        if ((da >= 0.0) != (db >= 0.0))
+            q[m++] = a + (b - a) * (da / (da - db));
+    }
+    if (m < 3)
+        return vec3(0.0);
+    vec3 sum = vec3(0.0);
+    for (int i = 0; i < m; i++) {
+        vec3 a = normalize(q[i]), b = normalize(q[(i + 1) % m]);
+        vec3 c = cross(a, b);
+        float s = length(c);
+        if (s > 1e-12)
+            sum += atan(s, dot(a, b)) / s * c;
+    }
+    return 0.5 * (dot(sum, n) < 0.0 ? -sum : sum);
+}
+
+// Irradiance per unit radiance, E/L, at x with normal n from the polygon.
+float polygon_irradiance(vec3 x, vec3 n, vec3 p[4])
+{
+    return dot(polygon_vector(x, n, p), n);
+}
+
+// The four corners of a quad light at its size (counter-clockwise about u × v).
+void quad_corners(GpuLight l, out vec3 p[4])
+{
+    vec3 c = l.position_type.xyz, hu = 0.5 * l.quad_u.xyz, hv = 0.5 * l.quad_v.xyz;
+    p[0] = c - hu - hv;
+    p[1] = c + hu - hv;
+    p[2] = c + hu + hv;
+    p[3] = c - hu + hv;
+}

@@ -1,15 +1,36 @@
-// material.glsl — the scene material as set per draw by gpu_scene_draw().
+// material.glsl — the scene material as set per draw by gpu_scene_draw():
+// glTF metallic-roughness (scene.h Material; the BRDF is common/brdf.glsl).
 layout(location = LOC_MATERIAL_ALBEDO) uniform vec3 u_albedo;
 layout(location = LOC_MATERIAL_HAS_TEX) uniform int u_has_tex;
 layout(location = LOC_MATERIAL_CUTOFF) uniform float u_alpha_cutoff;
 layout(location = LOC_MATERIAL_EMISSION) uniform vec3 u_emission;
+layout(location = LOC_MATERIAL_PBR) uniform vec4 u_pbr; // metallic, roughness, specular weight, has MR texture
 layout(binding = TEX_ALBEDO) uniform sampler2D u_albedo_tex;
+layout(binding = TEX_MATERIAL_MR) uniform sampler2D u_mr_tex;
 
-// Linear albedo; discards alpha-masked texels.
+// Linear base colour; discards alpha-masked texels.
 vec3 material_albedo(vec2 uv)
 {
     vec4 t = u_has_tex != 0 ? texture(u_albedo_tex, uv) : vec4(1.0);
     if (u_alpha_cutoff >= 0.0 && t.a < u_alpha_cutoff)
         discard;
     return u_albedo * t.rgb;
+}
+
+// Metallic (x) and perceptual roughness (y): factors × the texture's B and G.
+vec2 material_metal_rough(vec2 uv)
+{
+    vec2 mr = u_pbr.xy;
+    if (u_pbr.w != 0.0) {
+        vec4 t = texture(u_mr_tex, uv);
+        mr *= vec2(t.b, t.g);
+    }
+    return mr;
+}
+
+// Diffuse albedo ρ_d = (1 − metallic)·base (what RSM/VPL flux reflects).
+vec3 material_diffuse(vec2 uv)
+{
+    vec3 base = material_albedo(uv);
+    return (1.0 - material_metal_rough(uv).x) * base;
 }

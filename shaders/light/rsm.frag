@@ -1,6 +1,6 @@
 // light/rsm.frag — reflective shadow map (Dachsbacher & Stamminger 2005): per
 // texel the world position, the normal facing the light, and the reflected
-// flux Φ = ρ · (power through the texel): I(ω)·Ω_texel for spot, point and
+// flux Φ = ρ_d · (power through the texel): I(ω)·Ω_texel for spot, point and
 // quad lights (Ω = a·cos³ of the angle to the face axis, a = texel area on
 // the projection plane at distance 1), E·A_texel for directional lights.
 #include "shared/gpu_types.h"
@@ -20,7 +20,7 @@ layout(location = 2) out vec4 o_flux;
 
 void main()
 {
-    vec3 albedo = material_albedo(v_uv);
+    vec3 albedo = material_diffuse(v_uv); // VPLs reflect diffusely (SPEC §1b)
     vec3 n = normalize(v_normal);
     vec3 power;
     vec3 to_light;

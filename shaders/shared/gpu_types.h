@@ -48,6 +48,9 @@
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
 #define TEX_LDR 31       /* tone-mapped colour (FXAA's input, linear filtering) */
+#define TEX_GB_SPECULAR 32 /* G-buffer specular: rgb F0, a perceptual roughness (α = a²); past the 0..31
+                              units a fragment stage has, still below GL 4.5's 80 combined units */
+#define TEX_MATERIAL_MR 33 /* glTF metallicRoughness texture while drawing the scene (G roughness, B metallic) */
 #define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
 #define TEX_LPV_GV1 15   /* lpv: geometry volume, normal tensor xy xz yz */
 #define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
@@ -80,10 +83,12 @@
 #define LOC_MATERIAL_EMISSION 3 /* vec3 */
 #define LOC_VIEW_PROJ 4         /* mat4 */
 #define LOC_EYE 5               /* vec3: camera or light position (for facing) */
+#define LOC_MATERIAL_PBR 6      /* vec4: metallic, roughness, specular weight, 1 if it has a metallicRoughness texture */
 /* Per-program uniforms (each program's own locations, from 10 up). */
 #define LOC_RSM_FACE_AXIS 10    /* rsm.frag: vec3 unit axis of the face / spot */
 #define LOC_RSM_TEXEL_AREA 11   /* rsm.frag: float texel area on the projection plane */
 #define LOC_DIRECT_EMISSION 10  /* direct.frag: int, add emitted radiance */
+#define LOC_DIRECT_AREA_LIGHT 11 /* direct.frag: int, AREA_LIGHT_EXACT or AREA_LIGHT_POINT */
 #define LOC_TONEMAP_EXPOSURE 10 /* tonemap.frag: float */
 #define LOC_RESOLVE_FACTOR 10   /* resolve.frag: int, supersampling factor N */
 #define LOC_COMPOSITE_SPECULAR 10 /* composite.frag: int, add the specular image */
@@ -125,6 +130,8 @@
 #define RSM_WEIGHT_IMPORTANCE 2
 #define SHADOW_BIAS_RECEIVER_PLANE 0
 #define SHADOW_BIAS_LEGACY 1
+#define AREA_LIGHT_EXACT 0
+#define AREA_LIGHT_POINT 1
 #endif
 
 /* ---- Blocks ------------------------------------------------------------- */
@@ -137,7 +144,9 @@
     F(vec4, spot)             /* x: cos outer, y: cos inner */                                       \
     F(mat4, shadow_view_proj) /* directional/spot: world → shadow clip space */                      \
     F(vec4, shadow_origin)    /* directional: point on the ortho near plane; others: light position */ \
-    F(vec4, shadow_info)      /* x: far (stored depth × far = m), y: texel factor k, z: map resolution, w: 1 for a cube */
+    F(vec4, shadow_info)      /* x: far (stored depth × far = m), y: texel factor k, z: map resolution, w: 1 for a cube */ \
+    F(vec4, quad_u)           /* quad: full edge vector u at the light's size (m); rgb of color is then L·A */ \
+    F(vec4, quad_v)           /* quad: full edge vector v; corners = position ± u/2 ± v/2; w: area A (m²) */
 
 /* Shadow filtering (std140). */
 #define GPU_SHADOW_PARAMS_FIELDS(F, A)                                          \
@@ -232,8 +241,8 @@
     F(float, ao_range)       /* occlusion counts up to this distance (m) */                 \
     F(int, conservative)     /* 1: conservative voxelization */                             \
     F(int, has_material_specular) /* 1: the G-buffer has a specular attachment */           \
-    F(float, roughness)      /* perceptual roughness where no material gives one */         \
-    F(float, f0)             /* Fresnel F0 where no material gives one; 0: no specular cone */ \
+    F(float, roughness)      /* perceptual roughness of every surface when f0 > 0 */        \
+    F(float, f0)             /* > 0: F0 of every surface (tests); 0: the G-buffer's */       \
     F(float, max_distance)   /* cones stop after this distance (m) */                       \
     F(int, clip_levels)      /* L levels (1: one volume over the bounds) */                 \
     A(vec4, level, VCT_MAX_LEVELS) /* xyz: min corner of level k (m); w: its voxel size (m) */ \
@@ -278,7 +287,7 @@ layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
 layout(std140, binding = UBO_LPV) uniform LpvBlock { GpuLpvParams u_lpv; };
 layout(std140, binding = UBO_VCT) uniform VctBlock { GpuVctParams u_vct; };
 #else
-static_assert(sizeof(GpuLight) == 10 * 16, "GpuLight: std140 size");
+static_assert(sizeof(GpuLight) == 12 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
 static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 rounds the block to 80)");

@@ -25,4 +25,6 @@ void main()
     values[11] = RSM_WEIGHT_PAPER;
     values[12] = RSM_WEIGHT_UNBIASED;
     values[13] = RSM_WEIGHT_IMPORTANCE;
+    values[14] = AREA_LIGHT_EXACT;
+    values[15] = AREA_LIGHT_POINT;
 }

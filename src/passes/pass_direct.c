@@ -90,6 +90,7 @@ void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *
     int n = sp->pcf_samples > sp->blocker_samples ? sp->pcf_samples : sp->blocker_samples;
     assert(n >= 1 && n <= SHADOW_MAX_SAMPLES);
     g.filter_bias = sp->filter_bias;
+    p->area_light = sp->area_light;
     if (sp->filter_bias == SHADOW_BIAS_LEGACY)
         poisson_disk_spiral(n, 10, g.poisson);
     else
@@ -106,6 +107,8 @@ void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, Col
     glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
     glBindTextureUnit(TEX_GB_ALBEDO, gb->albedo);
     glBindTextureUnit(TEX_GB_EMISSION, gb->emission);
+    glBindTextureUnit(TEX_GB_SPECULAR, gb->specular);
+    glProgramUniform1i(p->program, LOC_DIRECT_AREA_LIGHT, p->area_light);
     if (ls->light_count == 0) {
         /* No light: slot 0 of the light array is all zero (zero light
          * colour), so the draw adds emission only. */

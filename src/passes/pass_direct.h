@@ -1,4 +1,5 @@
-/* pass_direct.h — deferred direct lighting of one light: Lambert f = ρ/π,
+/* pass_direct.h — deferred direct lighting of one light: the BRDF of
+ * brdf.h (Lambert + GGX), quad lights as exact polygons (--area-light),
  * physical light model (common/lights.glsl), shadow visibility (hard, PCF,
  * PCSS; common/shadow.glsl). Adds into the HDR target; the first call of a
  * frame also adds emitted radiance.
@@ -27,6 +28,7 @@ typedef struct PassDirect {
     GLuint program;
     GLuint shadow_ubo; /* GpuShadowParams */
     GLuint vao; /* borrowed empty vertex array */
+    int area_light; /* AreaLightMode of quad lights */
 } PassDirect;
 
 /* Its program comes from `pc`; `vao` is an empty vertex array (borrowed). */

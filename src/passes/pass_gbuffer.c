@@ -22,7 +22,7 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
     glProgramUniformMatrix4fv(p->program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
     glProgramUniform3fv(p->program, LOC_EYE, 1, cam->position);
     const float zero[4] = {0, 0, 0, 0}, one = 1.f;
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < 5; i++)
         glClearNamedFramebufferfv(out->fbo, GL_COLOR, i, zero);
     glClearNamedFramebufferfv(out->fbo, GL_DEPTH, 0, &one);
     glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);

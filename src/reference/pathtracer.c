@@ -1,5 +1,6 @@
 #include "reference/pathtracer.h"
 
+#include "brdf.h"
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -187,11 +188,30 @@ static bool light_sample(const Light *l, const vec3 o, const float u[2], LightSa
     return false;
 }
 
-/* Direct light at hit h: one sample of every light, with MIS against the
- * cosine-weighted BSDF sample for emitters BSDF rays can hit (when `mis`),
- * times albedo/π (Lambertian). */
-static void direct_light(Job *j, const PtHit *h, const vec3 albedo, Sampler *smp, bool mis, uint64_t *rays,
-                         vec3 out)
+/* World vector → the local frame of unit n (z = n), the basis of to_world. */
+static void to_local(const vec3 n, const vec3 w, vec3 out)
+{
+    vec3 t, b;
+    onb(n, t, b);
+    out[0] = glm_vec3_dot((float *)w, t);
+    out[1] = glm_vec3_dot((float *)w, b);
+    out[2] = glm_vec3_dot((float *)w, (float *)n);
+}
+
+/* Density of BSDF-sampling wi (world) at hit h seen from wo (world). */
+static float bsdf_pdf(const PtHit *h, const BrdfSurface *surf, const vec3 wo, const vec3 wi)
+{
+    vec3 lo, li;
+    to_local(h->ns, wo, lo);
+    to_local(h->ns, wi, li);
+    return brdf_pdf(surf, lo, li);
+}
+
+/* Direct light at hit h seen from wo (unit, toward the viewer): one sample
+ * of every light, times the BRDF (brdf.h) and the cosine, with MIS against
+ * the BSDF sample for emitters BSDF rays can hit (when `mis`). */
+static void direct_light(Job *j, const PtHit *h, const BrdfSurface *surf, const vec3 wo, Sampler *smp, bool mis,
+                         uint64_t *rays, vec3 out)
 {
     glm_vec3_zero(out);
     vec3 o;
@@ -205,10 +225,12 @@ static void direct_light(Job *j, const PtHit *h, const vec3 albedo, Sampler *smp
         float c = glm_vec3_dot(ls.wi, (float *)h->ns);
         if (c <= 0.f || glm_vec3_dot(ls.wi, (float *)h->ng) <= 0.f)
             continue;
-        vec3 e;
+        vec3 e, f;
+        brdf_eval(surf, h->ns, wo, ls.wi, f);
         glm_vec3_scale(ls.li, c, e);
+        glm_vec3_mul(e, f, e);
         if (mis && ls.pdf > 0.f)
-            glm_vec3_scale(e, power_heuristic(ls.pdf, c / GLM_PIf), e);
+            glm_vec3_scale(e, power_heuristic(ls.pdf, bsdf_pdf(h, surf, wo, ls.wi)), e);
         if (e[0] <= 0.f && e[1] <= 0.f && e[2] <= 0.f)
             continue;
         (*rays)++;
@@ -217,8 +239,34 @@ static void direct_light(Job *j, const PtHit *h, const vec3 albedo, Sampler *smp
             continue;
         glm_vec3_add(out, e, out);
     }
-    glm_vec3_mul(out, (float *)albedo, out);
-    glm_vec3_scale(out, 1.f / GLM_PIf, out);
+}
+
+/* Samples the BSDF at hit h for wo (world): the direction `wi`, its
+ * density and the weight f·cos/pdf. The lobe choice takes a number only
+ * when both lobes may be picked, so a Lambertian surface draws the same
+ * numbers as plain cosine sampling. false if the sample is unusable. */
+static bool bsdf_sample(const PtHit *h, const BrdfSurface *surf, const vec3 wo, Sampler *smp, vec3 wi, float *pdf,
+                        vec3 weight)
+{
+    vec3 lo, li, f;
+    to_local(h->ns, wo, lo);
+    float p = brdf_spec_prob(surf, lo[2]);
+    float u0 = p <= 0.f ? 1.f : p >= 1.f ? 0.f : sampler_1d(smp);
+    float u[2];
+    sampler_2d(smp, u);
+    if (!brdf_sample(surf, lo, u0, u[0], u[1], li))
+        return false;
+    to_world(h->ns, li[0], li[1], li[2], wi);
+    glm_vec3_normalize(wi);
+    float c = glm_vec3_dot(wi, (float *)h->ns);
+    if (c <= 0.f || glm_vec3_dot(wi, (float *)h->ng) <= 0.f)
+        return false;
+    *pdf = bsdf_pdf(h, surf, wo, wi);
+    if (!(*pdf > 0.f))
+        return false;
+    brdf_eval(surf, h->ns, wo, wi, f);
+    glm_vec3_scale(f, c / *pdf, weight);
+    return true;
 }
 
 /* Emitted radiance seen at hit h coming from direction -d, MIS-weighted
@@ -272,31 +320,34 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
         }
         if (depth > max_direct)
             break;
-        vec3 albedo;
-        pt_albedo(ps, &h, albedo);
+        BrdfSurface surf;
+        pt_surface(ps, &h, &surf);
+        vec3 wo;
+        glm_vec3_negate_to(d, wo);
         if (depth >= min_direct) {
             vec3 e;
-            direct_light(j, &h, albedo, smp, mis, rays, e);
+            direct_light(j, &h, &surf, wo, smp, mis, rays, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (novis) {
             /* One bounce without visibility on x1 → x2: every surface along
-             * the cosine-sampled ray contributes its direct light. */
-            vec3 dir, o1, t1;
-            float u[2];
-            sampler_2d(smp, u);
-            sample_cosine(h.ns, u[0], u[1], dir);
-            if (glm_vec3_dot(dir, h.ng) <= 0.f)
+             * the BSDF-sampled ray contributes its direct light. */
+            vec3 dir, o1, t1, w;
+            float pdf;
+            if (!bsdf_sample(&h, &surf, wo, smp, dir, &pdf, w))
                 break;
             pt_offset(h.p, h.ng, o1);
-            glm_vec3_mul(thr, albedo, t1);
+            glm_vec3_mul(thr, w, t1);
+            vec3 wo2;
+            glm_vec3_negate_to(dir, wo2);
             PtHit hits[MAX_ALL_HITS];
             (*rays)++;
             int n = pt_intersect_all(ps, o1, dir, INFINITY, hits, MAX_ALL_HITS);
             for (int k = 0; k < n; k++) {
-                vec3 a2, e;
-                pt_albedo(ps, &hits[k], a2);
-                direct_light(j, &hits[k], a2, smp, false, rays, e);
+                BrdfSurface s2;
+                vec3 e;
+                pt_surface(ps, &hits[k], &s2);
+                direct_light(j, &hits[k], &s2, wo2, smp, false, rays, e);
                 glm_vec3_muladd(t1, e, L);
             }
             break;
@@ -307,14 +358,10 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
                 break;
             glm_vec3_scale(thr, 1.f / p, thr);
         }
-        float u[2];
-        sampler_2d(smp, u);
-        sample_cosine(h.ns, u[0], u[1], d);
-        float c = glm_vec3_dot(d, h.ns);
-        if (c <= 0.f || glm_vec3_dot(d, h.ng) <= 0.f)
+        vec3 w;
+        if (!bsdf_sample(&h, &surf, wo, smp, d, &pdf_prev, w))
             break;
-        pdf_prev = c / GLM_PIf;
-        glm_vec3_mul(thr, albedo, thr); /* f·cos/pdf = (ρ/π)·cos/(cos/π) = ρ */
+        glm_vec3_mul(thr, w, thr); /* f·cos/pdf; Lambertian: ρ */
         pt_offset(h.p, h.ng, o);
         if (thr[0] <= 0.f && thr[1] <= 0.f && thr[2] <= 0.f)
             break;

@@ -278,15 +278,11 @@ bool pt_occluded(const PtScene *ps, const vec3 o, const vec3 d, float tmax)
     return r.tfar < 0.f;
 }
 
-void pt_albedo(const PtScene *ps, const PtHit *h, vec3 out)
+/* Bilinear over the base level of t at uv; colour sRGB-decoded per texel
+ * unless the texture holds data (linear). */
+static void texture_bilinear(const Texture *t, const float uv[2], vec3 out)
 {
-    const Material *m = &ps->scene->materials[h->material];
-    glm_vec3_copy((float *)m->albedo, out);
-    if (m->albedo_tex < 0)
-        return;
-    /* Bilinear over the base level, sRGB decoded per texel. */
-    const Texture *t = &ps->scene->textures[m->albedo_tex];
-    float x = h->uv[0] * t->width - 0.5f, y = h->uv[1] * t->height - 0.5f;
+    float x = uv[0] * t->width - 0.5f, y = uv[1] * t->height - 0.5f;
     int x0 = (int)floorf(x), y0 = (int)floorf(y);
     float fx = x - x0, fy = y - y0;
     const uint8_t *p[4] = {texel(t, x0, y0), texel(t, x0 + 1, y0), texel(t, x0, y0 + 1), texel(t, x0 + 1, y0 + 1)};
@@ -294,9 +290,35 @@ void pt_albedo(const PtScene *ps, const PtHit *h, vec3 out)
     for (int c = 0; c < 3; c++) {
         float v = 0;
         for (int k = 0; k < 4; k++)
-            v += wgt[k] * g_srgb_lut[p[k][c]];
-        out[c] *= v;
+            v += wgt[k] * (t->linear ? p[k][c] / 255.f : g_srgb_lut[p[k][c]]);
+        out[c] = v;
     }
+}
+
+void pt_albedo(const PtScene *ps, const PtHit *h, vec3 out)
+{
+    const Material *m = &ps->scene->materials[h->material];
+    glm_vec3_copy((float *)m->albedo, out);
+    if (m->albedo_tex < 0)
+        return;
+    vec3 t;
+    texture_bilinear(&ps->scene->textures[m->albedo_tex], h->uv, t);
+    glm_vec3_mul(out, t, out);
+}
+
+void pt_surface(const PtScene *ps, const PtHit *h, BrdfSurface *out)
+{
+    const Material *m = &ps->scene->materials[h->material];
+    vec3 base;
+    pt_albedo(ps, h, base);
+    float metallic = m->metallic, roughness = m->roughness;
+    if (m->mr_tex >= 0) {
+        vec3 t;
+        texture_bilinear(&ps->scene->textures[m->mr_tex], h->uv, t);
+        roughness *= t[1];
+        metallic *= t[2];
+    }
+    brdf_surface(base, metallic, roughness, m->specular, out);
 }
 
 /* Wächter & Binder, "A Fast and Robust Method for Avoiding

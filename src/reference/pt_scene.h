@@ -11,6 +11,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "brdf.h"
 #include "scene.h"
 
 typedef struct PtScene {
@@ -42,8 +43,12 @@ bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtH
 int pt_intersect_all(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *hits, int max);
 /* true if anything blocks o + t·d for t in (0, tmax). */
 bool pt_occluded(const PtScene *ps, const vec3 o, const vec3 d, float tmax);
-/* Linear albedo of the hit's material (texture × factor). */
+/* Linear base colour of the hit's material (texture × factor). */
 void pt_albedo(const PtScene *ps, const PtHit *h, vec3 out);
+/* The BRDF parameters at the hit: base colour, metallic and roughness
+ * (factors × the metallicRoughness texture's B and G), as the G-buffer
+ * pass computes them. */
+void pt_surface(const PtScene *ps, const PtHit *h, BrdfSurface *out);
 /* Moves the hit point p off its surface along the unit geometric normal n,
  * for a ray leaving on n's side: by 256 ulps of each coordinate (Wächter &
  * Binder 2019), so that the ray cannot hit that surface again, at any

@@ -1,13 +1,16 @@
 // gi/vct/trace.comp — per pixel: the diffuse cone set → irradiance E (and,
 // with u_ao_out, ambient visibility in its alpha); one specular cone along
 // the reflection, its aperture from the GGX roughness, its radiance times
-// Schlick's Fresnel into the specular image. Cones start 2.5 voxels off the
+// Schlick's Fresnel (brdf_fresnel, the BRDF's own) into the specular image;
+// F0 and roughness from the G-buffer's specular attachment, or from
+// --vct-f0 / --vct-roughness for every surface when --vct-f0 > 0. Cones start 2.5 voxels off the
 // surface along the normal, so that they leave the surface's own voxels (a
 // conservatively voxelized plane is up to 2 voxels thick; measured on the
 // Cornell box at 64³ against one-bounce: offsets 1.5, 2.5, 3.5 voxels →
 // relMSE 0.0228, 0.0189, 0.0159; larger offsets skip nearby occluders).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
+#include "common/brdf.glsl"
 #include "gi/vct/cone.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -42,7 +45,7 @@ void main()
     vec3 f0 = vec3(u_vct.f0);
     float roughness = u_vct.roughness;
 #ifdef TEX_GB_SPECULAR
-    if (u_vct.has_material_specular != 0) {
+    if (u_vct.has_material_specular != 0 && u_vct.f0 <= 0.0) {
         vec4 s = texelFetch(g_specular, px, 0);
         f0 = s.rgb;
         roughness = s.a;
@@ -54,15 +57,14 @@ void main()
         vec3 r = reflect(-v, n);
         // Aperture: the Phong lobe of the same width (exponent 2/α² − 2,
         // α = roughness²) falls to 0.244 at the cone's half-angle.
-        float alpha = max(roughness * roughness, 1e-3);
+        float alpha = brdf_alpha(roughness);
         float phong = max(2.0 / (alpha * alpha) - 2.0, 0.0);
         float cos_half = pow(0.244, 1.0 / (phong + 1.0));
         float tan_half = min(sqrt(max(1.0 - cos_half * cos_half, 0.0)) / max(cos_half, 1e-4), 1.0);
         float occ;
         vec4 l = vct_cone(p, r, tan_half, voxel, occ);
         float nv = clamp(dot(n, v), 0.0, 1.0);
-        vec3 fresnel = f0 + (1.0 - f0) * pow(1.0 - nv, 5.0);
-        spec = fresnel * l.rgb;
+        spec = brdf_fresnel(f0, nv) * l.rgb;
     }
     imageStore(u_out_specular, px, vec4(spec, 1.0));
 }

@@ -79,7 +79,7 @@ void main()
     vec2 f = gl_FragCoord.xy;
     if (u_vct.conservative != 0 && (f.x < g_bounds.x || f.y < g_bounds.y || f.x > g_bounds.z || f.y > g_bounds.w))
         return;
-    vec3 albedo = clamp(material_albedo(g_uv), 0.0, 1.0);
+    vec3 albedo = clamp(material_diffuse(g_uv), 0.0, 1.0); // ρ_d: voxels reflect diffusely
     // Two-sided surfaces: the normal's sign made canonical (largest
     // component positive), so both faces of a thin wall add up.
     vec3 n = normalize(g_normal);

@@ -1,7 +1,7 @@
 // gi/vct/trace.comp — per pixel: the diffuse cone set → irradiance E (and,
 // with u_ao_out, ambient visibility in its alpha); one specular cone along
 // the reflection, its aperture from the GGX roughness, its radiance times
-// Schlick's Fresnel (brdf_fresnel, the BRDF's own) into the specular image;
+// the GGX lobe's directional albedo into the specular image;
 // F0 and roughness from the G-buffer's specular attachment, or from
 // --vct-f0 / --vct-roughness for every surface when --vct-f0 > 0. Cones start 2.5 voxels off the
 // surface along the normal, so that they leave the surface's own voxels (a
@@ -22,6 +22,20 @@ layout(binding = TEX_GB_SPECULAR) uniform sampler2D g_specular;
 layout(binding = IMG_OUT, rgba32f) writeonly uniform image2D u_out;
 layout(binding = IMG_OUT2, rgba32f) writeonly uniform image2D u_out_specular;
 layout(location = LOC_VCT_AO_OUT) uniform int u_ao_out;
+
+// Directional albedo of the GGX lobe, ∫ f_s cosθ dω = F0·A + B, by Karis's
+// analytic fit of the split-sum table ("Physically Based Shading on
+// Mobile", 2014; perceptual roughness, F90 = 1): the cone's radiance times
+// this is the lobe's reflected radiance. Plain Fresnel would count grazing
+// rough surfaces up to 1 (measured on Sponza at 320×180: relMSE 0.0094
+// with Fresnel, against 0.0078 without the cone).
+vec3 specular_albedo(vec3 f0, float roughness, float nv)
+{
+    vec4 r = roughness * vec4(-1.0, -0.0275, -0.572, 0.022) + vec4(1.0, 0.0425, 1.04, -0.04);
+    float a = min(r.x * r.x, exp2(-9.28 * nv)) * r.x + r.y;
+    vec2 ab = vec2(-1.04, 1.04) * a + r.zw;
+    return f0 * ab.x + ab.y;
+}
 
 void main()
 {
@@ -64,7 +78,7 @@ void main()
         float occ;
         vec4 l = vct_cone(p, r, tan_half, voxel, occ);
         float nv = clamp(dot(n, v), 0.0, 1.0);
-        spec = brdf_fresnel(f0, nv) * l.rgb;
+        spec = specular_albedo(f0, roughness, nv) * l.rgb;
     }
     imageStore(u_out_specular, px, vec4(spec, 1.0));
 }

@@ -50,6 +50,46 @@ void cmd_render_help(void)
     render_options_help();
 }
 
+/* The technique's ambient visibility (the irradiance image's alpha, --gi
+ * vct) as a grey image at the shading size: linear in a PFM, 0..255 in a
+ * PNG. */
+static bool write_ao(Renderer *r, const char *path)
+{
+    int w = 0, h = 0;
+    glGetTextureLevelParameteriv(r->irradiance, 0, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(r->irradiance, 0, GL_TEXTURE_HEIGHT, &h);
+    float *rgba = malloc(sizeof(float) * 4 * (size_t)w * (size_t)h);
+    ImageF img = {0};
+    if (!rgba || !image_alloc(&img, w, h)) {
+        log_error("render", "%s: out of memory for a %dx%d image", path, w, h);
+        free(rgba);
+        return false;
+    }
+    glGetTextureImage(r->irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * (size_t)w * (size_t)h), rgba);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            float a = rgba[4 * ((size_t)y * w + x) + 3];
+            float *p = image_px(&img, x, h - 1 - y);
+            p[0] = p[1] = p[2] = a;
+        }
+    free(rgba);
+    bool ok;
+    if (util_ends_with(path, ".pfm")) {
+        ok = image_write_pfm(path, &img);
+    } else {
+        uint8_t *rgb = malloc(3 * (size_t)w * (size_t)h);
+        ok = rgb != NULL;
+        for (size_t i = 0; ok && i < 3 * (size_t)w * (size_t)h; i++) {
+            float v = img.rgb[i];
+            rgb[i] = (uint8_t)(255.f * (v < 0.f ? 0.f : v > 1.f ? 1.f : v) + 0.5f);
+        }
+        ok = ok && image_write_png8(path, w, h, rgb);
+        free(rgb);
+    }
+    image_free(&img);
+    return ok;
+}
+
 int cmd_render(int argc, char **argv)
 {
     RenderOptions o;
@@ -64,6 +104,11 @@ int cmd_render(int argc, char **argv)
 
     RenderSettings rs;
     render_options_settings(&o, &scene, &rs);
+    if (o.out_ao && (rs.gi != GI_VCT || !rs.gi_params.vct_ao)) {
+        log_error("cli", "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
+        scene_free(&scene);
+        return 2;
+    }
 
     GlContext *gl = gl_context_create(o.debug || RTGI_DEBUG_BUILD);
     if (!gl) {
@@ -120,6 +165,13 @@ int cmd_render(int argc, char **argv)
             remove(o.out);
             if (o.png)
                 remove(o.png);
+        }
+        if (ok && o.out_ao && !(ok = write_ao(&r, o.out_ao))) {
+            remove(o.out);
+            if (o.png)
+                remove(o.png);
+            if (o.emitter_mask)
+                remove(o.emitter_mask);
         }
         if (ok) {
             rc = 0;

@@ -28,6 +28,8 @@ void render_options_help(void)
         "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
         "  --emitter-mask FILE.png       also write the mask of pixels that see an emitter\n"
         "                                (black; for compare --mask-emitters)\n"
+        "  --out-ao FILE.pfm|FILE.png    also write the ambient visibility (1 = open) of --gi vct\n"
+        "                                with --vct-ao on, at the shading size\n"
         "  --timings                     print per-pass GPU (and wall) times\n"
         "  --probe FILE|run              with --timings: the gather's fraction of this device's\n"
         "                                bound, from 'rtgi probe --json FILE' or measured now\n"
@@ -78,7 +80,7 @@ void render_options_init(RenderOptions *o, bool view)
  * (for "did you mean"). */
 static const char *const *known_options(void)
 {
-    static const char *const own[] = {"--aa", "--debug", "--emitter-mask", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--png", "--probe", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--timings", "--verbose", "--warmup", NULL};
+    static const char *const own[] = {"--aa", "--debug", "--emitter-mask", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--out-ao", "--png", "--probe", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--timings", "--verbose", "--warmup", NULL};
     static const char *all[128];
     if (!all[0]) {
         int n = 0;
@@ -165,6 +167,13 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
             }
             o->emitter_mask = v;
+        } else if (!strcmp(opt, "--out-ao")) {
+            CLI_VALUE(&a, v);
+            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
+                log_error("cli", "--out-ao: '%s' must end in .png or .pfm", v);
+                return 2;
+            }
+            o->out_ao = v;
         } else if (!strcmp(opt, "--debug")) {
             o->debug = true;
         } else if (!strcmp(opt, "--quiet")) {
@@ -267,7 +276,7 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
     printf("gathered_pixels: %u\n", st->gathered_pixels);
     if (rs->gi == GI_RSM_INTERP)
         printf("rsm_full_gather_fraction: %.4f\n", (double)st->full_gathers / pixels);
-    if (rs->gi >= GI_VPL_ALL) {
+    if (rs->gi >= GI_VPL_ALL && rs->gi <= GI_LPV) {
         printf("vpl_count: %u\n", st->vpl_count);
         printf("vpl_evaluations: %llu\n", (unsigned long long)st->vpl_evaluations);
         printf("vpl_evaluations_per_pixel: %.1f\n", (double)st->vpl_evaluations / pixels);
@@ -275,6 +284,10 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
         if (st->tile_overflow)
             printf("vpl_tile_overflow: %u\n", st->tile_overflow);
     }
+    if (st->gpu_bytes)
+        printf("gi_memory_mib: %.2f\n", (double)st->gpu_bytes / (1024.0 * 1024.0));
+    if (rs->gi == GI_VCT)
+        printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
     print_gather_efficiency(r, st, s_probe_path);
 }
 

@@ -27,6 +27,7 @@ typedef struct RenderOptions {
     const char *probe; /* --probe FILE: a `rtgi probe --json` result for --timings */
     bool view;         /* the options of `rtgi view` (else `rtgi render`) */
     const char *emitter_mask; /* --emitter-mask FILE.png: the pixels that see an emitter (for compare) */
+    const char *out_ao; /* --out-ao FILE.pfm|FILE.png: ambient visibility of --gi vct (--vct-ao on) */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */
 } RenderOptions;

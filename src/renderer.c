@@ -234,6 +234,7 @@ void renderer_frame(Renderer *r, const Camera *cam)
     if (r->gi_state) {
         GiFrame f = {
             .scene = r->scene,
+            .gpu_scene = &r->gpu_scene,
             .camera = cam,
             .params = &r->settings.gi_params,
             .exposure = r->settings.exposure,

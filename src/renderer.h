@@ -39,6 +39,7 @@ typedef enum GiMode {
     GI_VPL_INTERLEAVED, /* interleaved shading, random VPL subsets */
     GI_VPL_METALIGHTS,  /* interleaved shading, subsets dealt from metalights */
     GI_LPV,             /* light propagation volumes */
+    GI_VCT,             /* voxel cone tracing */
     GI_MODE_COUNT
 } GiMode;
 

@@ -96,6 +96,7 @@ typedef struct ShadowParams {
     int area_light;        /* AreaLightMode: quad lights' exact polygon irradiance, or a point at the centre */
 } ShadowParams;
 
+typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
 /* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
  * shared/gpu_types.h). */
 typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
@@ -134,6 +135,17 @@ typedef struct GiParams {
     float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
     bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
     int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
+    /* Voxel cone tracing (SPEC §6). */
+    int vct_size;          /* voxels per side of the volume over the scene bounds (of each clipmap level) */
+    int vct_levels;        /* 1: one volume over the bounds; 2–4: a clipmap centred on the camera */
+    bool vct_aniso;        /* six directional mip volumes (Crassin's anisotropic voxels) */
+    int vct_cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
+    int vct_bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */
+    float vct_step;        /* cone sampling step, in units of the cone's current diameter */
+    bool vct_ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
+    bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
+    float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
+    float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
 } GiParams;
 
 

@@ -15,6 +15,7 @@
 static const char *const k_weightings[] = {"paper", "unbiased", "importance", NULL};
 static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 static const char *const k_lpv_inject[] = {"compute", "points", NULL};
+static const char *const k_vct_cones[] = {"6", "9", "16", NULL};
 static const char *const k_area_lights[] = {"exact", "point", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
@@ -98,6 +99,27 @@ const SettingDesc settings_table[] = {
      NULL, "lpv: also inject the camera's G-buffer into the geometry volume"},
     {"gi", "lpv_inject", "--lpv-inject", SETTING_ENUM, GI(lpv_inject), 0, 0, 1, 0, k_lpv_inject,
      "lpv: inject light and geometry by compute (fixed-point atomics, resolve) or points (layered draws, blending)"},
+    /* Voxel cone tracing (SPEC §6). */
+    {"gi", "vct_size", "--vct-size", SETTING_INT, GI(vct_size), 0, 8, 256, 128, NULL,
+     "vct: voxels per side of the volume over the scene bounds"},
+    {"gi", "vct_levels", "--vct-levels", SETTING_INT, GI(vct_levels), 0, 1, VCT_MAX_LEVELS, 1, NULL,
+     "vct: 1 = one volume over the scene bounds; 2-4 = a clipmap of nested volumes around the camera"},
+    {"gi", "vct_aniso", "--vct-aniso", SETTING_BOOL, GI(vct_aniso), 0, 0, 1, 1, NULL,
+     "vct: six directional mip volumes (anisotropic voxels) instead of one isotropic chain"},
+    {"gi", "vct_cones", "--vct-cones", SETTING_ENUM, GI(vct_cones), 0, 0, 2, 0, k_vct_cones,
+     "vct: diffuse cones over the hemisphere, weighted to integrate the cosine lobe"},
+    {"gi", "vct_bounces", "--vct-bounces", SETTING_INT, GI(vct_bounces), 0, 1, 2, 1, NULL,
+     "vct: 1 = direct light in the voxels; 2 = plus a cone-traced bounce between voxels"},
+    {"gi", "vct_step", "--vct-step", SETTING_FLOAT, GI(vct_step), 0, 0.1, 2, 0.5, NULL,
+     "vct: cone sampling step (voxels of the sampled mip, i.e. cone diameters)"},
+    {"gi", "vct_ao", "--vct-ao", SETTING_BOOL, GI(vct_ao), 0, 0, 1, 1, NULL,
+     "vct: ambient occlusion from the diffuse cones (--out-ao)"},
+    {"gi", "vct_conservative", "--vct-conservative", SETTING_BOOL, GI(vct_conservative), 0, 0, 1, 1, NULL,
+     "vct: conservative voxelization (every voxel a triangle touches); off: fragment centres only"},
+    {"gi", "vct_roughness", "--vct-roughness", SETTING_FLOAT, GI(vct_roughness), 0, 0, 1, 0.3, NULL,
+     "vct: with --vct-f0 > 0, the GGX perceptual roughness of every surface's specular cone"},
+    {"gi", "vct_f0", "--vct-f0", SETTING_FLOAT, GI(vct_f0), 0, 0, 1, 0, NULL,
+     "vct: > 0: F0 of every surface's specular cone instead of the material's (tests); 0 = the material's"},
 };
 /* clang-format on */
 const int settings_count = (int)(sizeof settings_table / sizeof settings_table[0]);
@@ -337,14 +359,19 @@ static bool parse_json_value(const cJSON *v, const SettingDesc *d, const char *f
             return json_fail(file, group, d, v, "must be true or false");
         *(bool *)at(s, d->offset) = cJSON_IsTrue(v);
         return true;
-    case SETTING_ENUM:
-        if (cJSON_IsString(v))
-            for (int i = 0; d->choices[i]; i++)
-                if (!strcmp(v->valuestring, d->choices[i])) {
-                    *(int *)at(s, d->offset) = i;
-                    return true;
-                }
+    case SETTING_ENUM: {
+        /* A choice that is a number ("16") may also be given as one. */
+        char num[32] = "";
+        if (cJSON_IsNumber(v))
+            snprintf(num, sizeof num, "%.10g", v->valuedouble);
+        const char *name = cJSON_IsString(v) ? v->valuestring : num;
+        for (int i = 0; *name && d->choices[i]; i++)
+            if (!strcmp(name, d->choices[i])) {
+                *(int *)at(s, d->offset) = i;
+                return true;
+            }
         return json_fail(file, group, d, v, "must be one of the choices");
+    }
     case SETTING_PAIR:
         if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2)
             return json_fail(file, group, d, v, "must be [n, m]");

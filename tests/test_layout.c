@@ -41,6 +41,9 @@ static const Field k_vpl_params[] = {GPU_VPL_PARAMS_FIELDS(REFLECT_MEMBER, REFLE
 #define REFLECTED GpuVpl
 static const Field k_vpl[] = {GPU_VPL_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
 #undef REFLECTED
+#define REFLECTED GpuVctParams
+static const Field k_vct[] = {GPU_VCT_PARAMS_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
 
 typedef struct Block {
     const char *glsl_block;    /* interface block name */
@@ -65,6 +68,7 @@ static void blocks_match_c(void **state)
         BLOCK("GiBlock", "u_gi", GL_UNIFORM, k_gi, GpuGiParams),
         BLOCK("VplParamBlock", "u_vpl", GL_UNIFORM, k_vpl_params, GpuVplParams),
         BLOCK("VplBlock", "vpls[0]", GL_BUFFER_VARIABLE, k_vpl, GpuVpl),
+        BLOCK("VctBlock", "u_vct", GL_UNIFORM, k_vct, GpuVctParams),
     };
     int checked = 0;
     for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; b++) {
@@ -103,7 +107,7 @@ static void blocks_match_c(void **state)
             assert_int_equal((size_t)stride, bl->c_size);
         }
     }
-    print_message("%d fields in 6 blocks agree between C and GLSL\n", checked);
+    print_message("%d fields in 7 blocks agree between C and GLSL\n", checked);
     glDeleteProgram(prog);
 }
 

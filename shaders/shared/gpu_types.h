@@ -18,6 +18,7 @@
 #define UBO_VPL 3     /* GpuVplParams (many-VPL family) */
 #define UBO_FRAME 4   /* GpuFrame: camera, sizes, indirect scale */
 #define UBO_LPV 5     /* GpuLpvParams (light propagation volumes) */
+#define UBO_VCT 6     /* GpuVctParams (voxel cone tracing) */
 /* Shader storage blocks */
 #define SSBO_PATTERN 0   /* RSM sample pattern: vec4 per sample */
 #define SSBO_VPL 1       /* GpuVpl[] */
@@ -29,6 +30,7 @@
 #define SSBO_PIXEL_LIST 7 /* rsm-interp: [0] count, [1..] pixels that need a full gather */
 #define SSBO_SAMPLES 8   /* RSM importance sampling: GpuVpl[list_size] with flux Φ/p */
 #define SSBO_LPV_FIXED 9  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
+#define SSBO_VCT_VOXELS 10 /* vct voxelization: uint[8 · N³] fixed-point albedo, normal, count sums per voxel */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -55,15 +57,24 @@
 #define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
 #define TEX_LPV_SUM 16   /* lpv lookup: accumulated SH of every VPL in cascade k: 16 + 3k + channel (16..24) */
 #define TEX_LPV_OUTER 25 /* lpv lookup: same, only VPLs outside cascade k-1: 25 + 3(k-1) + channel (25..30) */
+#define TEX_VCT_ALBEDO 14   /* vct: voxel albedo (rgb) and opacity (a), N³ */
+#define TEX_VCT_NORMAL 15   /* vct: voxel normal (xyz, sign-canonical: two-sided) */
+#define TEX_VCT_RADIANCE 16 /* vct: premultiplied outgoing radiance (rgb) and opacity (a), N³ with mips */
+#define TEX_VCT_ANISO 17    /* vct: six directional volumes (+x −x +y −y +z −z), (N/2)³ with mips, 17..22 */
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
 #define IMG_LPV_DST 2    /* lpv propagation: 3 SH volumes written (R, G, B), 2..4 */
 #define IMG_LPV_SUM 5    /* lpv propagation: 3 accumulated SH volumes (R, G, B), 5..7 */
+#define IMG_VCT_DST 2    /* vct: volume level written (resolve, injection, mips, bounce) */
+#define IMG_VCT_DST2 3   /* vct: second volume written (resolve: normals) */
+#define IMG_VCT_SRC 4    /* vct mips: volume level read */
 /* Sizes */
 #define VPL_TILE 16          /* culling tile size in pixels */
 #define SHADOW_MAX_SAMPLES 64 /* Poisson disk entries */
 #define LPV_MAX_CASCADES 3   /* nested LPV grids */
+#define VCT_MAX_CONES 16     /* diffuse cones of the largest set */
+#define VCT_MAX_LEVELS 4     /* clipmap levels */
 
 /* ---- Uniform locations -------------------------------------------------- */
 /* Every program that draws the scene's meshes (scene.vert + a fragment shader). */
@@ -102,6 +113,11 @@
 #define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2) */
 #define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
 #define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
+#define LOC_VCT_AXIS 10         /* vct mips: int, anisotropic direction 0..5 (+x −x +y −y +z −z); -1: isotropic */
+#define LOC_VCT_FIRST 11        /* vct mips: int, 1 when reading the isotropic level 0 (first anisotropic level) */
+#define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */
+#define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
+#define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile
@@ -217,6 +233,28 @@
     F(float, pad1)                                                                   \
     A(vec4, cascade, LPV_MAX_CASCADES) /* xyz: grid origin (min corner, m); w: cell size (m) */
 
+/* Voxel cone tracing (std140). Level k of the clipmap (k = 0 finest; one
+ * level: the volume over the scene bounds) has N³ voxels, voxel (i,j,k')
+ * spanning level[k].xyz + [i, i+1)·level[k].w; the levels are stacked
+ * along z in one N × N × N·L texture (and the anisotropic volumes, which
+ * start at mip 1, in one N/2 × N/2 × N/2·L texture each). */
+#define GPU_VCT_PARAMS_FIELDS(F, A)                                                        \
+    F(int, size)             /* N voxels per side of a level */                             \
+    F(int, levels)           /* mips of a level: log2(N) + 1 */                             \
+    F(int, aniso)            /* 1: sample the six directional volumes above mip 0 */        \
+    F(int, cones)            /* diffuse cones in use */                                     \
+    F(float, step)           /* sampling step, in cone diameters */                         \
+    F(float, ao_range)       /* occlusion counts up to this distance (m) */                 \
+    F(int, conservative)     /* 1: conservative voxelization */                             \
+    F(int, has_material_specular) /* 1: the G-buffer has a specular attachment */           \
+    F(float, roughness)      /* perceptual roughness of every surface when f0 > 0 */        \
+    F(float, f0)             /* > 0: F0 of every surface (tests); 0: the G-buffer's */       \
+    F(float, max_distance)   /* cones stop after this distance (m) */                       \
+    F(int, clip_levels)      /* L levels (1: one volume over the bounds) */                 \
+    A(vec4, level, VCT_MAX_LEVELS) /* xyz: min corner of level k (m); w: its voxel size (m) */ \
+    A(vec4, cone, VCT_MAX_CONES) /* xyz: unit direction in the normal's frame (z = normal); w: weight ∫cosθ dω of its cell */ \
+    A(vec4, cone_aperture, VCT_MAX_CONES) /* x: tan of the half-angle */
+
 /* ---- Declarations --------------------------------------------------------- */
 #ifdef GL_core_profile /* GLSL */
 #define GPU_MEMBER(t, n) t n;
@@ -243,6 +281,7 @@ GPU_STRUCT(GpuGiParams, GPU_GI_PARAMS_FIELDS)
 GPU_STRUCT(GpuVpl, GPU_VPL_FIELDS)
 GPU_STRUCT(GpuVplParams, GPU_VPL_PARAMS_FIELDS)
 GPU_STRUCT(GpuLpvParams, GPU_LPV_PARAMS_FIELDS)
+GPU_STRUCT(GpuVctParams, GPU_VCT_PARAMS_FIELDS)
 
 #ifdef GL_core_profile
 /* The blocks, as every shader names them. */
@@ -252,6 +291,7 @@ layout(std140, binding = UBO_FRAME) uniform FrameBlock { GpuFrame u_frame; };
 layout(std140, binding = UBO_GI) uniform GiBlock { GpuGiParams u_gi; };
 layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
 layout(std140, binding = UBO_LPV) uniform LpvBlock { GpuLpvParams u_lpv; };
+layout(std140, binding = UBO_VCT) uniform VctBlock { GpuVctParams u_vct; };
 #else
 static_assert(sizeof(GpuLight) == 12 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
@@ -260,6 +300,7 @@ static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 ro
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
+static_assert(sizeof(GpuVctParams) == 3 * 16 + VCT_MAX_LEVELS * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
 #endif
 
 #endif

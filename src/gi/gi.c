@@ -15,6 +15,7 @@ const GiTechnique *const gi_techniques[] = {
     &gi_vpl_interleaved,
     &gi_vpl_metalights,
     &gi_lpv,
+    &gi_vct,
     NULL,
 };
 

@@ -21,6 +21,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "gpu_scene.h"
 #include "gpu_timer.h"
 #include "light_stage.h"
 #include "scene.h"
@@ -42,6 +43,9 @@ typedef struct GiStats {
     bool gather_cube;         /* they read cube maps (the probe's matching bound) */
     bool gather_vpl;          /* they loop over VPLs in a storage buffer */
     float gather_from_list;   /* fraction of their samples read from a storage-buffer list */
+    uint64_t gpu_bytes;       /* GPU memory the technique holds (its own textures and buffers) */
+    int voxelizations;        /* vct: times the scene was voxelized */
+    double voxelize_ms;       /* vct: wall time of the last voxelization (glFinish on both sides) */
 } GiStats;
 
 /* What a technique is given at creation. */
@@ -56,6 +60,7 @@ typedef struct GiCreateInfo {
 /* What a technique reads and writes each frame. */
 typedef struct GiFrame {
     const Scene *scene;
+    const GpuScene *gpu_scene; /* the scene's meshes (techniques that draw them: vct voxelization) */
     const Camera *camera;
     const GiParams *params;
     float exposure;           /* the frame's exposure (SLC's error bound is relative to it) */
@@ -96,6 +101,7 @@ extern const GiTechnique gi_none;
 extern const GiTechnique gi_rsm, gi_rsm_interp, gi_rsm_interleaved;
 extern const GiTechnique gi_vpl_all, gi_vpl_clamped, gi_vpl_slc, gi_vpl_interleaved, gi_vpl_metalights;
 extern const GiTechnique gi_lpv;
+extern const GiTechnique gi_vct;
 
 /* Importance-sampled RSM gathers: a pixel spends half its N samples on the
  * paper's disk around its own projection (a Hammersley set of N/2 points

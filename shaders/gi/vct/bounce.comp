@@ -1,0 +1,34 @@
+// gi/vct/bounce.comp — the second bounce (--vct-bounces 2): each opaque
+// voxel gathers irradiance from the directly lit volume with the diffuse
+// cone set, on both sides of its (two-sided) surface, and keeps the larger
+// (the side that faces into the scene); its outgoing radiance gains
+// ρ/π · E. Writes the new level 0 into another volume.
+#include "shared/gpu_types.h"
+#include "common/math.glsl"
+#include "gi/vct/cone.glsl"
+
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(binding = TEX_VCT_ALBEDO) uniform sampler3D u_albedo;
+layout(binding = TEX_VCT_NORMAL) uniform sampler3D u_normal;
+layout(binding = IMG_VCT_DST, rgba16f) writeonly uniform image3D u_dst;
+
+void main()
+{
+    ivec3 v = ivec3(gl_GlobalInvocationID);
+    if (any(greaterThanEqual(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels))))
+        return;
+    vec4 direct = texelFetch(u_radiance, v, 0);
+    vec4 a = texelFetch(u_albedo, v, 0);
+    if (a.a <= 0.0) {
+        imageStore(u_dst, v, direct);
+        return;
+    }
+    float voxel;
+    vec3 x = vct_voxel_centre(v, voxel);
+    vec3 n = texelFetch(u_normal, v, 0).xyz;
+    float vis;
+    vec3 e_front = vct_irradiance(x + n * (2.5 * voxel), n, voxel, vis);
+    vec3 e_back = vct_irradiance(x - n * (2.5 * voxel), -n, voxel, vis);
+    vec3 e = dot(e_front, vec3(1.0)) >= dot(e_back, vec3(1.0)) ? e_front : e_back;
+    imageStore(u_dst, v, vec4(direct.rgb + a.a * a.rgb / PI * e, direct.a));
+}

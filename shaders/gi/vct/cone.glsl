@@ -1,0 +1,105 @@
+// gi/vct/cone.glsl — cone tracing through the voxel volume (Crassin et al.
+// 2011, §5): front-to-back accumulation of premultiplied radiance and
+// opacity, sampling the mip whose voxel equals the cone's diameter there,
+// with the isotropic chain or the six directional volumes (weighted by the
+// squared direction components, the three facing the cone) above mip 0.
+// A sample's opacity stands for a path of one voxel of its mip; a step of
+// `step` diameters corrects it to 1 − (1 − α)^step (and scales the
+// radiance with it).
+#include "gi/vct/volume.glsl"
+
+layout(binding = TEX_VCT_RADIANCE) uniform sampler3D u_radiance;
+layout(binding = TEX_VCT_ANISO + 0) uniform sampler3D u_aniso_px;
+layout(binding = TEX_VCT_ANISO + 1) uniform sampler3D u_aniso_nx;
+layout(binding = TEX_VCT_ANISO + 2) uniform sampler3D u_aniso_py;
+layout(binding = TEX_VCT_ANISO + 3) uniform sampler3D u_aniso_ny;
+layout(binding = TEX_VCT_ANISO + 4) uniform sampler3D u_aniso_pz;
+layout(binding = TEX_VCT_ANISO + 5) uniform sampler3D u_aniso_nz;
+
+// Texture coordinates of `local` (0..1 within level k) in the stack of
+// `levels` slabs, z kept half a texel of mip `mip` (of a level of side n)
+// inside the slab, so that filtering never reads a neighbouring level.
+vec3 vct_stack_uvw(vec3 local, int k, float mip, int n)
+{
+    if (u_vct.clip_levels == 1)
+        return local;
+    float h = 0.5 / float(max(n >> int(ceil(mip)), 1));
+    return vec3(local.xy, (float(k) + clamp(local.z, h, 1.0 - h)) / float(u_vct.clip_levels));
+}
+
+// Level k at mip `mip` (of that level), seen along unit d.
+vec4 vct_sample(int k, vec3 local, float mip, vec3 d)
+{
+    if (u_vct.aniso == 0 || mip <= 0.0)
+        return textureLod(u_radiance, vct_stack_uvw(local, k, mip, u_vct.size), mip);
+    vec3 w = d * d;
+    float lod = max(mip - 1.0, 0.0);
+    vec3 uvw = vct_stack_uvw(local, k, lod, u_vct.size / 2);
+    vec4 a = w.x * (d.x >= 0.0 ? textureLod(u_aniso_px, uvw, lod) : textureLod(u_aniso_nx, uvw, lod)) +
+             w.y * (d.y >= 0.0 ? textureLod(u_aniso_py, uvw, lod) : textureLod(u_aniso_ny, uvw, lod)) +
+             w.z * (d.z >= 0.0 ? textureLod(u_aniso_pz, uvw, lod) : textureLod(u_aniso_nz, uvw, lod));
+    return mip < 1.0 ? mix(textureLod(u_radiance, vct_stack_uvw(local, k, 0.0, u_vct.size), 0.0), a, mip) : a;
+}
+
+// Traces a cone from p along unit d with tan(half-angle) `tan_half`,
+// starting at distance t0 (m). Returns the radiance gathered (rgb) and the
+// opacity (a); `occlusion` gets the opacity met within u_vct.ao_range.
+// With a clipmap each sample reads the finest level that holds it (with
+// the cone's diameter of margin) and whose voxels are no larger than the
+// diameter, unless only a coarser one holds it.
+vec4 vct_cone(vec3 p, vec3 d, float tan_half, float t0, out float occlusion)
+{
+    float v0 = u_vct.level[0].w;
+    float max_mip = float(u_vct.levels - 1);
+    int last = u_vct.clip_levels - 1;
+    vec3 c = vec3(0.0);
+    float a = 0.0;
+    occlusion = 0.0;
+    float t = t0;
+    for (int i = 0; i < 4096 && a < 0.99 && t < u_vct.max_distance; i++) {
+        float diameter = max(v0, 2.0 * t * tan_half);
+        vec3 q = p + d * t;
+        int k = vct_level_at(q, last > 0 ? diameter : 0.0);
+        if (k < 0)
+            break;
+        k = max(k, min(int(floor(log2(diameter / v0))), last));
+        float vk = u_vct.level[k].w;
+        float size = max(diameter, vk); // what the sample spans
+        float mip = log2(size / vk);
+        if (mip > max_mip)
+            break;
+        vec3 local = (q - u_vct.level[k].xyz) / (vk * float(u_vct.size));
+        vec4 s = vct_sample(k, local, mip, d);
+        float dt = u_vct.step * diameter;
+        if (s.a > 0.0) {
+            float sa = 1.0 - pow(max(1.0 - s.a, 0.0), dt / size);
+            c += (1.0 - a) * s.rgb * (sa / s.a);
+            if (t < u_vct.ao_range)
+                occlusion += (1.0 - occlusion) * sa;
+            a += (1.0 - a) * sa;
+        }
+        t += dt;
+    }
+    return vec4(c, a);
+}
+
+// Irradiance E (W/m²) at p with unit normal n from the diffuse cone set:
+// Σ w_i L_i, w_i = ∫cosθ dω over cone i's cell of the hemisphere (Σ w_i =
+// π). `visibility` gets 1 − the cosine-weighted occlusion.
+vec3 vct_irradiance(vec3 p, vec3 n, float t0, out float visibility)
+{
+    vec3 t, b;
+    basis(n, t, b);
+    vec3 e = vec3(0.0);
+    float occluded = 0.0;
+    for (int i = 0; i < u_vct.cones; i++) {
+        vec3 cd = u_vct.cone[i].xyz;
+        vec3 d = normalize(t * cd.x + b * cd.y + n * cd.z);
+        float occ;
+        vec4 l = vct_cone(p, d, u_vct.cone_aperture[i].x, t0, occ);
+        e += u_vct.cone[i].w * l.rgb;
+        occluded += u_vct.cone[i].w / PI * occ;
+    }
+    visibility = 1.0 - occluded;
+    return e;
+}

@@ -1,0 +1,59 @@
+// gi/vct/inject.comp — light injection (Crassin et al. 2011, §4.1): each
+// opaque voxel's outgoing diffuse radiance from the light bound to
+// UBO_LIGHT, L = ρ/π · E · V, in W/(m²·sr) like every other technique
+// (SPEC §1), stored premultiplied by the voxel's opacity. E is the light
+// model's irradiance on the voxel's surface (two-sided: the normal turned
+// toward the light); V is the shadow map's verdict averaged over a 3×3 grid
+// across the voxel, half a voxel diagonal off the surface toward the light,
+// with a depth bias of one voxel. Lights after the first add to the level.
+#include "shared/gpu_types.h"
+#include "common/math.glsl"
+#include "common/lights.glsl"
+#include "common/shadow.glsl"
+#include "gi/vct/volume.glsl"
+
+layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+layout(binding = TEX_VCT_ALBEDO) uniform sampler3D u_albedo;
+layout(binding = TEX_VCT_NORMAL) uniform sampler3D u_normal;
+layout(binding = IMG_VCT_DST, rgba16f) uniform image3D u_radiance;
+layout(location = LOC_VCT_ACCUMULATE) uniform int u_accumulate;
+
+float visibility(vec3 x, vec3 n, float voxel)
+{
+    vec3 t, b;
+    basis(n, t, b);
+    float lit = 0.0;
+    for (int i = -1; i <= 1; i++)
+        for (int j = -1; j <= 1; j++) {
+            vec3 q = x + n * (0.87 * voxel) + (t * float(i) + b * float(j)) * (0.33 * voxel);
+            ShadowCoord sc = shadow_coord(q);
+            lit += sc.d - voxel <= shadow_fetch(sc, vec2(0.0)) ? 1.0 : 0.0;
+        }
+    return lit / 9.0;
+}
+
+void main()
+{
+    ivec3 v = ivec3(gl_GlobalInvocationID);
+    if (any(greaterThanEqual(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels))))
+        return;
+    vec4 a = texelFetch(u_albedo, v, 0);
+    vec3 l = vec3(0.0);
+    if (a.a > 0.0) {
+        float voxel;
+        vec3 x = vct_voxel_centre(v, voxel);
+        vec3 n = texelFetch(u_normal, v, 0).xyz;
+        vec3 to_light = int(u_light.position_type.w) == LIGHT_DIRECTIONAL ? -u_light.direction_width.xyz
+                                                                           : normalize(u_light.position_type.xyz - x);
+        if (dot(n, to_light) < 0.0)
+            n = -n;
+        vec3 dir;
+        vec3 e = light_irradiance(u_light, x, n, dir);
+        if (max(e.r, max(e.g, e.b)) > 0.0)
+            l = a.rgb / PI * e * visibility(x, n, voxel);
+    }
+    vec4 r = vec4(l * a.a, a.a);
+    if (u_accumulate != 0)
+        r.rgb += imageLoad(u_radiance, v).rgb;
+    imageStore(u_radiance, v, r);
+}

@@ -1,0 +1,25 @@
+/* vct.h — hooks into a running `--gi vct` technique (its state is the
+ * renderer's gi_state while GI_VCT is selected), for tests and tools: where
+ * the volume lies and what its voxels hold. Not used by the frame. */
+#ifndef RTGI_GI_VCT_H
+#define RTGI_GI_VCT_H
+
+#include <stdbool.h>
+
+typedef enum VctVolume {
+    VCT_VOLUME_ALBEDO,   /* rgb albedo, a opacity (0 or 1) */
+    VCT_VOLUME_NORMAL,   /* xyz normal (sign-canonical) */
+    VCT_VOLUME_RADIANCE, /* rgb premultiplied outgoing radiance (W/(m²·sr)), a opacity; what the cones read */
+} VctVolume;
+
+/* Voxels per side, the min corner (m) and voxel size (m) of the volume
+ * (clipmap: of its finest level). */
+void vct_grid(const void *state, int *n, float origin[3], float *voxel);
+/* Clipmap level k's min corner (m) and voxel size (m) in the last frame. */
+void vct_level(const void *state, int k, float origin[3], float *voxel);
+/* Reads mip 0 of a volume of the last frame: out[((z·N + y)·N + x)·4 + c].
+ * `out` holds 4·N³·L floats (L clipmap levels stacked along z). Waits for
+ * the GPU. */
+bool vct_read_volume(void *state, VctVolume which, float *out);
+
+#endif

@@ -327,7 +327,10 @@ int cmd_view(int argc, char **argv)
     render_options_settings(&o, &scene, &v.settings);
     v.settings.timings = true;
     v.settings.cache = true; /* the window's common case: lights still, camera moving */
-    v.settings.timing_sync = false;
+    /* Per-pass times as `render --timings` measures them: on a software
+     * rasterizer only with glFinish around each pass (see
+     * gl_renderer_is_software); a GPU's timestamps need no stall. */
+    v.settings.timing_sync = gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
     v.edit.shadow = v.settings.shadow_params;
     v.edit.gi = v.settings.gi_params;
     v.camera = v.home = scene.camera;

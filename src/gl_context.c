@@ -150,3 +150,12 @@ void gl_context_destroy(GlContext *g)
 }
 
 const char *gl_context_renderer(const GlContext *g) { return g ? g->renderer : ""; }
+
+bool gl_renderer_is_software(const char *renderer)
+{
+    static const char *const names[] = {"llvmpipe", "softpipe", "swrast", "SwiftShader", NULL};
+    for (int i = 0; renderer && names[i]; i++)
+        if (strstr(renderer, names[i]))
+            return true;
+    return false;
+}

@@ -16,6 +16,12 @@ GlContext *gl_context_create(bool debug);
 void gl_context_destroy(GlContext *ctx);
 /* GL_RENDERER string of the current context, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)". */
 const char *gl_context_renderer(const GlContext *ctx);
+/* Whether a GL_RENDERER string names a software rasterizer (llvmpipe,
+ * softpipe, swrast, SwiftShader). Such a driver runs compute dispatches at
+ * the call and rasterizes draws later, at a flush, so timestamp queries
+ * that are not fenced by glFinish land in other passes' work: per-pass
+ * timings there need GpuTimer's `sync`. */
+bool gl_renderer_is_software(const char *renderer);
 /* Installs the KHR_debug callback on the current context (also used by the window). */
 void gl_install_debug_callback(void);
 

@@ -14,6 +14,8 @@
  *   - the A/B view of --compare shows the reference tone-mapped, the
  *     difference heat map and the split exactly as computed here, and its
  *     RMSE matches metric_rmse;
+ *   - P to .exr writes the PFM's radiance within half precision;
+ *   - the panel's per-pass timings match `render --timings` pass by pass;
  *   - `view --help` is view's own, render-only options are refused,
  *     `view --out x.pfm` writes a PFM. */
 #include <math.h>
@@ -25,7 +27,7 @@
 #include "test_util.h"
 #include "util.h"
 
-enum { W = 192, H = 144 };
+enum { W = 192, H = 144, MAX_PASSES = 32 };
 
 static char g_dir[512];
 
@@ -171,6 +173,32 @@ static void panel_script(void **state)
     assert_true(vs_hdr < 0.01); /* FXAA only, on edges */
     assert_int_equal(image_count_nonfinite(&shot_hdr, NULL, NULL), 0);
 
+    /* P to .exr: the same radiance as the PFM within half precision, and,
+     * before FXAA's edges, as the headless render of the same frame. */
+    ImageF shot_exr = read_image("shot.exr"), headless;
+    assert_int_equal(shot_exr.width, W);
+    assert_int_equal(shot_exr.height, H);
+    char plain_pfm[1024];
+    path_in(plain_pfm, sizeof plain_pfm, "ref_noaa.pfm");
+    assert_int_equal(test_run_cli(NULL, "render", "--size", size, "--out", plain_pfm, "--quiet", NULL), 0);
+    assert_true(image_read(plain_pfm, &headless));
+    double exr_vs_pfm = 0, exr_vs_render = 0, pfm_max = 0;
+    for (int i = 0; i < W * H * 3; i++) {
+        float e = shot_exr.rgb[i], f = shot_hdr.rgb[i];
+        exr_vs_pfm = fmax(exr_vs_pfm, fabsf(e - f) / fmaxf(fabsf(f), 1e-4f));
+        exr_vs_render += fabsf(e - headless.rgb[i]);
+        pfm_max = fmax(pfm_max, f);
+    }
+    exr_vs_render /= 3.0 * W * H;
+    print_message("EXR shot: max relative |exr - pfm| %.2e (half: 4.9e-4); mean |exr - headless render| %.4f "
+                  "(peak %.2f)\n",
+                  exr_vs_pfm, exr_vs_render, pfm_max);
+    assert_true(pfm_max > 0.1);
+    assert_true(exr_vs_pfm <= 1e-3);
+    assert_true(exr_vs_render < 0.01 * test_image_mean(&headless) + 1e-4); /* FXAA only, on edges */
+    image_free(&shot_exr);
+    image_free(&headless);
+
     /* A/B: the reference alone, tone-mapped at the window's exposure (2). */
     ImageF none, rsm;
     assert_true(image_read(none_pfm, &none) && image_read(rsm_pfm, &rsm));
@@ -251,6 +279,84 @@ static void png_reference(void **state)
     image_free(&got);
 }
 
+/* The "steady_<pass>_ms: X" lines of `render --timings`, into names/ms. */
+static int parse_steady(const char *out, char names[][32], double *ms, int cap)
+{
+    int n = 0;
+    for (const char *p = strstr(out, "\nsteady_"); p && n < cap; p = strstr(p + 1, "\nsteady_")) {
+        char name[64];
+        double v;
+        if (sscanf(p + 8, "%63[^:]: %lf", name, &v) != 2 || strlen(name) < 4 ||
+            strcmp(name + strlen(name) - 3, "_ms") || !strcmp(name, "total_ms"))
+            continue;
+        name[strlen(name) - 3] = 0;
+        snprintf(names[n], 32, "%s", name);
+        ms[n++] = v;
+    }
+    return n;
+}
+
+/* The panel's per-pass table against `render --timings` of the same frame:
+ * the same passes, and none credited with another's time (on llvmpipe,
+ * unfenced timestamps put rsm-interp's compute passes in the wrong rows:
+ * 1806 ms for rsm_interp against 19 ms headless). Timings on a shared
+ * machine are noisy: each pass within a factor 8, plus 0.25 ms. */
+static void timings_match_render(void **state)
+{
+    (void)state;
+    char dir[600], cmd[4096], size[32];
+    snprintf(dir, sizeof dir, "%s/view_timings", RTGI_TEST_TMP);
+    snprintf(size, sizeof size, "%dx%d", W, H);
+    snprintf(cmd, sizeof cmd, "'%s' render --gi rsm-interp --size %s --aa fxaa --timings --out '%s/render.pfm' 2>&1",
+             RTGI_BINARY, size, dir);
+    char parent[700];
+    snprintf(parent, sizeof parent, "%s/x", dir);
+    util_ensure_parent_dir(parent);
+    static char out[65536];
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    if (pclose(p) != 0)
+        fail_msg("%s failed: %s", cmd, out);
+    char names[MAX_PASSES][32];
+    double ms[MAX_PASSES];
+    int count = parse_steady(out, names, ms, MAX_PASSES);
+    assert_true(count >= 5);
+
+    snprintf(cmd, sizeof cmd, "xvfb-run -a '%s' view --gi rsm-interp --size %s --frames 3 --ui-test '%s' 2>&1",
+             RTGI_BINARY, size, dir);
+    p = popen(cmd, "r");
+    assert_non_null(p);
+    n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    if (pclose(p) != 0)
+        fail_msg("%s failed: %s", cmd, out);
+    const char *t = find_line(out, "ui-test: timings gi rsm-interp, ");
+    assert_non_null(t);
+    const char *eol = strchr(t, '\n');
+    assert_non_null(eol);
+    print_message("window: %.*s\n", (int)(eol - t), t);
+    int seen = 0;
+    for (const char *q = strchr(t, ' '); q && q < eol; q = strchr(q + 1, ' ')) {
+        char name[64];
+        double w;
+        if (sscanf(q + 1, "%63[^= ]=%lf", name, &w) != 2)
+            continue;
+        int k = -1;
+        for (int i = 0; i < count; i++)
+            if (!strcmp(names[i], name))
+                k = i;
+        if (k < 0)
+            fail_msg("the window's pass '%s' is not among render --timings' steady passes", name);
+        seen++;
+        print_message("  %-24s window %9.3f ms, render %9.3f ms\n", name, w, ms[k]);
+        if (!(w <= 8.0 * ms[k] + 0.25 && w >= ms[k] / 8.0 - 0.25))
+            fail_msg("pass %s: %.3f ms in the window, %.3f ms in render --timings", name, w, ms[k]);
+    }
+    assert_int_equal(seen, count); /* every pass of render's frame, and no other */
+}
+
 static void help_and_options(void **state)
 {
     (void)state;
@@ -317,6 +423,7 @@ int main(void)
         cmocka_unit_test(out_by_extension),
         cmocka_unit_test(panel_script),
         cmocka_unit_test(png_reference),
+        cmocka_unit_test(timings_match_render),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

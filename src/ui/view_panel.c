@@ -134,18 +134,25 @@ void view_camera_json(const View *v, char *out, size_t cap)
              (double)t[2], (double)(c->fov_y * 180.f / GLM_PIf));
 }
 
+void view_take_pass_table(View *v)
+{
+    const GpuTimer *t = &v->renderer->timer;
+    v->pass_wall = t->sync;
+    v->gpu_ms = 0;
+    v->pass_count = 0;
+    for (int i = 0; i < t->pass_count && t->frames > 0; i++) {
+        snprintf(v->pass_name[v->pass_count], sizeof v->pass_name[0], "%s", t->passes[i].name);
+        v->pass_ms[v->pass_count] = (t->sync ? t->passes[i].cpu_ms : t->passes[i].gpu_ms) / t->frames;
+        v->gpu_ms += v->pass_ms[v->pass_count++];
+    }
+}
+
 void view_record_timings(View *v, double frame_ms, bool is_cost)
 {
     Renderer *r = v->renderer;
     GpuTimer *t = &r->timer;
     v->frame_ms = frame_ms;
-    v->gpu_ms = 0;
-    v->pass_count = 0;
-    for (int i = 0; i < t->pass_count && t->frames > 0; i++) {
-        snprintf(v->pass_name[v->pass_count], sizeof v->pass_name[0], "%s", t->passes[i].name);
-        v->pass_ms[v->pass_count] = t->passes[i].gpu_ms / t->frames;
-        v->gpu_ms += v->pass_ms[v->pass_count++];
-    }
+    view_take_pass_table(v);
     v->history[v->history_next] = (float)frame_ms;
     v->history_next = (v->history_next + 1) % VIEW_HISTORY;
     if (v->history_count < VIEW_HISTORY)
@@ -160,7 +167,7 @@ void view_record_timings(View *v, double frame_ms, bool is_cost)
                                           "rsm_gather_interleaved", "vpl_shade", NULL};
     double ms = 0;
     for (int i = 0; gathers[i]; i++) {
-        double m = gpu_timer_mean_ms(t, gathers[i], false);
+        double m = gpu_timer_mean_ms(t, gathers[i], t->sync);
         ms += m > 0 ? m : 0;
     }
     if (gi != GI_NONE && ms > 0.5) {
@@ -356,8 +363,10 @@ static void technique_section(View *v)
 
 static void timings_section(View *v)
 {
-    ui_text("frame %.1f ms wall, %.1f ms GPU (sum of passes)", v->frame_ms, v->gpu_ms);
-    static const char *const headers[] = {"pass", "GPU ms"};
+    /* On a software rasterizer the passes' times are wall times fenced by
+     * glFinish (see gl_renderer_is_software), as `render --timings` counts them. */
+    ui_text("frame %.1f ms wall, %.1f ms %s (sum of passes)", v->frame_ms, v->gpu_ms, v->pass_wall ? "pass wall" : "GPU");
+    const char *headers[] = {"pass", v->pass_wall ? "wall ms" : "GPU ms"};
     if (v->pass_count > 0 && ui_table_begin("passes", 2, headers)) {
         for (int i = 0; i < v->pass_count; i++) {
             char ms[32];

@@ -52,7 +52,8 @@ typedef struct View {
     int history_next, history_count;
     int pass_count;             /* the timings table: passes of the last interval */
     char pass_name[GPU_TIMER_MAX_PASSES][32];
-    double pass_ms[GPU_TIMER_MAX_PASSES]; /* mean GPU ms per frame */
+    double pass_ms[GPU_TIMER_MAX_PASSES]; /* mean ms per frame: GPU, or wall when pass_wall */
+    bool pass_wall;             /* the timer fences passes with glFinish (software rasterizer): wall ms */
     double gpu_ms, frame_ms;    /* their sum; mean wall ms per frame */
     char status[1024];          /* the last capture / reload message */
     bool status_error;
@@ -83,6 +84,11 @@ void view_camera_json(const View *v, char *out, size_t cap);
  * frame) and, if `is_cost` (no remake, reload or first frame in it), the
  * measured cost of the current technique and the gather rate. */
 void view_record_timings(View *v, double frame_ms, bool is_cost);
+/* Fills the timings table (pass_name, pass_ms, gpu_ms) from the renderer's
+ * timer, means over the frames since its last reset: GPU ms per pass, or on
+ * a software rasterizer (the timer's `sync`) the wall ms that `render
+ * --timings` reports, since timestamps there miss compute passes. */
+void view_take_pass_table(View *v);
 /* Sets the status line (and logs it). */
 void view_status(View *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 /* Saves the rendered image: .png as shown (tone-mapped, after FXAA), any

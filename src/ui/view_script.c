@@ -19,6 +19,7 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
     case 0: /* the window shows the frame alone until the A/B steps */
         if (v->ab)
             v->ab->mode = AB_FRAME;
+        gpu_timer_reset(&r->timer); /* the timings table of frames 1-2, after the cold first one */
         break;
     case 1: { /* what "Copy as scene JSON" copies */
         char json[256];
@@ -26,7 +27,13 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
         printf("ui-test: camera {%s}\n", json);
         break;
     }
-    case 2: /* exposure through the panel's path: live, nothing remade */
+    case 2: /* the panel's timings table; then exposure through the panel's path: live, nothing remade */
+        view_take_pass_table(v);
+        printf("ui-test: timings gi %s, %s ms, %d frames:", gi_techniques[r->settings.gi]->name,
+               v->pass_wall ? "wall" : "gpu", r->timer.frames);
+        for (int i = 0; i < v->pass_count; i++)
+            printf(" %s=%.3f", v->pass_name[i], v->pass_ms[i]);
+        printf("\n");
         t->links = shader_link_count();
         t->remakes = r->remakes;
         v->settings.exposure *= 2.f;
@@ -45,6 +52,8 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
         script_path(t, "shot.png", path, sizeof path);
         view_save_image(v, path);
         script_path(t, "shot.pfm", path, sizeof path);
+        view_save_image(v, path);
+        script_path(t, "shot.exr", path, sizeof path);
         view_save_image(v, path);
         v->show_panel = true;
         break;

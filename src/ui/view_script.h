@@ -1,9 +1,9 @@
 /* view_script.h — `rtgi view --ui-test DIR`: a fixed script, one step per
  * frame, through the panel's own actions (no clicks: Xvfb has no user),
  * printing what it measured as "ui-test: ..." lines on stdout and writing
- * its captures to DIR; tests/test_view.c reads both. The steps: the camera
- * as scene JSON; exposure ×2 (program links and renderer remakes counted);
- * the window with and without the panel and the image as PNG and PFM; the
+ * its captures to DIR; tests/test_view.c reads both. The steps: the
+ * panel's per-pass timings table of frames 1-2; the camera as scene JSON; exposure ×2 (program links and renderer remakes counted);
+ * the window with and without the panel and the image as PNG, PFM and EXR; the
  * G key's path into the next technique (pending when slow) and its
  * confirming click; a shader hot reload (with the shader named by
  * RTGI_UI_TEST_BREAK_SHADER broken first); with --compare, the A/B view's

@@ -241,28 +241,6 @@ static bool parse_gi_item(const char *item, BenchEntry *e)
     return true;
 }
 
-static int cmp_float(const void *a, const void *b)
-{
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
-}
-
-/* The 99th percentile of the luminance of the pixels `mask` selects. */
-static double percentile99(const ImageF *img, const uint8_t *mask)
-{
-    size_t np = (size_t)img->width * img->height, n = 0;
-    float *l = malloc(np * sizeof(float));
-    if (!l)
-        return 0;
-    for (size_t i = 0; i < np; i++)
-        if (!mask || mask[i])
-            l[n++] = luminance(img->rgb + 3 * i);
-    qsort(l, n, sizeof(float), cmp_float);
-    double p = n ? l[(size_t)(0.99 * (n - 1))] : 0;
-    free(l);
-    return p;
-}
-
 static double masked_mean(const ImageF *img, const uint8_t *mask)
 {
     double s = 0;
@@ -595,8 +573,9 @@ int cmd_bench(int argc, char **argv)
         goto done;
     }
     float metric_exposure = exposure >= 0.f ? exposure : scene.exposure;
-    double p99 = percentile99(&ref, mask);
-    double display_exposure = p99 > 0 ? 1.0 / p99 : metric_exposure;
+    double display_exposure = report_display_exposure(&ref, mask);
+    if (!(display_exposure > 0))
+        display_exposure = metric_exposure;
     double ref_mean = masked_mean(&ref, mask);
     char p[1400];
     snprintf(p, sizeof p, "%s/reference.exr", images_dir);

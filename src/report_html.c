@@ -65,7 +65,7 @@ static const char k_head[] =
     "<svg id=\"scatter\" width=\"760\" height=\"440\"></svg>\n"
     "<h2>Images</h2>\n"
     "<div class=\"ctl\">exposure <input type=\"range\" id=\"exp\" min=\"-6\" max=\"6\" step=\"0.25\" value=\"0\">\n"
-    "<span id=\"expv\"></span> (0 = the reference's 99th-percentile luminance at white) · FLIP\n"
+    "<span id=\"expv\"></span> (0 = the reference's log-average luminance at 18% grey, its 90th percentile at most at white) · FLIP\n"
     "<canvas id=\"cbar\" width=\"256\" height=\"12\" style=\"vertical-align: middle; border: 1px solid #999\"></canvas>\n"
     "<span style=\"font-size: 11px\">0 … 0.5 … 1</span> · click an image to enlarge</div>\n"
     "<div class=\"grid\" id=\"cards\"></div>\n"
@@ -265,13 +265,41 @@ static const char k_app[] =
     "    var front = pareto(xkey, ykey);\n"
     "    svg.appendChild(el('polyline', { points: front.map(function (t) { return sx(t[xkey]) + ',' + sy(yval(t, ykey)); }).join(' '),\n"
     "      fill: 'none', stroke: '#e15759', 'stroke-width': 2, 'stroke-dasharray': '5,3', class: 'front' }));\n"
+    "    /* Points first, then their labels, each at the first of a few places\n"
+    "     * around its point that overlaps no point or label placed before (else\n"
+    "     * where it overlaps least, with a leader line to its point); the hover\n"
+    "     * title names every point in full. */\n"
+    "    var boxes = [];\n"
+    "    function overlap(a, b) { return Math.max(0, Math.min(a.x1, b.x1) - Math.max(a.x0, b.x0)) * Math.max(0, Math.min(a.y1, b.y1) - Math.max(a.y0, b.y0)); }\n"
     "    pts.forEach(function (t) {\n"
-    "      var on = front.indexOf(t) >= 0;\n"
-    "      var c = el('circle', { cx: sx(t[xkey]), cy: sy(yval(t, ykey)), r: on ? 6 : 4.5, fill: on ? '#e15759' : '#4e79a7', class: 'pt' });\n"
+    "      var on = front.indexOf(t) >= 0, px = sx(t[xkey]), py = sy(yval(t, ykey)), r = on ? 6 : 4.5;\n"
+    "      var c = el('circle', { cx: px, cy: py, r: r, fill: on ? '#e15759' : '#4e79a7', class: 'pt' });\n"
     "      c.appendChild(el('title', {}, t.label + ': ' + fmt(t[xkey], 2) + ' ms, ' + fmt(yval(t, ykey), 5)));\n"
     "      svg.appendChild(c);\n"
-    "      svg.appendChild(el('text', { x: sx(t[xkey]) + 7, y: sy(yval(t, ykey)) - 5 }, t.gi + (t.overrides ? '*' : '') + (NSHADOW > 1 ? '/' + t.shadow : '')));\n"
+    "      boxes.push({ x0: px - r, y0: py - r, x1: px + r, y1: py + r });\n"
     "    });\n"
+    "    var overlaps = 0, SW = +svg.getAttribute('width');\n"
+    "    pts.forEach(function (t) {\n"
+    "      var px = sx(t[xkey]), py = sy(yval(t, ykey));\n"
+    "      var tx = el('text', { x: 0, y: 0, class: 'lbl' }, t.gi + (t.overrides ? '*' : '') + (NSHADOW > 1 ? '/' + t.shadow : ''));\n"
+    "      svg.appendChild(tx);\n"
+    "      var bb = tx.getBBox(), w = bb.width, h = bb.height, best = null, bestOv = Infinity;\n"
+    "      [[8, -6], [8, 4 + h], [-8 - w, -6], [-8 - w, 4 + h], [-w / 2, -9], [-w / 2, 10 + h],\n"
+    "       [8, -6 - h], [8, 4 + 2 * h], [-8 - w, -6 - h], [-8 - w, 4 + 2 * h], [-w / 2, -9 - h], [-w / 2, 10 + 2 * h],\n"
+    "       [14, -6 - 2 * h], [14, 4 + 3 * h], [-14 - w, -6 - 2 * h], [-14 - w, 4 + 3 * h]].forEach(function (d) {\n"
+    "        var x = px + d[0], y = py + d[1];\n"
+    "        var b = { x0: x + bb.x, y0: y + bb.y, x1: x + bb.x + w, y1: y + bb.y + h };\n"
+    "        var ov = b.x0 < 0 || b.x1 > SW || b.y0 < 0 || b.y1 > Bt ? 1e6 : 0;\n"
+    "        boxes.forEach(function (o) { ov += overlap(b, o); });\n"
+    "        if (ov < bestOv) { bestOv = ov; best = { x: x, y: y, b: b }; }\n"
+    "      });\n"
+    "      tx.setAttribute('x', best.x); tx.setAttribute('y', best.y);\n"
+    "      if (bestOv > 0) overlaps++;\n"
+    "      if (Math.abs(best.y - py) > 4 + 2 * h || Math.abs(best.x - px) > 20 + w)\n"
+    "        svg.insertBefore(el('line', { x1: px, y1: py, x2: Math.max(best.b.x0, Math.min(px, best.b.x1)), y2: Math.max(best.b.y0, Math.min(py, best.b.y1)), stroke: '#999' }), svg.firstChild);\n"
+    "      boxes.push(best.b);\n"
+    "    });\n"
+    "    svg.setAttribute('data-label-overlaps', overlaps);\n"
     "    return pts.length;\n"
     "  }\n"
     "  document.getElementById('timesrc').onchange = bars;\n"
@@ -284,11 +312,44 @@ static const char k_app[] =
     "  if (window.benchErrors.length) {\n"
     "    st.textContent = 'errors: ' + window.benchErrors.join('; ');\n"
     "  } else {\n"
-    "    st.textContent = 'ok: ' + T.length + ' techniques, ' + npts + ' points';\n"
+    "    st.textContent = 'ok: ' + T.length + ' techniques, ' + npts + ' points, ' + document.getElementById('scatter').getAttribute('data-label-overlaps') + ' overlapping labels';\n"
     "    document.title = 'ok:' + document.querySelectorAll('#scatter circle.pt').length;\n"
     "  }\n"
     "})();\n"
     "\n";
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+double report_display_exposure(const ImageF *ref, const uint8_t *mask)
+{
+    size_t np = (size_t)ref->width * ref->height, n = 0;
+    float *l = malloc((np ? np : 1) * sizeof(float));
+    if (!l)
+        return 0;
+    double log_sum = 0;
+    for (size_t i = 0; i < np; i++) {
+        if (mask && !mask[i])
+            continue;
+        const float *c = ref->rgb + 3 * i;
+        float y = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+        y = isfinite(y) && y > 0.f ? y : 0.f;
+        l[n++] = y;
+        log_sum += log(1e-4 + y);
+    }
+    double e = 0;
+    if (n > 0) {
+        qsort(l, n, sizeof(float), cmp_float);
+        double p90 = l[(size_t)(0.9 * (double)(n - 1))], peak = l[n - 1];
+        double key = 0.18 / fmax(exp(log_sum / (double)n) - 1e-4, 1e-12);
+        e = p90 > 0 ? fmin(key, 1.0 / p90) : peak > 0 ? 1.0 / peak : 0;
+    }
+    free(l);
+    return e;
+}
 
 /* IEEE half from float, round to nearest even; beyond 65504 saturates. */
 static uint16_t half_from_float(float f)

@@ -10,6 +10,7 @@
 #define RTGI_REPORT_HTML_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include <cjson/cJSON.h>
 
@@ -20,6 +21,14 @@ typedef struct ReportImage {
     const ImageF *img;  /* radiance */
     const float *flip;  /* per-pixel FLIP in [0,1], or NULL */
 } ReportImage;
+
+/* The page's default exposure for a reference (radiance multiplier): a
+ * photographic key, the log-average luminance of the pixels `mask` selects
+ * (all if NULL) at 18% grey, but no brighter than puts their 90th
+ * percentile at white (so at most about a tenth of them clip). 0 if the
+ * image is black. Sponza's sunlit atrium, keyed on its 99th percentile,
+ * left the median pixel at sRGB 0.04; keyed so, at 0.23. */
+double report_display_exposure(const ImageF *ref, const uint8_t *mask);
 
 /* Writes the page atomically; false after logging. */
 bool report_html_write(const char *path, const cJSON *bench, const ReportImage *imgs, int n);

@@ -13,6 +13,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "report_html.h"
 #include "test_util.h"
 #include "util.h"
 
@@ -168,6 +169,58 @@ static void bad_options(void **state)
     assert_int_not_equal(access(DIR "/x", F_OK), 0); /* nothing written */
 }
 
+/* The page's default exposure keys on the mean log luminance: the bench's
+ * reference thumbnail has its median in a sane sRGB range, and a Sponza-like
+ * image (90% dim pixels over two decades, 10% sunlit ones 300x brighter),
+ * which the 99th-percentile rule left at a median of sRGB 0.04, too. */
+static double median_srgb(const ImageF *img, double exposure)
+{
+    int n = img->width * img->height;
+    float *v = malloc((size_t)n * sizeof(float));
+    assert_non_null(v);
+    for (int i = 0; i < n; i++) {
+        const float *c = img->rgb + 3 * i;
+        v[i] = srgb_encode(fminf(1.f, (float)exposure * (0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2])));
+    }
+    for (int i = 1; i < n; i++) /* insertion sort: small images */
+        for (int k = i; k > 0 && v[k - 1] > v[k]; k--) {
+            float t = v[k];
+            v[k] = v[k - 1];
+            v[k - 1] = t;
+        }
+    double m = v[n / 2];
+    free(v);
+    return m;
+}
+
+static void display_exposure(void **state)
+{
+    (void)state;
+    ImageF ref;
+    assert_true(image_read(DIR "/images/reference.png", &ref));
+    double thumb = median_srgb(&ref, 1.0); /* written at the page's default exposure */
+    image_free(&ref);
+    ImageF sponza = {0};
+    assert_true(image_alloc(&sponza, 100, 100));
+    for (int i = 0; i < 100 * 100; i++) {
+        float y = i % 10 == 0 ? 0.3f : 0.001f * powf(10.f, (float)((i * 7919) % 1000) / 1000.f * 2.f - 1.f);
+        for (int c = 0; c < 3; c++)
+            sponza.rgb[3 * i + c] = y;
+    }
+    double e = report_display_exposure(&sponza, NULL);
+    double synth = median_srgb(&sponza, e);
+    int clipped = 0;
+    for (int i = 0; i < 100 * 100; i++)
+        clipped += sponza.rgb[3 * i] * e > 1.0;
+    print_message("median sRGB at the default exposure: Cornell reference %.3f; Sponza-like %.3f "
+                  "(exposure %.3g, %.1f%% clipped; the 99th-percentile rule gave %.3f)\n",
+                  thumb, synth, e, clipped / 100.0, median_srgb(&sponza, 1.0 / 0.3));
+    assert_true(thumb > 0.2 && thumb < 0.75);
+    assert_true(synth > 0.2 && synth < 0.75);
+    assert_true(clipped <= 1100);
+    image_free(&sponza);
+}
+
 /* The page in headless Chromium: no errors, one scatter point per technique. */
 static void report_in_chromium(void **state)
 {
@@ -204,6 +257,11 @@ static void report_in_chromium(void **state)
     assert_non_null(title);
     print_message("%.60s\n", title);
     assert_true(strncmp(title, "<title>ok:3</title>", 19) == 0);
+    /* The scatter's labels were placed clear of each other and the points. */
+    const char *ov = strstr(dom, "data-label-overlaps=\"");
+    assert_non_null(ov);
+    print_message("scatter labels overlapping: %d\n", atoi(ov + 21));
+    assert_int_equal(atoi(ov + 21), 0);
     free(dom);
     /* Chromium logs page errors as "Uncaught ..." console lines. */
     char log[1024];
@@ -228,6 +286,7 @@ int main(void)
         cmocka_unit_test(schema),
         cmocka_unit_test(cache_reused),
         cmocka_unit_test(bad_options),
+        cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -365,7 +365,7 @@ static void timings_section(View *v)
 {
     /* On a software rasterizer the passes' times are wall times fenced by
      * glFinish (see gl_renderer_is_software), as `render --timings` counts them. */
-    ui_text("frame %.1f ms wall, %.1f ms %s (sum of passes)", v->frame_ms, v->gpu_ms, v->pass_wall ? "pass wall" : "GPU");
+    ui_text("frame %.1f ms, passes %.1f ms (%s)", v->frame_ms, v->gpu_ms, v->pass_wall ? "wall" : "GPU");
     const char *headers[] = {"pass", v->pass_wall ? "wall ms" : "GPU ms"};
     if (v->pass_count > 0 && ui_table_begin("passes", 2, headers)) {
         for (int i = 0; i < v->pass_count; i++) {

@@ -70,71 +70,6 @@ void cmd_view_help(void)
     settings_print_help(stdout, "gi");
 }
 
-/* The options only `view` has, taken out of argv before the shared parser. */
-typedef struct ViewOptions {
-    const char *compare;    /* --compare FILE */
-    const char *ui_test;    /* --ui-test DIR */
-    const char *window_out; /* --window-out FILE.png */
-    double slow_ms;         /* --slow-ms */
-    bool no_panel;
-} ViewOptions;
-
-/* Takes view's own options out of argv (both "--opt value" and
- * "--opt=value"); refuses render's options that a window has no use for.
- * 0: go on, else an exit status (2). */
-static int view_options_take(ViewOptions *vo, int *argc, char **argv)
-{
-    static const char *const render_only[] = {"--png", "--timings", "--warmup", "--probe", "--emitter-mask", NULL};
-    static const char *const own[] = {"--compare", "--ui-test", "--window-out", "--slow-ms", NULL};
-    int n = 0;
-    for (int i = 0; i < *argc; i++) {
-        const char *a = argv[i];
-        size_t len = strcspn(a, "=");
-        for (int k = 0; render_only[k]; k++)
-            if (strlen(render_only[k]) == len && !strncmp(a, render_only[k], len)) {
-                log_error("cli", "view: %.*s is an option of 'rtgi render' (see rtgi view --help)", (int)len, a);
-                return 2;
-            }
-        if (!strcmp(a, "--no-panel")) {
-            vo->no_panel = true;
-            continue;
-        }
-        int which = -1;
-        for (int k = 0; own[k]; k++)
-            if (strlen(own[k]) == len && !strncmp(a, own[k], len))
-                which = k;
-        if (which < 0) {
-            argv[n++] = argv[i];
-            continue;
-        }
-        const char *value = a[len] == '=' ? a + len + 1 : (i + 1 < *argc ? argv[++i] : NULL);
-        if (!value || !*value) {
-            log_error("cli", "%s needs a value", own[which]);
-            return 2;
-        }
-        if (which == 0) {
-            vo->compare = value;
-        } else if (which == 1) {
-            vo->ui_test = value;
-        } else if (which == 2) {
-            if (!util_ends_with(value, ".png")) {
-                log_error("cli", "--window-out: '%s' must end in .png", value);
-                return 2;
-            }
-            vo->window_out = value;
-        } else {
-            char *end;
-            vo->slow_ms = strtod(value, &end);
-            if (*end || !(vo->slow_ms > 0) || !isfinite(vo->slow_ms)) {
-                log_error("cli", "--slow-ms: '%s' is not a positive number of milliseconds", value);
-                return 2;
-            }
-        }
-    }
-    *argc = n;
-    return 0;
-}
-
 /* ---- Input ------------------------------------------------------------------ */
 
 static void view_set_angles(View *v, const Camera *c)
@@ -277,13 +212,9 @@ static void view_move(View *v, GLFWwindow *w, float dt)
 
 int cmd_view(int argc, char **argv)
 {
-    ViewOptions vo = {.slow_ms = 1000.0};
-    int rc = view_options_take(&vo, &argc, argv);
-    if (rc != 0)
-        return rc;
     RenderOptions o;
     render_options_init(&o, true);
-    rc = render_options_parse(&o, argc, argv, cmd_view_help);
+    int rc = render_options_parse(&o, argc, argv, cmd_view_help);
     if (rc != 0)
         return rc < 0 ? 0 : rc;
     Scene scene;
@@ -309,7 +240,7 @@ int cmd_view(int argc, char **argv)
         return 1;
     }
     glfwMakeContextCurrent(win);
-    glfwSwapInterval(o.frames > 0 || vo.ui_test ? 0 : 1);
+    glfwSwapInterval(o.frames > 0 || o.ui_test ? 0 : 1);
     if (o.debug)
         gl_install_debug_callback();
 
@@ -318,12 +249,12 @@ int cmd_view(int argc, char **argv)
     memset(&v, 0, sizeof v);
     v.scene = &scene;
     v.renderer = &r;
-    v.slow_ms = vo.slow_ms;
+    v.slow_ms = o.slow_ms;
     v.pending_gi = -1;
     v.ab_rmse = -1;
-    v.show_panel = !vo.no_panel;
+    v.show_panel = !o.no_panel;
     snprintf(v.shot_path, sizeof v.shot_path, "%s", o.out ? o.out : "out/view.png");
-    snprintf(v.window_path, sizeof v.window_path, "%s", vo.window_out ? vo.window_out : "out/window.png");
+    snprintf(v.window_path, sizeof v.window_path, "%s", o.window_out ? o.window_out : "out/window.png");
     render_options_settings(&o, &scene, &v.settings);
     v.settings.timings = true;
     v.settings.cache = true; /* the window's common case: lights still, camera moving */
@@ -345,8 +276,8 @@ int cmd_view(int argc, char **argv)
     AbView ab;
     bool ok = ui_create(win);
     bool have_ab = false;
-    if (ok && vo.compare) {
-        ok = have_ab = ab_view_create(&ab, vo.compare);
+    if (ok && o.compare) {
+        ok = have_ab = ab_view_create(&ab, o.compare);
         v.ab = have_ab ? &ab : NULL;
         if (have_ab && v.show_panel) /* the split starts mid-way across the image beside the panel */
             ab.split = 0.5f + (6.f + view_panel_width(o.width)) / (2.f * (float)o.width);
@@ -355,7 +286,7 @@ int cmd_view(int argc, char **argv)
     if (ok)
         ok = renderer_create(&r, &scene, &v.settings);
     log_set_hook(on_log, &v);
-    ViewScript script = {.dir = vo.ui_test};
+    ViewScript script = {.dir = o.ui_test};
     int frame = 0, interval_frames = 0;
     bool interval_clean = false; /* no remake, reload or first frame in the interval: its time is a cost */
     double last = glfwGetTime(), interval_start = last;
@@ -399,7 +330,7 @@ int cmd_view(int argc, char **argv)
         ui_frame_begin();
         view_panel_draw(&v, fw, fh);
         ui_frame_end();
-        if (vo.window_out && o.frames > 0 && frame == o.frames - 1)
+        if (o.window_out && o.frames > 0 && frame == o.frames - 1)
             v.window_shot = true; /* scripted: the last frame's window */
         if (v.window_shot) {
             view_save_window(&v, v.window_path, fw, fh);

@@ -2,7 +2,9 @@
 #include "render_options.h"
 
 #include <assert.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -74,23 +76,40 @@ void render_options_init(RenderOptions *o, bool view)
     o->view = view;
     assert(settings_count <= (int)(sizeof o->given / sizeof o->given[0]));
     o->warmup = 1;
+    o->slow_ms = 1000.0;
 }
 
-/* The options `render` and `view` know, the settings table's included
- * (for "did you mean"). */
-static const char *const *known_options(void)
+/* The options only one of the two commands takes. */
+static const char *const k_render_only[] = {"--emitter-mask", "--png", "--probe", "--timings", "--warmup", NULL};
+static const char *const k_view_only[] = {"--compare", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
+
+static bool in_list(const char *opt, const char *const *list)
 {
-    static const char *const own[] = {"--aa", "--debug", "--emitter-mask", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--out-ao", "--png", "--probe", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--timings", "--verbose", "--warmup", NULL};
-    static const char *all[128];
-    if (!all[0]) {
+    for (int i = 0; list[i]; i++)
+        if (!strcmp(opt, list[i]))
+            return true;
+    return false;
+}
+
+/* The options `render` (view false) or `view` knows, the settings table's
+ * included (for "did you mean"). */
+static const char *const *known_options(bool view)
+{
+    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--verbose", NULL};
+    static const char *all[2][128];
+    const char **list = all[view];
+    if (!list[0]) {
         int n = 0;
+        for (int i = 0; shared[i] && n < 127; i++)
+            list[n++] = shared[i];
+        const char *const *own = view ? k_view_only : k_render_only;
         for (int i = 0; own[i] && n < 127; i++)
-            all[n++] = own[i];
+            list[n++] = own[i];
         for (int i = 0; i < settings_count && n < 127; i++)
-            all[n++] = settings_table[i].option;
-        all[n] = NULL;
+            list[n++] = settings_table[i].option;
+        list[n] = NULL;
     }
-    return all;
+    return list;
 }
 
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void))
@@ -102,6 +121,34 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             help();
             return -1;
+        } else if (in_list(opt, o->view ? k_render_only : k_view_only)) {
+            const char *cmd = o->view ? "view" : "render";
+            log_error("cli", "%s: %s is an option of 'rtgi %s' (see rtgi %s --help)", cmd, opt,
+                      o->view ? "render" : "view", cmd);
+            return 2;
+        } else if (!strcmp(opt, "--compare")) {
+            CLI_VALUE(&a, v);
+            o->compare = v;
+        } else if (!strcmp(opt, "--ui-test")) {
+            CLI_VALUE(&a, v);
+            o->ui_test = v;
+        } else if (!strcmp(opt, "--window-out")) {
+            CLI_VALUE(&a, v);
+            if (!util_ends_with(v, ".png")) {
+                log_error("cli", "--window-out: '%s' must end in .png", v);
+                return 2;
+            }
+            o->window_out = v;
+        } else if (!strcmp(opt, "--slow-ms")) {
+            CLI_VALUE(&a, v);
+            char *end;
+            o->slow_ms = strtod(v, &end);
+            if (*end || !(o->slow_ms > 0) || !isfinite(o->slow_ms)) {
+                log_error("cli", "--slow-ms: '%s' is not a positive number of milliseconds", v);
+                return 2;
+            }
+        } else if (!strcmp(opt, "--no-panel")) {
+            o->no_panel = true;
         } else if (!strcmp(opt, "--scene")) {
             CLI_VALUE(&a, v);
             o->scene = v;
@@ -190,7 +237,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
             o->given[setting - settings_table] = true;
         } else {
-            cli_unknown_option(o->view ? "view" : "render", opt, known_options());
+            cli_unknown_option(o->view ? "view" : "render", opt, known_options(o->view));
             return 2;
         }
     }

@@ -28,6 +28,13 @@ typedef struct RenderOptions {
     bool view;         /* the options of `rtgi view` (else `rtgi render`) */
     const char *emitter_mask; /* --emitter-mask FILE.png: the pixels that see an emitter (for compare) */
     const char *out_ao; /* --out-ao FILE.pfm|FILE.png: ambient visibility of --gi vct (--vct-ao on) */
+    /* `rtgi view` only (the parser refuses them for render, and render's
+     * --png, --timings, --warmup, --probe, --emitter-mask for view): */
+    const char *compare;    /* --compare FILE: the A/B view's reference, or NULL */
+    const char *ui_test;    /* --ui-test DIR: the window test's script, or NULL */
+    const char *window_out; /* --window-out FILE.png: what Shift-P saves, or NULL */
+    double slow_ms;         /* --slow-ms: techniques estimated above need a click (1000) */
+    bool no_panel;          /* --no-panel: start with the panel hidden */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */
 } RenderOptions;

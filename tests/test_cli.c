@@ -331,6 +331,27 @@ static void cli_conventions(void **state)
     test_expect_cli_error(rc, err, 2, "--gi", "did you mean 'rsm'");
     rc = test_run_cli(&err, "render", "--scene", "cornel", NULL);
     test_expect_cli_error(rc, err, 1, "cornel", "did you mean 'cornell'");
+    /* view's own options go through the same parser: their typos get a
+     * suggestion, and each command names the other's options as such. */
+    static const char *const view_typos[][2] = {{"--compair", "--compare"},     {"--window-outt", "--window-out"},
+                                                {"--slow-m", "--slow-ms"},      {"--no-pannel", "--no-panel"},
+                                                {"--ui-tests", "--ui-test"}};
+    for (size_t i = 0; i < sizeof view_typos / sizeof view_typos[0]; i++) {
+        char want[64];
+        snprintf(want, sizeof want, "did you mean '%s'", view_typos[i][1]);
+        rc = test_run_cli(&err, "view", view_typos[i][0], "x", NULL);
+        test_expect_cli_error(rc, err, 2, "view: unknown option", want);
+    }
+    rc = test_run_cli(&err, "view", "--slow-ms=0", NULL);
+    test_expect_cli_error(rc, err, 2, "--slow-ms", "positive");
+    rc = test_run_cli(&err, "view", "--no-panel=1", NULL);
+    test_expect_cli_error(rc, err, 2, "--no-panel", "takes no value");
+    rc = test_run_cli(&err, "view", "--window-out", "w.jpg", NULL);
+    test_expect_cli_error(rc, err, 2, "--window-out", ".png");
+    rc = test_run_cli(&err, "render", "--compare", "ref.pfm", NULL);
+    test_expect_cli_error(rc, err, 2, "--compare", "option of 'rtgi view'");
+    rc = test_run_cli(&err, "render", "--timing", NULL);
+    test_expect_cli_error(rc, err, 2, "render: unknown option", "did you mean '--timings'");
     rc = test_run_cli(&err, "reference", "--sppp", "4", NULL);
     test_expect_cli_error(rc, err, 2, "reference: unknown option", "did you mean '--spp'");
     rc = test_run_cli(&err, "compare", "a.pfm", "b.pfm", "--mask-emiters", "m.png", NULL);

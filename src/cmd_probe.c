@@ -14,7 +14,7 @@ void cmd_probe_help(void)
     printf("usage: rtgi probe [--json FILE]\n"
            "Measures evaluations per second of the VPL irradiance arithmetic with 0-3 texture\n"
            "fetches per sample from 2D and cube maps (shaders/probe/probe.comp), best of 3.\n"
-           "  --json FILE   also write the result (for render --timings --probe FILE)\n");
+           "  --json FILE   also write the result (for render --timings --probe FILE); -: stdout, the text to stderr\n");
 }
 
 /* The options this command knows (for "did you mean"). */
@@ -44,8 +44,10 @@ int cmd_probe(int argc, char **argv)
     ProbeResult r;
     bool ok = probe_run(&r);
     if (ok) {
-        printf("renderer: %s\n", gl_context_renderer(gl));
-        probe_print(&r);
+        /* `--json -`: the JSON alone on stdout, the text on stderr. */
+        FILE *text = json && !strcmp(json, "-") ? stderr : stdout;
+        fprintf(text, "renderer: %s\n", gl_context_renderer(gl));
+        probe_print(text, &r);
         if (json)
             ok = probe_write_json(json, &r);
     }

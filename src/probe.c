@@ -127,14 +127,14 @@ double probe_bound(const ProbeResult *r, bool vpl, bool cube, double from_list)
     return 1.0 / ((1.0 - from_list) / tex + from_list / r->evals_ssbo);
 }
 
-void probe_print(const ProbeResult *r)
+void probe_print(FILE *out, const ProbeResult *r)
 {
-    printf("probe_arith_evals_per_s: %.4g\n", r->evals_2d[0]);
+    fprintf(out, "probe_arith_evals_per_s: %.4g\n", r->evals_2d[0]);
     for (int f = 1; f <= 3; f++)
-        printf("probe_2d_fetch%d_evals_per_s: %.4g\n", f, r->evals_2d[f]);
+        fprintf(out, "probe_2d_fetch%d_evals_per_s: %.4g\n", f, r->evals_2d[f]);
     for (int f = 1; f <= 3; f++)
-        printf("probe_cube_fetch%d_evals_per_s: %.4g\n", f, r->evals_cube[f]);
-    printf("probe_ssbo_vpl_evals_per_s: %.4g\n", r->evals_ssbo);
+        fprintf(out, "probe_cube_fetch%d_evals_per_s: %.4g\n", f, r->evals_cube[f]);
+    fprintf(out, "probe_ssbo_vpl_evals_per_s: %.4g\n", r->evals_ssbo);
 }
 
 bool probe_write_json(const char *path, const ProbeResult *r)
@@ -145,9 +145,10 @@ bool probe_write_json(const char *path, const ProbeResult *r)
     cJSON_AddNumberToObject(o, "evals_ssbo", r->evals_ssbo);
     char *text = cJSON_Print(o);
     cJSON_Delete(o);
-    FILE *f = text ? fopen(path, "w") : NULL;
-    bool ok = f && fputs(text, f) >= 0;
-    ok = f && fclose(f) == 0 && ok;
+    bool to_stdout = !strcmp(path, "-");
+    FILE *f = !text ? NULL : to_stdout ? stdout : fopen(path, "w");
+    bool ok = f && fputs(text, f) >= 0 && (!to_stdout || fputc('\n', f) != EOF);
+    ok = f && (to_stdout ? fflush(f) == 0 : fclose(f) == 0) && ok;
     free(text);
     if (!ok)
         log_error("probe", "%s: cannot write the probe result", path);

@@ -7,6 +7,7 @@
 #define RTGI_PROBE_H
 
 #include <stdbool.h>
+#include <stdio.h>
 
 /* Texture fetches per RSM gather sample (shaders/common/rsm_surfel.glsl:
  * surfel + flux): the probe kernel that bounds the gathers. */
@@ -29,6 +30,6 @@ bool probe_run(ProbeResult *out);
 bool probe_write_json(const char *path, const ProbeResult *r);
 bool probe_read_json(const char *path, ProbeResult *r);
 /* Prints "probe_<map>_fetch<N>_evals_per_s: X" lines. */
-void probe_print(const ProbeResult *r);
+void probe_print(FILE *out, const ProbeResult *r);
 
 #endif

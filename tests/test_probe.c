@@ -1,12 +1,14 @@
 /* test_probe.c — `rtgi probe`: every kernel runs and reports a positive
  * rate, the JSON result round-trips, and
- * `--timings --probe run` states a gather's fraction of its bound. */
+ * `--timings --probe run` states a gather's fraction of its bound;
+ * `--json -` writes the JSON alone on stdout. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "probe.h"
 #include "test_util.h"
+#include "util.h"
 
 static void probe_measures_and_round_trips(void **state)
 {
@@ -57,11 +59,38 @@ static void timings_state_the_fraction(void **state)
     assert_null(strstr(text, "steady_rsm_ms"));
 }
 
+/* `rtgi probe --json -`: the JSON alone on stdout (it parses as the
+ * result), the text lines on stderr. */
+static void json_to_stdout(void **state)
+{
+    (void)state;
+    char cmd[1400], errpath[600];
+    snprintf(errpath, sizeof errpath, "%s/probe_stderr.txt", RTGI_TEST_TMP);
+    snprintf(cmd, sizeof cmd, "%s probe --json - 2>%s", RTGI_BINARY, errpath);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    static char text[8192];
+    size_t len = fread(text, 1, sizeof text - 1, p);
+    text[len] = 0;
+    assert_int_equal(pclose(p), 0);
+    const char *path = test_tmp_file("probe_stdout.json", text);
+    ProbeResult r;
+    if (!probe_read_json(path, &r))
+        fail_msg("probe --json -: stdout is not the probe's JSON: %s", text);
+    assert_true(r.evals_ssbo > 0);
+    char *err = util_read_file(errpath, NULL);
+    assert_non_null(err);
+    assert_non_null(strstr(err, "probe_ssbo_vpl_evals_per_s: "));
+    assert_null(strstr(text, "evals_per_s:"));
+    free(err);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(probe_measures_and_round_trips),
         cmocka_unit_test(timings_state_the_fraction),
+        cmocka_unit_test(json_to_stdout),
     };
     return cmocka_run_group_tests_name("probe", tests, test_gl_setup, test_gl_teardown);
 }

@@ -350,7 +350,8 @@ int cmd_view(int argc, char **argv)
             render_options_print_timings(&r, (const char *)glGetString(GL_RENDERER), v.frame_ms);
             v.print_timings = false;
         }
-        if ((end - interval_start > 0.5 || interval_frames >= 30) && r.timer.frames > 0) {
+        bool script_timing = script.dir && frame < 3; /* the script's table holds frames 1-2 */
+        if ((end - interval_start > 0.5 || interval_frames >= 30) && r.timer.frames > 0 && !script_timing) {
             view_record_timings(&v, 1e3 * (end - interval_start) / interval_frames, interval_clean);
             char title[768];
             snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms/frame — H: panel", scene.source,

@@ -296,22 +296,13 @@ static int parse_steady(const char *out, char names[][32], double *ms, int cap)
     return n;
 }
 
-/* The panel's per-pass table against `render --timings` of the same frame:
- * the same passes, and none credited with another's time (on llvmpipe,
- * unfenced timestamps put rsm-interp's compute passes in the wrong rows:
- * 1806 ms for rsm_interp against 19 ms headless). Timings on a shared
- * machine are noisy: each pass within a factor 8, plus 0.25 ms. */
-static void timings_match_render(void **state)
+/* One measurement: `render --timings` then the window's table. Pass names
+ * must match (a failure); returns how many passes' times are out of bounds. */
+static int timings_attempt(const char *dir, const char *size)
 {
-    (void)state;
-    char dir[600], cmd[4096], size[32];
-    snprintf(dir, sizeof dir, "%s/view_timings", RTGI_TEST_TMP);
-    snprintf(size, sizeof size, "%dx%d", W, H);
+    char cmd[4096];
     snprintf(cmd, sizeof cmd, "'%s' render --gi rsm-interp --size %s --aa fxaa --timings --out '%s/render.pfm' 2>&1",
              RTGI_BINARY, size, dir);
-    char parent[700];
-    snprintf(parent, sizeof parent, "%s/x", dir);
-    util_ensure_parent_dir(parent);
     static char out[65536];
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
@@ -337,7 +328,7 @@ static void timings_match_render(void **state)
     const char *eol = strchr(t, '\n');
     assert_non_null(eol);
     print_message("window: %.*s\n", (int)(eol - t), t);
-    int seen = 0;
+    int seen = 0, bad = 0;
     for (const char *q = strchr(t, ' '); q && q < eol; q = strchr(q + 1, ' ')) {
         char name[64];
         double w;
@@ -350,11 +341,35 @@ static void timings_match_render(void **state)
         if (k < 0)
             fail_msg("the window's pass '%s' is not among render --timings' steady passes", name);
         seen++;
-        print_message("  %-24s window %9.3f ms, render %9.3f ms\n", name, w, ms[k]);
-        if (!(w <= 8.0 * ms[k] + 0.25 && w >= ms[k] / 8.0 - 0.25))
-            fail_msg("pass %s: %.3f ms in the window, %.3f ms in render --timings", name, w, ms[k]);
+        bool ok = w <= 8.0 * ms[k] + 0.25 && w >= ms[k] / 8.0 - 0.25;
+        bad += !ok;
+        print_message("  %-24s window %9.3f ms, render %9.3f ms%s\n", name, w, ms[k], ok ? "" : "  <- out of bounds");
     }
     assert_int_equal(seen, count); /* every pass of render's frame, and no other */
+    return bad;
+}
+
+/* The panel's per-pass table against `render --timings` of the same frame:
+ * the same passes, and none credited with another's time (on llvmpipe,
+ * unfenced timestamps put rsm-interp's compute passes in the wrong rows:
+ * 1806 ms for rsm_interp against 19 ms headless; 0.06 ms against 3.8 ms
+ * here). Wall times on a shared machine are noisy (a descheduled process
+ * stretches a 0.4 ms pass tenfold): each pass within a factor 8, plus
+ * 0.25 ms, measured again (up to twice) while any is out of bounds. */
+static void timings_match_render(void **state)
+{
+    (void)state;
+    char dir[600], size[32], parent[700];
+    snprintf(dir, sizeof dir, "%s/view_timings", RTGI_TEST_TMP);
+    snprintf(size, sizeof size, "%dx%d", W, H);
+    snprintf(parent, sizeof parent, "%s/x", dir);
+    util_ensure_parent_dir(parent);
+    int bad = timings_attempt(dir, size);
+    for (int again = 0; bad > 0 && again < 2; again++) {
+        print_message("%d pass(es) out of bounds; measuring again\n", bad);
+        bad = timings_attempt(dir, size);
+    }
+    assert_int_equal(bad, 0);
 }
 
 static void help_and_options(void **state)

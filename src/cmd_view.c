@@ -347,7 +347,9 @@ int cmd_view(int argc, char **argv)
         interval_frames++;
         double end = glfwGetTime();
         if (v.print_timings) {
-            render_options_print_timings(&r, (const char *)glGetString(GL_RENDERER), v.frame_ms);
+            /* Before the first interval is measured: this frame's wall time. */
+            render_options_print_timings(&r, (const char *)glGetString(GL_RENDERER),
+                                         v.frame_ms > 0 ? v.frame_ms : 1e3 * (end - now));
             v.print_timings = false;
         }
         bool script_timing = script.dir && frame < 3; /* the script's table holds frames 1-2 */

@@ -430,7 +430,7 @@ int cmd_bench(int argc, char **argv)
     base_given[vpls - settings_table] = true;
 
     CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt, *v;
+    const char *opt, *v = NULL;
     while ((opt = cli_next(&a))) {
         const SettingDesc *d;
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
@@ -531,8 +531,11 @@ int cmd_bench(int argc, char **argv)
                 return 2;
             e->shadow = shadow;
             const char *gname = gi_technique_names()[e->gi];
-            snprintf(e->label, sizeof e->label, "%s + %s%s%s%s", sh, gname, e->overrides[0] ? " (" : "",
-                     e->overrides, e->overrides[0] ? ")" : "");
+            if (e->overrides[0])
+                snprintf(e->label, sizeof e->label, "%s + %s (%.*s)", sh, gname, (int)sizeof e->overrides,
+                         e->overrides);
+            else
+                snprintf(e->label, sizeof e->label, "%s + %s", sh, gname);
             snprintf(e->id, sizeof e->id, "e%02d_%s_%s", n, sh, gname);
             n++;
         }

@@ -531,11 +531,10 @@ int cmd_bench(int argc, char **argv)
                 return 2;
             e->shadow = shadow;
             const char *gname = gi_technique_names()[e->gi];
-            if (e->overrides[0])
-                snprintf(e->label, sizeof e->label, "%s + %s (%.*s)", sh, gname, (int)sizeof e->overrides,
-                         e->overrides);
-            else
-                snprintf(e->label, sizeof e->label, "%s + %s", sh, gname);
+            char overrides[sizeof e->overrides]; /* a copy: GCC's -Wrestrict sees one object */
+            memcpy(overrides, e->overrides, sizeof overrides);
+            snprintf(e->label, sizeof e->label, "%s + %s%s%s%s", sh, gname, overrides[0] ? " (" : "", overrides,
+                     overrides[0] ? ")" : "");
             snprintf(e->id, sizeof e->id, "e%02d_%s_%s", n, sh, gname);
             n++;
         }

@@ -15,8 +15,8 @@ struct ShadowCoord {
 
 // A program built for one light type (LIGHT_FIXED_TYPE, see
 // common/lights.glsl) also knows its map kind: cube maps for point and quad
-// lights (shadow_frame_compute). SHADOW_FIXED_MODE likewise fixes u_shadow's
-// mode to drop the other filters' code.
+// lights (shadow_frame_compute). SHADOW_FIXED_MODE and SHADOW_FIXED_BIAS
+// likewise fix u_shadow's mode and filter bias to drop the other filters' code.
 bool shadow_is_cube()
 {
 #ifdef LIGHT_FIXED_TYPE
@@ -26,6 +26,14 @@ bool shadow_is_cube()
 #endif
 }
 bool shadow_is_ortho() { return light_type(u_light) == LIGHT_DIRECTIONAL; }
+int shadow_filter_bias()
+{
+#ifdef SHADOW_FIXED_BIAS
+    return SHADOW_FIXED_BIAS;
+#else
+    return u_shadow.filter_bias;
+#endif
+}
 int shadow_mode()
 {
 #ifdef SHADOW_FIXED_MODE
@@ -85,7 +93,7 @@ float shadow_fetch(ShadowCoord sc, vec2 o)
 // ceiling a few centimetres away and darken the walls under it.
 float shadow_fetch_filter(ShadowCoord sc, vec2 o)
 {
-    if (u_shadow.filter_bias != SHADOW_BIAS_LEGACY && light_type(u_light) == LIGHT_QUAD) {
+    if (shadow_filter_bias() != SHADOW_BIAS_LEGACY && light_type(u_light) == LIGHT_QUAD) {
         vec3 d = sc.dir + (sc.t * o.x + sc.b * o.y) * u_light.shadow_info.y;
         if (dot(d, u_light.direction_width.xyz) <= 0.0)
             return 1e30;
@@ -181,7 +189,7 @@ ShadowRef shadow_ref(ShadowCoord sc, vec2 g, float cos_theta, float radius)
 {
     ShadowRef r;
     r.frac = vec2(-1.0);
-    if (u_shadow.filter_bias == SHADOW_BIAS_LEGACY) {
+    if (shadow_filter_bias() == SHADOW_BIAS_LEGACY) {
         r.d = sc.d - shadow_bias(sc.d, cos_theta, radius);
         r.g = vec2(0.0);
     } else if (shadow_is_cube()) {
@@ -247,7 +255,7 @@ float shadow_pcss(ShadowCoord sc, vec2 g, float cos_theta, float angle)
     float radius = clamp(0.5 * w_p / shadow_texel(sc.d), 1.0, max_r);
     // Receiver-plane mode: the filter's disk is turned by the golden angle
     // against the search's, so the two do not share one pattern's gaps.
-    float turn = u_shadow.filter_bias == SHADOW_BIAS_LEGACY ? 0.0 : 2.39996323;
+    float turn = shadow_filter_bias() == SHADOW_BIAS_LEGACY ? 0.0 : 2.39996323;
     return shadow_pcf(sc, g, radius, cos_theta, angle + turn);
 }
 
@@ -268,7 +276,7 @@ float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
     // 2014): on the best-candidate disk it leaves fine grain, where on the
     // legacy spiral it drew a hatching (a turned spiral is a shifted one).
     float angle = TWO_PI * ign(pixel);
-    vec2 g = u_shadow.filter_bias == SHADOW_BIAS_LEGACY ? vec2(0.0) : shadow_receiver_gradient(sc, xo, n);
+    vec2 g = shadow_filter_bias() == SHADOW_BIAS_LEGACY ? vec2(0.0) : shadow_receiver_gradient(sc, xo, n);
     if (mode == SHADOW_PCF)
         return shadow_pcf(sc, g, u_shadow.pcf_radius, cos_theta, angle);
     return shadow_pcss(sc, g, cos_theta, angle);

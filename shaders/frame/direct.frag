@@ -81,7 +81,11 @@ void main()
     vec3 radiance = vec3(0.0);
     bool polygon = light_type(u_light) == LIGHT_QUAD && u_area_light == AREA_LIGHT_EXACT &&
                    u_light.quad_v.w > 0.0;
+#ifdef DIRECT_DIFFUSE_ONLY
+    bool glossy = false; // no material of the scene has F0 > 0 (pass_direct.c)
+#else
     bool glossy = max(spec.r, max(spec.g, spec.b)) > 0.0;
+#endif
     if (polygon) {
         // One-sided: nothing behind the emitting plane.
         vec3 lc = u_light.position_type.xyz;

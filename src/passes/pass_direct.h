@@ -31,7 +31,8 @@ typedef struct PassDirect {
     GLuint shadow_ubo; /* GpuShadowParams */
     GLuint vao; /* borrowed empty vertex array */
     int area_light; /* AreaLightMode of quad lights */
-    ShadowMode mode;
+    ShadowMode mode;  /* and */
+    int filter_bias;  /* ShadowFilterBias: what the variants are built for */
 } PassDirect;
 
 /* Its program comes from `pc`; `vao` is an empty vertex array (borrowed). */

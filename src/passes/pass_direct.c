@@ -111,6 +111,8 @@ void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *
  * cache). */
 static GLuint direct_program(PassDirect *p, const Scene *s, const Light *l)
 {
+    if (p->general)
+        return p->program;
     /* A scene whose materials all have F0 = 0 (no metal, no dielectric
      * specular weight: brdf_surface) has no glossy pixel either. */
     bool diffuse_only = true;

@@ -33,6 +33,7 @@ typedef struct PassDirect {
     int area_light; /* AreaLightMode of quad lights */
     ShadowMode mode;  /* and */
     int filter_bias;  /* ShadowFilterBias: what the variants are built for */
+    bool general;     /* draw every light with `program` (tests compare the variants with it) */
 } PassDirect;
 
 /* Its program comes from `pc`; `vao` is an empty vertex array (borrowed). */

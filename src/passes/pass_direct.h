@@ -7,7 +7,7 @@
  * light), shadow parameters.
  * Output: HDR radiance target (RGBA32F): the first light written, the
  * others blended additively.
- * Owns: the shadow-parameter uniform buffer (its program is the program
+ * Owns: the shadow-parameter uniform buffer (its programs are the program
  * cache's, its empty VAO the renderer's). */
 #ifndef RTGI_PASS_DIRECT_H
 #define RTGI_PASS_DIRECT_H
@@ -31,8 +31,8 @@ typedef struct PassDirect {
     GLuint shadow_ubo; /* GpuShadowParams */
     GLuint vao; /* borrowed empty vertex array */
     int area_light; /* AreaLightMode of quad lights */
-    ShadowMode mode;  /* and */
-    int filter_bias;  /* ShadowFilterBias: what the variants are built for */
+    ShadowMode mode;  /* the shadow mode and */
+    int filter_bias;  /* ShadowFilterBias the variants are built for */
     bool general;     /* draw every light with `program` (tests compare the variants with it) */
 } PassDirect;
 

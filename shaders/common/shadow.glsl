@@ -13,8 +13,35 @@ struct ShadowCoord {
     vec3 t, b; // cube: tangent frame of dir
 };
 
-bool shadow_is_cube() { return u_light.shadow_info.w > 0.5; }
-bool shadow_is_ortho() { return int(u_light.position_type.w) == LIGHT_DIRECTIONAL; }
+// A program built for one light type (LIGHT_FIXED_TYPE, see
+// common/lights.glsl) also knows its map kind: cube maps for point and quad
+// lights (shadow_frame_compute). SHADOW_FIXED_MODE and SHADOW_FIXED_BIAS
+// likewise fix u_shadow's mode and filter bias to drop the other filters' code.
+bool shadow_is_cube()
+{
+#ifdef LIGHT_FIXED_TYPE
+    return LIGHT_FIXED_TYPE == LIGHT_POINT || LIGHT_FIXED_TYPE == LIGHT_QUAD;
+#else
+    return u_light.shadow_info.w > 0.5;
+#endif
+}
+bool shadow_is_ortho() { return light_type(u_light) == LIGHT_DIRECTIONAL; }
+int shadow_filter_bias()
+{
+#ifdef SHADOW_FIXED_BIAS
+    return SHADOW_FIXED_BIAS;
+#else
+    return u_shadow.filter_bias;
+#endif
+}
+int shadow_mode()
+{
+#ifdef SHADOW_FIXED_MODE
+    return SHADOW_FIXED_MODE;
+#else
+    return u_shadow.mode;
+#endif
+}
 
 // World size of one shadow-map texel at distance d from the light.
 float shadow_texel(float d)
@@ -66,7 +93,7 @@ float shadow_fetch(ShadowCoord sc, vec2 o)
 // ceiling a few centimetres away and darken the walls under it.
 float shadow_fetch_filter(ShadowCoord sc, vec2 o)
 {
-    if (u_shadow.filter_bias != SHADOW_BIAS_LEGACY && int(u_light.position_type.w) == LIGHT_QUAD) {
+    if (shadow_filter_bias() != SHADOW_BIAS_LEGACY && light_type(u_light) == LIGHT_QUAD) {
         vec3 d = sc.dir + (sc.t * o.x + sc.b * o.y) * u_light.shadow_info.y;
         if (dot(d, u_light.direction_width.xyz) <= 0.0)
             return 1e30;
@@ -124,11 +151,12 @@ vec2 shadow_receiver_gradient(ShadowCoord sc, vec3 x, vec3 n)
     return len > cap ? g * (cap / len) : g;
 }
 
-vec2 shadow_poisson(int i, float angle)
+// Sample i of the disk turned by the angle whose (cos, sin) is cs (taken
+// once per pixel, outside the filters' loops).
+vec2 shadow_poisson(int i, vec2 cs)
 {
     vec2 p = u_shadow.poisson[i].xy;
-    float c = cos(angle), s = sin(angle);
-    return vec2(c * p.x - s * p.y, s * p.x + c * p.y);
+    return vec2(cs.x * p.x - cs.y * p.y, cs.y * p.x + cs.x * p.y);
 }
 
 // Per-sample depth test reference: the receiver minus the bias (legacy), or
@@ -161,7 +189,7 @@ ShadowRef shadow_ref(ShadowCoord sc, vec2 g, float cos_theta, float radius)
 {
     ShadowRef r;
     r.frac = vec2(-1.0);
-    if (u_shadow.filter_bias == SHADOW_BIAS_LEGACY) {
+    if (shadow_filter_bias() == SHADOW_BIAS_LEGACY) {
         r.d = sc.d - shadow_bias(sc.d, cos_theta, radius);
         r.g = vec2(0.0);
     } else if (shadow_is_cube()) {
@@ -184,9 +212,10 @@ float shadow_pcf(ShadowCoord sc, vec2 g, float radius, float cos_theta, float an
 {
     int n = u_shadow.pcf_samples;
     ShadowRef r = shadow_ref(sc, g, cos_theta, radius);
+    vec2 cs = vec2(cos(angle), sin(angle));
     float lit = 0.0;
     for (int i = 0; i < n; i++) {
-        vec2 o = shadow_ref_offset(r, shadow_poisson(i, angle) * radius);
+        vec2 o = shadow_ref_offset(r, shadow_poisson(i, cs) * radius);
         lit += shadow_fetch_filter(sc, o) >= shadow_ref_at(r, o) ? 1.0 : 0.0;
     }
     return lit / float(n);
@@ -208,8 +237,9 @@ float shadow_pcss(ShadowCoord sc, vec2 g, float cos_theta, float angle)
     ShadowRef r = shadow_ref(sc, g, cos_theta, search);
     float sum = 0.0;
     int count = 0;
+    vec2 cs = vec2(cos(angle), sin(angle));
     for (int i = 0; i < nb; i++) {
-        vec2 o = shadow_ref_offset(r, shadow_poisson(i, angle) * search);
+        vec2 o = shadow_ref_offset(r, shadow_poisson(i, cs) * search);
         float z = shadow_fetch_filter(sc, o);
         if (z < shadow_ref_at(r, o)) {
             sum += z;
@@ -225,14 +255,14 @@ float shadow_pcss(ShadowCoord sc, vec2 g, float cos_theta, float angle)
     float radius = clamp(0.5 * w_p / shadow_texel(sc.d), 1.0, max_r);
     // Receiver-plane mode: the filter's disk is turned by the golden angle
     // against the search's, so the two do not share one pattern's gaps.
-    float turn = u_shadow.filter_bias == SHADOW_BIAS_LEGACY ? 0.0 : 2.39996323;
+    float turn = shadow_filter_bias() == SHADOW_BIAS_LEGACY ? 0.0 : 2.39996323;
     return shadow_pcf(sc, g, radius, cos_theta, angle + turn);
 }
 
 // Visibility in [0,1] of the light from x (normal n, unit direction to light l).
 float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
 {
-    int mode = u_shadow.mode;
+    int mode = shadow_mode();
     if (mode == SHADOW_NONE)
         return 1.0;
     float cos_theta = max(dot(n, l), 0.0);
@@ -246,7 +276,7 @@ float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
     // 2014): on the best-candidate disk it leaves fine grain, where on the
     // legacy spiral it drew a hatching (a turned spiral is a shifted one).
     float angle = TWO_PI * ign(pixel);
-    vec2 g = u_shadow.filter_bias == SHADOW_BIAS_LEGACY ? vec2(0.0) : shadow_receiver_gradient(sc, xo, n);
+    vec2 g = shadow_filter_bias() == SHADOW_BIAS_LEGACY ? vec2(0.0) : shadow_receiver_gradient(sc, xo, n);
     if (mode == SHADOW_PCF)
         return shadow_pcf(sc, g, u_shadow.pcf_radius, cos_theta, angle);
     return shadow_pcss(sc, g, cos_theta, angle);

@@ -1,7 +1,8 @@
 // frame/direct.frag — deferred direct shading of one light with the BRDF of
 // common/brdf.glsl (Lambert + GGX; Lambertian surfaces have F0 = 0):
 // f · irradiance from the light model · shadow visibility; plus emitted
-// radiance when u_add_emission is set (once per frame). Additive blend.
+// radiance when u_add_emission is set (the first light of a frame, drawn
+// without blending; later lights blend additively).
 // Quad lights (u_area_light = AREA_LIGHT_EXACT and a size > 0): the diffuse
 // lobe takes the polygon's exact unoccluded irradiance (Lambert's formula,
 // clipped to the horizon), the specular lobe a quadrature over the
@@ -62,8 +63,14 @@ void main()
 {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec4 p = texelFetch(g_position, px, 0);
-    if (p.w == 0.0)
-        discard;
+    if (p.w == 0.0) {
+        // Background: no surface. The first light's draw is not blended and
+        // leaves the target's only value here (see pass_direct.c).
+        if (u_add_emission == 0)
+            discard;
+        o_radiance = vec4(0.0);
+        return;
+    }
     vec3 x = p.xyz;
     vec3 n = texelFetch(g_normal, px, 0).xyz;
     vec3 albedo = texelFetch(g_albedo, px, 0).rgb;
@@ -72,9 +79,13 @@ void main()
     vec3 l;
     vec3 e = light_irradiance(u_light, x, n, l);
     vec3 radiance = vec3(0.0);
-    bool polygon = int(u_light.position_type.w) == LIGHT_QUAD && u_area_light == AREA_LIGHT_EXACT &&
+    bool polygon = light_type(u_light) == LIGHT_QUAD && u_area_light == AREA_LIGHT_EXACT &&
                    u_light.quad_v.w > 0.0;
+#ifdef DIRECT_DIFFUSE_ONLY
+    bool glossy = false; // no material of the scene has F0 > 0 (pass_direct.c)
+#else
     bool glossy = max(spec.r, max(spec.g, spec.b)) > 0.0;
+#endif
     if (polygon) {
         // One-sided: nothing behind the emitting plane.
         vec3 lc = u_light.position_type.xyz;

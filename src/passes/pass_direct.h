@@ -5,8 +5,9 @@
  * frame also adds emitted radiance.
  * Inputs: GBuffer, the light stage (light block and shadow map of each
  * light), shadow parameters.
- * Output: HDR radiance target (RGBA32F), blended additively.
- * Owns: the shadow-parameter uniform buffer (its program is the program
+ * Output: HDR radiance target (RGBA32F): the first light written, the
+ * others blended additively.
+ * Owns: the shadow-parameter uniform buffer (its programs are the program
  * cache's, its empty VAO the renderer's). */
 #ifndef RTGI_PASS_DIRECT_H
 #define RTGI_PASS_DIRECT_H
@@ -25,10 +26,14 @@ typedef enum ShadowFilterBias { SHADOW_BIAS_RECEIVER_PLANE = 0, SHADOW_BIAS_LEGA
 typedef enum ShadowMode { SHADOW_MODE_NONE = 0, SHADOW_MODE_HARD = 1, SHADOW_MODE_PCF = 2, SHADOW_MODE_PCSS = 3 } ShadowMode;
 
 typedef struct PassDirect {
-    GLuint program;
+    GLuint program;    /* for any light and shadow mode (the variants' fallback) */
+    ProgramCache *pc;  /* borrowed: builds the per-light-type, per-mode variants */
     GLuint shadow_ubo; /* GpuShadowParams */
     GLuint vao; /* borrowed empty vertex array */
     int area_light; /* AreaLightMode of quad lights */
+    ShadowMode mode;  /* the shadow mode and */
+    int filter_bias;  /* ShadowFilterBias the variants are built for */
+    bool general;     /* draw every light with `program` (tests compare the variants with it) */
 } PassDirect;
 
 /* Its program comes from `pc`; `vao` is an empty vertex array (borrowed). */

@@ -34,7 +34,7 @@ void main()
     int k = vct_level_at(pos.xyz, 0.0);
     float voxel = u_vct.level[k < 0 ? u_vct.clip_levels - 1 : k].w;
     ivec2 low = (size + u_scale - 1) / u_scale;
-    vec2 u = (vec2(px) + 0.5) / float(u_scale) - 0.5;
+    vec2 u = vec2(px - u_scale / 2) / float(u_scale); // traced pixel s sits at full-resolution pixel s·scale + scale/2
     ivec2 i0 = ivec2(floor(u));
     vec2 f = u - vec2(i0);
     vec4 e = vec4(0.0), spec = vec4(0.0);

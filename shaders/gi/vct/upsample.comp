@@ -1,7 +1,7 @@
 // gi/vct/upsample.comp — the full-resolution images from the cones traced
 // at every u_scale-th pixel (trace.comp): each pixel takes the bilinear
 // mean of its four surrounding traced pixels, keeping only those on its
-// surface (normals within ~25°, the traced point within one voxel of the
+// surface (normals within ~45°, the traced point within one voxel of the
 // pixel's tangent plane), like rsm-interp's screen-space interpolation
 // (Dachsbacher & Stamminger 2005, §4) with a geometry test sized to the
 // voxels. A pixel with none on its surface (silhouettes, thin objects)
@@ -16,7 +16,11 @@ layout(binding = IMG_OUT, rgba32f) writeonly uniform image2D u_out;
 layout(binding = IMG_OUT2, rgba32f) writeonly uniform image2D u_out_specular;
 layout(location = LOC_VCT_SCALE) uniform int u_scale;
 
-const float MIN_COS = 0.9;
+// Sponza 640×360 against one-bounce (16 spp): relMSE / FLIP every pixel
+// traced 0.00557 / 0.0503; scale 2 with 0.9 or 0.7 the same to 3 digits,
+// and 0.7 halves the pixels that trace their own cones (normal maps):
+// upsample 66 ms against 112–143 at 320×180.
+const float MIN_COS = 0.7;
 
 void main()
 {

@@ -41,7 +41,7 @@
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
 static const char *const k_default_gi =
-    "none,rsm,rsm-interp,rsm-interleaved,vpl-clamped,vpl-slc,vpl-interleaved,vpl-metalights,lpv";
+    "none,rsm,rsm-interp,rsm-interleaved,vpl-clamped,vpl-slc,vpl-interleaved,vpl-metalights,lpv,vct";
 
 void cmd_bench_help(void)
 {

@@ -142,6 +142,7 @@ typedef struct GiParams {
     int vct_cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
     int vct_bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */
     float vct_step;        /* cone sampling step, in units of the cone's current diameter */
+    int vct_trace_scale;   /* cones traced at every Nth pixel per axis, upsampled by depth and normal */
     bool vct_ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
     bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
     float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */

@@ -112,6 +112,8 @@ const SettingDesc settings_table[] = {
      "vct: 1 = direct light in the voxels; 2 = plus a cone-traced bounce between voxels"},
     {"gi", "vct_step", "--vct-step", SETTING_FLOAT, GI(vct_step), 0, 0.1, 2, 0.5, NULL,
      "vct: cone sampling step (voxels of the sampled mip, i.e. cone diameters)"},
+    {"gi", "vct_trace_scale", "--vct-trace-scale", SETTING_INT, GI(vct_trace_scale), 0, 1, 4, 2, NULL,
+     "vct: trace the cones at every Nth pixel per axis, then upsample by depth and normal (1 = every pixel)"},
     {"gi", "vct_ao", "--vct-ao", SETTING_BOOL, GI(vct_ao), 0, 0, 1, 1, NULL,
      "vct: ambient occlusion from the diffuse cones (--out-ao)"},
     {"gi", "vct_conservative", "--vct-conservative", SETTING_BOOL, GI(vct_conservative), 0, 0, 1, 1, NULL,

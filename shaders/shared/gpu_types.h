@@ -117,6 +117,7 @@
 #define LOC_VCT_FIRST 11        /* vct mips: int, 1 when reading the isotropic level 0 (first anisotropic level) */
 #define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
+#define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */
 #define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
 
 /* ---- Constants ------------------------------------------------------------ */

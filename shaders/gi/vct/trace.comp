@@ -1,84 +1,24 @@
-// gi/vct/trace.comp — per pixel: the diffuse cone set → irradiance E (and,
-// with u_ao_out, ambient visibility in its alpha); one specular cone along
-// the reflection, its aperture from the GGX roughness, its radiance times
-// the GGX lobe's directional albedo into the specular image;
-// F0 and roughness from the G-buffer's specular attachment, or from
-// --vct-f0 / --vct-roughness for every surface when --vct-f0 > 0. Cones start 2.5 voxels off the
-// surface along the normal, so that they leave the surface's own voxels (a
-// conservatively voxelized plane is up to 2 voxels thick; measured on the
-// Cornell box at 64³ against one-bounce: offsets 1.5, 2.5, 3.5 voxels →
-// relMSE 0.0228, 0.0189, 0.0159; larger offsets skip nearby occluders).
-#include "shared/gpu_types.h"
-#include "common/math.glsl"
-#include "common/brdf.glsl"
-#include "gi/vct/cone.glsl"
+// gi/vct/trace.comp — the cones of every u_scale-th pixel per axis (the
+// centre pixel of each u_scale × u_scale block; u_scale 1: every pixel),
+// written at the block's place in the (low-resolution) images; with
+// u_scale > 1, upsample.comp fills in the full-resolution images. The
+// shading itself: gi/vct/shade.glsl.
+#include "gi/vct/shade.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
-#ifdef TEX_GB_SPECULAR
-layout(binding = TEX_GB_SPECULAR) uniform sampler2D g_specular;
-#endif
 layout(binding = IMG_OUT, rgba32f) writeonly uniform image2D u_out;
 layout(binding = IMG_OUT2, rgba32f) writeonly uniform image2D u_out_specular;
-layout(location = LOC_VCT_AO_OUT) uniform int u_ao_out;
-
-// Directional albedo of the GGX lobe, ∫ f_s cosθ dω = F0·A + B, by Karis's
-// analytic fit of the split-sum table ("Physically Based Shading on
-// Mobile", 2014; perceptual roughness, F90 = 1): the cone's radiance times
-// this is the lobe's reflected radiance. Plain Fresnel would count grazing
-// rough surfaces up to 1 (measured on Sponza at 320×180: relMSE 0.0094
-// with Fresnel, against 0.0078 without the cone).
-vec3 specular_albedo(vec3 f0, float roughness, float nv)
-{
-    vec4 r = roughness * vec4(-1.0, -0.0275, -0.572, 0.022) + vec4(1.0, 0.0425, 1.04, -0.04);
-    float a = min(r.x * r.x, exp2(-9.28 * nv)) * r.x + r.y;
-    vec2 ab = vec2(-1.04, 1.04) * a + r.zw;
-    return f0 * ab.x + ab.y;
-}
+layout(location = LOC_VCT_SCALE) uniform int u_scale;
 
 void main()
 {
-    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    if (px.x >= u_frame.width || px.y >= u_frame.height)
+    ivec2 lo = ivec2(gl_GlobalInvocationID.xy);
+    ivec2 size = ivec2(u_frame.width, u_frame.height);
+    if (any(greaterThanEqual(lo, (size + u_scale - 1) / u_scale)))
         return;
-    vec4 pos = texelFetch(g_position, px, 0);
-    if (pos.w == 0.0) {
-        imageStore(u_out, px, vec4(0.0, 0.0, 0.0, 1.0));
-        imageStore(u_out_specular, px, vec4(0.0));
-        return;
-    }
-    int k = vct_level_at(pos.xyz, 0.0);
-    float voxel = u_vct.level[k < 0 ? u_vct.clip_levels - 1 : k].w;
-    vec3 n = normalize(texelFetch(g_normal, px, 0).xyz);
-    vec3 p = pos.xyz + n * (2.5 * voxel);
-    float visibility;
-    vec3 e = vct_irradiance(p, n, voxel, visibility);
-    imageStore(u_out, px, vec4(e, u_ao_out != 0 ? clamp(visibility, 0.0, 1.0) : 1.0));
-
-    vec3 f0 = vec3(u_vct.f0);
-    float roughness = u_vct.roughness;
-#ifdef TEX_GB_SPECULAR
-    if (u_vct.has_material_specular != 0 && u_vct.f0 <= 0.0) {
-        vec4 s = texelFetch(g_specular, px, 0);
-        f0 = s.rgb;
-        roughness = s.a;
-    }
-#endif
-    vec3 spec = vec3(0.0);
-    if (max(f0.r, max(f0.g, f0.b)) > 0.0) {
-        vec3 v = normalize(u_frame.camera.xyz - pos.xyz);
-        vec3 r = reflect(-v, n);
-        // Aperture: the Phong lobe of the same width (exponent 2/α² − 2,
-        // α = roughness²) falls to 0.244 at the cone's half-angle.
-        float alpha = brdf_alpha(roughness);
-        float phong = max(2.0 / (alpha * alpha) - 2.0, 0.0);
-        float cos_half = pow(0.244, 1.0 / (phong + 1.0));
-        float tan_half = min(sqrt(max(1.0 - cos_half * cos_half, 0.0)) / max(cos_half, 1e-4), 1.0);
-        float occ;
-        vec4 l = vct_cone(p, r, tan_half, voxel, occ);
-        float nv = clamp(dot(n, v), 0.0, 1.0);
-        spec = specular_albedo(f0, roughness, nv) * l.rgb;
-    }
-    imageStore(u_out_specular, px, vec4(spec, 1.0));
+    ivec2 px = min(lo * u_scale + u_scale / 2, size - 1);
+    vec4 e, spec;
+    vct_shade(px, e, spec);
+    imageStore(u_out, lo, e);
+    imageStore(u_out_specular, lo, spec);
 }

@@ -15,9 +15,12 @@
  *                 directional volumes by front-to-back compositing
  *   vct_bounce    (--vct-bounces 2) every voxel gathers with the diffuse
  *                 cones and adds ρ/π · E; its mips are rebuilt
- *   vct_trace     per pixel: the diffuse cone set → irradiance E (alpha:
- *                 ambient visibility with --vct-ao), one specular cone
- *                 along the reflection → the specular image
+ *   vct_trace     per pixel (with --vct-trace-scale s > 1: per s×s block,
+ *                 at its centre pixel): the diffuse cone set → irradiance E
+ *                 (alpha: ambient visibility with --vct-ao), one specular
+ *                 cone along the reflection → the specular image
+ *   vct_upsample  (s > 1) every pixel: the mean of the traced pixels on its
+ *                 surface around it, or its own cones where there are none
  * Volume: N³ voxels over a cube around the scene bounds (one voxel of
  * margin each side), or with --vct-levels L > 1 a clipmap of L levels of
  * N³ voxels centred on the camera, each twice the last, the coarsest
@@ -26,7 +29,8 @@
  * when the camera moves a level by a voxel.
  * Inputs: the scene's meshes, the light stage's shadow maps, the G-buffer.
  * Outputs: irradiance (alpha: ambient visibility), specular radiance.
- * Owns: its volumes, framebuffer, UBO (programs come from the cache). */
+ * Owns: its volumes, framebuffer, UBO, low-resolution images (programs
+ * come from the cache). */
 #include "gi/vct/vct.h"
 
 #include <math.h>
@@ -40,6 +44,7 @@
 #include "gpu_budget.h"
 #include "log.h"
 #include "shader.h"
+#include "targets.h"
 #include "util.h"
 
 enum { ANISO_DIRS = 6 };
@@ -57,12 +62,14 @@ typedef struct VctGi {
     GLuint aniso[ANISO_DIRS];/* RGBA16F N/2×N/2×N/2·L with mips (--vct-aniso) */
     GLuint fbo;              /* attachment-less N×N, for the voxelization */
     GLuint ubo;              /* GpuVctParams */
-    GLuint voxelize, resolve, inject, aniso_prog, bounce, trace; /* programs */
+    GLuint voxelize, resolve, inject, aniso_prog, bounce, trace, upsample; /* programs */
+    int scale;               /* --vct-trace-scale */
+    GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
     GpuVctParams gpu;        /* as uploaded */
     bool voxelized;          /* the volumes hold the scene */
     int voxelizations;
     double voxelize_ms;      /* wall time of the last voxelization */
-    uint64_t bytes;          /* GPU memory held */
+    uint64_t bytes;          /* GPU memory held by the volumes */
     int width, height;
 } VctGi;
 
@@ -144,7 +151,27 @@ static void vct_destroy(void *state)
         gl_texture3d_destroy(&v->aniso[i]);
     gl_fbo_destroy(&v->fbo);
     glDeleteBuffers(1, &v->ubo);
+    glDeleteTextures(1, &v->low_irradiance);
+    glDeleteTextures(1, &v->low_specular);
     free(v);
+}
+
+/* The low-resolution images the cones are traced into (scale > 1). */
+static bool make_low_images(VctGi *v)
+{
+    glDeleteTextures(1, &v->low_irradiance);
+    glDeleteTextures(1, &v->low_specular);
+    v->low_irradiance = v->low_specular = 0;
+    if (v->scale == 1)
+        return true;
+    int lw = (v->width + v->scale - 1) / v->scale, lh = (v->height + v->scale - 1) / v->scale;
+    v->low_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, lw, lh, "vct.low_irradiance");
+    v->low_specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, lw, lh, "vct.low_specular");
+    if (!v->low_irradiance || !v->low_specular) {
+        log_error("vct", "could not make the %dx%d images of --vct-trace-scale %d", lw, lh, v->scale);
+        return false;
+    }
+    return true;
 }
 
 static bool vct_resize(void *state, int w, int h)
@@ -152,7 +179,7 @@ static bool vct_resize(void *state, int w, int h)
     VctGi *v = state;
     v->width = w;
     v->height = h;
-    return true;
+    return make_low_images(v);
 }
 
 static GLuint program(VctGi *v, const char *label, const char *vert, const char *geom, const char *frag,
@@ -209,7 +236,9 @@ static void *vct_create(const GiCreateInfo *ci)
     v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp");
     v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp");
     v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp");
-    bool ok = v->voxelize && v->resolve && v->inject && v->aniso_prog && v->bounce && v->trace;
+    v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp");
+    v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
+    bool ok = v->voxelize && v->resolve && v->inject && v->aniso_prog && v->bounce && v->trace && v->upsample;
     int d = n * clip; /* the levels stacked along z */
     ok = ok && (v->albedo = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.albedo")) &&
          (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
@@ -219,7 +248,7 @@ static void *vct_create(const GiCreateInfo *ci)
     for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_DIRS; i++)
         ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, n / 2, n / 2, d / 2, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
-    ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize"));
+    ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
     if (!ok) {
         log_error("vct", "could not make the %d^3 voxel volumes", n);
         vct_destroy(v);
@@ -438,6 +467,21 @@ static void vct_run(void *state, const GiFrame *f)
     glBindTextureUnit(TEX_GB_SPECULAR, f->gbuffer->specular);
 #endif
     glProgramUniform1i(v->trace, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
+    glProgramUniform1i(v->trace, LOC_VCT_SCALE, v->scale);
+    bool low = v->scale > 1;
+    glBindImageTexture(IMG_OUT, low ? v->low_irradiance : f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindImageTexture(IMG_OUT2, low ? v->low_specular : f->specular, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    gi_dispatch_pixels((v->width + v->scale - 1) / v->scale, (v->height + v->scale - 1) / v->scale);
+    gpu_timer_end(t);
+    if (!low)
+        return;
+    gpu_timer_begin(t, "vct_upsample");
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    glUseProgram(v->upsample);
+    glProgramUniform1i(v->upsample, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
+    glProgramUniform1i(v->upsample, LOC_VCT_SCALE, v->scale);
+    glBindTextureUnit(TEX_INPUT, v->low_irradiance);
+    glBindTextureUnit(TEX_SPECULAR, v->low_specular);
     glBindImageTexture(IMG_OUT, f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(IMG_OUT2, f->specular, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     gi_dispatch_pixels(v->width, v->height);
@@ -449,7 +493,8 @@ static void vct_stats(void *state, const GiFrame *f, GiStats *st)
     (void)f;
     VctGi *v = state;
     st->gathered_pixels = (uint32_t)(v->width * v->height);
-    st->gpu_bytes = v->bytes;
+    int lw = (v->width + v->scale - 1) / v->scale, lh = (v->height + v->scale - 1) / v->scale;
+    st->gpu_bytes = v->bytes + (v->scale > 1 ? 2u * 16u * (uint64_t)lw * (uint64_t)lh : 0u);
     st->voxelizations = v->voxelizations;
     st->voxelize_ms = v->voxelize_ms;
 }

@@ -61,13 +61,7 @@ void cmd_view_help(void)
            "  --shader-dir DIR              read shaders from DIR instead of the embedded copies\n"
            "  --debug                       GL debug context, KHR_debug messages logged\n"
            "  --quiet | --verbose\n");
-    printf("GI techniques (--gi):\n");
-    for (int i = 0; gi_techniques[i]; i++)
-        printf("  %-18s %s\n", gi_techniques[i]->name, gi_techniques[i]->summary);
-    printf("shadow parameters (default: the scene file's, else the value shown):\n");
-    settings_print_help(stdout, "shadow");
-    printf("GI parameters (default: the scene file's, else the value shown):\n");
-    settings_print_help(stdout, "gi");
+    render_options_help_settings();
 }
 
 /* ---- Input ------------------------------------------------------------------ */

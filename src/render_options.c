@@ -45,6 +45,11 @@ void render_options_help(void)
         "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
         "  --debug            GL debug context, KHR_debug messages logged\n"
         "  --quiet | --verbose\n");
+    render_options_help_settings();
+}
+
+void render_options_help_settings(void)
+{
     printf("GI techniques (--gi):\n");
     for (int i = 0; gi_techniques[i]; i++)
         printf("  %-18s %s\n", gi_techniques[i]->name, gi_techniques[i]->summary);

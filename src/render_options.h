@@ -49,6 +49,9 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
 bool render_options_load_scene(const RenderOptions *o, Scene *scene);
 /* Prints the shared options' help. */
 void render_options_help(void);
+/* The techniques and the settings table's rows, the tail of render's and
+ * view's --help. */
+void render_options_help_settings(void);
 /* Render settings from the scene's defaults and the options. */
 void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs);
 /* Prints frame_cold_ms (the timed frames of the report, which draw every

@@ -1,6 +1,8 @@
 /* gi.c — the technique table, and "none". */
 #include "gi/gi.h"
 
+#include <cglm/vec3.h>
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -49,6 +51,21 @@ void gi_dispatch_pixels(int w, int h)
     glDispatchCompute((GLuint)(w + 7) / 8, (GLuint)(h + 7) / 8, 1);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+float gi_grid_around(const float bmin[3], const float bmax[3], int n, float corner[3])
+{
+    vec3 ext, mid;
+    glm_vec3_sub((float *)bmax, (float *)bmin, ext);
+    glm_vec3_add((float *)bmax, (float *)bmin, mid);
+    glm_vec3_scale(mid, 0.5f, mid);
+    float largest = fmaxf(ext[0], fmaxf(ext[1], ext[2]));
+    if (largest <= 0.f)
+        largest = 1.f;
+    float cell = largest / (float)(n > 2 ? n - 2 : n);
+    for (int a = 0; a < 3; a++)
+        corner[a] = mid[a] - 0.5f * cell * (float)n;
+    return cell;
 }
 
 void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)

@@ -120,5 +120,10 @@ GLuint gi_ubo_make(GLsizeiptr size, const char *label);
 /* Dispatches a compute pass over w×h pixels in 8×8 groups and makes its
  * image and storage writes visible to what follows. */
 void gi_dispatch_pixels(int w, int h);
+/* A cubic grid of n cells per side around the box [bmin, bmax], centred on
+ * it with a cell of margin on each side of its largest extent: writes the
+ * grid's low corner and returns the cell size (LPV's single cascade, VCT's
+ * single volume). */
+float gi_grid_around(const float bmin[3], const float bmax[3], int n, float corner[3]);
 
 #endif

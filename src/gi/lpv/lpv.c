@@ -248,19 +248,9 @@ static void place_grids(LpvGi *l, const Camera *cam)
     u->occlusion = l->params.lpv_occlusion ? 1 : 0;
     u->inject_offset = l->params.lpv_offset;
     u->blend = 0.1f;
-    vec3 ext, mid;
-    glm_vec3_sub(l->bmax, l->bmin, ext);
-    glm_vec3_add(l->bmax, l->bmin, mid);
-    glm_vec3_scale(mid, 0.5f, mid);
-    float largest = fmaxf(ext[0], fmaxf(ext[1], ext[2]));
-    if (largest <= 0.f)
-        largest = 1.f;
     if (l->cascades == 1) {
         /* The bounds plus one cell of margin on each side. */
-        float cell = largest / (float)(l->n > 2 ? l->n - 2 : l->n);
-        for (int a = 0; a < 3; a++)
-            u->cascade[0][a] = mid[a] - 0.5f * cell * (float)l->n;
-        u->cascade[0][3] = cell;
+        u->cascade[0][3] = gi_grid_around(l->bmin, l->bmax, l->n, u->cascade[0]);
     } else {
         /* The coarsest holds the whole scene around the camera, with a cell
          * of margin (and its snapping) on each side. */

@@ -259,18 +259,9 @@ static void *vct_create(const GiCreateInfo *ci)
     /* One level: a cube around the bounds with a voxel of margin each side
      * (placed here); a clipmap is placed per frame around the camera. */
     GpuVctParams *u = &v->gpu;
-    vec3 ext, mid;
     glm_vec3_copy((float *)ci->scene->bounds_min, v->bmin);
     glm_vec3_copy((float *)ci->scene->bounds_max, v->bmax);
-    glm_vec3_sub(v->bmax, v->bmin, ext);
-    glm_vec3_add(v->bmax, v->bmin, mid);
-    glm_vec3_scale(mid, 0.5f, mid);
-    float largest = fmaxf(ext[0], fmaxf(ext[1], ext[2]));
-    if (largest <= 0.f)
-        largest = 1.f;
-    float voxel = largest / (float)(n > 2 ? n - 2 : n);
-    for (int a = 0; a < 3; a++)
-        u->level[0][a] = mid[a] - 0.5f * voxel * (float)n;
+    float voxel = gi_grid_around(v->bmin, v->bmax, n, u->level[0]);
     u->level[0][3] = voxel;
     u->clip_levels = clip;
     u->size = n;

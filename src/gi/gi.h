@@ -124,6 +124,16 @@ void gi_dispatch_pixels(int w, int h);
  * it with a cell of margin on each side of its largest extent: writes the
  * grid's low corner and returns the cell size (LPV's single cascade, VCT's
  * single volume). */
+/* Gather evaluations/s assumed for estimates before a device has been
+ * measured: what `rtgi probe` measures for VPL loops and two-fetch RSM
+ * gathers on llvmpipe on this project's 2-core machine (probe_ssbo_vpl
+ * 1.8e7/s, 2d_fetch2 1.7e7/s, cube_fetch2 1.1e7/s), and what vpl-all
+ * sustained there (1.35e7/s, 12,705 VPLs at 96x96). */
+#define GI_COST_DEFAULT_EVALS_PER_S 1.5e7
+/* Work of one frame of technique `gi` (a row index of gi_techniques) with
+ * `p` on scene `s` at `px` shading pixels, in gather evaluations: an upper
+ * bound for estimates before it runs (src/gi/cost.c). */
+double gi_cost_evaluations(int gi, const GiParams *p, const Scene *s, double px);
 float gi_grid_around(const float bmin[3], const float bmax[3], int n, float corner[3]);
 
 #endif

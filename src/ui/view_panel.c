@@ -18,52 +18,6 @@ static const char *const k_ab_names[] = {"frame", "reference", "split", "differe
 
 /* ---- Cost ------------------------------------------------------------------ */
 
-/* VPLs the light stage would make (every RSM texel lit: an upper bound). */
-static double vpl_upper_bound(const View *v, int gi)
-{
-    const GiParams *p = &v->settings.gi_params;
-    double n = 0;
-    for (int i = 0; i < v->scene->light_count; i++) {
-        const Light *l = &v->scene->lights[i];
-        int faces = (l->type == LIGHT_POINT || l->type == LIGHT_QUAD) ? 6 : 1;
-        int s = gi_techniques[gi]->rsm_from_vpl_count && p->vpl_count > 0
-                    ? light_stage_rsm_size_for_vpls(l, p->vpl_count)
-                    : p->rsm_size;
-        n += (double)faces * s * s;
-    }
-    return n;
-}
-
-/* Gather evaluations of one frame of `gi` at `px` shading pixels. */
-static double gather_evaluations(const View *v, int gi, double px)
-{
-    const GiParams *p = &v->settings.gi_params;
-    double samples = p->exhaustive ? vpl_upper_bound(v, gi) : p->samples;
-    double subsets = (double)p->interleave_n * p->interleave_m;
-    switch ((GiMode)gi) {
-    case GI_RSM:
-    case GI_RSM_INTERLEAVED: /* per pixel: its samples (interleaving splits the pattern, not the count) */
-        return px * samples;
-    case GI_RSM_INTERP: /* low-res gathers plus a tenth of the pixels in full (Cornell: 5%) */
-        return px * samples * (1.0 / (p->interp_factor * p->interp_factor) + 0.1);
-    case GI_VPL_ALL:
-        return px * vpl_upper_bound(v, gi) * p->vpl_keep;
-    case GI_VPL_CLAMPED:
-    case GI_VPL_SLC: /* tiles visit every VPL in the worst case */
-        return px * vpl_upper_bound(v, gi);
-    case GI_VPL_INTERLEAVED:
-    case GI_VPL_METALIGHTS:
-        return px * vpl_upper_bound(v, gi) / subsets;
-    case GI_LPV: {
-        double cells = pow(p->lpv_size, 3) * p->lpv_cascades;
-        int steps = p->lpv_iterations > 0 ? p->lpv_iterations : p->lpv_size;
-        return cells * steps * 6 + vpl_upper_bound(v, gi) * p->lpv_cascades + px;
-    }
-    default:
-        return 0;
-    }
-}
-
 double view_estimate_ms(const View *v, int gi)
 {
     int n = renderer_ssaa(&v->settings);
@@ -71,8 +25,8 @@ double view_estimate_ms(const View *v, int gi)
     if (v->measured_px[gi] > 0)
         return v->measured_ms[gi] * px / v->measured_px[gi];
     double base = v->measured_px[GI_NONE] > 0 ? v->measured_ms[GI_NONE] * px / v->measured_px[GI_NONE] : 0;
-    double rate = v->evals_per_s > 0 ? v->evals_per_s : VIEW_DEFAULT_EVALS_PER_S;
-    return base + 1e3 * gather_evaluations(v, gi, px) / rate;
+    double rate = v->evals_per_s > 0 ? v->evals_per_s : GI_COST_DEFAULT_EVALS_PER_S;
+    return base + 1e3 * gi_cost_evaluations(gi, &v->settings.gi_params, v->scene, px) / rate;
 }
 
 bool view_gi_is_slow(const View *v, int gi)

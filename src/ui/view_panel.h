@@ -19,12 +19,6 @@
 #include "ui/ab_view.h"
 
 #define VIEW_HISTORY 120
-/* Gather evaluations/s assumed before one is measured in the window: what
- * `rtgi probe` measures for VPL loops and two-fetch RSM gathers on llvmpipe
- * on this project's 2-core machine (probe_ssbo_vpl 1.8e7/s, 2d_fetch2
- * 1.7e7/s, cube_fetch2 1.1e7/s), and what vpl-all sustained there (1.35e7/s,
- * 12,705 VPLs at 96x96). Measured values replace it. */
-#define VIEW_DEFAULT_EVALS_PER_S 1.5e7
 
 typedef struct View {
     const Scene *scene;         /* borrowed */
@@ -69,7 +63,7 @@ typedef struct View {
  * window, else a cost model: the direct-light frame time plus gather
  * evaluations (pixels × samples or VPLs per pixel, VPL counts from the RSM
  * sizes: every texel lit, an upper bound) over the device's measured
- * evaluations/s (VIEW_DEFAULT_EVALS_PER_S until one is measured). */
+ * evaluations/s (GI_COST_DEFAULT_EVALS_PER_S until one is measured; src/gi/cost.c). */
 double view_estimate_ms(const View *v, int gi);
 bool view_gi_is_slow(const View *v, int gi);
 /* Switches to technique `gi`, or leaves it pending when it is slow and not

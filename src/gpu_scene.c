@@ -105,11 +105,18 @@ static bool build_clusters(GpuScene *g, const Scene *s, uint32_t *out)
 
 /* ---- lifetime ---------------------------------------------------------- */
 
+/* A cluster a draw will make, with its distance for front-to-back order. */
+typedef struct GpuDrawItem {
+    float distance;
+    int cluster;
+} DrawItem;
+
 bool gpu_scene_create(GpuScene *g, const Scene *s)
 {
     *g = (GpuScene){0};
     uint32_t *indices = util_malloc("gpu_scene", "index buffer", s->index_count + 1, sizeof(uint32_t));
-    if (!indices || !build_clusters(g, s, indices)) {
+    if (!indices || !build_clusters(g, s, indices) ||
+        !(g->draw_items = util_malloc("gpu_scene", "draw list", (size_t)g->cluster_count + 1, sizeof(DrawItem)))) {
         free(indices);
         free(g->clusters);
         *g = (GpuScene){0};
@@ -160,6 +167,7 @@ void gpu_scene_destroy(GpuScene *g)
         glDeleteTextures(g->texture_count, g->textures);
     free(g->textures);
     free(g->clusters);
+    free(g->draw_items);
     glDeleteVertexArrays(1, &g->vao);
     glDeleteBuffers(1, &g->vbo);
     glDeleteBuffers(1, &g->ibo);
@@ -177,11 +185,6 @@ void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLui
 {
     gpu_scene_draw_view(g, s, opaque, masked, flags, NULL);
 }
-
-typedef struct DrawItem {
-    float distance;
-    int cluster;
-} DrawItem;
 
 static int drawitem_cmp(const void *a, const void *b)
 {
@@ -219,15 +222,15 @@ static void bind_material(const GpuScene *g, const Material *m, GLuint program)
 void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags,
                          const DrawView *view)
 {
-    /* The visible clusters, in scene order or nearest first. A failed
-     * allocation draws everything in scene order: the same image, slower. */
-    DrawItem *items = malloc(sizeof(DrawItem) * ((size_t)g->cluster_count + 1));
+    /* The visible clusters, in scene order or nearest first (the scratch
+     * list the scene owns: no allocation per draw). */
+    DrawItem *items = g->draw_items;
     int n = 0, culled = 0;
     vec4 planes[6];
-    bool cull = view && view->view_proj && items;
+    bool cull = view && view->view_proj;
     if (cull)
         glm_frustum_planes((vec4 *)view->view_proj, planes);
-    for (int i = 0; i < g->cluster_count && items; i++) {
+    for (int i = 0; i < g->cluster_count; i++) {
         const GpuCluster *c = &g->clusters[i];
         if (cull) {
             vec3 box[2] = {{c->bounds_min[0], c->bounds_min[1], c->bounds_min[2]},
@@ -239,10 +242,8 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuin
         }
         items[n++] = (DrawItem){view && view->eye ? box_distance(c, view->eye) : 0.f, i};
     }
-    if (items && view && view->eye)
+    if (view && view->eye)
         qsort(items, (size_t)n, sizeof(DrawItem), drawitem_cmp);
-    if (!items)
-        n = g->cluster_count;
     if (view && view->culled)
         *view->culled = culled;
 
@@ -254,7 +255,7 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuin
         glUseProgram(program);
         int bound = -1; /* the material whose uniforms are set */
         for (int k = 0; k < n; k++) {
-            const GpuCluster *c = &g->clusters[items ? items[k].cluster : k];
+            const GpuCluster *c = &g->clusters[items[k].cluster];
             int mi = s->submeshes[c->submesh].material;
             const Material *m = &s->materials[mi];
             if ((flags & DRAW_SKIP_EMITTERS) && m->light_index >= 0)
@@ -269,5 +270,4 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuin
         }
     }
     glBindVertexArray(0);
-    free(items);
 }

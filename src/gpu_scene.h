@@ -29,6 +29,7 @@ typedef struct GpuScene {
     int texture_count;
     GpuCluster *clusters; /* submesh by submesh, in scene order */
     int cluster_count;
+    struct GpuDrawItem *draw_items; /* [cluster_count]: a draw's visible clusters (scratch, gpu_scene.c) */
 } GpuScene;
 
 bool gpu_scene_create(GpuScene *g, const Scene *s);

@@ -6,13 +6,16 @@
 #include "image.h"
 #include "log.h"
 
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc;
+    (void)argv;
+    log_set_level(LOG_QUIET);
+    return 0;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static int quiet;
-    if (!quiet) {
-        log_set_level(LOG_QUIET);
-        quiet = 1;
-    }
     if (size < 1)
         return 0;
     char path[512], out[512];

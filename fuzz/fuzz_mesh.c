@@ -5,13 +5,16 @@
 #include "log.h"
 #include "scene.h"
 
+int LLVMFuzzerInitialize(int *argc, char ***argv)
+{
+    (void)argc;
+    (void)argv;
+    log_set_level(LOG_QUIET);
+    return 0;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static int quiet;
-    if (!quiet) {
-        log_set_level(LOG_QUIET);
-        quiet = 1;
-    }
     if (size < 1)
         return 0;
     static const char *const names[] = {"mesh.obj", "mesh.gltf", "mesh.glb", "mesh.ply"};

@@ -7,7 +7,7 @@ PKGS=(build-essential cmake pkg-config
       libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
       libcglm-dev libstb-dev libassimp-dev libglfw3-dev libembree-dev
       libcjson-dev libcmocka-dev libopenexr-dev
-      xvfb xauth   # xvfb/xauth: the window test runs 'rtgi view' under xvfb-run
+      xvfb xauth   # the window tests start Xvfb; xauth for the README's xvfb-run example
       chromium)    # test_bench opens the report of rtgi bench in headless Chromium
 missing=()
 for p in "${PKGS[@]}"; do

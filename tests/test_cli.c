@@ -186,7 +186,7 @@ static void png_beside_pfm(void **state)
     }
 }
 
-/* The window: `rtgi view` under a virtual X server (xvfb-run, installed by
+/* The window: `rtgi view` under a virtual X server (Xvfb, installed by
  * scripts/install-deps.sh) renders through GLFW's GL 4.5 context exactly
  * the image `rtgi render` makes headless through EGL (the window's default
  * post-process AA, FXAA, asked for explicitly in `render`). */
@@ -197,10 +197,11 @@ static void view_matches_headless_render(void **state)
     snprintf(view, sizeof view, "%s/view.png", RTGI_TEST_TMP);
     snprintf(headless, sizeof headless, "%s/headless.png", RTGI_TEST_TMP);
     char *err = NULL;
-    int rc = test_run_exe(&err, "xvfb-run", "-a", RTGI_BINARY, "view", "--size", "64x64", "--shadow", "hard",
+    test_x_display();
+    int rc = test_run_cli(&err, "view", "--size", "64x64", "--shadow", "hard",
                           "--frames", "2", "--out", view, NULL);
     if (rc != 0)
-        fail_msg("rtgi view under xvfb-run failed (%d): %s", rc, err ? err : "");
+        fail_msg("rtgi view under Xvfb failed (%d): %s", rc, err ? err : "");
     free(err);
     assert_int_equal(test_run_cli(NULL, "render", "--size", "64x64", "--shadow", "hard", "--aa", "fxaa", "--out", headless, NULL), 0);
     ImageF a, b;

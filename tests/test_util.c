@@ -3,6 +3,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -155,6 +157,57 @@ int test_run_exe(char **err, const char *exe, const char *arg0, ...)
     int rc = run_argv(err, exe, arg0, ap);
     va_end(ap);
     return rc;
+}
+
+static pid_t g_xvfb_pid;
+
+static void stop_xvfb(void)
+{
+    if (g_xvfb_pid > 0) {
+        kill(g_xvfb_pid, SIGTERM);
+        waitpid(g_xvfb_pid, NULL, 0);
+        g_xvfb_pid = 0;
+    }
+}
+
+void test_x_display(void)
+{
+    if (g_xvfb_pid > 0)
+        return;
+    int fds[2];
+    assert_int_equal(pipe(fds), 0);
+    fcntl(fds[0], F_SETFD, FD_CLOEXEC);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        char fd[16];
+        snprintf(fd, sizeof fd, "%d", fds[1]);
+        if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))
+            _exit(127);
+        execlp("Xvfb", "Xvfb", "-displayfd", fd, "-nolisten", "tcp", "-screen", "0", "1280x1024x24", (char *)NULL);
+        _exit(127);
+    }
+    close(fds[1]);
+    char buf[32] = {0};
+    size_t n = 0; /* the display number and a newline, once the server is ready */
+    while (n < sizeof buf - 1 && !strchr(buf, '\n')) {
+        ssize_t k = read(fds[0], buf + n, sizeof buf - 1 - n);
+        if (k <= 0)
+            break;
+        n += (size_t)k;
+    }
+    close(fds[0]);
+    int display = -1;
+    if (!strchr(buf, '\n') || sscanf(buf, "%d", &display) != 1) {
+        kill(pid, SIGTERM);
+        waitpid(pid, NULL, 0);
+        fail_msg("Xvfb did not start (is the xvfb package installed? scripts/install-deps.sh installs it)");
+    }
+    g_xvfb_pid = pid;
+    atexit(stop_xvfb);
+    char name[32];
+    snprintf(name, sizeof name, ":%d", display);
+    setenv("DISPLAY", name, 1);
 }
 
 void test_expect_cli_error(int rc, char *err, int want, const char *n1, const char *n2)

@@ -54,6 +54,13 @@ int test_run_cli(char **err, const char *arg0, ...);
 /* Same, for any executable (argv[0] = exe). */
 int test_run_exe(char **err, const char *exe, const char *arg0, ...);
 
+/* A virtual X server for the window tests: started once per test process
+ * (Xvfb -displayfd, so the server itself picks a free display: concurrent
+ * test processes cannot race for one, as `xvfb-run -a` can), DISPLAY set
+ * for this process and its children, stopped at exit. Fails the test if
+ * Xvfb cannot start. */
+void test_x_display(void);
+
 /* Fails unless the CLI exited with `want` and its stderr (freed here) is a
  * single line holding n1 and n2 (either may be NULL). */
 void test_expect_cli_error(int rc, char *err, int want, const char *n1, const char *n2);

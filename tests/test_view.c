@@ -1,4 +1,4 @@
-/* test_view.c — `rtgi view`'s panel under a virtual X server (xvfb-run,
+/* test_view.c — `rtgi view`'s panel under a virtual X server (Xvfb,
  * GLX through Mesa llvmpipe): the window test's script (--ui-test) drives
  * the panel's actions and the test checks what it measured and captured
  * against the headless renderer's own images:
@@ -74,10 +74,11 @@ static void panel_script(void **state)
     path_in(log, sizeof log, "view.log");
     /* Shaders from a copy on disk, so that the script's hot reload can meet
      * a broken one (it appends an #error to tonemap.frag before reloading). */
+    test_x_display();
     snprintf(cmd, sizeof cmd,
              "rm -rf '%s/shaders' && cp -r '%s/shaders' '%s/shaders' && "
              "RTGI_UI_TEST_BREAK_SHADER='%s/shaders/frame/tonemap.frag' "
-             "xvfb-run -a '%s' view --size %s --rsm-samples 32 --exposure 1 --slow-ms 1 --compare '%s' "
+             "'%s' view --size %s --rsm-samples 32 --exposure 1 --slow-ms 1 --compare '%s' "
              "--shader-dir '%s/shaders' --ui-test '%s' 2>'%s'",
              g_dir, RTGI_SOURCE_DIR, g_dir, g_dir, RTGI_BINARY, size, none_pfm, g_dir, g_dir, log);
     FILE *p = popen(cmd, "r");
@@ -257,7 +258,8 @@ static void png_reference(void **state)
     util_ensure_parent_dir(ref);
     assert_int_equal(test_run_cli(NULL, "render", "--size", "64x48", "--exposure", "2", "--out", ref, "--quiet", NULL),
                      0);
-    snprintf(cmd, sizeof cmd, "xvfb-run -a '%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
+    test_x_display();
+    snprintf(cmd, sizeof cmd, "'%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
              RTGI_BINARY, ref, dir);
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
@@ -315,7 +317,8 @@ static int timings_attempt(const char *dir, const char *size)
     int count = parse_steady(out, names, ms, MAX_PASSES);
     assert_true(count >= 5);
 
-    snprintf(cmd, sizeof cmd, "xvfb-run -a '%s' view --gi rsm-interp --size %s --frames 3 --ui-test '%s' 2>&1",
+    test_x_display();
+    snprintf(cmd, sizeof cmd, "'%s' view --gi rsm-interp --size %s --frames 3 --ui-test '%s' 2>&1",
              RTGI_BINARY, size, dir);
     p = popen(cmd, "r");
     assert_non_null(p);
@@ -411,7 +414,8 @@ static void out_by_extension(void **state)
     snprintf(pfm, sizeof pfm, "%s/view_out.pfm", RTGI_TEST_TMP);
     remove(pfm);
     char *err = NULL;
-    int rc = test_run_exe(&err, "xvfb-run", "-a", RTGI_BINARY, "view", "--size", "32x32", "--shadow", "hard",
+    test_x_display();
+    int rc = test_run_cli(&err, "view", "--size", "32x32", "--shadow", "hard",
                           "--frames", "1", "--out", pfm, NULL);
     if (rc != 0)
         fail_msg("rtgi view --out x.pfm failed (%d): %s", rc, err ? err : "");
@@ -423,7 +427,7 @@ static void out_by_extension(void **state)
     assert_int_equal(image_count_nonfinite(&img, NULL, NULL), 0);
     assert_true(test_image_mean(&img) > 0.01);
     image_free(&img);
-    rc = test_run_exe(&err, "xvfb-run", "-a", RTGI_BINARY, "view", "--size", "32x32", "--frames", "1", "--compare",
+    rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "1", "--compare",
                       "/nonexistent/ref.pfm", NULL);
     assert_int_equal(rc, 1);
     assert_non_null(err);

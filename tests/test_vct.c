@@ -465,8 +465,16 @@ static double added_red_over_green(const Scene *s, const ImageF *img, const Imag
  * the floor next to the red wall reflects it; the indirect light vct adds
  * there has the reference's colour ratio (the one-bounce reference's,
  * direct light removed), and vct beats no GI against that reference.
- * Measured at 64², 32³: R/G vct 2.47, reference 3.40; relMSE vct 0.0182,
- * no GI 0.0338. Bounds: the ratio within 1.5×, below no GI. */
+ * Diffuse colour bleeding alone also passes that floor check (the floor's
+ * F0 is 0.04), so the test also takes the tall block: a metal, diffuse
+ * albedo 0, so every bit of indirect light on it is the specular cone's.
+ * On its front face (the camera's side) the light vct adds must be the
+ * reference's (one-bounce minus direct) within 2×; no GI and a trace
+ * without the specular cone add exactly 0 there.
+ * Measured at 64², 32³: floor R/G vct 2.47, reference 3.40; metal face
+ * added luminance vct 0.0151, reference 0.0092 (0 without the specular cone:
+ * checked with the cone zeroed in shade.glsl); relMSE vct 0.0184, no GI
+ * 0.0338. */
 static void glossy_cornell(void **state)
 {
     (void)state;
@@ -489,6 +497,23 @@ static void glossy_cornell(void **state)
     assert_true(r > 1.2 && v > 1.2);
     assert_true(v > r / 1.5 && v < r * 1.5);
     assert_true(v_ob < n_ob);
+    /* The metal block's front face, from (265, 296) to (423, 247) mm, outward
+     * normal (-0.296, 0, -0.955), at a third and two thirds of its height. */
+    ImageF direct;
+    test_reference(&s, W, W, PT_DIRECT, 512, &direct);
+    double metal_v = 0, metal_r = 0;
+    for (int k = 1; k <= 2; k++) {
+        const vec3 p = {0.344f - 0.003f * 0.296f, 0.11f * (float)k, 0.2715f - 0.003f * 0.955f};
+        int x, y;
+        test_project(&s, W, W, p, &x, &y);
+        metal_v += test_mean(&vct, x, y, 1, 3) - test_mean(&none, x, y, 1, 3);
+        metal_r += test_mean(&ob, x, y, 1, 3) - test_mean(&direct, x, y, 1, 3);
+    }
+    print_message("cornell_glossy: metal block face, added luminance vct %.4f reference %.4f\n", metal_v / 2,
+                  metal_r / 2);
+    assert_true(metal_r > 0.002);
+    assert_true(metal_v > metal_r / 2 && metal_v < metal_r * 2);
+    image_free(&direct);
     image_free(&vct);
     image_free(&none);
     image_free(&ob);

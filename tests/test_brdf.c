@@ -6,14 +6,17 @@
  *     pbrt's and Mitsuba's BSDF tests), and the pdf integrates to 1;
  *   - white furnace: a white metal (F0 = 1) never reflects more than it
  *     receives, per sample and on average; its albedo at roughness 1
- *     matches a quadrature of f·cos computed here;
+ *     matches a quadrature of f·cos computed here; the same rendered by
+ *     the path tracer (a metal cube in an emitting enclosure);
  *   - reciprocity, and energy ≤ 1 for the sum of the lobes;
  *   - C and GLSL agree to 1e-5 on a grid of inputs;
  *   - polygon irradiance of a square light above a plane: the analytic
  *     value under its centre and under a corner within 0.5%, and a light
  *     cut by the horizon against brute-force quadrature;
  *   - a small glTF file with a known metallicRoughness texture is read into
- *     the material, the path tracer's surface and the G-buffer. */
+ *     the material, the path tracer's surface and the G-buffer;
+ *   - the rasterizer's direct light against the path tracer's: quad lights
+ *     exact and as points, GGX under point, spot and sun lights. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -285,6 +288,77 @@ static void white_furnace(void **state)
                               (double)rough[r], (double)theta_deg[t], m, wmax);
             }
         }
+    }
+}
+
+/* The same furnace rendered by the path tracer: a cube of white metal
+ * (F0 = 1) inside a closed black enclosure that emits radiance 1. The cube
+ * is convex, so every ray it reflects reaches the enclosure: a pixel on it
+ * reads exactly the directional albedo at its view angle (here within 3°
+ * of the face normal), never more than 1. Measured at 32², 256 spp:
+ * roughness 1: 0.3068 (quadrature 0.3069), 0.5: 0.9158 (0.9160). */
+static void rendered_furnace(void **state)
+{
+    (void)state;
+    const float rough[] = {1.0f, 0.5f};
+    for (int r = 0; r < 2; r++) {
+        char json[8192];
+        int n = snprintf(json, sizeof json, "{\"quads\": [");
+        for (int k = 0; k < 2; k++) { /* enclosure (inward), then cube (outward) */
+            float a = k == 0 ? 2.f : 0.25f, sg = k == 0 ? -1.f : 1.f;
+            for (int f = 0; f < 6; f++) {
+                int ax = f / 2;
+                float side = f % 2 ? -1.f : 1.f;
+                /* Corners of the face on axis ax at side·a, wound so that
+                 * the normal points along sg·side on that axis. */
+                float c[4][2] = {{-a, -a}, {a, -a}, {a, a}, {-a, a}};
+                n += snprintf(json + n, sizeof json - (size_t)n, "%s{\"albedo\": [0, 0, 0], \"vertices\": [",
+                              k + f ? ", " : "");
+                for (int v = 0; v < 4; v++) {
+                    int vi = sg * side > 0 ? v : 3 - v;
+                    float p[3];
+                    p[ax] = side * a;
+                    p[(ax + 1) % 3] = c[vi][0];
+                    p[(ax + 2) % 3] = c[vi][1];
+                    n += snprintf(json + n, sizeof json - (size_t)n, "%s[%g, %g, %g]", v ? ", " : "", (double)p[0],
+                                  (double)p[1], (double)p[2]);
+                }
+                n += snprintf(json + n, sizeof json - (size_t)n, "]}");
+            }
+        }
+        n += snprintf(json + n, sizeof json - (size_t)n, "], \"materials\": {");
+        for (int q = 0; q < 12; q++)
+            n += snprintf(json + n, sizeof json - (size_t)n,
+                          q < 6 ? "%s\"quad%d\": {\"emission\": [1, 1, 1], \"base_color\": [0, 0, 0]}"
+                                : "%s\"quad%d\": {\"base_color\": [1, 1, 1], \"metallic\": 1, \"roughness\": %g}",
+                          q ? ", " : "", q, (double)rough[r]);
+        snprintf(json + n, sizeof json - (size_t)n,
+                 "}, \"camera\": {\"position\": [0, 0, 1.8], \"target\": [0, 0, 0], \"fov_y_deg\": 6}, "
+                 "\"lights\": [{\"type\": \"point\", \"position\": [0, 1.5, 0], \"intensity\": [0, 0, 0]}]}");
+        Scene s;
+        assert_true(scene_load(&s, test_tmp_file("furnace.json", json)));
+        enum { W = 32 };
+        ImageF img;
+        test_reference(&s, W, W, PT_FULL, 256, &img);
+        double sum = 0, sum2 = 0, hi = 0;
+        for (int i = 0; i < W * W; i++) {
+            double v = img.rgb[3 * i + 1];
+            sum += v;
+            sum2 += v * v;
+            hi = fmax(hi, v);
+        }
+        double m = sum / (W * W), se = sqrt(fmax(sum2 / (W * W) - m * m, 0) / (W * W));
+        BrdfSurface metal;
+        brdf_surface((vec3){1, 1, 1}, 1.f, rough[r], 1.f, &metal);
+        double q0 = albedo_quadrature(&metal, (vec3){0, 0, 1}, 512, 512);
+        double q3 = albedo_quadrature(&metal, (vec3){sinf(glm_rad(3.f)), 0, cosf(glm_rad(3.f))}, 512, 512);
+        print_message("rendered furnace, metal F0 = 1, roughness %.2f: mean %.5f +- %.5f (quadrature %.5f at 0 deg, "
+                      "%.5f at 3 deg), brightest pixel %.4f\n",
+                      (double)rough[r], m, se, q0, q3, hi);
+        assert_true(hi <= 1.0 + 1e-3);
+        assert_true(m > fmin(q0, q3) - 4 * se - 2e-3 && m < fmax(q0, q3) + 4 * se + 2e-3);
+        image_free(&img);
+        scene_free(&s);
     }
 }
 
@@ -680,13 +754,56 @@ static void area_light_direct_matches_reference(void **state)
             assert_true(e[0] < 0.7 * p[0]);
             assert_true(e[1] < 0.35 * p[1]);
         } else { /* measured: 3.1e-4 / 4.2e-5 against 3.5e-4 / 7.0e-5 */
-            assert_true(e[0] < p[0]);
-            assert_true(e[1] < 0.8 * p[1]);
+            assert_true(e[0] < p[0] && e[0] < 4.5e-4);
+            assert_true(e[1] < 0.8 * p[1] && e[1] < 6e-5);
         }
         free(mask);
         image_free(&ref);
         image_free(&exact);
         image_free(&point);
+        scene_free(&s);
+    }
+}
+
+/* GGX direct light from a point, a spot and a sun on scenes/cornell_glossy's
+ * materials (a metal block, a glossy floor): the rasterizer (hard shadows)
+ * against `reference --mode direct` at pixel centres, without the pixels
+ * next to a disagreement about shadow (as test_crosscheck). Lambertian
+ * shading of the same scenes is 0.2-1.2 off (relMSE, measured at 96²). */
+static void ggx_direct_matches_reference(void **state)
+{
+    (void)state;
+    static const char *lights[3] = {
+        "{\"type\": \"point\", \"position\": [0.2, 0.35, 0.05], \"intensity\": [0.25, 0.2, 0.15]}",
+        "{\"type\": \"spot\", \"position\": [0.4, 0.5, 0.0], \"direction\": [-0.2, -1.0, 0.6], "
+        "\"intensity\": [0.5, 0.4, 0.3], \"inner_deg\": 30, \"outer_deg\": 40}",
+        "{\"type\": \"directional\", \"direction\": [0.2, -0.45, 1.0], \"irradiance\": [1.0, 0.9, 0.8]}",
+    };
+    static const char *names[3] = {"point", "spot", "sun"};
+    enum { W = 64 };
+    for (int k = 0; k < 3; k++) {
+        char json[1024];
+        snprintf(json, sizeof json,
+                 "{\"builtin\": \"cornell\", \"lights\": [%s], \"materials\": {"
+                 "\"tall_block\": {\"base_color\": [0.95, 0.64, 0.54], \"metallic\": 1.0, \"roughness\": 0.25}, "
+                 "\"floor\": {\"metallic\": 0.0, \"roughness\": 0.15, \"specular\": 1.0}}}",
+                 lights[k]);
+        Scene s;
+        assert_true(scene_load(&s, test_tmp_file("ggx_direct.json", json)));
+        ImageF ref, img;
+        test_reference(&s, W, W, PT_DIRECT, 128, &ref);
+        RenderSettings rs = test_settings(&s, W, W, SHADOW_MODE_HARD);
+        test_render(&s, &rs, &img);
+        uint8_t mask[W * W];
+        int excluded;
+        test_shadow_boundary_mask(&img, &ref, mask, &excluded);
+        double e = metric_relmse(&img, &ref, mask, NULL);
+        print_message("GGX direct light, %s: relMSE against the reference %.3g (%d shadow-boundary pixels left out)\n",
+                      names[k], e, excluded);
+        assert_true(excluded < W * W / 20);
+        assert_true(e < 2e-5); /* measured 1.2e-7, 3.7e-8, 2.7e-8 */
+        image_free(&ref);
+        image_free(&img);
         scene_free(&s);
     }
 }
@@ -697,11 +814,13 @@ int main(void)
         cmocka_unit_test(vndf_sampling_fits_pdf),
         cmocka_unit_test(mixture_estimates_agree),
         cmocka_unit_test(white_furnace),
+        cmocka_unit_test(rendered_furnace),
         cmocka_unit_test(reciprocity_and_energy),
         cmocka_unit_test(glsl_matches_c),
         cmocka_unit_test(polygon_irradiance_matches_analytic),
         cmocka_unit_test(gltf_metallic_roughness_is_read),
         cmocka_unit_test(area_light_direct_matches_reference),
+        cmocka_unit_test(ggx_direct_matches_reference),
     };
     return cmocka_run_group_tests_name("brdf", tests, test_gl_setup, test_gl_teardown);
 }

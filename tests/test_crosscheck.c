@@ -12,31 +12,6 @@
 
 enum { W = 128, H = 128 };
 
-/* With no indirect light, a shadowed pixel is exactly black. */
-static bool dark(const ImageF *img, int x, int y)
-{
-    return luminance(image_px(img, x, y)) < 1e-6f;
-}
-
-/* 1 except within one pixel of where the renderers disagree about being in
- * shadow — the shadow-map resolution error this check does not measure. */
-static void boundary_mask(const ImageF *a, const ImageF *b, uint8_t *mask, int *excluded)
-{
-    *excluded = 0;
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
-            bool edge = false;
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int xx = x + dx, yy = y + dy;
-                    if (xx >= 0 && yy >= 0 && xx < W && yy < H && dark(a, xx, yy) != dark(b, xx, yy))
-                        edge = true;
-                }
-            mask[y * W + x] = !edge;
-            *excluded += edge;
-        }
-}
-
 static void raster_matches_path_tracer_direct(void **state)
 {
     (void)state;
@@ -63,7 +38,7 @@ static void raster_matches_path_tracer_direct(void **state)
 
     uint8_t mask[W * H];
     int excluded;
-    boundary_mask(&raster, &ref, mask, &excluded);
+    test_shadow_boundary_mask(&raster, &ref, mask, &excluded);
     double rel_all = metric_relmse(&raster, &ref, NULL, NULL);
     double rel_in = metric_relmse(&raster, &ref, mask, NULL);
     print_message("relMSE all pixels %.3g, without %d shadow-boundary pixels (%.1f%%) %.3g\n", rel_all, excluded,

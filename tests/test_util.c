@@ -219,6 +219,30 @@ void test_expect_cli_error(int rc, char *err, int want, const char *n1, const ch
     free(err);
 }
 
+static bool dark(const ImageF *img, int x, int y)
+{
+    return luminance(image_px(img, x, y)) < 1e-6f;
+}
+
+void test_shadow_boundary_mask(const ImageF *a, const ImageF *b, uint8_t *mask, int *excluded)
+{
+    int w = a->width, h = a->height;
+    assert_true(b->width == w && b->height == h);
+    *excluded = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            bool edge = false;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int xx = x + dx, yy = y + dy;
+                    if (xx >= 0 && yy >= 0 && xx < w && yy < h && dark(a, xx, yy) != dark(b, xx, yy))
+                        edge = true;
+                }
+            mask[y * w + x] = !edge;
+            *excluded += edge;
+        }
+}
+
 double test_mean(const ImageF *img, int cx, int cy, int r, int c)
 {
     double sum = 0;

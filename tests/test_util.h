@@ -65,6 +65,12 @@ void test_x_display(void);
  * single line holding n1 and n2 (either may be NULL). */
 void test_expect_cli_error(int rc, char *err, int want, const char *n1, const char *n2);
 
+/* For direct-light images (a shadowed pixel is exactly black): mask[i] = 1
+ * except within one pixel of where a and b disagree about being in shadow,
+ * the shadow-map resolution error a radiometry check does not measure;
+ * `excluded` counts the 0s. */
+void test_shadow_boundary_mask(const ImageF *a, const ImageF *b, uint8_t *mask, int *excluded);
+
 /* Mean of channel c (0..2, or 3 = luminance) over a (2r+1)² window. */
 double test_mean(const ImageF *img, int cx, int cy, int r, int c);
 /* Pixel of a world point in the scene camera's w×h image; fails if behind. */

@@ -41,6 +41,15 @@ float brdf_diffuse_transmission(float fv, float fl, float f0)
     return f0 < 1.f - 1e-4f ? (1.f - fv) * (1.f - fl) / (1.f - f0) : 0.f;
 }
 
+void brdf_diffuse_irradiance_weight(const vec3 f0, float n_dot_v, vec3 out)
+{
+    vec3 fv;
+    brdf_fresnel(f0, n_dot_v, fv);
+    float f90 = fminf(1.f, 50.f * fmaxf(f0[0], fmaxf(f0[1], f0[2])));
+    for (int c = 0; c < 3; c++)
+        out[c] = brdf_diffuse_transmission(fv[c], f0[c] + (f90 - f0[c]) / 21.f, f0[c]);
+}
+
 float brdf_ggx_d(float n_dot_h, float alpha)
 {
     return ggx_d_cs(n_dot_h * n_dot_h, fmaxf(0.f, 1.f - n_dot_h * n_dot_h), alpha);

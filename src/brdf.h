@@ -47,6 +47,14 @@ float brdf_alpha(float roughness);
 /* The diffuse lobe's factor T from F(n·v), F(n·l) and F0 of one channel
  * (0 where F0 = 1: nothing enters). */
 float brdf_diffuse_transmission(float fv, float fl, float f0);
+/* What the diffuse lobe returns of irradiance E, as a factor w on ρ_d/π·E,
+ * for light arriving with uniform radiance over the hemisphere:
+ * w = (1 − F(n·v))(1 − F̄)/(1 − F0) per channel, F̄ = F0 + (F90 − F0)/21 the
+ * cosine-weighted mean of Schlick's F(n·l) (∫(1−μ)⁵2μ dμ = 1/21); 1 where
+ * F0 = 0 (Lambertian), 0 where F0 = 1. The composite weighs the GI
+ * techniques' irradiance with it, as the direct pass weighs each light
+ * with T. */
+void brdf_diffuse_irradiance_weight(const vec3 f0, float n_dot_v, vec3 out);
 /* Schlick Fresnel with F90 = min(1, 50·max(F0)). */
 void brdf_fresnel(const vec3 f0, float cos_theta, vec3 out);
 /* GGX normal distribution for cos θ_h = n·h. */

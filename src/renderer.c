@@ -248,7 +248,7 @@ void renderer_frame(Renderer *r, const Camera *cam)
         r->last_frame = f;
         gpu_timer_begin(t, "composite");
         pass_composite_run(&r->pass_composite, &r->gbuffer, r->irradiance,
-                           (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, radiance);
+                           (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, scene_has_glossy(r->scene), radiance);
         gpu_timer_end(t);
     }
 

@@ -156,6 +156,14 @@ static void compute_bounds(Scene *s)
     }
 }
 
+bool scene_has_glossy(const Scene *s)
+{
+    for (int i = 0; i < s->material_count; i++)
+        if (s->materials[i].metallic != 0.f || s->materials[i].specular != 0.f)
+            return true;
+    return false;
+}
+
 void scene_finalize(Scene *s)
 {
     add_emitters(s);

@@ -188,6 +188,10 @@ int scene_add_light(Scene *s, const Light *l);
 /* Call after geometry and lights are final: merges submeshes by material,
  * adds emitter geometry for quad lights of size > 0, computes bounds. */
 void scene_finalize(Scene *s);
+/* Whether any material has a specular lobe (F0 > 0: metallic or a
+ * dielectric specular weight, see brdf_surface); without one every surface
+ * is exactly Lambertian and shaders may drop the GGX code. */
+bool scene_has_glossy(const Scene *s);
 
 /* The built-in Cornell box from ../shared/assets/cornell (metres). */
 void scene_build_cornell(Scene *s);

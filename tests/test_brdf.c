@@ -501,6 +501,58 @@ static void glsl_matches_c(void **state)
     free(cases);
 }
 
+/* The composite's weight on ρ_d/π·E (brdf_diffuse_irradiance_weight)
+ * against ∫ T·cos dω / π, the diffuse lobe under uniform radiance, by
+ * quadrature (exact for that light: the F̄ of 1/21 is an identity), on a
+ * grid of F0 and n·v; 1 for F0 = 0; and GLSL = C to 1e-6. Weight at normal
+ * view for F0 = 0.04: 0.914 (the 8.6% the composite used to add). */
+static void diffuse_irradiance_weight(void **state)
+{
+    (void)state;
+    const float f0s[] = {0.f, 0.02f, 0.04f, 0.1f, 0.5f, 0.95f};
+    const float cos_v[] = {1.f, 0.8f, 0.5f, 0.2f, 0.05f};
+    enum { NF = 6, NV = 5, N = NF * NV };
+    float(*cases)[4] = calloc((size_t)N * CASE_VEC4, sizeof *cases);
+    vec3 want[N];
+    for (int i = 0; i < NF; i++)
+        for (int j = 0; j < NV; j++) {
+            int k = i * NV + j;
+            vec3 f0 = {f0s[i], 0.5f * f0s[i], f0s[i] > 0 ? 0.02f : 0.f}, w;
+            brdf_diffuse_irradiance_weight(f0, cos_v[j], w);
+            /* ∫ T cos dω / π over θ with (1 − F(n·l)) per channel. */
+            vec3 fv;
+            brdf_fresnel(f0, cos_v[j], fv);
+            for (int c = 0; c < 3; c++) {
+                double sum = 0;
+                const int nt = 4096;
+                for (int t = 0; t < nt; t++) {
+                    double th = (t + 0.5) * (GLM_PI / 2) / nt, mu = cos(th);
+                    vec3 fl;
+                    brdf_fresnel(f0, (float)mu, fl);
+                    sum += brdf_diffuse_transmission(fv[c], fl[c], f0[c]) * mu * sin(th);
+                }
+                double q = sum * (GLM_PI / 2) / nt * 2.0; /* 2π/π */
+                if (fabs(q - w[c]) > 2e-4)
+                    fail_msg("weight F0 %g n.v %g channel %d: %g, quadrature %g", (double)f0[c], (double)cos_v[j], c,
+                             (double)w[c], q);
+                if (f0[c] == 0.f)
+                    assert_true(w[c] == 1.f);
+            }
+            memcpy(cases[CASE_VEC4 * k], f0, sizeof f0);
+            cases[CASE_VEC4 * k][3] = cos_v[j];
+            memcpy(want[k], w, sizeof w);
+        }
+    vec3 w;
+    brdf_diffuse_irradiance_weight((vec3){0.04f, 0.04f, 0.04f}, 1.f, w);
+    print_message("diffuse irradiance weight, F0 = 0.04 at normal view: %.4f\n", (double)w[0]);
+    float(*res)[4] = run_shader(2, (const float(*)[4])cases, N);
+    for (int k = 0; k < N; k++)
+        for (int c = 0; c < 3; c++)
+            assert_float_equal(res[k][c], want[k][c], 1e-6);
+    free(res);
+    free(cases);
+}
+
 /* ---- Polygon irradiance ------------------------------------------------- */
 
 /* E/L under a corner of an a×b rectangle parallel to the plane at height c
@@ -817,6 +869,7 @@ int main(void)
         cmocka_unit_test(rendered_furnace),
         cmocka_unit_test(reciprocity_and_energy),
         cmocka_unit_test(glsl_matches_c),
+        cmocka_unit_test(diffuse_irradiance_weight),
         cmocka_unit_test(polygon_irradiance_matches_analytic),
         cmocka_unit_test(gltf_metallic_roughness_is_read),
         cmocka_unit_test(area_light_direct_matches_reference),

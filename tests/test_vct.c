@@ -294,9 +294,10 @@ static void clipmap_follows_the_camera(void **state)
 
 /* The Cornell box with its light as a point and hard shadows, 64² pixels,
  * 32³ voxels, 6 cones. Measured (llvmpipe) relMSE against one-bounce: vct
- * 0.0085 at the default --vct-trace-scale 2 (every pixel traced 0.0086), isotropic mips 0.0222, a 2-level clipmap 0.0259 (its levels
- * centre on the camera outside the box: coarser voxels), no GI 0.0359; against full: 1 bounce
- * 0.0229, 2 bounces 0.0121, no GI 0.0745. The bound sits between vct and
+ * 0.0071 at the default --vct-trace-scale 2 (every pixel traced 0.0073),
+ * isotropic mips 0.0230, a 2-level clipmap 0.0196 (its levels centre on the
+ * camera outside the box: coarser voxels), no GI 0.0359; against full:
+ * 1 bounce 0.0226, 2 bounces 0.0117, no GI 0.0745. The bound sits between vct and
  * no GI; the second bounce must lower the error against full. */
 #define VCT_CORNELL_BOUND 0.015 /* relMSE against one-bounce */
 static void cornell_against_reference(void **state)
@@ -359,8 +360,8 @@ static void cornell_against_reference(void **state)
  * seen from inside: the indirect light vct adds to the direct image against
  * the one the path tracer's one-bounce adds to its direct light (the two
  * agree on direct light with a point light). Measured at 32³: mean
- * indirect ratio 0.853 (cones that start 2.5 voxels off the surface miss
- * the light of what is nearer), relMSE 0.0077 (no GI 0.0735). Bounds: the
+ * indirect ratio 0.849 (cones that start 2.5 voxels off the surface miss
+ * the light of what is nearer), relMSE 0.0050 (no GI 0.0735). Bounds: the
  * ratio within 25%, relMSE under a fifth of no GI's. */
 static void closed_box(void **state)
 {
@@ -471,9 +472,9 @@ static double added_red_over_green(const Scene *s, const ImageF *img, const Imag
  * On its front face (the camera's side) the light vct adds must be the
  * reference's (one-bounce minus direct) within 2×; no GI and a trace
  * without the specular cone add exactly 0 there.
- * Measured at 64², 32³: floor R/G vct 2.47, reference 3.40; metal face
+ * Measured at 64², 32³: floor R/G vct 2.94, reference 3.40; metal face
  * added luminance vct 0.0151, reference 0.0092 (0 without the specular cone:
- * checked with the cone zeroed in shade.glsl); relMSE vct 0.0184, no GI
+ * checked with the cone zeroed in shade.glsl); relMSE vct 0.0172, no GI
  * 0.0338. */
 static void glossy_cornell(void **state)
 {

@@ -50,6 +50,15 @@ vec3 brdf_diffuse_transmission(vec3 fv, vec3 fl, vec3 f0)
     return t;
 }
 
+// What the diffuse lobe returns of irradiance E as a factor on ρ_d/π·E, for
+// uniform incident radiance: (1 − F(n·v))(1 − F̄)/(1 − F0), F̄ = F0 + (F90 − F0)/21
+// (brdf.h); 1 where F0 = 0.
+vec3 brdf_diffuse_irradiance_weight(vec3 f0, float n_dot_v)
+{
+    float f90 = min(1.0, 50.0 * max(f0.r, max(f0.g, f0.b)));
+    return brdf_diffuse_transmission(brdf_fresnel(f0, n_dot_v), f0 + (vec3(f90) - f0) / 21.0, f0);
+}
+
 float brdf_ggx_d(float n_dot_h, float alpha)
 {
     return brdf_ggx_d_cs(n_dot_h * n_dot_h, max(0.0, 1.0 - n_dot_h * n_dot_h), alpha);

@@ -6,8 +6,10 @@
 bool pass_composite_create(PassComposite *p, ProgramCache *pc, GLuint vao)
 {
     p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "composite", .vert = "frame/fullscreen.vert", .frag = "frame/composite.frag"});
+    p->program_glossy = program_cache_get(pc, &(ShaderProgramDesc){.label = "composite_glossy", .vert = "frame/fullscreen.vert",
+                                                                   .frag = "frame/composite.frag", .defines = "#define GLOSSY\n"});
     p->vao = vao;
-    return p->program != 0;
+    return p->program != 0 && p->program_glossy != 0;
 }
 
 void pass_composite_destroy(PassComposite *p)
@@ -15,11 +17,18 @@ void pass_composite_destroy(PassComposite *p)
     *p = (PassComposite){0};
 }
 
-void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, GLuint specular, ColorTarget *hdr)
+void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, GLuint specular, bool glossy,
+                        ColorTarget *hdr)
 {
+    GLuint prog = glossy ? p->program_glossy : p->program;
     glBindTextureUnit(TEX_GB_ALBEDO, gb->albedo);
+    if (glossy) {
+        glBindTextureUnit(TEX_GB_POSITION, gb->position);
+        glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
+        glBindTextureUnit(TEX_GB_SPECULAR, gb->specular);
+    }
     glBindTextureUnit(TEX_GI, irradiance);
     glBindTextureUnit(TEX_SPECULAR, specular ? specular : irradiance);
-    glProgramUniform1i(p->program, LOC_COMPOSITE_SPECULAR, specular ? 1 : 0);
-    fullscreen_draw(p->program, p->vao, hdr->fbo, hdr->width, hdr->height, true);
+    glProgramUniform1i(prog, LOC_COMPOSITE_SPECULAR, specular ? 1 : 0);
+    fullscreen_draw(prog, p->vao, hdr->fbo, hdr->width, hdr->height, true);
 }

@@ -115,11 +115,7 @@ static GLuint direct_program(PassDirect *p, const Scene *s, const Light *l)
 {
     if (p->general)
         return p->program;
-    /* A scene whose materials all have F0 = 0 (no metal, no dielectric
-     * specular weight: brdf_surface) has no glossy pixel either. */
-    bool diffuse_only = true;
-    for (int i = 0; i < s->material_count; i++)
-        diffuse_only = diffuse_only && s->materials[i].metallic == 0.f && s->materials[i].specular == 0.f;
+    bool diffuse_only = !scene_has_glossy(s);
     char defines[128];
     snprintf(defines, sizeof defines, "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_MODE %d\n#define SHADOW_FIXED_BIAS %d\n%s",
              (int)l->type, (int)p->mode, p->filter_bias, diffuse_only ? "#define DIRECT_DIFFUSE_ONLY\n" : "");

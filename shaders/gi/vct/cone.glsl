@@ -42,12 +42,21 @@ vec4 vct_sample(int k, vec3 local, float mip, vec3 d)
 }
 
 // Traces a cone from p along unit d with tan(half-angle) `tan_half`,
-// starting at distance t0 (m). Returns the radiance gathered (rgb) and the
-// opacity (a); `occlusion` gets the opacity met within u_vct.ao_range.
+// starting at distance t0 (m), from a surface of unit normal n. Returns the
+// radiance gathered (rgb) and the opacity (a); `occlusion` gets the opacity
+// met within u_vct.ao_range.
+// Each sample is lifted along n until it stands one sample diameter off the
+// surface's plane: a cone within its half-angle of the horizon (the diffuse
+// rings) otherwise reads the surface's own voxels at every mip, so lit
+// walls light themselves and unlit ones shadow themselves. On the Cornell
+// box (96², point light, against one-bounce) that error grew with the grid:
+// relMSE 0.0102, 0.0192, 0.0222 at 32³, 64³, 128³ (back wall 1.4-2.0× the
+// reference's indirect light, ceiling 0.47-0.26×); lifted: 0.0092, 0.0113,
+// 0.0122. Sponza (320×180): FLIP 0.0465 → 0.0448.
 // With a clipmap each sample reads the finest level that holds it (with
 // the cone's diameter of margin) and whose voxels are no larger than the
 // diameter, unless only a coarser one holds it.
-vec4 vct_cone(vec3 p, vec3 d, float tan_half, float t0, out float occlusion)
+vec4 vct_cone(vec3 p, vec3 d, vec3 n, float tan_half, float t0, out float occlusion)
 {
     float v0 = u_vct.level[0].w;
     float max_mip = float(u_vct.levels - 1);
@@ -58,7 +67,8 @@ vec4 vct_cone(vec3 p, vec3 d, float tan_half, float t0, out float occlusion)
     float t = t0;
     for (int i = 0; i < 4096 && a < 0.99 && t < u_vct.max_distance; i++) {
         float diameter = max(v0, 2.0 * t * tan_half);
-        vec3 q = p + d * t;
+        float lift = diameter - t * dot(d, n);
+        vec3 q = p + d * t + n * max(lift, 0.0);
         int k = vct_level_at(q, last > 0 ? diameter : 0.0);
         if (k < 0)
             break;
@@ -96,7 +106,7 @@ vec3 vct_irradiance(vec3 p, vec3 n, float t0, out float visibility)
         vec3 cd = u_vct.cone[i].xyz;
         vec3 d = normalize(t * cd.x + b * cd.y + n * cd.z);
         float occ;
-        vec4 l = vct_cone(p, d, u_vct.cone_aperture[i].x, t0, occ);
+        vec4 l = vct_cone(p, d, n, u_vct.cone_aperture[i].x, t0, occ);
         e += u_vct.cone[i].w * l.rgb;
         occluded += u_vct.cone[i].w / PI * occ;
     }

@@ -72,7 +72,7 @@ void vct_shade(ivec2 px, out vec4 irradiance, out vec4 specular)
         float cos_half = pow(0.244, 1.0 / (phong + 1.0));
         float tan_half = min(sqrt(max(1.0 - cos_half * cos_half, 0.0)) / max(cos_half, 1e-4), 1.0);
         float occ;
-        vec4 l = vct_cone(p, r, tan_half, voxel, occ);
+        vec4 l = vct_cone(p, r, n, tan_half, voxel, occ);
         float nv = clamp(dot(n, v), 0.0, 1.0);
         spec = specular_albedo(f0, roughness, nv) * l.rgb;
     }

@@ -43,7 +43,7 @@ const SettingDesc settings_table[] = {
     {"shadow", "filter_bias", "--filter-bias", SETTING_ENUM, SH(filter_bias), 0, 0, 1, 0, k_filter_biases,
      "PCF/PCSS: receiver-plane depth + 1-texel bias, Poisson disk; legacy: slope bias x filter radius, spiral"},
     {"shadow", "area_light", "--area-light", SETTING_ENUM, SH(area_light), 0, 0, 1, 0, k_area_lights,
-     "quad lights: exact polygon irradiance (diffuse) + representative point (specular); point: a point at the centre"},
+     "quad lights: exact polygon irradiance (diffuse) + 8x8 quadrature of the GGX lobe over the rectangle (specular); point: a point at the centre"},
     /* Reflective shadow maps (SPEC §3). */
     {"gi", "rsm_size", "--rsm-size", SETTING_INT, GI(rsm_size), 0, 4, 4096, 512, NULL,
      "RSM texels per side, per cube face for point/quad lights"},

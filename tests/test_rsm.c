@@ -216,6 +216,49 @@ static void interleaved_blur_reduces_error(void **state)
     scene_free(&s);
 }
 
+/* SPEC §1b: RSM, VPL and LPV bounce diffusely, flux = ρ_d × irradiance with
+ * ρ_d = (1 − metallic)·base. With every Cornell surface made metal the
+ * irradiance they gather is exactly 0 (the final image could not show it:
+ * the composite multiplies by ρ_d too), and no VPL is made; with the
+ * surfaces as built it is not. */
+static void metal_surfaces_bounce_nothing(void **state)
+{
+    (void)state;
+    enum { W = 32 };
+    const GiMode modes[] = {GI_RSM, GI_VPL_ALL, GI_LPV};
+    for (int metal = 0; metal < 2; metal++) {
+        Scene s;
+        cornell_point(&s);
+        for (int i = 0; metal && i < s.material_count; i++)
+            s.materials[i].metallic = 1.f;
+        for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
+            RenderSettings rs = test_settings(&s, W, W, SHADOW_MODE_HARD);
+            rs.gi = modes[m];
+            rs.gi_params = s.gi;
+            rs.gi_params.vpl_count = 1024;
+            Renderer r;
+            assert_true(renderer_create(&r, &s, &rs));
+            renderer_frame(&r, &s.camera);
+            float *e = malloc(sizeof(float) * 4 * W * W);
+            glGetTextureImage(r.irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
+            double hi = 0;
+            for (int i = 0; i < W * W; i++)
+                for (int c = 0; c < 3; c++)
+                    hi = fmax(hi, e[4 * i + c]);
+            const RenderStats *st = renderer_collect_stats(&r);
+            print_message("%s surfaces, gi %d: largest irradiance %.4g, VPLs %u\n", metal ? "metal" : "built-in",
+                          (int)modes[m], hi, st->vpl_count);
+            if (metal)
+                assert_true(hi == 0.0 && st->vpl_count == 0);
+            else
+                assert_true(hi > 0.01 && (modes[m] == GI_RSM || st->vpl_count > 0));
+            free(e);
+            renderer_destroy(&r);
+        }
+        scene_free(&s);
+    }
+}
+
 static void bad_gi_parameters(void **state)
 {
     (void)state;
@@ -243,6 +286,7 @@ int main(void)
         cmocka_unit_test(colour_bleeding),
         cmocka_unit_test(sampled_and_interpolated),
         cmocka_unit_test(interleaved_blur_reduces_error),
+        cmocka_unit_test(metal_surfaces_bounce_nothing),
         cmocka_unit_test(bad_gi_parameters),
     };
     return cmocka_run_group_tests_name("rsm", tests, test_gl_setup, test_gl_teardown);

@@ -37,32 +37,48 @@ vec3 major_axis(vec3 d)
     return vec3(0.0, 0.0, sign(d.z));
 }
 
+// Where x falls in the RSM, computed once per pixel: the map coordinates of
+// x (cube: on the face plane of x's major axis a at distance 1, in [-1, 1],
+// spanned by r and u; 2D: the light's projection) and the disk's radius
+// in those units.
+struct RsmFrame {
+    vec3 a, r, u; // cube: the face's axis and its plane's basis
+    vec2 st;      // x's coordinates
+    float scale;  // the disk's radius (cube: the face is 2 wide)
+};
+
+RsmFrame rsm_frame(vec3 x)
+{
+    RsmFrame f;
+    float r_max = u_gi.r_max;
+#ifdef RSM_CUBE
+    vec3 dir = x - u_light.position_type.xyz;
+    f.a = major_axis(dir);
+    f.r = abs(f.a.y) > 0.5 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    f.u = cross(f.a, f.r);
+    f.st = vec2(dot(dir, f.r), dot(dir, f.u)) / abs(dot(dir, f.a));
+    f.scale = 2.0 * r_max;
+#else
+    vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
+    f.a = f.r = f.u = vec3(0.0);
+    f.st = c.xy / c.w * 0.5 + 0.5;
+    f.scale = r_max;
+#endif
+    return f;
+}
+
 // Sums E over samples first, first+stride, ... (count of them), with the
 // paper's weights or (unbiased) those of the polar pdf.
-vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count, bool unbiased, int base)
+vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bool unbiased, int base)
 {
-    float r_max = u_gi.r_max;
     float K = u_gi.disk_texels;
     vec3 sum = vec3(0.0);
     float wsum = 0.0;
-#ifdef RSM_CUBE
-    vec3 dir = x - u_light.position_type.xyz;
-    vec3 a = major_axis(dir);
-    vec3 r = abs(a.y) > 0.5 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-    vec3 u = cross(a, r);
-    float inv_ma = 1.0 / abs(dot(dir, a));
-    vec2 st = vec2(dot(dir, r), dot(dir, u)) * inv_ma; // face plane at distance 1, in [-1, 1]
-    float scale = 2.0 * r_max;                          // face width is 2 in these units
-#else
-    vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
-    vec2 st = c.xy / c.w * 0.5 + 0.5;
-    float scale = r_max;
-#endif
     for (int k = 0; k < count; k++) {
         vec4 smp = pattern[base + first + k * stride];
-        vec2 q = st + scale * smp.xy;
+        vec2 q = f.st + f.scale * smp.xy;
 #ifdef RSM_CUBE
-        vec3 D = a + q.x * r + q.y * u;
+        vec3 D = f.a + q.x * f.r + q.y * f.u;
         uvec4 s = textureLod(rsm_surfel, D, 0.0);
         vec3 flux = textureLod(rsm_flux, D, 0.0).rgb;
         // Texels per plane area where D meets its own face, relative to the
@@ -71,50 +87,37 @@ vec3 rsm_gather(vec3 x, vec3 n, int first, int stride, int count, bool unbiased,
         float m = max(1.0, max(abs(q.x), abs(q.y)));
         float jac = 1.0 / (m * m * m);
 #else
-        if (any(lessThan(q, vec2(0.0))) || any(greaterThan(q, vec2(1.0)))) {
-            if (!unbiased)
-                wsum += smp.z * smp.z; // a sample of empty space still counts in the average
-            continue;
-        }
+        // A sample off the map is empty space: it reads nothing (the
+        // border texel is weighted 0) but, with the paper's weights, still
+        // counts in the average.
+        bool inside = all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, vec2(1.0)));
         uvec4 s = textureLod(rsm_surfel, q, 0.0);
         vec3 flux = textureLod(rsm_flux, q, 0.0).rgb;
-        float jac = 1.0;
+        float jac = inside ? 1.0 : 0.0;
 #endif
         vec3 e = vpl_irradiance(x, n, rsm_surfel_position(s), rsm_surfel_normal(s), flux);
-        if (unbiased) {
-            sum += e * (2.0 * smp.z * jac);
-        } else {
-            sum += e * (smp.z * smp.z * jac);
-            wsum += smp.z * smp.z;
-        }
+        float w = unbiased ? 2.0 * smp.z : smp.z * smp.z;
+        sum += e * (w * jac);
+        wsum += smp.z * smp.z;
     }
     if (unbiased)
         return sum * (K / float(max(count, 1)));
     return wsum > 0.0 ? sum * (K / wsum) : vec3(0.0);
 }
 
-// Whether world point xp lies in the disk rsm_gather samples for x: its
-// direction from the light through the face plane of x's major axis (cube),
+// Whether world point xp lies in the disk rsm_gather samples for the pixel
+// of frame f: its direction from the light through f's face plane (cube),
 // or its map coordinates (2D), within the disk's radius of x's own.
-bool rsm_in_disk(vec3 x, vec3 xp)
+bool rsm_in_disk(RsmFrame f, vec3 xp)
 {
-    float r_max = u_gi.r_max;
 #ifdef RSM_CUBE
-    vec3 dir = x - u_light.position_type.xyz;
-    vec3 a = major_axis(dir);
-    vec3 r = abs(a.y) > 0.5 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-    vec3 u = cross(a, r);
-    vec2 st = vec2(dot(dir, r), dot(dir, u)) / abs(dot(dir, a));
     vec3 dp = xp - u_light.position_type.xyz;
-    float h = dot(dp, a);
-    if (h <= 0.0)
-        return false;
-    vec2 q = vec2(dot(dp, r), dot(dp, u)) / h;
-    return distance(q, st) <= 2.0 * r_max;
+    float h = dot(dp, f.a);
+    vec2 q = vec2(dot(dp, f.r), dot(dp, f.u));
+    return h > 0.0 && distance(q, f.st * h) <= f.scale * h;
 #else
-    vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
     vec4 cp = u_light.shadow_view_proj * vec4(xp, 1.0);
-    return distance(cp.xy / cp.w, c.xy / c.w) * 0.5 <= r_max;
+    return distance(cp.xy / cp.w * 0.5 + 0.5, f.st) <= f.scale;
 #endif
 }
 
@@ -128,13 +131,14 @@ bool rsm_in_disk(vec3 x, vec3 xp)
 vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int count)
 {
     int local = max(count / 2, 1), global = max(count - local, 1);
-    vec3 near = rsm_gather(x, n, first, stride, local, true, u_gi.samples);
+    RsmFrame f = rsm_frame(x);
+    vec3 near = rsm_gather(f, x, n, first, stride, local, true, u_gi.samples);
     vec3 far = vec3(0.0);
     uint base = set * uint(u_gi.list_set);
     for (int k = 0; k < global; k++) {
         GpuVpl v = rsm_samples[base + uint(first + k * stride)];
-        if (!rsm_in_disk(x, v.position_xi.xyz))
-            far += vpl_irradiance(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb);
+        vec3 e = vpl_irradiance(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb);
+        far += rsm_in_disk(f, v.position_xi.xyz) ? vec3(0.0) : e;
     }
     return near + far / float(global);
 }

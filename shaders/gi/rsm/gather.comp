@@ -44,7 +44,7 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
     if (u_exhaustive == 0 && u_gi.weighting == RSM_WEIGHT_IMPORTANCE)
         return rsm_gather_importance(x, n, list_set(px), first, stride, count);
     if (u_exhaustive == 0)
-        return rsm_gather(rsm_frame(x), x, n, first, stride, count, u_gi.weighting == RSM_WEIGHT_UNBIASED, 0);
+        return rsm_gather(rsm_frame(x), x, n, first, stride, count, u_gi.weighting == RSM_WEIGHT_UNBIASED, u_gi.samples);
     vec3 e = vec3(0.0);
     uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
     for (uint i = u_chunk; i < nv; i++)

@@ -38,7 +38,6 @@ typedef struct RsmGi {
     int width, height;
     GLuint gather[GATHER_LAYOUTS][2]; /* [layout][cube], those the variant uses */
     GLuint interp;                    /* interp.comp */
-    GLuint pattern;                   /* SSBO: vec4 per sample */
     GLuint ubo;                       /* GpuGiParams */
     GLuint lowres;                    /* interp: RGBA32F low-res irradiance */
     GLuint list;                      /* interp: SSBO {count, pixels[]} */
@@ -51,30 +50,6 @@ typedef struct RsmGi {
     int *pyramid_levels;
     GLuint *samples;                  /* SSBO: GpuVpl[list_size], flux Φ/p */
 } RsmGi;
-
-/* Van der Corput radical inverse in base 2. */
-static float radical_inverse2(uint32_t i)
-{
-    i = (i << 16u) | (i >> 16u);
-    i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
-    i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
-    i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
-    i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
-    return (float)i * 2.3283064365386963e-10f;
-}
-
-/* The N-sample pattern: ξ1 = (i + ½)/N, ξ2 = radical inverse of i (a
- * Hammersley set), as vec4(ξ1·sin 2πξ2, ξ1·cos 2πξ2, ξ1, ξ2). */
-static void rsm_pattern(int n, float (*out)[4])
-{
-    for (int i = 0; i < n; i++) {
-        float xi1 = ((float)i + 0.5f) / (float)n, xi2 = radical_inverse2((uint32_t)i);
-        out[i][0] = xi1 * sinf(2.f * GLM_PIf * xi2);
-        out[i][1] = xi1 * cosf(2.f * GLM_PIf * xi2);
-        out[i][2] = xi1;
-        out[i][3] = xi2;
-    }
-}
 
 static unsigned rsm_needs(const GiParams *p)
 {
@@ -216,8 +191,7 @@ static void rsm_destroy(void *state)
         return;
     importance_destroy(g);
     rsm_free_sized(g);
-    GLuint b[2] = {g->pattern, g->ubo};
-    glDeleteBuffers(2, b);
+    glDeleteBuffers(1, &g->ubo);
     free(g);
 }
 
@@ -244,21 +218,6 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
         ok = make_gather(g, GATHER_INTERLEAVED);
         break;
     }
-    /* The paper's N-sample pattern, then (importance weighting) the disk's
-     * own N/2-sample pattern. */
-    int n = g->params.samples, nl = rsm_local_samples(n);
-    float(*pat)[4] = malloc(sizeof(float) * 4 * (size_t)(n + nl));
-    if (!pat) {
-        log_error("rsm", "out of memory for a %d-sample pattern", n);
-        rsm_destroy(g);
-        return NULL;
-    }
-    rsm_pattern(n, pat);
-    rsm_pattern(nl, pat + n);
-    glCreateBuffers(1, &g->pattern);
-    glNamedBufferStorage(g->pattern, (GLsizeiptr)(sizeof(float) * 4 * (size_t)(n + nl)), pat, 0);
-    glObjectLabel(GL_BUFFER, g->pattern, -1, "rsm.pattern");
-    free(pat);
     g->ubo = gi_ubo_make(sizeof(GpuGiParams), "gi.params");
     if (ok && importance_on(g))
         ok = importance_create(g, ci->lights);
@@ -281,7 +240,6 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
     bool exh = g->params.exhaustive;
     if (exh)
         light_stage_bind_vpls(ls);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PATTERN, g->pattern);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PIXEL_LIST, g->list);
     bool di = layout == GATHER_INTERLEAVED;
     glBindTextureUnit(TEX_GB_POSITION, di ? g->il.di_position : f->gbuffer->position);

@@ -47,7 +47,7 @@ typedef struct RsmMap {
     int size;          /* texels per side (per face) */
     bool cube;
     GLuint surfel;     /* RGBA32UI: position and normal of the lit side, packed
-                          (shaders/common/rsm_surfel.glsl); 0 where no surface */
+                          (shaders/common/surfel.glsl); 0 where no surface */
     GLuint flux;       /* RGBA32F: reflected flux Φ (W), a = surface area (m²) */
     GLuint depth;      /* DEPTH32F */
     GLuint view[2];    /* 2D-array views of surfel and flux (compute passes) */

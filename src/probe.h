@@ -9,7 +9,7 @@
 #include <stdbool.h>
 #include <stdio.h>
 
-/* Texture fetches per RSM gather sample (shaders/common/rsm_surfel.glsl:
+/* Texture fetches per RSM gather sample (shaders/common/surfel.glsl:
  * surfel + flux): the probe kernel that bounds the gathers. */
 #define PROBE_RSM_FETCHES 2
 

@@ -60,8 +60,8 @@ static bool fxaa_target_make(Renderer *r)
     return color_target_create(&r->ldr_pre, GL_SRGB8_ALPHA8, r->settings.width, r->settings.height, "ldr.pre_fxaa");
 }
 
-/* GPU bytes per shading pixel: G-buffer (60), HDR/LDR (20), the GI images
- * (32) and a technique's own images (at most about 90, rsm-interleaved). */
+/* GPU bytes per shading pixel, rounded up: G-buffer (36), HDR/LDR (20), the
+ * GI images (32) and a technique's own images (at most about 90). */
 enum { BYTES_PER_PIXEL = 200 };
 
 /* The shading targets at N× the output size (w, h), the resolved radiance

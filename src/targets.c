@@ -85,20 +85,17 @@ bool gbuffer_create(GBuffer *g, int w, int h)
 {
     g->width = w;
     g->height = h;
-    g->position = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gbuffer.position");
-    g->normal = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.normal");
-    g->albedo = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.albedo");
-    g->emission = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.emission");
-    g->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA16F, w, h, "gbuffer.specular");
+    g->surface = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32UI, w, h, "gbuffer.surface");
+    g->material = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32UI, w, h, "gbuffer.material");
     g->depth = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, w, h, "gbuffer.depth");
-    const GLuint colors[5] = {g->position, g->normal, g->albedo, g->emission, g->specular};
-    return fbo_make(&g->fbo, colors, 5, g->depth, false, "gbuffer");
+    const GLuint colors[2] = {g->surface, g->material};
+    return fbo_make(&g->fbo, colors, 2, g->depth, false, "gbuffer");
 }
 
 void gbuffer_destroy(GBuffer *g)
 {
-    GLuint tex[6] = {g->position, g->normal, g->albedo, g->emission, g->specular, g->depth};
-    glDeleteTextures(6, tex);
+    GLuint tex[3] = {g->surface, g->material, g->depth};
+    glDeleteTextures(3, tex);
     glDeleteFramebuffers(1, &g->fbo);
     *g = (GBuffer){0};
 }

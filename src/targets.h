@@ -9,11 +9,8 @@
 typedef struct GBuffer {
     int width, height;
     GLuint fbo;
-    GLuint position; /* RGBA32F: world xyz, w = 1 where geometry */
-    GLuint normal;   /* RGBA16F: unit normal facing the camera */
-    GLuint albedo;   /* RGBA16F: linear diffuse albedo ρ_d = (1 − metallic)·base colour */
-    GLuint emission; /* RGBA16F: emitted radiance */
-    GLuint specular; /* RGBA16F: F0 rgb, a = perceptual roughness (glTF; α = roughness²); unit TEX_GB_SPECULAR */
+    GLuint surface;  /* RGBA32UI: world position, camera-facing normal, valid bit (shaders/common/gbuffer.glsl) */
+    GLuint material; /* RGBA32UI: base colour, roughness, emission, metallic, specular weight (same file) */
     GLuint depth;    /* DEPTH32F */
 } GBuffer;
 

@@ -337,11 +337,11 @@ static void switching_aa_matches_fresh(void **state)
     }
     assert_int_equal(r.lights.shadow[0].texture, shadow); /* the light stage was not remade */
     /* FXAA alone: only its own target changes, not the shading targets. */
-    GLuint gb = r.gbuffer.position, hdr = r.hdr.texture;
+    GLuint gb = r.gbuffer.surface, hdr = r.hdr.texture;
     RenderSettings fx = base;
     fx.aa = AA_FXAA;
     assert_true(renderer_apply(&r, &fx));
-    assert_int_equal(r.gbuffer.position, gb);
+    assert_int_equal(r.gbuffer.surface, gb);
     assert_int_equal(r.hdr.texture, hdr);
     assert_true(r.ldr_pre.fbo != 0);
     assert_true(renderer_apply(&r, &base));

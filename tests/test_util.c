@@ -1,5 +1,6 @@
 #include "test_util.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "brdf.h"
 #include "camera.h"
 #include "util.h"
 
@@ -217,6 +219,40 @@ void test_expect_cli_error(int rc, char *err, int want, const char *n1, const ch
                  n1 ? n1 : "", n2 ? n2 : "");
     assert_true(strstr(err, "\n") == strrchr(err, '\n')); /* one line */
     free(err);
+}
+
+/* The octahedral normal of common/surfel.glsl (15 bits per coordinate). */
+static void oct_decode(uint32_t w, vec3 n)
+{
+    float ex = (float)(w & 0x7fffu) / 32767.f * 2.f - 1.f, ey = (float)((w >> 15) & 0x7fffu) / 32767.f * 2.f - 1.f;
+    n[0] = ex, n[1] = ey, n[2] = 1.f - fabsf(ex) - fabsf(ey);
+    float t = fmaxf(-n[2], 0.f);
+    n[0] -= n[0] >= 0.f ? t : -t;
+    n[1] -= n[1] >= 0.f ? t : -t;
+    glm_vec3_normalize(n);
+}
+
+void test_gbuffer_pixel(const GBuffer *g, int x, int y, TestGbPixel *out)
+{
+    uint32_t s[4], m[4];
+    glGetTextureSubImage(g->surface, 0, x, y, 0, 1, 1, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, sizeof s, s);
+    glGetTextureSubImage(g->material, 0, x, y, 0, 1, 1, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, sizeof m, m);
+    memset(out, 0, sizeof *out);
+    out->valid = (s[3] & 0x80000000u) != 0;
+    memcpy(out->position, s, sizeof(vec3));
+    oct_decode(s[3], out->normal);
+    out->base[0] = (float)(m[0] & 0xffffu) / 65535.f;
+    out->base[1] = (float)(m[0] >> 16) / 65535.f;
+    out->base[2] = (float)(m[1] & 0xffffu) / 65535.f;
+    out->roughness = (float)(m[1] >> 16) / 65535.f;
+    for (int c = 0; c < 3; c++) /* RGB9E5 */
+        out->emission[c] = ldexpf((float)((m[2] >> (9 * c)) & 0x1ffu), (int)(m[2] >> 27) - 24);
+    out->metallic = (float)(m[3] & 0xffffu) / 65535.f;
+    out->specular = (float)(m[3] >> 16) / 65535.f;
+    BrdfSurface b;
+    brdf_surface(out->base, out->metallic, out->roughness, out->specular, &b);
+    glm_vec3_copy(b.diffuse, out->diffuse);
+    glm_vec3_copy(b.f0, out->f0);
 }
 
 static bool dark(const ImageF *img, int x, int y)

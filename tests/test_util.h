@@ -65,6 +65,17 @@ void test_x_display(void);
  * single line holding n1 and n2 (either may be NULL). */
 void test_expect_cli_error(int rc, char *err, int want, const char *n1, const char *n2);
 
+/* Pixel (x, y) of a G-buffer (shaders/common/gbuffer.glsl), decoded. */
+typedef struct TestGbPixel {
+    bool valid;          /* a surface was drawn */
+    vec3 position, normal;
+    vec3 base;           /* base colour */
+    float metallic, roughness, specular;
+    vec3 emission;
+    vec3 diffuse, f0;    /* brdf_surface of the above */
+} TestGbPixel;
+void test_gbuffer_pixel(const GBuffer *g, int x, int y, TestGbPixel *out);
+
 /* For direct-light images (a shadowed pixel is exactly black): mask[i] = 1
  * except within one pixel of where a and b disagree about being in shadow,
  * the shadow-map resolution error a radiometry check does not measure;

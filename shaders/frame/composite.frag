@@ -7,14 +7,10 @@
 // every surface is Lambertian and w = 1.
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
-#ifdef GLOSSY
 #include "common/brdf.glsl"
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
-layout(binding = TEX_GB_SPECULAR) uniform sampler2D g_specular;
-#endif
+#define GBUFFER_MATERIAL
+#include "common/gbuffer.glsl"
 
-layout(binding = TEX_GB_ALBEDO) uniform sampler2D g_albedo;
 layout(binding = TEX_GI) uniform sampler2D u_irradiance;
 layout(binding = TEX_SPECULAR) uniform sampler2D u_specular;
 layout(location = LOC_COMPOSITE_SPECULAR) uniform int u_has_specular;
@@ -25,14 +21,12 @@ void main()
 {
     ivec2 px = ivec2(gl_FragCoord.xy);
     vec3 e = texelFetch(u_irradiance, px, 0).rgb;
-    vec3 l = texelFetch(g_albedo, px, 0).rgb / PI * e;
+    GbMaterial mat = gb_material(px);
+    vec3 l = mat.diffuse / PI * e;
 #ifdef GLOSSY
-    vec3 f0 = texelFetch(g_specular, px, 0).rgb;
-    if (any(greaterThan(f0, vec3(0.0)))) {
-        vec3 x = texelFetch(g_position, px, 0).xyz;
-        vec3 n = texelFetch(g_normal, px, 0).xyz;
-        l *= brdf_diffuse_irradiance_weight(f0, dot(n, normalize(u_frame.camera.xyz - x)));
-    }
+    vec3 x, n;
+    if (any(greaterThan(mat.f0, vec3(0.0))) && gb_surface(px, x, n))
+        l *= brdf_diffuse_irradiance_weight(mat.f0, dot(n, normalize(u_frame.camera.xyz - x)));
 #endif
     if (u_has_specular != 0)
         l += texelFetch(u_specular, px, 0).rgb;

@@ -14,12 +14,9 @@
 #include "common/brdf.glsl"
 #include "common/lights.glsl"
 #include "common/shadow.glsl"
+#define GBUFFER_MATERIAL
+#include "common/gbuffer.glsl"
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
-layout(binding = TEX_GB_ALBEDO) uniform sampler2D g_albedo;
-layout(binding = TEX_GB_EMISSION) uniform sampler2D g_emission;
-layout(binding = TEX_GB_SPECULAR) uniform sampler2D g_specular;
 layout(location = LOC_DIRECT_EMISSION) uniform int u_add_emission;
 layout(location = LOC_DIRECT_AREA_LIGHT) uniform int u_area_light;
 
@@ -62,8 +59,8 @@ vec3 quad_specular(GpuLight l, vec3 radiance, vec3 x, vec3 n, vec3 v, vec3 f0, f
 void main()
 {
     ivec2 px = ivec2(gl_FragCoord.xy);
-    vec4 p = texelFetch(g_position, px, 0);
-    if (p.w == 0.0) {
+    vec3 x, n;
+    if (!gb_surface(px, x, n)) {
         // Background: no surface. The first light's draw is not blended and
         // leaves the target's only value here (see pass_direct.c).
         if (u_add_emission == 0)
@@ -71,10 +68,9 @@ void main()
         o_radiance = vec4(0.0);
         return;
     }
-    vec3 x = p.xyz;
-    vec3 n = texelFetch(g_normal, px, 0).xyz;
-    vec3 albedo = texelFetch(g_albedo, px, 0).rgb;
-    vec4 spec = texelFetch(g_specular, px, 0);
+    GbMaterial mat = gb_material(px);
+    vec3 albedo = mat.diffuse;
+    vec4 spec = vec4(mat.f0, mat.roughness);
     vec3 v = normalize(u_frame.camera.xyz - x);
     vec3 l;
     vec3 e = light_irradiance(u_light, x, n, l);
@@ -111,6 +107,6 @@ void main()
         radiance = f * e * shadow_visibility(x, n, l, gl_FragCoord.xy);
     }
     if (u_add_emission != 0)
-        radiance += texelFetch(g_emission, px, 0).rgb;
+        radiance += mat.emission;
     o_radiance = vec4(radiance, 1.0);
 }

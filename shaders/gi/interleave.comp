@@ -6,15 +6,13 @@
 //   MODE_BLUR   geometry-aware blur over the n×m window: neighbours whose
 //               normal and position agree (thresholds of the interpolation)
 #include "shared/gpu_types.h"
+#include "common/gbuffer.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(binding = TEX_INPUT) uniform sampler2D u_input; // MERGE: de-interleaved irradiance; BLUR: merged
 #if defined(MODE_SPLIT)
-layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_position;
-layout(rgba32f, binding = IMG_OUT2) uniform writeonly image2D o_normal;
+layout(rgba32ui, binding = IMG_OUT) uniform writeonly uimage2D o_surface;
 #else
 layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_irradiance;
 #endif
@@ -28,18 +26,16 @@ void main()
     ivec2 sub = ivec2(u_gi.sub_width, u_gi.sub_height);
     ivec2 di = (px % ivec2(n, m)) * sub + px / ivec2(n, m);
 #if defined(MODE_SPLIT)
-    imageStore(o_position, di, texelFetch(g_position, px, 0));
-    imageStore(o_normal, di, texelFetch(g_normal, px, 0));
+    imageStore(o_surface, di, texelFetch(g_surface, px, 0));
 #elif defined(MODE_MERGE)
     imageStore(o_irradiance, px, texelFetch(u_input, di, 0));
 #else
-    vec4 p = texelFetch(g_position, px, 0);
-    if (p.w == 0.0) {
+    vec3 p, nrm;
+    if (!gb_surface(px, p, nrm)) {
         imageStore(o_irradiance, px, vec4(0.0));
         return;
     }
-    vec3 nrm = texelFetch(g_normal, px, 0).xyz;
-    float max_dist = u_gi.interp_dist * distance(p.xyz, u_frame.camera.xyz);
+    float max_dist = u_gi.interp_dist * distance(p, u_frame.camera.xyz);
     vec3 sum = vec3(0.0);
     float count = 0.0;
     for (int dy = -m / 2; dy < m - m / 2; dy++)
@@ -47,9 +43,8 @@ void main()
             ivec2 q = px + ivec2(dx, dy);
             if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(u_frame.width, u_frame.height))))
                 continue;
-            vec4 qp = texelFetch(g_position, q, 0);
-            if (qp.w == 0.0 || dot(nrm, texelFetch(g_normal, q, 0).xyz) < u_gi.interp_normal ||
-                distance(qp.xyz, p.xyz) > max_dist)
+            vec3 qp, qn;
+            if (!gb_surface(q, qp, qn) || dot(nrm, qn) < u_gi.interp_normal || distance(qp, p) > max_dist)
                 continue;
             sum += texelFetch(u_input, q, 0).rgb;
             count += 1.0;

@@ -6,7 +6,7 @@
 #include "shared/gpu_types.h"
 #include "common/lights.glsl"
 #include "common/material.glsl"
-#include "common/rsm_surfel.glsl"
+#include "common/surfel.glsl"
 
 layout(location = LOC_RSM_FACE_AXIS) uniform vec3 u_face_axis; // unit axis of this face / spot
 layout(location = LOC_RSM_TEXEL_AREA) uniform float u_texel_area; // a (perspective) or A (ortho)
@@ -19,7 +19,7 @@ in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
 
-layout(location = 0) out uvec4 o_surfel; // position, normal (common/rsm_surfel.glsl)
+layout(location = 0) out uvec4 o_surfel; // position, normal (common/surfel.glsl)
 layout(location = 1) out vec4 o_flux;
 
 void main()
@@ -51,6 +51,6 @@ void main()
         float c = abs(dot(normalize(d), u_face_axis));
         area = u_texel_area * c * c * c * dot(d, d) / cos_s;
     }
-    o_surfel = rsm_surfel_pack(v_world, n);
+    o_surfel = surfel_pack(v_world, n);
     o_flux = vec4(albedo * power, area);
 }

@@ -3,7 +3,7 @@
 // counts them. The RSM layers are read through 2D-array views (a 2D RSM is
 // one layer, a cube RSM six).
 #include "shared/gpu_types.h"
-#include "common/rsm_surfel.glsl"
+#include "common/surfel.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -32,12 +32,12 @@ void main()
     uvec4 s = texelFetch(r_surfel, id, 0);
     vec4 fa = texelFetch(r_flux, id, 0) * float(u_stride * u_stride); // flux, area
     vec3 flux = fa.rgb;
-    if (!rsm_surfel_valid(s) || max(flux.r, max(flux.g, flux.b)) <= 0.0)
+    if (!surfel_valid(s) || max(flux.r, max(flux.g, flux.b)) <= 0.0)
         return;
     uint texel = uint(id.x + size.x * (id.y + size.y * id.z));
     float xi = (float(hash_u32(texel ^ hash_u32(u_seed + 0x9e3779b9u)) >> 8) + 1.0) / 16777216.0;
     uint i = atomicAdd(counters[0], 1u);
-    vpls[i].position_xi = vec4(rsm_surfel_position(s), xi);
-    vpls[i].normal = vec4(rsm_surfel_normal(s), 0.0);
+    vpls[i].position_xi = vec4(surfel_unpack_position(s), xi);
+    vpls[i].normal = vec4(surfel_unpack_normal(s), 0.0);
     vpls[i].flux = vec4(flux, fa.a);
 }

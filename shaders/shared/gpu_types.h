@@ -36,12 +36,10 @@
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
 #define TEX_SHADOW_2D 1  /* shadow map of a directional/spot light */
 #define TEX_SHADOW_CUBE 2
-#define TEX_GB_POSITION 3
-#define TEX_GB_NORMAL 4
-#define TEX_GB_ALBEDO 5
-#define TEX_GB_EMISSION 6
+#define TEX_GB_SURFACE 3  /* G-buffer RGBA32UI: position bits, octahedral normal (common/gbuffer.glsl) */
+#define TEX_GB_MATERIAL 4 /* G-buffer RGBA32UI: base colour, roughness, emission, metallic, specular weight */
 #define TEX_HDR 7
-#define TEX_RSM_SURFEL 8 /* RGBA32UI: position bits, octahedral normal (common/rsm_surfel.glsl) */
+#define TEX_RSM_SURFEL 8 /* RGBA32UI: position bits, octahedral normal (common/surfel.glsl) */
 #define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..2 at 8 + k */
 #define TEX_RSM_FLUX 10  /* RGBA32F: Φ rgb, a = area */
 #define TEX_GI 11        /* indirect irradiance */
@@ -49,9 +47,8 @@
 #define TEX_REFERENCE 12 /* the window's A/B view: the --compare image (shares TEX_INPUT's unit) */
 #define TEX_SPECULAR 13  /* a technique's indirect specular radiance */
 #define TEX_LDR 31       /* tone-mapped colour (FXAA's input, linear filtering) */
-#define TEX_GB_SPECULAR 32 /* G-buffer specular: rgb F0, a perceptual roughness (α = a²); past the 0..31
-                              units a fragment stage has, still below GL 4.5's 80 combined units */
-#define TEX_MATERIAL_MR 33 /* glTF metallicRoughness texture while drawing the scene (G roughness, B metallic) */
+#define TEX_MATERIAL_MR 33 /* glTF metallicRoughness texture while drawing the scene (G roughness, B metallic); past
+                              the 0..31 units a fragment stage has, still below GL 4.5's 80 combined units */
 #define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
 #define TEX_LPV_GV1 15   /* lpv: geometry volume, normal tensor xy xz yz */
 #define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
@@ -247,7 +244,6 @@
     F(float, step)           /* sampling step, in cone diameters */                         \
     F(float, ao_range)       /* occlusion counts up to this distance (m) */                 \
     F(int, conservative)     /* 1: conservative voxelization */                             \
-    F(int, has_material_specular) /* 1: the G-buffer has a specular attachment */           \
     F(float, roughness)      /* perceptual roughness of every surface when f0 > 0 */        \
     F(float, f0)             /* > 0: F0 of every surface (tests); 0: the G-buffer's */       \
     F(float, max_distance)   /* cones stop after this distance (m) */                       \

@@ -2,7 +2,7 @@
 // RSM surfel texel and unpacks it again in place (tests/test_layout.c);
 // normal.w = 1 where the texel reads as valid.
 #include "shared/gpu_types.h"
-#include "common/rsm_surfel.glsl"
+#include "common/surfel.glsl"
 
 layout(local_size_x = 64) in;
 layout(std430, binding = SSBO_VPL) buffer VplBlock { GpuVpl vpls[]; };
@@ -12,7 +12,7 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= uint(vpls.length()))
         return;
-    uvec4 s = rsm_surfel_pack(vpls[i].position_xi.xyz, vpls[i].normal.xyz);
-    vpls[i].position_xi.xyz = rsm_surfel_position(s);
-    vpls[i].normal = vec4(rsm_surfel_normal(s), rsm_surfel_valid(s) ? 1.0 : 0.0);
+    uvec4 s = surfel_pack(vpls[i].position_xi.xyz, vpls[i].normal.xyz);
+    vpls[i].position_xi.xyz = surfel_unpack_position(s);
+    vpls[i].normal = vec4(surfel_unpack_normal(s), surfel_valid(s) ? 1.0 : 0.0);
 }

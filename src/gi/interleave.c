@@ -26,27 +26,24 @@ bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int w
         return true;
     g->split = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_split", .comp = "gi/interleave.comp", .defines = "#define MODE_SPLIT\n"});
     g->merge = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_merge", .comp = "gi/interleave.comp", .defines = "#define MODE_MERGE\n"});
-    g->di_position = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_position");
-    g->di_normal = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_normal");
+    g->di_surface = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32UI, g->di_w, g->di_h, "gi.di_surface");
     g->di_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_irradiance");
     return g->split && g->merge;
 }
 
 void gi_interleave_destroy(GiInterleave *g)
 {
-    GLuint t[4] = {g->di_position, g->di_normal, g->di_irradiance, g->merged};
-    glDeleteTextures(4, t);
+    GLuint t[3] = {g->di_surface, g->di_irradiance, g->merged};
+    glDeleteTextures(3, t);
     memset(g, 0, sizeof *g);
 }
 
 void gi_interleave_split(GiInterleave *g, const GBuffer *gb)
 {
-    glBindTextureUnit(TEX_GB_POSITION, gb->position);
-    glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
-    const float zero[4] = {0, 0, 0, 0};
-    glClearTexImage(g->di_position, 0, GL_RGBA, GL_FLOAT, zero);
-    glBindImageTexture(IMG_OUT, g->di_position, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glBindImageTexture(IMG_OUT2, g->di_normal, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
+    const GLuint zero[4] = {0, 0, 0, 0}; /* padding texels: no surface */
+    glClearTexImage(g->di_surface, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, zero);
+    glBindImageTexture(IMG_OUT, g->di_surface, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32UI);
     glUseProgram(g->split);
     gi_dispatch_pixels(g->width, g->height);
 }
@@ -63,8 +60,7 @@ void gi_interleave_merge(GiInterleave *g, const GBuffer *gb, bool blur, GLuint o
 
 void gi_interleave_blur(GiInterleave *g, const GBuffer *gb, GLuint in, GLuint out)
 {
-    glBindTextureUnit(TEX_GB_POSITION, gb->position);
-    glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
+    glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
     glBindTextureUnit(TEX_INPUT, in);
     glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glUseProgram(g->blur);

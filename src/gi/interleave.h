@@ -24,7 +24,7 @@ typedef struct GiInterleave {
     int width, height;             /* full resolution */
     int sub_w, sub_h;              /* sub-image size */
     int di_w, di_h;                /* de-interleaved layout: n·sub_w × m·sub_h */
-    GLuint di_position, di_normal; /* de-interleaved G-buffer */
+    GLuint di_surface;             /* de-interleaved G-buffer surface texels (RGBA32UI) */
     GLuint di_irradiance;          /* de-interleaved result */
     GLuint merged;                 /* reassembled (or shaded), before the blur */
 } GiInterleave;

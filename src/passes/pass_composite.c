@@ -21,12 +21,8 @@ void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, 
                         ColorTarget *hdr)
 {
     GLuint prog = glossy ? p->program_glossy : p->program;
-    glBindTextureUnit(TEX_GB_ALBEDO, gb->albedo);
-    if (glossy) {
-        glBindTextureUnit(TEX_GB_POSITION, gb->position);
-        glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
-        glBindTextureUnit(TEX_GB_SPECULAR, gb->specular);
-    }
+    glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
+    glBindTextureUnit(TEX_GB_MATERIAL, gb->material);
     glBindTextureUnit(TEX_GI, irradiance);
     glBindTextureUnit(TEX_SPECULAR, specular ? specular : irradiance);
     glProgramUniform1i(prog, LOC_COMPOSITE_SPECULAR, specular ? 1 : 0);

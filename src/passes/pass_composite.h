@@ -4,8 +4,8 @@
  * lobe's Fresnel transmission for irradiance (brdf_diffuse_irradiance_weight),
  * 1 on Lambertian surfaces: scenes without glossy materials use a program
  * without it.
- * Inputs: GBuffer albedo (glossy: also normal, position, specular), the
- * irradiance (and specular) image, UBO_FRAME.
+ * Inputs: GBuffer (material; glossy: also surface), the irradiance (and
+ * specular) image, UBO_FRAME.
  * Output: HDR target (additive). Owns: nothing (its program is the program
  * cache's, its empty VAO the renderer's). */
 #ifndef RTGI_PASS_COMPOSITE_H

@@ -138,11 +138,8 @@ static void direct_draw(PassDirect *p, GLuint prog, bool first, ColorTarget *hdr
 void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, ColorTarget *hdr)
 {
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_SHADOW, p->shadow_ubo);
-    glBindTextureUnit(TEX_GB_POSITION, gb->position);
-    glBindTextureUnit(TEX_GB_NORMAL, gb->normal);
-    glBindTextureUnit(TEX_GB_ALBEDO, gb->albedo);
-    glBindTextureUnit(TEX_GB_EMISSION, gb->emission);
-    glBindTextureUnit(TEX_GB_SPECULAR, gb->specular);
+    glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
+    glBindTextureUnit(TEX_GB_MATERIAL, gb->material);
     if (ls->light_count == 0) {
         /* No light: slot 0 of the light array is all zero (zero light
          * colour), so the draw adds emission only. */

@@ -27,9 +27,10 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
         glProgramUniformMatrix4fv(programs[i], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
         glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
     }
-    const float zero[4] = {0, 0, 0, 0}, one = 1.f;
-    for (int i = 0; i < 5; i++)
-        glClearNamedFramebufferfv(out->fbo, GL_COLOR, i, zero);
+    const GLuint zero[4] = {0, 0, 0, 0}; /* no surface, no material */
+    const float one = 1.f;
+    for (int i = 0; i < 2; i++)
+        glClearNamedFramebufferuiv(out->fbo, GL_COLOR, i, zero);
     glClearNamedFramebufferfv(out->fbo, GL_DEPTH, 0, &one);
     glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);
     glViewport(0, 0, out->width, out->height);

@@ -10,11 +10,10 @@
 // Output: IMG_OUT irradiance.
 #include "shared/gpu_types.h"
 #include "gi/lpv/sh.glsl"
+#include "common/gbuffer.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(binding = TEX_LPV_SUM) uniform sampler3D s_all[3 * LPV_MAX_CASCADES];
 layout(binding = TEX_LPV_OUTER) uniform sampler3D s_outer[3 * (LPV_MAX_CASCADES - 1)];
 layout(binding = IMG_OUT, rgba32f) uniform writeonly image2D o_irradiance;
@@ -53,21 +52,20 @@ void main()
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (px.x >= u_frame.width || px.y >= u_frame.height)
         return;
-    vec4 p = texelFetch(g_position, px, 0);
+    vec3 p, n;
     vec3 e = vec3(0.0);
-    if (p.w != 0.0) {
-        vec3 n = normalize(texelFetch(g_normal, px, 0).xyz);
+    if (gb_surface(px, p, n)) {
         int last = u_lpv.cascades - 1;
         // From the coarsest: total = every VPL of the coarsest cascade;
         // rest = the VPLs outside the next finer cascade.
-        vec3 total = cascade_irradiance(last, false, p.xyz, n);
-        vec3 rest = last > 0 ? cascade_irradiance(last, true, p.xyz, n) : vec3(0.0);
+        vec3 total = cascade_irradiance(last, false, p, n);
+        vec3 rest = last > 0 ? cascade_irradiance(last, true, p, n) : vec3(0.0);
         for (int k = last - 1; k >= 0; k--) {
-            float w = cascade_weight(k, p.xyz);
+            float w = cascade_weight(k, p);
             if (w > 0.0)
-                total = mix(total, cascade_irradiance(k, false, p.xyz, n) + rest, w);
+                total = mix(total, cascade_irradiance(k, false, p, n) + rest, w);
             if (k > 0)
-                rest += cascade_irradiance(k, true, p.xyz, n);
+                rest += cascade_irradiance(k, true, p, n);
         }
         e = total;
     }

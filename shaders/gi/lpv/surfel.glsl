@@ -11,23 +11,23 @@
 #define LPV_SURFEL_GLSL
 
 // surfel_position: xyz, w = 1 where the texel holds a surface.
+// Both kinds are packed surfels (common/surfel.glsl).
+#include "common/surfel.glsl"
 #ifdef GBUFFER
-layout(binding = TEX_GB_POSITION) uniform sampler2D s_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D s_normal;
-vec4 surfel_position(ivec3 q) { return texelFetch(s_position, q.xy, 0); }
-vec3 surfel_normal(ivec3 q) { return texelFetch(s_normal, q.xy, 0).xyz; }
-ivec3 surfel_size() { return ivec3(textureSize(s_position, 0), 1); }
+layout(binding = TEX_GB_SURFACE) uniform usampler2D s_surfel;
+uvec4 surfel_texel(ivec3 q) { return texelFetch(s_surfel, q.xy, 0); }
+ivec3 surfel_size() { return ivec3(textureSize(s_surfel, 0), 1); }
 #else
-#include "common/rsm_surfel.glsl"
 layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray s_surfel;
-vec4 surfel_position(ivec3 q)
-{
-    uvec4 s = texelFetch(s_surfel, q, 0);
-    return vec4(rsm_surfel_position(s), rsm_surfel_valid(s) ? 1.0 : 0.0);
-}
-vec3 surfel_normal(ivec3 q) { return rsm_surfel_normal(texelFetch(s_surfel, q, 0)); }
+uvec4 surfel_texel(ivec3 q) { return texelFetch(s_surfel, q, 0); }
 ivec3 surfel_size() { return textureSize(s_surfel, 0); }
 #endif
+vec4 surfel_position(ivec3 q)
+{
+    uvec4 s = surfel_texel(q);
+    return vec4(surfel_unpack_position(s), surfel_valid(s) ? 1.0 : 0.0);
+}
+vec3 surfel_normal(ivec3 q) { return surfel_unpack_normal(surfel_texel(q)); }
 
 // The shorter valid difference to the neighbours along `axis`; zero if none.
 vec3 surfel_tangent(ivec3 q, ivec3 axis, ivec2 size, vec3 p)

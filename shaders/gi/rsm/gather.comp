@@ -3,7 +3,7 @@
 //   MODE_FULL         every full-resolution pixel
 //   MODE_LOWRES       one pixel per interp_factor² block (screen-space interpolation, step 1)
 //   MODE_LIST         the pixels listed by interp.comp (step 3: full gathers)
-//   MODE_INTERLEAVED  the de-interleaved G-buffer (bound as g_position/g_normal);
+//   MODE_INTERLEAVED  the de-interleaved G-buffer (bound at TEX_GB_SURFACE);
 //                     sub-image k uses the disjoint
 //                     sample subset k, k + n·m, k + 2·n·m, ...
 // With u_exhaustive the sum runs over every VPL of SSBO_VPL instead, one
@@ -13,11 +13,10 @@
 #include "common/math.glsl"
 #include "common/vpl.glsl"
 #include "gi/rsm/sampling.glsl"
+#include "common/gbuffer.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
@@ -88,18 +87,17 @@ void main()
     ivec2 k2 = gid / sub;
     if (k2.x >= n || k2.y >= m)
         return;
-    // g_position/g_normal are the de-interleaved copies here (gi/interleave.comp).
+    // The surface texels are the de-interleaved copies here (gi/interleave.comp).
     ivec2 px = gid, at = gid;
     if (any(greaterThanEqual((gid % sub) * ivec2(n, m) + k2, ivec2(u_frame.width, u_frame.height))))
         return; // padding texel of a sub-image: no pixel maps here
     int first = k2.x + n * k2.y, stride = n * m, count = max(N / (n * m), 1);
 #endif
-    vec4 p = texelFetch(g_position, px, 0);
-    if (p.w == 0.0) {
+    vec3 x, nrm;
+    if (!gb_surface(px, x, nrm)) {
         if (u_accumulate == 0)
             imageStore(o_irradiance, at, vec4(0.0));
         return;
     }
-    vec3 nrm = texelFetch(g_normal, px, 0).xyz;
-    store(at, gather(p.xyz, nrm, px, first, stride, count));
+    store(at, gather(x, nrm, px, first, stride, count));
 }

@@ -51,7 +51,7 @@ void main()
 }
 #elif defined(MODE_SAMPLE)
 layout(binding = TEX_INPUT) uniform sampler2DArray u_pyramid;
-#include "common/rsm_surfel.glsl"
+#include "common/surfel.glsl"
 layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray r_surfel;
 layout(binding = TEX_RSM_FLUX) uniform sampler2DArray r_flux;
 layout(std430, binding = SSBO_SAMPLES) writeonly buffer SampleBlock { GpuVpl samples[]; };
@@ -133,9 +133,9 @@ void main()
     uvec4 s = texelFetch(r_surfel, t, 0);
     // Φ_t / p_t with p_t = lum_t / total; empty texels (p = 0) are never
     // chosen unless the whole map is dark, and then carry nothing.
-    vec3 w = lum > 0.0 && rsm_surfel_valid(s) ? flux * (total / lum) : vec3(0.0);
-    samples[i].position_xi = vec4(rsm_surfel_position(s), 0.0);
-    samples[i].normal = vec4(rsm_surfel_normal(s), 0.0);
+    vec3 w = lum > 0.0 && surfel_valid(s) ? flux * (total / lum) : vec3(0.0);
+    samples[i].position_xi = vec4(surfel_unpack_position(s), 0.0);
+    samples[i].normal = vec4(surfel_unpack_normal(s), 0.0);
     samples[i].flux = vec4(w, 0.0);
 }
 #endif

@@ -5,11 +5,10 @@
 // pixel takes their bilinear-weighted mean; otherwise it is appended to the
 // list of pixels that get a full gather (SSBO_PIXEL_LIST).
 #include "shared/gpu_types.h"
+#include "common/gbuffer.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(binding = TEX_INPUT) uniform sampler2D u_lowres;
 layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
 // The list: its count, then the arguments of the indirect dispatch of the
@@ -26,12 +25,11 @@ layout(std430, binding = SSBO_PIXEL_LIST) buffer PixelList { uint list_count; ui
 bool interpolate(ivec2 px, out vec4 result)
 {
     result = vec4(0.0);
-    vec4 p = texelFetch(g_position, px, 0);
-    if (p.w == 0.0)
+    vec3 p, n;
+    if (!gb_surface(px, p, n))
         return true;
-    vec3 n = texelFetch(g_normal, px, 0).xyz;
     int f = u_gi.interp_factor;
-    float max_dist = u_gi.interp_dist * distance(p.xyz, u_frame.camera.xyz);
+    float max_dist = u_gi.interp_dist * distance(p, u_frame.camera.xyz);
     vec2 u = (vec2(px) + 0.5) / float(f) - 0.5;
     ivec2 i0 = ivec2(floor(u));
     vec2 t = u - vec2(i0);
@@ -42,9 +40,8 @@ bool interpolate(ivec2 px, out vec4 result)
         ivec2 o = ivec2(k & 1, k >> 1);
         ivec2 s = clamp(i0 + o, ivec2(0), ivec2(u_gi.low_width, u_gi.low_height) - 1);
         ivec2 sp = min(s * f + f / 2, ivec2(u_frame.width, u_frame.height) - 1);
-        vec4 q = texelFetch(g_position, sp, 0);
-        vec3 qn = texelFetch(g_normal, sp, 0).xyz;
-        if (q.w == 0.0 || dot(n, qn) < u_gi.interp_normal || distance(p.xyz, q.xyz) > max_dist)
+        vec3 q, qn;
+        if (!gb_surface(sp, q, qn) || dot(n, qn) < u_gi.interp_normal || distance(p, q) > max_dist)
             continue;
         float w = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y) + 1e-4;
         sum += w * texelFetch(u_lowres, s, 0).rgb;

@@ -24,7 +24,7 @@
 
 layout(std430, binding = SSBO_SAMPLES) readonly buffer SampleBlock { GpuVpl rsm_samples[]; };
 
-#include "common/rsm_surfel.glsl"
+#include "common/surfel.glsl"
 #ifdef RSM_CUBE
 layout(binding = TEX_RSM_SURFEL) uniform usamplerCube rsm_surfel;
 layout(binding = TEX_RSM_FLUX) uniform samplerCube rsm_flux;
@@ -112,7 +112,7 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
         vec3 flux = textureLod(rsm_flux, q, 0.0).rgb;
         float jac = inside ? 1.0 : 0.0;
 #endif
-        vec3 e = vpl_irradiance(x, n, rsm_surfel_position(s), rsm_surfel_normal(s), flux);
+        vec3 e = vpl_irradiance(x, n, surfel_unpack_position(s), surfel_unpack_normal(s), flux);
         float w = unbiased ? 2.0 * smp.z : smp.z * smp.z;
         sum += e * (w * jac);
         wsum += smp.z * smp.z;

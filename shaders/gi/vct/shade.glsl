@@ -2,7 +2,7 @@
 // with u_ao_out, ambient visibility in its alpha); one specular cone along
 // the reflection, its aperture from the GGX roughness, its radiance times
 // the GGX lobe's directional albedo into the specular image;
-// F0 and roughness from the G-buffer's specular attachment, or from
+// F0 and roughness from the G-buffer's material, or from
 // --vct-f0 / --vct-roughness for every surface when --vct-f0 > 0. Cones start 2.5 voxels off the
 // surface along the normal, so that they leave the surface's own voxels (a
 // conservatively voxelized plane is up to 2 voxels thick; measured on the
@@ -13,11 +13,8 @@
 #include "common/brdf.glsl"
 #include "gi/vct/cone.glsl"
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
-#ifdef TEX_GB_SPECULAR
-layout(binding = TEX_GB_SPECULAR) uniform sampler2D g_specular;
-#endif
+#define GBUFFER_MATERIAL
+#include "common/gbuffer.glsl"
 layout(location = LOC_VCT_AO_OUT) uniform int u_ao_out;
 
 // Directional albedo of the GGX lobe, ∫ f_s cosθ dω = F0·A + B, by Karis's
@@ -38,32 +35,29 @@ vec3 specular_albedo(vec3 f0, float roughness, float nv)
 // and specular radiance.
 void vct_shade(ivec2 px, out vec4 irradiance, out vec4 specular)
 {
-    vec4 pos = texelFetch(g_position, px, 0);
-    if (pos.w == 0.0) {
+    vec3 x, n;
+    if (!gb_surface(px, x, n)) {
         irradiance = vec4(0.0, 0.0, 0.0, 1.0);
         specular = vec4(0.0);
         return;
     }
-    int k = vct_level_at(pos.xyz, 0.0);
+    int k = vct_level_at(x, 0.0);
     float voxel = u_vct.level[k < 0 ? u_vct.clip_levels - 1 : k].w;
-    vec3 n = normalize(texelFetch(g_normal, px, 0).xyz);
-    vec3 p = pos.xyz + n * (2.5 * voxel);
+    vec3 p = x + n * (2.5 * voxel);
     float visibility;
     vec3 e = vct_irradiance(p, n, voxel, visibility);
     irradiance = vec4(e, u_ao_out != 0 ? clamp(visibility, 0.0, 1.0) : 1.0);
 
     vec3 f0 = vec3(u_vct.f0);
     float roughness = u_vct.roughness;
-#ifdef TEX_GB_SPECULAR
-    if (u_vct.has_material_specular != 0 && u_vct.f0 <= 0.0) {
-        vec4 s = texelFetch(g_specular, px, 0);
-        f0 = s.rgb;
-        roughness = s.a;
+    if (u_vct.f0 <= 0.0) {
+        GbMaterial m = gb_material(px);
+        f0 = m.f0;
+        roughness = m.roughness;
     }
-#endif
     vec3 spec = vec3(0.0);
     if (max(f0.r, max(f0.g, f0.b)) > 0.0) {
-        vec3 v = normalize(u_frame.camera.xyz - pos.xyz);
+        vec3 v = normalize(u_frame.camera.xyz - x);
         vec3 r = reflect(-v, n);
         // Aperture: the Phong lobe of the same width (exponent 2/α² − 2,
         // α = roughness²) falls to 0.244 at the cone's half-angle.

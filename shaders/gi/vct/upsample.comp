@@ -28,14 +28,13 @@ void main()
     ivec2 size = ivec2(u_frame.width, u_frame.height);
     if (any(greaterThanEqual(px, size)))
         return;
-    vec4 pos = texelFetch(g_position, px, 0);
-    if (pos.w == 0.0) {
+    vec3 x, n;
+    if (!gb_surface(px, x, n)) {
         imageStore(u_out, px, vec4(0.0, 0.0, 0.0, 1.0));
         imageStore(u_out_specular, px, vec4(0.0));
         return;
     }
-    vec3 n = normalize(texelFetch(g_normal, px, 0).xyz);
-    int k = vct_level_at(pos.xyz, 0.0);
+    int k = vct_level_at(x, 0.0);
     float voxel = u_vct.level[k < 0 ? u_vct.clip_levels - 1 : k].w;
     ivec2 low = (size + u_scale - 1) / u_scale;
     vec2 u = vec2(px - u_scale / 2) / float(u_scale); // traced pixel s sits at full-resolution pixel s·scale + scale/2
@@ -47,9 +46,8 @@ void main()
         ivec2 o = ivec2(j & 1, j >> 1);
         ivec2 s = clamp(i0 + o, ivec2(0), low - 1);
         ivec2 sp = min(s * u_scale + u_scale / 2, size - 1);
-        vec4 q = texelFetch(g_position, sp, 0);
-        vec3 qn = texelFetch(g_normal, sp, 0).xyz;
-        bool same = q.w != 0.0 && dot(n, qn) >= MIN_COS * length(qn) && abs(dot(n, q.xyz - pos.xyz)) <= voxel;
+        vec3 q, qn;
+        bool same = gb_surface(sp, q, qn) && dot(n, qn) >= MIN_COS && abs(dot(n, q - x)) <= voxel;
         float w = same ? (o.x == 1 ? f.x : 1.0 - f.x) * (o.y == 1 ? f.y : 1.0 - f.y) + 1e-3 : 0.0;
         e += w * texelFetch(u_low_irradiance, s, 0);
         spec += w * texelFetch(u_low_specular, s, 0);

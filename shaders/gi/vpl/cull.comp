@@ -6,10 +6,10 @@
 // SSBO_TILES: counts[tiles], then lists of `capacity` indices per tile;
 // counts[tiles] (one past the last tile) accumulates overflow.
 #include "shared/gpu_types.h"
+#include "common/gbuffer.glsl"
 
 layout(local_size_x = VPL_TILE, local_size_y = VPL_TILE) in;
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
 layout(std430, binding = SSBO_VPL_RANGE) readonly buffer RangeBlock { vec2 ranges[]; };
@@ -23,10 +23,10 @@ void main()
 {
     uint lid = gl_LocalInvocationIndex;
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = textureSize(g_position, 0);
-    vec4 p = all(lessThan(px, size)) ? texelFetch(g_position, px, 0) : vec4(0.0);
-    s_min[lid] = p.w > 0.0 ? p.xyz : vec3(1e30);
-    s_max[lid] = p.w > 0.0 ? p.xyz : vec3(-1e30);
+    vec3 p;
+    bool valid = all(lessThan(px, gb_size())) && gb_position(px, p);
+    s_min[lid] = valid ? p : vec3(1e30);
+    s_max[lid] = valid ? p : vec3(-1e30);
     if (lid == 0u)
         s_count = 0u;
     barrier();

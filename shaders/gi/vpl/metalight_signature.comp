@@ -6,11 +6,10 @@
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "gi/vpl/falloff.glsl"
+#include "common/gbuffer.glsl"
 
 layout(local_size_x = 64) in;
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
 layout(std430, binding = SSBO_SUBSETS) writeonly buffer SignatureBlock { vec4 signatures[]; };
@@ -20,7 +19,7 @@ void main()
     uint i = gl_GlobalInvocationID.x;
     if (i >= counters[0])
         return;
-    ivec2 size = textureSize(g_position, 0);
+    ivec2 size = gb_size();
     ivec2 grid = ivec2(u_vpl.signature_w, u_vpl.signature_h);
     vec2 mean_uv = vec2(0.0);
     float total = 0.0;
@@ -28,11 +27,11 @@ void main()
         for (int sx = 0; sx < grid.x; sx++) {
             vec2 uv = (vec2(sx, sy) + 0.5) / vec2(grid);
             ivec2 px = ivec2(uv * vec2(size));
-            vec4 p = texelFetch(g_position, px, 0);
-            if (p.w == 0.0)
+            vec3 p, n;
+            if (!gb_surface(px, p, n))
                 continue;
             float d2;
-            vec3 ic = vpl_intensity_cos(vpls[i], p.xyz, texelFetch(g_normal, px, 0).xyz, d2);
+            vec3 ic = vpl_intensity_cos(vpls[i], p, n, d2);
             float c = dot(ic * vpl_falloff(vpls[i], d2), vec3(0.2126, 0.7152, 0.0722));
             mean_uv += c * uv;
             total += c;

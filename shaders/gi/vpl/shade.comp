@@ -14,11 +14,10 @@
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "gi/vpl/falloff.glsl"
+#include "common/gbuffer.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(binding = TEX_GB_POSITION) uniform sampler2D g_position;
-layout(binding = TEX_GB_NORMAL) uniform sampler2D g_normal;
 layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
 layout(location = LOC_CHUNK) uniform uint u_chunk; // this dispatch sums list entries [u_chunk, u_chunk + LOOP_CHUNK)
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
@@ -39,13 +38,11 @@ void main()
     }
     barrier();
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    ivec2 size = textureSize(g_position, 0);
-    bool inside = all(lessThan(px, size));
-    vec4 p = inside ? texelFetch(g_position, px, 0) : vec4(0.0);
+    bool inside = all(lessThan(px, gb_size()));
+    vec3 x, n;
     vec3 e = vec3(0.0);
     uint count = 0u, visits = 0u;
-    if (p.w > 0.0) {
-        vec3 x = p.xyz, n = texelFetch(g_normal, px, 0).xyz;
+    if (inside && gb_surface(px, x, n)) {
         float d2;
 #if defined(MODE_ALL)
         float q = u_vpl.keep;

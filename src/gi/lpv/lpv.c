@@ -366,8 +366,7 @@ static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
                     glDispatchCompute((GLuint)(m->size + 7) / 8, (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
                 }
             } else {
-                glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
-                glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+                glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
                 glDispatchCompute((GLuint)(f->gbuffer->width + 7) / 8, (GLuint)(f->gbuffer->height + 7) / 8, 1);
             }
         }
@@ -410,8 +409,7 @@ static void inject_geometry(LpvGi *l, const GiFrame *f)
             glProgramUniform1i(l->geom_gbuf, LOC_LPV_CASCADE, k);
             glProgramUniform1f(l->geom_gbuf, LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
             glUseProgram(l->geom_gbuf);
-            glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
-            glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+            glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
             glDrawArrays(GL_POINTS, 0, f->gbuffer->width * f->gbuffer->height);
         }
     }
@@ -462,8 +460,7 @@ static void lookup(LpvGi *l, const GiFrame *f)
                 glBindTextureUnit((GLuint)(TEX_LPV_OUTER + 3 * (k - 1) + i),
                                   k < l->cascades ? l->c[k].sum[SET_OUTER][i] : l->c[0].sum[SET_ALL][i]);
         }
-    glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
-    glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+    glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
     glBindImageTexture(IMG_OUT, f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glUseProgram(l->lookup);
     gi_dispatch_pixels(l->width, l->height);

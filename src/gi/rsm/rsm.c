@@ -242,8 +242,7 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
         light_stage_bind_vpls(ls);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PIXEL_LIST, g->list);
     bool di = layout == GATHER_INTERLEAVED;
-    glBindTextureUnit(TEX_GB_POSITION, di ? g->il.di_position : f->gbuffer->position);
-    glBindTextureUnit(TEX_GB_NORMAL, di ? g->il.di_normal : f->gbuffer->normal);
+    glBindTextureUnit(TEX_GB_SURFACE, di ? g->il.di_surface : f->gbuffer->surface);
     GLuint target = layout == GATHER_LOWRES ? g->lowres : di ? g->il.di_irradiance : out;
     glBindImageTexture(IMG_OUT, target, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     int lights = exh && ls->light_count > 0 ? 1 : ls->light_count;
@@ -308,8 +307,7 @@ static void rsm_run(void *state, const GiFrame *f)
         const uint32_t header[PIXEL_LIST_HEADER] = {0, 0, 1, 1};
         glNamedBufferSubData(g->list, 0, sizeof header, header);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PIXEL_LIST, g->list);
-        glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
-        glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+        glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
         glBindTextureUnit(TEX_INPUT, g->lowres);
         glBindImageTexture(IMG_OUT, f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glUseProgram(g->interp);

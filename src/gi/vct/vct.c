@@ -274,9 +274,6 @@ static void *vct_create(const GiCreateInfo *ci)
     u->step = p->vct_step;
     u->ao_range = 0.15f * voxel * (float)n;
     u->conservative = p->vct_conservative ? 1 : 0;
-#ifdef TEX_GB_SPECULAR
-    u->has_material_specular = 1;
-#endif
     u->roughness = p->vct_roughness;
     u->f0 = p->vct_f0;
     u->max_distance = sqrtf(3.f) * voxel * (float)n;
@@ -452,11 +449,8 @@ static void vct_run(void *state, const GiFrame *f)
     gpu_timer_begin(t, "vct_trace");
     glUseProgram(v->trace);
     bind_volumes(v, radiance);
-    glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
-    glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
-#ifdef TEX_GB_SPECULAR
-    glBindTextureUnit(TEX_GB_SPECULAR, f->gbuffer->specular);
-#endif
+    glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
+    glBindTextureUnit(TEX_GB_MATERIAL, f->gbuffer->material);
     glProgramUniform1i(v->trace, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
     glProgramUniform1i(v->trace, LOC_VCT_SCALE, v->scale);
     bool low = v->scale > 1;

@@ -204,7 +204,7 @@ static void cull(VplGi *v, const GiFrame *f)
     uint32_t zero = 0;
     uint32_t ntiles = (uint32_t)(v->tiles_x * v->tiles_y);
     glNamedBufferSubData(v->tiles, sizeof(uint32_t) * ntiles, sizeof zero, &zero); /* overflow */
-    glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
+    glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
     glUseProgram(v->cull);
     glDispatchCompute((GLuint)v->tiles_x, (GLuint)v->tiles_y, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -278,8 +278,7 @@ static bool subsets(VplGi *v, const GiFrame *f)
     }
     if (v->method == VPL_METALIGHTS) {
         bind_all(v, ls);
-        glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
-        glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+        glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
         glUseProgram(v->signature);
         glDispatchCompute((n + 63) / 64, 1, 1);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
@@ -341,8 +340,7 @@ static void vpl_run(void *state, const GiFrame *f)
     GLuint out = blur ? v->il.merged : f->irradiance;
     gpu_timer_begin(t, "vpl_shade");
     bind_all(v, f->lights);
-    glBindTextureUnit(TEX_GB_POSITION, f->gbuffer->position);
-    glBindTextureUnit(TEX_GB_NORMAL, f->gbuffer->normal);
+    glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
     glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
     glUseProgram(v->shade);
     /* One dispatch per LOOP_CHUNK entries of the longest list a pixel can

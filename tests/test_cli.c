@@ -366,6 +366,40 @@ static void cli_conventions(void **state)
     assert_true(strncmp(line, "rtgi ", 5) == 0 && strlen(line) > 6);
 }
 
+/* Long work is never silent (issue 15): when the cost model puts a frame
+ * over the threshold (2 s, or RTGI_PROGRESS_S), render prints one line
+ * before the first frame. The estimate is the model's, not a timing, so
+ * the cases are deterministic: vpl-all at 64x64 with 4096 VPLs per light
+ * (the Cornell quad light's half cube of 37² texels: 4107 slots) is
+ * 4096 x 4107 / 4e7 = 0.42 s; rsm 4096 x 400 / 4e7 = 0.04 s. */
+static void render_estimate_line(void **state)
+{
+    (void)state;
+    char out[512], *err = NULL;
+    snprintf(out, sizeof out, "%s/estimate.png", RTGI_TEST_TMP);
+    static const char *const want = "render: vpl-all at 64x64: about 0.4 s per frame (estimate); 1 frame to draw\n";
+    setenv("RTGI_PROGRESS_S", "0.2", 1);
+    int rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "vpl-all", "--out", out, NULL);
+    print_message("vpl-all, threshold 0.2 s: %s", err ? err : "");
+    assert_int_equal(rc, 0);
+    assert_non_null(err);
+    assert_non_null(strstr(err, want));
+    free(err);
+    rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "rsm", "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "(estimate)"));
+    free(err);
+    rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "vpl-all", "--out", out, "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "(estimate)")); /* --quiet: no progress */
+    free(err);
+    unsetenv("RTGI_PROGRESS_S");
+    rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "vpl-all", "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "(estimate)")); /* 0.42 s is under the default 2 s */
+    free(err);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -385,6 +419,7 @@ int main(void)
         cmocka_unit_test(reference_bad_input),
         cmocka_unit_test(compare_bad_input),
         cmocka_unit_test(cli_conventions),
+        cmocka_unit_test(render_estimate_line),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

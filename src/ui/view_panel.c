@@ -26,7 +26,7 @@ double view_estimate_ms(const View *v, int gi)
         return v->measured_ms[gi] * px / v->measured_px[gi];
     double base = v->measured_px[GI_NONE] > 0 ? v->measured_ms[GI_NONE] * px / v->measured_px[GI_NONE] : 0;
     double rate = v->evals_per_s > 0 ? v->evals_per_s : GI_COST_DEFAULT_EVALS_PER_S;
-    return base + 1e3 * gi_cost_evaluations(gi, &v->settings.gi_params, v->scene, px) / rate;
+    return base + 1e3 * gi_cost_seconds(gi, &v->settings.gi_params, v->scene, px, rate);
 }
 
 bool view_gi_is_slow(const View *v, int gi)

@@ -5,6 +5,7 @@
 
 #include <epoxy/gl.h>
 
+#include "cli.h"
 #include "commands.h"
 #include "gi/gi.h"
 #include "gl_context.h"
@@ -123,7 +124,7 @@ int cmd_render(int argc, char **argv)
     RenderSettings rs;
     render_options_settings(&o, &scene, &rs);
     if (o.out_ao && (rs.gi != GI_VCT || !rs.gi_params.vct_ao)) {
-        log_error("cli", "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
+        cli_error(NULL, "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
         scene_free(&scene);
         return 2;
     }

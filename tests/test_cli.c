@@ -331,7 +331,7 @@ static void cli_conventions(void **state)
     rc = test_run_cli(&err, "render", "--gi", "rsn", NULL);
     test_expect_cli_error(rc, err, 2, "--gi", "did you mean 'rsm'");
     rc = test_run_cli(&err, "render", "--scene", "cornel", NULL);
-    test_expect_cli_error(rc, err, 1, "cornel", "did you mean 'cornell'");
+    test_expect_cli_error(rc, err, 2, "render: --scene: 'cornel'", "did you mean 'cornell'? (see rtgi render --help)");
     /* view's own options go through the same parser: their typos get a
      * suggestion, and each command names the other's options as such. */
     static const char *const view_typos[][2] = {{"--compair", "--compare"},     {"--window-outt", "--window-out"},
@@ -400,6 +400,133 @@ static void render_estimate_line(void **state)
     free(err);
 }
 
+/* Every command takes --quiet (errors only on stderr: no info or progress
+ * lines) and --verbose (debug lines too), before or after its other
+ * options, and lists both in its --help. */
+static void quiet_and_verbose_everywhere(void **state)
+{
+    (void)state;
+    char png[512], pfm[512], *err = NULL;
+    snprintf(png, sizeof png, "%s/qv.png", RTGI_TEST_TMP);
+    snprintf(pfm, sizeof pfm, "%s/qv.pfm", RTGI_TEST_TMP);
+    static const char *const commands[] = {"render", "view", "reference", "compare", "probe", "bench"};
+    char cmd[700];
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        for (int verbose = 0; verbose < 2; verbose++) {
+            int rc = test_run_cli(&err, commands[i], verbose ? "--verbose" : "--quiet", "--help", NULL);
+            if (rc != 0)
+                fail_msg("%s %s --help: exit %d: %s", commands[i], verbose ? "--verbose" : "--quiet", rc, err);
+            free(err);
+        }
+        snprintf(cmd, sizeof cmd, "%s %s --help | grep -q -e --verbose && %s %s --help | grep -q -e --quiet",
+                 RTGI_BINARY, commands[i], RTGI_BINARY, commands[i]);
+        if (system(cmd) != 0)
+            fail_msg("rtgi %s --help does not list both --quiet and --verbose", commands[i]);
+    }
+    /* The meaning, where a run is cheap: quiet leaves stderr empty, verbose
+     * adds debug lines. */
+    int rc = test_run_cli(&err, "render", "--quiet", "--size", "8x8", "--out", png, NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--out", png, "--verbose", NULL);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(err, "rtgi: debug ["));
+    free(err);
+    rc = test_run_cli(&err, "reference", "--size", "8x8", "--spp", "1", "--out", pfm, "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "compare", "--quiet", pfm, pfm, NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "compare", pfm, pfm, "--verbose", NULL);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(err, "rtgi: debug [compare] test "));
+    free(err);
+    test_x_display();
+    rc = test_run_cli(&err, "view", "--size", "16x16", "--frames", "1", "--out", png, "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "probe", "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "render", "--quiet=1", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --quiet takes no value", "(see rtgi render --help)");
+    rc = test_run_cli(&err, "bench", "--verbos", NULL);
+    test_expect_cli_error(rc, err, 2, "bench: unknown option '--verbos'", "did you mean '--verbose'?");
+}
+
+/* One hint style for every usage error of every command:
+ * "<command>: <what>; did you mean '<y>'? (see rtgi <command> --help)",
+ * exit 2; suggestions by optimal-string-alignment distance, so a swapped
+ * pair of letters ("pfc") is one edit. */
+static void one_error_hint_style(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    static const char *const commands[] = {"render", "view", "reference", "compare", "probe", "bench"};
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        char want[128], hint[64];
+        snprintf(want, sizeof want, "%s: unknown option '--bogus-option'", commands[i]);
+        snprintf(hint, sizeof hint, " (see rtgi %s --help)", commands[i]);
+        int rc = test_run_cli(&err, commands[i], "--bogus-option", NULL);
+        test_expect_cli_error(rc, err, 2, want, hint);
+        snprintf(want, sizeof want, "%s: --json needs a value", commands[i]);
+        if (!strcmp(commands[i], "compare") || !strcmp(commands[i], "probe")) {
+            rc = test_run_cli(&err, commands[i], "--json", NULL);
+            test_expect_cli_error(rc, err, 2, want, hint);
+        }
+    }
+    int rc = test_run_cli(&err, "render", "--shadow", "pfc", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --shadow: unknown value 'pfc'",
+                          "; did you mean 'pcf'? (see rtgi render --help)");
+    rc = test_run_cli(&err, "reference", "--mode", "one-bounse", NULL);
+    test_expect_cli_error(rc, err, 2, "reference: --mode: unknown value 'one-bounse'",
+                          "; did you mean 'one-bounce'? (see rtgi reference --help)");
+    rc = test_run_cli(&err, "render", "--exposure", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --exposure needs a value", "(see rtgi render --help)");
+    rc = test_run_cli(&err, "view", "--no-panel=yes", NULL);
+    test_expect_cli_error(rc, err, 2, "view: --no-panel takes no value", "(see rtgi view --help)");
+    rc = test_run_cli(&err, "render", "--rsm-weighting", "papre", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --rsm-weighting: 'papre'", "did you mean 'paper'? (see rtgi render --help)");
+    rc = test_run_cli(&err, "reference", "--scene", "cornel", NULL);
+    test_expect_cli_error(rc, err, 2, "reference: --scene: 'cornel'", "did you mean 'cornell'? (see rtgi reference --help)");
+    rc = test_run_cli(&err, "rendr", "--size", "8x8", NULL);
+    test_expect_cli_error(rc, err, 2, "unknown command 'rendr'", "did you mean 'render'? (see rtgi --help)");
+    rc = test_run_cli(&err, "bench", "--out", RTGI_TEST_TMP "/bench_typo", "--gi", "rsm:samplez=4", NULL);
+    test_expect_cli_error(rc, err, 2, "bench: --gi: 'samplez' is not a setting key",
+                          "did you mean 'samples'? (see rtgi bench --help)");
+    rc = test_run_cli(&err, "bench", "--out", RTGI_TEST_TMP "/bench_typo", "--gi", "rsm,vpl-sl", NULL);
+    test_expect_cli_error(rc, err, 2, "bench: --gi: unknown value 'vpl-sl'", "did you mean 'vpl-slc'? (see rtgi bench --help)");
+    rc = test_run_cli(&err, "render", "stray", NULL);
+    test_expect_cli_error(rc, err, 2, "render: unexpected argument 'stray'", "(see rtgi render --help)");
+}
+
+/* "--" ends the options: what follows is an operand whatever it looks like
+ * (compare's images), and commands without operands refuse it. */
+static void double_dash_ends_options(void **state)
+{
+    (void)state;
+    char a[512], *err = NULL;
+    snprintf(a, sizeof a, "%s/dd_a.pfm", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "reference", "--size", "8x8", "--spp", "1", "--out", a, "--quiet", NULL), 0);
+    int rc = test_run_cli(&err, "compare", "--metric", "rmse", "--", a, a, NULL);
+    if (rc != 0)
+        fail_msg("compare -- A B: exit %d: %s", rc, err ? err : "");
+    free(err);
+    /* After "--", "--json" is an image's name, not the option. */
+    rc = test_run_cli(&err, "compare", a, "--", "--json", NULL);
+    test_expect_cli_error(rc, err, 1, "--json", "does not exist");
+    rc = test_run_cli(&err, "compare", "--", a, a, "-x", NULL);
+    test_expect_cli_error(rc, err, 2, "compare: takes two images, got a third: '-x'", NULL);
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--", "--gi", NULL);
+    test_expect_cli_error(rc, err, 2, "render: unexpected argument '--gi'", NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -420,6 +547,9 @@ int main(void)
         cmocka_unit_test(compare_bad_input),
         cmocka_unit_test(cli_conventions),
         cmocka_unit_test(render_estimate_line),
+        cmocka_unit_test(quiet_and_verbose_everywhere),
+        cmocka_unit_test(one_error_hint_style),
+        cmocka_unit_test(double_dash_ends_options),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

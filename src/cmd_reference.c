@@ -58,7 +58,7 @@ static void on_sigint(int sig)
 static bool write_mean(const char *out, const ImageF *mean, float exposure, bool half, int spp, int spp_asked)
 {
     if (!util_ends_with(out, ".exr"))
-        return image_write(out, mean, exposure);
+        return image_write(out, mean, exposure, half);
     ImageAttr attrs[2] = {{"rtgi_spp", spp}, {"rtgi_spp_requested", spp_asked}};
     return image_write_exr(out, mean, half, attrs, 2);
 }

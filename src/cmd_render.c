@@ -167,7 +167,7 @@ int cmd_render(int argc, char **argv)
             }
         }
         if (ok && (util_ends_with(o.out, ".pfm") || util_ends_with(o.out, ".exr"))) {
-            ok = image_write(o.out, &hdr, 1.f); /* linear radiance */
+            ok = image_write(o.out, &hdr, 1.f, o.half); /* linear radiance */
         } else if (ok) {
             uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */
             ok = image_write_png8(o.out, rs.width, rs.height, rgb);

@@ -27,6 +27,7 @@ void render_options_help(void)
         "  --out FILE.png|FILE.pfm|FILE.exr   output; PNG tone-mapped sRGB, PFM/EXR (float32)\n"
         "                                linear radiance\n"
         "                                (default: out/render.png)\n"
+        "  --half                        EXR output as half floats (default: float32)\n"
         "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
         "  --emitter-mask FILE.png       also write the mask of pixels that see an emitter\n"
         "                                (black; for compare --mask-emitters)\n"
@@ -92,7 +93,7 @@ static const char *const k_view_only[] = {"--compare", "--no-panel", "--slow-ms"
  * included (for "did you mean"). */
 static const char *const *known_options(bool view)
 {
-    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--verbose", NULL};
+    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--half", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--verbose", NULL};
     static const char *all[2][128];
     const char **list = all[view];
     if (!list[0]) {
@@ -199,6 +200,8 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 10000, &o->warmup))
                 return 2;
+        } else if (!strcmp(opt, "--half")) {
+            o->half = true;
         } else if (!strcmp(opt, "--timings")) {
             o->timings = true;
         } else if (!strcmp(opt, "--probe")) {

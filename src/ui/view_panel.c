@@ -148,7 +148,7 @@ bool view_save_image(View *v, const char *path)
         ImageF img;
         ok = renderer_read_hdr(r, &img);
         if (ok) {
-            ok = image_write(path, &img, r->settings.exposure);
+            ok = image_write(path, &img, r->settings.exposure, v->half);
             image_free(&img);
         }
     }

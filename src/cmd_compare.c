@@ -16,7 +16,8 @@
 void cmd_compare_help(void)
 {
     printf("usage: rtgi compare TEST REFERENCE [options]\n"
-           "  TEST, REFERENCE    .pfm (linear radiance) or .png (sRGB, decoded to linear)\n"
+           "  TEST, REFERENCE    .pfm or .exr (OpenEXR, half or float: linear radiance) or .png\n"
+           "                     (sRGB, decoded to linear)\n"
            "  --metric rmse|relmse|ssim|flip|all   (default: all)\n"
            "  --heatmap FILE.png per-pixel error of the first metric (FLIP map for all)\n"
            "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"

@@ -1,4 +1,5 @@
-/* cmd_render.c — `rtgi render`: rasterize a scene headless to PNG or PFM. */
+/* cmd_render.c — `rtgi render`: rasterize a scene headless to PNG, PFM or
+ * OpenEXR. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>

@@ -527,6 +527,58 @@ static void double_dash_ends_options(void **state)
     test_expect_cli_error(rc, err, 2, "render: unexpected argument '--gi'", NULL);
 }
 
+/* What `rtgi [<command>] --help` prints on stdout (caller frees). */
+static char *help_text(const char *command)
+{
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "%s %s --help", RTGI_BINARY, command);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    StrBuf b = {0};
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+        strbuf_append(&b, buf, n);
+    assert_int_equal(pclose(p), 0);
+    assert_non_null(b.data);
+    return b.data;
+}
+
+/* The line of `text` holding `key`, copied into `line`; fails if none. */
+static const char *line_with(const char *text, const char *key, char *line, size_t cap)
+{
+    const char *k = strstr(text, key);
+    if (!k)
+        fail_msg("no line with '%s' in:\n%s", key, text);
+    const char *a = k, *e = strchr(k, '\n');
+    while (a > text && a[-1] != '\n')
+        a--;
+    snprintf(line, cap, "%.*s", (int)((e ? e : k + strlen(k)) - a), a);
+    return line;
+}
+
+/* The help texts name EXR wherever an image is read or written. */
+static void help_names_exr(void **state)
+{
+    (void)state;
+    char line[512];
+    char *top = help_text(""), *compare = help_text("compare"), *view = help_text("view"), *render = help_text("render");
+    assert_non_null(strstr(line_with(top, "  render ", line, sizeof line), "EXR"));
+    assert_non_null(strstr(line_with(top, "  compare ", line, sizeof line), "EXR"));
+    assert_non_null(strstr(line_with(compare, "TEST, REFERENCE", line, sizeof line), ".exr"));
+    /* view: --out's and --compare's descriptions (two lines each) */
+    const char *out = strstr(view, "  --out FILE"), *cmp = strstr(view, "  --compare FILE");
+    assert_true(out && cmp);
+    assert_true(strstr(out, ".exr") && strstr(out, ".exr") < strstr(out, "  --half"));
+    assert_true(strstr(cmp, ".exr") && strstr(cmp, ".exr") < strstr(cmp, "  --frames"));
+    assert_non_null(strstr(line_with(render, "  --half", line, sizeof line), "EXR"));
+    assert_non_null(strstr(line_with(view, "  --half", line, sizeof line), ".exr"));
+    free(top);
+    free(compare);
+    free(view);
+    free(render);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -550,6 +602,7 @@ int main(void)
         cmocka_unit_test(quiet_and_verbose_everywhere),
         cmocka_unit_test(one_error_hint_style),
         cmocka_unit_test(double_dash_ends_options),
+        cmocka_unit_test(help_names_exr),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

@@ -390,7 +390,7 @@ static void compare_section(View *v)
     if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
         ui_text("reference %dx%d: stretched, no RMSE", ab->reference.width, ab->reference.height);
     else if (ab->display)
-        ui_text("PNG reference: no RMSE (use .pfm)");
+        ui_text("PNG reference: no RMSE (use .pfm or .exr)");
     else if (v->ab_rmse >= 0)
         ui_text("RMSE %.5g (radiance)", v->ab_rmse);
 }
@@ -398,7 +398,7 @@ static void compare_section(View *v)
 static void capture_section(View *v)
 {
     ui_input_text("image", v->shot_path, sizeof v->shot_path);
-    ui_tooltip(".png: the image as shown; .pfm (and .exr where supported): linear radiance");
+    ui_tooltip(".png: the image as shown; .pfm or .exr (OpenEXR; --half: half floats): linear radiance");
     ui_same_line();
     if (ui_button("Save (P)"))
         v->screenshot = true;

@@ -527,11 +527,12 @@ static void double_dash_ends_options(void **state)
     test_expect_cli_error(rc, err, 2, "render: unexpected argument '--gi'", NULL);
 }
 
-/* What `rtgi [<command>] --help` prints on stdout (caller frees). */
-static char *help_text(const char *command)
+/* What `rtgi <args>` prints on stdout (a shell command line; caller
+ * frees); fails unless it exits 0. */
+static char *cli_stdout(const char *args)
 {
-    char cmd[700];
-    snprintf(cmd, sizeof cmd, "%s %s --help", RTGI_BINARY, command);
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "%s %s", RTGI_BINARY, args);
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
     StrBuf b = {0};
@@ -539,9 +540,18 @@ static char *help_text(const char *command)
     size_t n;
     while ((n = fread(buf, 1, sizeof buf, p)) > 0)
         strbuf_append(&b, buf, n);
-    assert_int_equal(pclose(p), 0);
+    if (pclose(p) != 0)
+        fail_msg("rtgi %s failed", args);
     assert_non_null(b.data);
     return b.data;
+}
+
+/* What `rtgi [<command>] --help` prints on stdout (caller frees). */
+static char *help_text(const char *command)
+{
+    char args[64];
+    snprintf(args, sizeof args, "%s --help", command);
+    return cli_stdout(args);
 }
 
 /* The line of `text` holding `key`, copied into `line`; fails if none. */
@@ -579,6 +589,111 @@ static void help_names_exr(void **state)
     free(render);
 }
 
+/* The reference's progress off a terminal (stderr to a file, as in logs):
+ * a line every 5 s, and a last one, each with the samples reached, the
+ * time, rays/s and the time left. RTGI_PROGRESS_S=0 makes a line at every
+ * poll of a short render, and the last one. */
+static void reference_progress_lines(void **state)
+{
+    (void)state;
+    char out[512], *err = NULL;
+    snprintf(out, sizeof out, "%s/progress_ref.pfm", RTGI_TEST_TMP);
+    setenv("RTGI_PROGRESS_S", "0", 1);
+    int rc = test_run_cli(&err, "reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
+    unsetenv("RTGI_PROGRESS_S");
+    assert_int_equal(rc, 0);
+    assert_non_null(err);
+    print_message("%s", err);
+    assert_null(strchr(err, '\r')); /* no bar redrawn in place */
+    int lines = 0, pct = -1, spp = -1, of = -1;
+    double secs = -1, mrays = -1, eta = -1;
+    for (char *save = NULL, *l = strtok_r(err, "\n", &save); l; l = strtok_r(NULL, "\n", &save)) {
+        if (strncmp(l, "reference [", 11))
+            continue;
+        const char *rest = strchr(l, ']');
+        assert_non_null(rest);
+        assert_int_equal(sscanf(rest, "] %d%%  %d/%d spp  %lf s  %lf Mrays/s  ETA %lf s", &pct, &spp, &of, &secs,
+                                &mrays, &eta), 6);
+        lines++;
+    }
+    free(err);
+    /* The last line: every sample, no time left, a positive ray rate. */
+    assert_true(lines >= 1);
+    assert_int_equal(pct, 100);
+    assert_int_equal(spp, 8);
+    assert_int_equal(of, 8);
+    assert_true(secs >= 0 && mrays > 0);
+    assert_true(eta == 0.0);
+    /* Without the override, a render under 5 s prints none. */
+    rc = test_run_cli(&err, "reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "reference ["));
+    free(err);
+}
+
+/* After a first frame over the threshold (2 s; RTGI_PROGRESS_S=0 here),
+ * every frame of render reports: with --timings 1 warm-up + 1 timed + 1 +
+ * 1 steady frame, "render: frame i of 4 took X s; about Y s left". */
+static void render_frame_progress_lines(void **state)
+{
+    (void)state;
+    char out[512], *err = NULL;
+    snprintf(out, sizeof out, "%s/progress_render.png", RTGI_TEST_TMP);
+    setenv("RTGI_PROGRESS_S", "0", 1);
+    int rc = test_run_cli(&err, "render", "--size", "16x16", "--timings", "--warmup", "1", "--frames", "1", "--out",
+                          out, NULL);
+    unsetenv("RTGI_PROGRESS_S");
+    assert_int_equal(rc, 0);
+    assert_non_null(err);
+    print_message("%s", err);
+    int next = 1;
+    for (char *save = NULL, *l = strtok_r(err, "\n", &save); l; l = strtok_r(NULL, "\n", &save)) {
+        int i = 0, n = 0;
+        double took = -1, left = -1;
+        if (sscanf(l, "render: frame %d of %d took %lf s; about %lf s left", &i, &n, &took, &left) != 4)
+            continue;
+        assert_int_equal(i, next++);
+        assert_int_equal(n, 4);
+        assert_true(took >= 0 && left >= 0);
+    }
+    assert_int_equal(next, 5);
+    free(err);
+}
+
+/* render and reference default to the same size (256x256), so their images
+ * compare as they are; --vpls defaults to 4096 per light (render --help
+ * shows it, and the light stage makes at most its 3 x 37² slots for the
+ * Cornell quad light). */
+static void shared_defaults(void **state)
+{
+    (void)state;
+    char r[512], ref[512];
+    snprintf(r, sizeof r, "%s/default_size.pfm", RTGI_TEST_TMP);
+    snprintf(ref, sizeof ref, "%s/default_size_ref.pfm", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "render", "--out", r, "--quiet", NULL), 0);
+    assert_int_equal(test_run_cli(NULL, "reference", "--spp", "1", "--out", ref, "--quiet", NULL), 0);
+    ImageF a, b;
+    assert_true(image_read(r, &a));
+    assert_true(image_read(ref, &b));
+    print_message("render %dx%d, reference %dx%d\n", a.width, a.height, b.width, b.height);
+    assert_int_equal(a.width, 256);
+    assert_int_equal(a.height, 256);
+    assert_int_equal(b.width, 256);
+    assert_int_equal(b.height, 256);
+    image_free(&a);
+    image_free(&b);
+    char line[512], *help = help_text("render");
+    assert_non_null(strstr(line_with(help, "  --vpls N", line, sizeof line), "(default 4096 "));
+    free(help);
+    char args[700];
+    snprintf(args, sizeof args, "render --size 8x8 --gi vpl-all --timings --frames 1 --out %s --quiet", r);
+    char *out = cli_stdout(args);
+    int vpls = (int)strtol(line_with(out, "vpl_count: ", line, sizeof line) + strlen("vpl_count: "), NULL, 10);
+    print_message("vpl_count %d (--vpls 4096 by default: at most 4107 slots)\n", vpls);
+    assert_true(vpls > 2048 && vpls <= 4107);
+    free(out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -603,6 +718,9 @@ int main(void)
         cmocka_unit_test(one_error_hint_style),
         cmocka_unit_test(double_dash_ends_options),
         cmocka_unit_test(help_names_exr),
+        cmocka_unit_test(reference_progress_lines),
+        cmocka_unit_test(render_frame_progress_lines),
+        cmocka_unit_test(shared_defaults),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

@@ -589,6 +589,24 @@ static void help_names_exr(void **state)
     free(render);
 }
 
+/* Runs rtgi with the arguments (NULL-terminated) and RTGI_PROGRESS_S=0,
+ * so that every progress line shows; fails unless it exits 0. Returns its
+ * stderr (caller frees). */
+static char *progress_stderr(const char *arg0, ...)
+{
+    char *err = NULL;
+    va_list ap;
+    va_start(ap, arg0);
+    setenv("RTGI_PROGRESS_S", "0", 1);
+    int rc = test_run_cli_va(&err, arg0, ap);
+    unsetenv("RTGI_PROGRESS_S");
+    va_end(ap);
+    if (rc != 0 || !err)
+        fail_msg("rtgi %s: exit %d: %s", arg0, rc, err ? err : "");
+    print_message("%s", err);
+    return err;
+}
+
 /* The reference's progress off a terminal (stderr to a file, as in logs):
  * a line every 5 s, and a last one, each with the samples reached, the
  * time, rays/s and the time left. RTGI_PROGRESS_S=0 makes a line at every
@@ -596,14 +614,9 @@ static void help_names_exr(void **state)
 static void reference_progress_lines(void **state)
 {
     (void)state;
-    char out[512], *err = NULL;
+    char out[512];
     snprintf(out, sizeof out, "%s/progress_ref.pfm", RTGI_TEST_TMP);
-    setenv("RTGI_PROGRESS_S", "0", 1);
-    int rc = test_run_cli(&err, "reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
-    unsetenv("RTGI_PROGRESS_S");
-    assert_int_equal(rc, 0);
-    assert_non_null(err);
-    print_message("%s", err);
+    char *err = progress_stderr("reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
     assert_null(strchr(err, '\r')); /* no bar redrawn in place */
     int lines = 0, pct = -1, spp = -1, of = -1;
     double secs = -1, mrays = -1, eta = -1;
@@ -625,7 +638,7 @@ static void reference_progress_lines(void **state)
     assert_true(secs >= 0 && mrays > 0);
     assert_true(eta == 0.0);
     /* Without the override, a render under 5 s prints none. */
-    rc = test_run_cli(&err, "reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
+    int rc = test_run_cli(&err, "reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
     assert_int_equal(rc, 0);
     assert_null(strstr(err ? err : "", "reference ["));
     free(err);
@@ -637,15 +650,10 @@ static void reference_progress_lines(void **state)
 static void render_frame_progress_lines(void **state)
 {
     (void)state;
-    char out[512], *err = NULL;
+    char out[512];
     snprintf(out, sizeof out, "%s/progress_render.png", RTGI_TEST_TMP);
-    setenv("RTGI_PROGRESS_S", "0", 1);
-    int rc = test_run_cli(&err, "render", "--size", "16x16", "--timings", "--warmup", "1", "--frames", "1", "--out",
-                          out, NULL);
-    unsetenv("RTGI_PROGRESS_S");
-    assert_int_equal(rc, 0);
-    assert_non_null(err);
-    print_message("%s", err);
+    char *err = progress_stderr("render", "--size", "16x16", "--timings", "--warmup", "1", "--frames", "1", "--out",
+                                out, NULL);
     int next = 1;
     for (char *save = NULL, *l = strtok_r(err, "\n", &save); l; l = strtok_r(NULL, "\n", &save)) {
         int i = 0, n = 0;

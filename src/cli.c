@@ -2,12 +2,51 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "log.h"
+#include "scene.h"
 #include "util.h"
+
+static const char *g_command; /* NULL: rtgi itself */
+/* The options every command takes, handled by cli_next (log_option). */
+static const char *const k_common_options[] = {"--quiet", "--verbose", NULL};
+
+bool cli_in_list(const char *s, const char *const *list)
+{
+    for (int i = 0; list[i]; i++)
+        if (!strcmp(s, list[i]))
+            return true;
+    return false;
+}
+
+/* --quiet: errors only (no info or progress lines); --verbose: debug lines. */
+static void log_option(const char *opt)
+{
+    log_set_level(!strcmp(opt, "--quiet") ? LOG_ERROR : LOG_DEBUG);
+}
+
+void cli_set_command(const char *cmd) { g_command = cmd; }
+
+void cli_error(const char *near, const char *fmt, ...)
+{
+    char what[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    char see[96] = "rtgi --help"; /* where the command's options are */
+    if (g_command)
+        snprintf(see, sizeof see, "rtgi %s --help", g_command);
+    const char *cmd = g_command ? g_command : "rtgi";
+    if (near)
+        log_error("cli", "%s: %s; did you mean '%s'? (see %s)", cmd, what, near, see);
+    else
+        log_error("cli", "%s: %s (see %s)", cmd, what, see);
+}
 
 bool cli_float(const char *opt, const char *v, float lo, float hi, float *out)
 {
@@ -15,11 +54,11 @@ bool cli_float(const char *opt, const char *v, float lo, float hi, float *out)
     errno = 0;
     double d = strtod(v, &end);
     if (end == v || *end || errno || !isfinite(d)) {
-        log_error("cli", "%s: '%s' is not a number", opt, v);
+        cli_error(NULL, "%s: '%s' is not a number", opt, v);
         return false;
     }
     if (d < lo || d > hi) {
-        log_error("cli", "%s: %s is out of range [%g, %g]", opt, v, (double)lo, (double)hi);
+        cli_error(NULL, "%s: %s is out of range [%g, %g]", opt, v, (double)lo, (double)hi);
         return false;
     }
     *out = (float)d;
@@ -32,11 +71,11 @@ bool cli_int(const char *opt, const char *v, int lo, int hi, int *out)
     errno = 0;
     long n = strtol(v, &end, 10);
     if (end == v || *end || errno) {
-        log_error("cli", "%s: '%s' is not an integer", opt, v);
+        cli_error(NULL, "%s: '%s' is not an integer", opt, v);
         return false;
     }
     if (n < lo || n > hi) {
-        log_error("cli", "%s: %s is out of range [%d, %d]", opt, v, lo, hi);
+        cli_error(NULL, "%s: %s is out of range [%d, %d]", opt, v, lo, hi);
         return false;
     }
     *out = (int)n;
@@ -49,11 +88,11 @@ bool cli_size(const char *opt, const char *v, int max, int *w, int *h)
     long a = strtol(v, &end, 10);
     long b = (end && (*end == 'x' || *end == 'X')) ? strtol(end + 1, &end, 10) : -1;
     if (b < 0 || *end) {
-        log_error("cli", "%s: '%s' is not a size WxH (e.g. 512x512)", opt, v);
+        cli_error(NULL, "%s: '%s' is not a size WxH (e.g. 512x512)", opt, v);
         return false;
     }
     if (a < 1 || b < 1 || a > max || b > max) {
-        log_error("cli", "%s: %s: width and height must be between 1 and %d", opt, v, max);
+        cli_error(NULL, "%s: %s: width and height must be between 1 and %d", opt, v, max);
         return false;
     }
     *w = (int)a;
@@ -72,47 +111,68 @@ int cli_choice(const char *opt, const char *v, const char *const *names)
         if (names[i + 1])
             strncat(list, "|", sizeof list - strlen(list) - 1);
     }
-    const char *near = util_nearest(v, names);
-    if (near)
-        log_error("cli", "%s: unknown value '%s'; did you mean '%s'? (one of %s)", opt, v, near, list);
-    else
-        log_error("cli", "%s: unknown value '%s' (one of %s)", opt, v, list);
+    cli_error(util_nearest(v, names), "%s: unknown value '%s' (one of %s)", opt, v, list);
     return -1;
 }
 
-void cli_unknown_option(const char *cmd, const char *opt, const char *const *known)
+bool cli_scene(const char *opt, const char *v)
+{
+    const char *near = scene_builtin_near(v);
+    if (near)
+        cli_error(near, "%s: '%s' is no file and no built-in scene", opt, v);
+    return near == NULL;
+}
+
+void cli_unknown_option(const char *opt, const char *const *known)
 {
     const char *near = known ? util_nearest(opt, known) : NULL;
-    if (near)
-        log_error("cli", "%s: unknown option '%s'; did you mean '%s'? (see rtgi %s --help)", cmd, opt, near, cmd);
-    else
-        log_error("cli", "%s: unknown option '%s' (see rtgi %s --help)", cmd, opt, cmd);
+    const char *common = util_nearest(opt, k_common_options);
+    if (common && (!near || util_edit_distance(opt, common) < util_edit_distance(opt, near)))
+        near = common;
+    cli_error(near, "unknown option '%s'", opt);
 }
 
 const char *cli_next(CliArgs *a)
 {
-    if (a->pending) {
-        log_error("cli", "%s takes no value (given '%s')", a->opt, a->pending);
-        a->failed = true;
-        return NULL;
-    }
-    if (a->failed || a->i >= a->argc)
-        return NULL;
-    a->opt = a->argv[a->i++];
-    const char *eq = strncmp(a->opt, "--", 2) == 0 ? strchr(a->opt, '=') : NULL;
-    if (eq) {
-        size_t n = (size_t)(eq - a->opt);
-        if (n >= sizeof a->optbuf) {
-            log_error("cli", "'%.40s...': option name too long", a->opt);
+    for (;;) {
+        if (a->pending) {
+            cli_error(NULL, "%s takes no value, given '%s'", a->opt, a->pending);
             a->failed = true;
             return NULL;
         }
-        memcpy(a->optbuf, a->opt, n);
-        a->optbuf[n] = 0;
-        a->pending = eq + 1;
-        a->opt = a->optbuf;
+        if (!a->ended && a->i < a->argc && !strcmp(a->argv[a->i], "--")) {
+            a->ended = true; /* the end of the options */
+            a->i++;
+        }
+        if (a->failed || a->i >= a->argc)
+            return NULL;
+        a->opt = a->argv[a->i++];
+        a->is_operand = a->ended || a->opt[0] != '-' || !a->opt[1];
+        if (a->is_operand) {
+            if (a->operands)
+                return a->opt;
+            cli_error(NULL, "unexpected argument '%s': options start with --", a->opt);
+            a->failed = true;
+            return NULL;
+        }
+        const char *eq = strncmp(a->opt, "--", 2) == 0 ? strchr(a->opt, '=') : NULL;
+        if (eq) {
+            size_t n = (size_t)(eq - a->opt);
+            if (n >= sizeof a->optbuf) {
+                cli_error(NULL, "'%.40s...': option name too long", a->opt);
+                a->failed = true;
+                return NULL;
+            }
+            memcpy(a->optbuf, a->opt, n);
+            a->optbuf[n] = 0;
+            a->pending = eq + 1;
+            a->opt = a->optbuf;
+        }
+        if (!cli_in_list(a->opt, k_common_options))
+            return a->opt;
+        if (!a->pending) /* --quiet, --verbose: taken here */
+            log_option(a->opt);
     }
-    return a->opt;
 }
 
 const char *cli_value(CliArgs *a)
@@ -123,7 +183,7 @@ const char *cli_value(CliArgs *a)
         return v;
     }
     if (a->i >= a->argc) {
-        log_error("cli", "%s needs a value", a->opt);
+        cli_error(NULL, "%s needs a value", a->opt);
         return NULL;
     }
     return a->argv[a->i++];

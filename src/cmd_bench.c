@@ -63,7 +63,8 @@ void cmd_bench_help(void)
            "  --cache DIR        reference cache (default: out/ref-cache)\n"
            "  --threads T        reference threads (default: all cores)\n"
            "  --markdown         also print the results as a Markdown table on stdout\n"
-           "  --quiet            errors only\n"
+           "  --quiet            errors only: no progress\n"
+           "  --verbose          debug lines too\n"
            "  --OPTION VALUE     any setting of `rtgi render --help` for every technique\n"
            "                     (bench sets --vpls 16384 unless given)\n",
            k_default_gi);
@@ -207,7 +208,7 @@ static bool parse_gi_item(const char *item, BenchEntry *e)
     snprintf(buf, sizeof buf, "%s", item);
     char *save = NULL, *name = strtok_r(buf, ":", &save);
     if (!name) {
-        log_error("cli", "--gi: empty technique in the list");
+        cli_error(NULL, "--gi: empty technique in the list");
         return false;
     }
     if ((e->gi = cli_choice("--gi", name, gi_technique_names())) < 0)
@@ -216,7 +217,7 @@ static bool parse_gi_item(const char *item, BenchEntry *e)
     for (char *kv; (kv = strtok_r(NULL, ":", &save));) {
         char *eq = strchr(kv, '=');
         if (!eq) {
-            log_error("cli", "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
+            cli_error(NULL, "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
             return false;
         }
         *eq = 0;
@@ -224,12 +225,14 @@ static bool parse_gi_item(const char *item, BenchEntry *e)
         if (!d)
             d = settings_find_key("shadow", kv);
         if (!d) {
-            log_error("cli", "--gi: '%s' is not a setting key (see the settings table in rtgi render --help)", kv);
+            const char *keys[128];
+            settings_keys(NULL, keys, 128);
+            cli_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's keys)", kv);
             return false;
         }
         bool on = !strcmp(eq + 1, "on") || !strcmp(eq + 1, "true") || !strcmp(eq + 1, "1");
         if (d->type == SETTING_FLAG && !on) {
-            log_error("cli", "--gi: %s is a flag: give %s=on", kv, kv);
+            cli_error(NULL, "--gi: %s is a flag: give %s=on", kv, kv);
             return false;
         }
         if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : eq + 1, &e->set))
@@ -408,7 +411,7 @@ static bool write_text(const char *dir, const char *name, const char *text)
     return util_atomic_commit(&af, "bench");
 }
 
-static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--quiet", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--threads", "--verbose", NULL};
+static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--threads", NULL};
 
 int cmd_bench(int argc, char **argv)
 {
@@ -441,6 +444,8 @@ int cmd_bench(int argc, char **argv)
             out = v;
         } else if (!strcmp(opt, "--scene")) {
             CLI_VALUE(&a, v);
+            if (!cli_scene(opt, v))
+                return 2;
             scene_name = v;
         } else if (!strcmp(opt, "--size")) {
             CLI_VALUE(&a, v);
@@ -479,10 +484,6 @@ int cmd_bench(int argc, char **argv)
                 return 2;
         } else if (!strcmp(opt, "--markdown")) {
             markdown = true;
-        } else if (!strcmp(opt, "--quiet")) {
-            log_set_level(LOG_ERROR);
-        } else if (!strcmp(opt, "--verbose")) {
-            log_set_level(LOG_DEBUG);
         } else if ((d = settings_find_option(opt))) {
             if (d->type != SETTING_FLAG)
                 CLI_VALUE(&a, v);
@@ -497,14 +498,14 @@ int cmd_bench(int argc, char **argv)
             for (int i = 0; i < settings_count && n < 127; i++)
                 known[n++] = settings_table[i].option;
             known[n] = NULL;
-            cli_unknown_option("bench", opt, known);
+            cli_unknown_option(opt, known);
             return 2;
         }
     }
     if (cli_failed(&a))
         return 2;
     if (!out) {
-        log_error("cli", "bench: --out DIR is required (see rtgi bench --help)");
+        cli_error(NULL, "--out DIR is required");
         return 2;
     }
 
@@ -522,7 +523,7 @@ int cmd_bench(int argc, char **argv)
         char *gs = NULL;
         for (char *gi = strtok_r(gbuf, ",", &gs); gi; gi = strtok_r(NULL, ",", &gs)) {
             if (n == BENCH_MAX_ENTRIES) {
-                log_error("cli", "bench: more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
+                cli_error(NULL, "more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
                 return 2;
             }
             BenchEntry *e = &entries[n];
@@ -540,7 +541,7 @@ int cmd_bench(int argc, char **argv)
         }
     }
     if (n == 0) {
-        log_error("cli", "bench: --gi and --shadow select no technique");
+        cli_error(NULL, "--gi and --shadow select no technique");
         return 2;
     }
 

@@ -16,7 +16,8 @@
 void cmd_compare_help(void)
 {
     printf("usage: rtgi compare TEST REFERENCE [options]\n"
-           "  TEST, REFERENCE    .pfm (linear radiance) or .png (sRGB, decoded to linear)\n"
+           "  TEST, REFERENCE    .pfm or .exr (OpenEXR, half or float: linear radiance) or .png\n"
+           "                     (sRGB, decoded to linear)\n"
            "  --metric rmse|relmse|ssim|flip|all   (default: all)\n"
            "  --heatmap FILE.png per-pixel error of the first metric (FLIP map for all)\n"
            "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"
@@ -30,6 +31,8 @@ void cmd_compare_help(void)
            "                     go to stderr); non-finite\n"
            "                     values are written as null\n"
            "  --allow-nonfinite  compare images with NaN/Inf pixels (an error otherwise)\n"
+           "  --quiet | --verbose   errors only on stderr | debug lines too\n"
+           "  --                 ends the options: what follows are the two images\n"
            "Prints one 'metric: value' line per metric.\n");
 }
 
@@ -91,10 +94,16 @@ int cmd_compare(int argc, char **argv)
     int metric = 4, nfiles = 0;
     float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
     bool allow_nonfinite = false;
-    CliArgs a = {.argc = argc, .argv = argv};
+    CliArgs a = {.argc = argc, .argv = argv, .operands = true};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+        if (cli_operand(&a)) {
+            if (nfiles == 2) {
+                cli_error(NULL, "takes two images, got a third: '%s'", opt);
+                return 2;
+            }
+            files[nfiles++] = opt;
+        } else if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_compare_help();
             return 0;
         } else if (!strcmp(opt, "--metric")) {
@@ -110,7 +119,7 @@ int cmd_compare(int argc, char **argv)
                 return 2;
         } else if (!strcmp(opt, "--mask") || !strcmp(opt, "--mask-emitters")) {
             if (mask_path) {
-                log_error("cli", "%s: give one of --mask and --mask-emitters", opt);
+                cli_error(NULL, "%s: give one of --mask and --mask-emitters", opt);
                 return 2;
             }
             CLI_VALUE(&a, v);
@@ -128,20 +137,15 @@ int cmd_compare(int argc, char **argv)
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1.f, 1000.f, &ppd))
                 return 2;
-        } else if (opt[0] == '-' && opt[1]) {
-            cli_unknown_option("compare", opt, k_compare_options);
-            return 2;
-        } else if (nfiles < 2) {
-            files[nfiles++] = opt;
         } else {
-            log_error("cli", "compare: takes two images, got a third: '%s'", opt);
+            cli_unknown_option(opt, k_compare_options);
             return 2;
         }
     }
     if (cli_failed(&a))
         return 2;
     if (nfiles != 2) {
-        log_error("cli", "compare: needs two images, TEST and REFERENCE (see rtgi compare --help)");
+        cli_error(NULL, "needs two images, TEST and REFERENCE");
         return 2;
     }
     ImageF t = {0}, r = {0}, m = {0};
@@ -150,6 +154,8 @@ int cmd_compare(int argc, char **argv)
     int rc = 1;
     if (!image_read(files[0], &t) || !image_read(files[1], &r))
         goto done;
+    log_debug("compare", "test %s: %dx%d; reference %s: %dx%d", files[0], t.width, t.height, files[1], r.width,
+              r.height);
     if (t.width != r.width || t.height != r.height) {
         log_error("compare", "%s is %dx%d but %s is %dx%d: sizes must match", files[0], t.width, t.height, files[1],
                   r.width, r.height);

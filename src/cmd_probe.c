@@ -11,10 +11,11 @@
 
 void cmd_probe_help(void)
 {
-    printf("usage: rtgi probe [--json FILE]\n"
+    printf("usage: rtgi probe [--json FILE] [--quiet | --verbose]\n"
            "Measures evaluations per second of the VPL irradiance arithmetic with 0-3 texture\n"
            "fetches per sample from 2D and cube maps (shaders/probe/probe.comp), best of 3.\n"
-           "  --json FILE   also write the result (for render --timings --probe FILE); -: stdout, the text to stderr\n");
+           "  --json FILE   also write the result (for render --timings --probe FILE); -: stdout, the text to stderr\n"
+           "  --quiet       errors only on stderr; --verbose: debug lines too\n");
 }
 
 /* The options this command knows (for "did you mean"). */
@@ -32,7 +33,7 @@ int cmd_probe(int argc, char **argv)
             CLI_VALUE(&a, v);
             json = v;
         } else {
-            cli_unknown_option("probe", opt, k_probe_options);
+            cli_unknown_option(opt, k_probe_options);
             return 2;
         }
     }

@@ -35,14 +35,15 @@ void cmd_reference_help(void)
            "  --png FILE.png     also write the tone-mapped PNG\n"
            "  --emitter-mask FILE.png   also write the mask of pixels that see an emitter\n"
            "                     (black; render --emitter-mask writes the same one)\n"
-           "  --quiet            no progress (else on stderr: samples, rays/s, time left)\n"
+           "  --quiet            errors only: no progress (else on stderr: samples, rays/s, time left)\n"
+           "  --verbose          debug lines too\n"
            "Ctrl-C (SIGINT) finishes the current pass (a few samples per pixel) and writes the\n"
            "image with the samples reached ('spp:' line; EXR attribute rtgi_spp); a second\n"
            "Ctrl-C ends the program at once.\n");
 }
 
 /* The options this command knows (for "did you mean"). */
-static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--quiet", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--threads", "--variance", "--verbose", NULL};
+static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--threads", "--variance", NULL};
 
 /* Set by SIGINT: the path tracer finishes its pass and stops. */
 static volatile int g_interrupted;
@@ -57,7 +58,7 @@ static void on_sigint(int sig)
 static bool write_mean(const char *out, const ImageF *mean, float exposure, bool half, int spp, int spp_asked)
 {
     if (!util_ends_with(out, ".exr"))
-        return image_write(out, mean, exposure);
+        return image_write(out, mean, exposure, half);
     ImageAttr attrs[2] = {{"rtgi_spp", spp}, {"rtgi_spp_requested", spp_asked}};
     return image_write_exr(out, mean, half, attrs, 2);
 }
@@ -70,7 +71,7 @@ int cmd_reference(int argc, char **argv)
     set.threads = cores > 0 ? (int)cores : 1;
     const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL, *png = NULL, *emitter_mask = NULL;
     float exposure = -1.f, light_scale = -1.f;
-    bool quiet = false, half = false;
+    bool half = false;
     CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
@@ -79,6 +80,8 @@ int cmd_reference(int argc, char **argv)
             return 0;
         } else if (!strcmp(opt, "--scene")) {
             CLI_VALUE(&a, v);
+            if (!cli_scene(opt, v))
+                return 2;
             scene_name = v;
         } else if (!strcmp(opt, "--mode")) {
             CLI_VALUE(&a, v);
@@ -114,28 +117,28 @@ int cmd_reference(int argc, char **argv)
             CLI_VALUE(&a, v);
             out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                log_error("cli", "--out: '%s' must end in .png, .pfm or .exr", v);
+                cli_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--png")) {
             CLI_VALUE(&a, v);
             png = v;
             if (!util_ends_with(v, ".png")) {
-                log_error("cli", "--png: '%s' must end in .png", v);
+                cli_error(NULL, "--png: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--emitter-mask")) {
             CLI_VALUE(&a, v);
             emitter_mask = v;
             if (!util_ends_with(v, ".png")) {
-                log_error("cli", "--emitter-mask: '%s' must end in .png", v);
+                cli_error(NULL, "--emitter-mask: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--variance")) {
             CLI_VALUE(&a, v);
             var_out = v;
             if (!util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                log_error("cli", "--variance: '%s' must end in .pfm or .exr", v);
+                cli_error(NULL, "--variance: '%s' must end in .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--exposure")) {
@@ -160,19 +163,14 @@ int cmd_reference(int argc, char **argv)
             set.russian_roulette = false;
         } else if (!strcmp(opt, "--no-jitter")) {
             set.pixel_jitter = false;
-        } else if (!strcmp(opt, "--quiet")) {
-            quiet = true;
-            log_set_level(LOG_ERROR);
-        } else if (!strcmp(opt, "--verbose")) {
-            log_set_level(LOG_DEBUG);
         } else {
-            cli_unknown_option("reference", opt, k_reference_options);
+            cli_unknown_option(opt, k_reference_options);
             return 2;
         }
     }
     if (cli_failed(&a))
         return 2;
-    set.progress = !quiet;
+    set.progress = log_get_level() <= LOG_INFO; /* --quiet: none */
     set.stop = &g_interrupted;
 
     /* The path tracer holds two double sums per channel and pixel, the mean

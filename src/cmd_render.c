@@ -1,11 +1,14 @@
-/* cmd_render.c — `rtgi render`: rasterize a scene headless to PNG or PFM. */
+/* cmd_render.c — `rtgi render`: rasterize a scene headless to PNG, PFM or
+ * OpenEXR. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <epoxy/gl.h>
 
+#include "cli.h"
 #include "commands.h"
+#include "gi/gi.h"
 #include "gl_context.h"
 #include "image.h"
 #include "log.h"
@@ -20,16 +23,20 @@
 #define RTGI_DEBUG_BUILD false
 #endif
 
-/* Frames of one run: after a first frame over 2 s, each frame reports on
- * stderr (a long render is never silent) with the time left. */
+/* Frames of one run. Work over RENDER_SLOW_S (RTGI_PROGRESS_S overrides
+ * it, log_progress_seconds) is never silent: a frame estimated over it by
+ * the cost model prints one line before the first frame, and after a first
+ * frame measured over it every frame reports with the time left. */
+#define RENDER_SLOW_S 2.0
 typedef struct FrameClock {
     int done, total;  /* frames drawn, frames this run will draw */
     double first_s;   /* the first frame's time (s), < 0 before it */
+    double slow_s;    /* frames over this report (s) */
 } FrameClock;
 
 static void frame(Renderer *r, const Camera *cam, FrameClock *c)
 {
-    bool measure = c->first_s < 0 || c->first_s > 2.0;
+    bool measure = c->first_s < 0 || c->first_s > c->slow_s;
     double t0 = util_seconds();
     renderer_frame(r, cam);
     if (!measure)
@@ -39,9 +46,22 @@ static void frame(Renderer *r, const Camera *cam, FrameClock *c)
     c->done++;
     if (c->first_s < 0)
         c->first_s = s;
-    if (c->first_s > 2.0 && log_get_level() <= LOG_INFO)
-        fprintf(stderr, "render: frame %d of %d took %.1f s; about %.0f s left\n", c->done, c->total, s,
-                s * (c->total - c->done));
+    if (c->first_s > c->slow_s)
+        log_progress("render: frame %d of %d took %.1f s; about %.0f s left", c->done, c->total, s,
+                     s * (c->total - c->done));
+}
+
+/* One line before the first frame when the cost model (src/gi/cost.c, at
+ * the default device rate: the window's estimate before it has measured
+ * anything) puts a frame's gather over the clock's threshold. */
+static void announce_estimate(const RenderSettings *rs, const Scene *scene, const FrameClock *c)
+{
+    int n = renderer_ssaa(rs);
+    double px = (double)rs->width * rs->height * n * n;
+    double s = gi_cost_seconds(rs->gi, &rs->gi_params, scene, px, GI_COST_DEFAULT_EVALS_PER_S);
+    if (s > c->slow_s)
+        log_progress("render: %s at %dx%d: about %.1f s per frame (estimate); %d frame%s to draw",
+                     gi_techniques[rs->gi]->name, rs->width, rs->height, s, c->total, c->total == 1 ? "" : "s");
 }
 
 void cmd_render_help(void)
@@ -105,7 +125,7 @@ int cmd_render(int argc, char **argv)
     RenderSettings rs;
     render_options_settings(&o, &scene, &rs);
     if (o.out_ao && (rs.gi != GI_VCT || !rs.gi_params.vct_ao)) {
-        log_error("cli", "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
+        cli_error(NULL, "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
         scene_free(&scene);
         return 2;
     }
@@ -120,7 +140,8 @@ int cmd_render(int argc, char **argv)
     if (renderer_create(&r, &scene, &rs)) {
         int frames = 1;
         /* warm-up + timed + one + steady frames with --timings */
-        FrameClock clock = {0, o.timings ? o.warmup + 2 * o.frames + 1 : 1, -1.0};
+        FrameClock clock = {0, o.timings ? o.warmup + 2 * o.frames + 1 : 1, -1.0, log_progress_seconds(RENDER_SLOW_S)};
+        announce_estimate(&rs, &scene, &clock);
         double t0 = util_seconds();
         if (o.timings) { /* untimed warm-up frames, then the timed ones */
             for (int f = 0; f < o.warmup; f++)
@@ -147,7 +168,7 @@ int cmd_render(int argc, char **argv)
             }
         }
         if (ok && (util_ends_with(o.out, ".pfm") || util_ends_with(o.out, ".exr"))) {
-            ok = image_write(o.out, &hdr, 1.f); /* linear radiance */
+            ok = image_write(o.out, &hdr, 1.f, o.half); /* linear radiance */
         } else if (ok) {
             uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */
             ok = image_write_png8(o.out, rs.width, rs.height, rgb);

@@ -47,11 +47,13 @@ void cmd_view_help(void)
            "  --ssaa N                      N x N supersampling, box filter (default: 1, off)\n"
            "  --aa none|fxaa                post-process AA (default: fxaa)\n"
            "  --compare FILE                reference image for the A/B view (split, reference,\n"
-           "                                difference): .pfm radiance at the window's exposure,\n"
-           "                                .png shown as it is\n"
+           "                                difference): .pfm or .exr radiance at the window's\n"
+           "                                exposure, .png shown as it is\n"
            "  --frames N                    exit after N frames (default: 0, run until closed)\n"
            "  --out FILE                    the image P saves, and with --frames the last frame:\n"
-           "                                .png as shown, .pfm linear radiance (default: out/view.png)\n"
+           "                                .png as shown, .pfm or .exr linear radiance\n"
+           "                                (default: out/view.png)\n"
+           "  --half                        .exr captures as half floats (default: float32)\n"
            "  --window-out FILE.png         what Shift-P saves: the window, panel included\n"
            "                                (default: out/window.png); with --frames, the last frame's\n"
            "  --slow-ms MS                  techniques estimated above MS per frame need a\n"
@@ -244,6 +246,7 @@ int cmd_view(int argc, char **argv)
     v.scene = &scene;
     v.renderer = &r;
     v.slow_ms = o.slow_ms;
+    v.half = o.half;
     v.pending_gi = -1;
     v.ab_rmse = -1;
     v.show_panel = !o.no_panel;

@@ -219,12 +219,12 @@ bool image_read(const char *path, ImageF *img)
     return ok;
 }
 
-bool image_write(const char *path, const ImageF *img, float exposure)
+bool image_write(const char *path, const ImageF *img, float exposure, bool half)
 {
     if (util_ends_with(path, ".pfm"))
         return image_write_pfm(path, img);
     if (util_ends_with(path, ".exr"))
-        return image_write_exr(path, img, false, NULL, 0);
+        return image_write_exr(path, img, half, NULL, 0);
     if (util_ends_with(path, ".png"))
         return image_write_png(path, img, exposure);
     log_error("image", "%s: unknown output format (use .png, .pfm or .exr)", path);

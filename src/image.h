@@ -46,9 +46,9 @@ bool image_write_png(const char *path, const ImageF *img, float exposure);
 /* Reads PFM or EXR (by the .pfm and .exr extensions) as is, or PNG/JPEG (by their
  * signatures; other formats are refused) decoded from sRGB to linear [0,1]. */
 bool image_read(const char *path, ImageF *img);
-/* Writes .pfm or .exr as linear (EXR: float32) or .png tone-mapped, by the
- * file's extension. */
-bool image_write(const char *path, const ImageF *img, float exposure);
+/* Writes .pfm or .exr as linear (EXR: float32, or half floats with `half`)
+ * or .png tone-mapped, by the file's extension. */
+bool image_write(const char *path, const ImageF *img, float exposure, bool half);
 
 /* OpenEXR (Debian libopenexr-dev, its C API `openexr.h`): one scanline part,
  * channels R, G, B, ZIP compression. An integer attribute of the header,

@@ -17,12 +17,16 @@ enum { SLOT_SHADOW = 0, SLOT_RSM = 1, SLOTS_PER_LIGHT = 2 };
 
 static bool light_is_cube(const Light *l) { return l->type == LIGHT_POINT || l->type == LIGHT_QUAD; }
 
-int light_stage_rsm_size_for_vpls(const Light *l, int vpls)
+float light_stage_lit_layers(const Light *l)
 {
     /* Texels that can hold a lit surface: a 2D map, half a cube for a
      * one-sided quad (one face and four half faces), a whole cube. */
-    float layers = l->type == LIGHT_QUAD ? 3.f : l->type == LIGHT_POINT ? 6.f : 1.f;
-    int size = (int)lrintf(sqrtf((float)vpls / layers));
+    return l->type == LIGHT_QUAD ? 3.f : l->type == LIGHT_POINT ? 6.f : 1.f;
+}
+
+int light_stage_rsm_size_for_vpls(const Light *l, int vpls)
+{
+    int size = (int)lrintf(sqrtf((float)vpls / light_stage_lit_layers(l)));
     return size < 4 ? 4 : size;
 }
 

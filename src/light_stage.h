@@ -94,6 +94,10 @@ typedef struct LightStage {
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
 } LightStage;
 
+/* RSM layers (2D maps or cube faces) whose texels can hold a lit surface
+ * for light `l`: 1 for a 2D map, 3 for a one-sided quad's half cube, 6 for
+ * a point light's cube. At most layers × size² VPLs come from its RSM. */
+float light_stage_lit_layers(const Light *l);
 /* RSM texels per side that give about `vpls` VPLs for light `l`. */
 int light_stage_rsm_size_for_vpls(const Light *l, int vpls);
 

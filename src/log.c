@@ -2,6 +2,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 static LogLevel g_level = LOG_INFO;
 static LogHook g_hook;
@@ -35,4 +36,24 @@ void log_msg(LogLevel level, const char *tag, const char *fmt, ...)
     vfprintf(stderr, fmt, ap);
     fputc('\n', stderr);
     va_end(ap);
+}
+
+void log_progress(const char *fmt, ...)
+{
+    if (g_level > LOG_INFO)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    fflush(stderr);
+}
+
+double log_progress_seconds(double dflt)
+{
+    const char *v = getenv("RTGI_PROGRESS_S");
+    char *end = NULL;
+    double s = v && *v ? strtod(v, &end) : -1.0;
+    return end && !*end && s >= 0.0 ? s : dflt;
 }

@@ -17,6 +17,14 @@ void log_set_hook(LogHook hook, void *user);
 void log_msg(LogLevel level, const char *tag, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
+/* Progress of long work on stderr, a bare line ("render: frame 2 of 3
+ * took 4.1 s; ...") unless the level is above LOG_INFO (--quiet). */
+void log_progress(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* The seconds after which long work reports progress: `dflt`, or the
+ * environment's RTGI_PROGRESS_S when set (tests set 0 to see the lines of
+ * short runs). */
+double log_progress_seconds(double dflt);
+
 #define log_debug(tag, ...) log_msg(LOG_DEBUG, tag, __VA_ARGS__)
 #define log_info(tag, ...) log_msg(LOG_INFO, tag, __VA_ARGS__)
 #define log_warn(tag, ...) log_msg(LOG_WARN, tag, __VA_ARGS__)

@@ -3,9 +3,11 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "cli.h"
 #include "commands.h"
 #include "json_util.h"
 #include "log.h"
+#include "util.h"
 #include "version.h" /* generated: RTGI_VERSION */
 
 static void usage(FILE *f)
@@ -14,17 +16,18 @@ static void usage(FILE *f)
             "rtgi — real-time global illumination renderer and its reference\n"
             "usage: rtgi <command> [options]\n"
             "commands:\n"
-            "  render      rasterize a scene (shadows, GI) to PNG or PFM\n"
+            "  render      rasterize a scene (shadows, GI) to PNG, PFM or OpenEXR\n"
             "  view        the renderer in a window, with a camera and toggles\n"
             "  reference   path-trace the same scene on the CPU (Embree): ground truth\n"
-            "  compare     error metrics between two images (RMSE, relMSE, SSIM, FLIP)\n"
+            "  compare     error metrics between two images, PFM, EXR or PNG (RMSE, relMSE, SSIM, FLIP)\n"
             "  probe       this device's throughput on gather-shaped work (evaluations/s)\n"
             "  bench       time and measure a list of techniques against the reference:\n"
             "              DIR/bench.json and a self-contained DIR/report.html\n"
             "run 'rtgi <command> --help' for a command's options, 'rtgi --version' for the version;\n"
             "options take their value as '--opt value' or '--opt=value'\n"
-            "every command also takes --lenient: unknown keys in a scene file are\n"
-            "warnings instead of errors\n");
+            "every command also takes --quiet (errors only on stderr), --verbose (debug lines)\n"
+            "and --lenient (unknown keys in a scene file are warnings instead of errors);\n"
+            "'--' ends the options\n");
 }
 
 int main(int argc, char **argv)
@@ -54,18 +57,20 @@ int main(int argc, char **argv)
         usage(stdout);
         return 0;
     }
-    if (!strcmp(cmd, "render"))
-        return cmd_render(argc - 2, argv + 2);
-    if (!strcmp(cmd, "view"))
-        return cmd_view(argc - 2, argv + 2);
-    if (!strcmp(cmd, "reference"))
-        return cmd_reference(argc - 2, argv + 2);
-    if (!strcmp(cmd, "compare"))
-        return cmd_compare(argc - 2, argv + 2);
-    if (!strcmp(cmd, "probe"))
-        return cmd_probe(argc - 2, argv + 2);
-    if (!strcmp(cmd, "bench"))
-        return cmd_bench(argc - 2, argv + 2);
-    log_error("cli", "unknown command '%s' (see rtgi --help)", cmd);
+    static const struct {
+        const char *name;
+        int (*run)(int argc, char **argv);
+    } commands[] = {{"render", cmd_render},       {"view", cmd_view},   {"reference", cmd_reference},
+                    {"compare", cmd_compare},     {"probe", cmd_probe}, {"bench", cmd_bench}};
+    enum { N = sizeof commands / sizeof commands[0] };
+    const char *names[N + 1] = {NULL};
+    for (int i = 0; i < N; i++) {
+        if (!strcmp(cmd, commands[i].name)) {
+            cli_set_command(cmd); /* usage errors name it */
+            return commands[i].run(argc - 2, argv + 2);
+        }
+        names[i] = commands[i].name;
+    }
+    cli_error(util_nearest(cmd, names), "unknown command '%s'", cmd);
     return 2;
 }

@@ -24,10 +24,12 @@ void render_options_help(void)
         "  --gi TECHNIQUE                indirect light (default: none), see below\n"
         "  --size WxH                    image size (default: 256x256, as rtgi reference; view: 512x512)\n"
         "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
-        "  --out FILE.png|FILE.pfm|FILE.exr   output; PNG tone-mapped sRGB, PFM/EXR (float32)\n"
+        "  --out FILE.png|FILE.pfm|FILE.exr   output; PNG tone-mapped sRGB, PFM/EXR (OpenEXR,\n"
+        "                                float32 or --half)\n"
         "                                linear radiance\n"
         "                                (default: out/render.png)\n"
-        "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm --out)\n"
+        "  --half                        EXR output as half floats (default: float32)\n"
+        "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm/.exr --out)\n"
         "  --emitter-mask FILE.png       also write the mask of pixels that see an emitter\n"
         "                                (black; for compare --mask-emitters)\n"
         "  --out-ao FILE.pfm|FILE.png    also write the ambient visibility (1 = open) of --gi vct\n"
@@ -88,19 +90,11 @@ void render_options_init(RenderOptions *o, bool view)
 static const char *const k_render_only[] = {"--emitter-mask", "--png", "--probe", "--timings", "--warmup", NULL};
 static const char *const k_view_only[] = {"--compare", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
 
-static bool in_list(const char *opt, const char *const *list)
-{
-    for (int i = 0; list[i]; i++)
-        if (!strcmp(opt, list[i]))
-            return true;
-    return false;
-}
-
 /* The options `render` (view false) or `view` knows, the settings table's
  * included (for "did you mean"). */
 static const char *const *known_options(bool view)
 {
-    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--verbose", NULL};
+    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--half", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--verbose", NULL};
     static const char *all[2][128];
     const char **list = all[view];
     if (!list[0]) {
@@ -126,10 +120,8 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             help();
             return -1;
-        } else if (in_list(opt, o->view ? k_render_only : k_view_only)) {
-            const char *cmd = o->view ? "view" : "render";
-            log_error("cli", "%s: %s is an option of 'rtgi %s' (see rtgi %s --help)", cmd, opt,
-                      o->view ? "render" : "view", cmd);
+        } else if (cli_in_list(opt, o->view ? k_render_only : k_view_only)) {
+            cli_error(NULL, "%s is an option of 'rtgi %s'", opt, o->view ? "render" : "view");
             return 2;
         } else if (!strcmp(opt, "--compare")) {
             CLI_VALUE(&a, v);
@@ -140,7 +132,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--window-out")) {
             CLI_VALUE(&a, v);
             if (!util_ends_with(v, ".png")) {
-                log_error("cli", "--window-out: '%s' must end in .png", v);
+                cli_error(NULL, "--window-out: '%s' must end in .png", v);
                 return 2;
             }
             o->window_out = v;
@@ -149,26 +141,28 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             char *end;
             o->slow_ms = strtod(v, &end);
             if (*end || !(o->slow_ms > 0) || !isfinite(o->slow_ms)) {
-                log_error("cli", "--slow-ms: '%s' is not a positive number of milliseconds", v);
+                cli_error(NULL, "--slow-ms: '%s' is not a positive number of milliseconds", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--no-panel")) {
             o->no_panel = true;
         } else if (!strcmp(opt, "--scene")) {
             CLI_VALUE(&a, v);
+            if (!cli_scene(opt, v))
+                return 2;
             o->scene = v;
         } else if (!strcmp(opt, "--out")) {
             CLI_VALUE(&a, v);
             o->out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                log_error("cli", "--out: '%s' must end in .png, .pfm or .exr", v);
+                cli_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--png")) {
             CLI_VALUE(&a, v);
             o->png = v;
             if (!util_ends_with(v, ".png")) {
-                log_error("cli", "--png: '%s' must end in .png", v);
+                cli_error(NULL, "--png: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--shadow")) {
@@ -207,6 +201,8 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 10000, &o->warmup))
                 return 2;
+        } else if (!strcmp(opt, "--half")) {
+            o->half = true;
         } else if (!strcmp(opt, "--timings")) {
             o->timings = true;
         } else if (!strcmp(opt, "--probe")) {
@@ -215,23 +211,19 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--emitter-mask")) {
             CLI_VALUE(&a, v);
             if (!util_ends_with(v, ".png")) {
-                log_error("cli", "--emitter-mask: '%s' must end in .png", v);
+                cli_error(NULL, "--emitter-mask: '%s' must end in .png", v);
                 return 2;
             }
             o->emitter_mask = v;
         } else if (!strcmp(opt, "--out-ao")) {
             CLI_VALUE(&a, v);
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
-                log_error("cli", "--out-ao: '%s' must end in .png or .pfm", v);
+                cli_error(NULL, "--out-ao: '%s' must end in .png or .pfm", v);
                 return 2;
             }
             o->out_ao = v;
         } else if (!strcmp(opt, "--debug")) {
             o->debug = true;
-        } else if (!strcmp(opt, "--quiet")) {
-            log_set_level(LOG_ERROR);
-        } else if (!strcmp(opt, "--verbose")) {
-            log_set_level(LOG_DEBUG);
         } else if (!strcmp(opt, "--shader-dir")) {
             CLI_VALUE(&a, v);
             shader_set_directory(v);
@@ -242,14 +234,14 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
             o->given[setting - settings_table] = true;
         } else {
-            cli_unknown_option(o->view ? "view" : "render", opt, known_options(o->view));
+            cli_unknown_option(opt, known_options(o->view));
             return 2;
         }
     }
     if (cli_failed(&a))
         return 2;
     if (o->width * o->ssaa > MAX_IMAGE_SIZE || o->height * o->ssaa > MAX_IMAGE_SIZE) {
-        log_error("cli", "--ssaa %d: %dx%d supersampled is larger than %d per side", o->ssaa, o->width * o->ssaa,
+        cli_error(NULL, "--ssaa %d: %dx%d supersampled is larger than %d per side", o->ssaa, o->width * o->ssaa,
                   o->height * o->ssaa, MAX_IMAGE_SIZE);
         return 2;
     }

@@ -24,6 +24,7 @@ typedef struct RenderOptions {
     int ssaa;          /* N×N supersampling (1: off) */
     int aa;            /* AaMode (render: none, view: fxaa) */
     bool timings, debug;
+    bool half;         /* --half: EXR output (render) or captures (view) as half floats */
     const char *probe; /* --probe FILE: a `rtgi probe --json` result for --timings */
     bool view;         /* the options of `rtgi view` (else `rtgi render`) */
     const char *emitter_mask; /* --emitter-mask FILE.png: the pixels that see an emitter (for compare) */

@@ -204,6 +204,11 @@ void scene_rescale_lights(Scene *s, float scale);
  * .glb, .obj, ...) that gets a default sun and camera. false after logging
  * one line naming the file and the problem. */
 bool scene_load(Scene *s, const char *what);
+/* The built-in scene's name that `what` is a likely typo of ("cornel":
+ * "cornell"), when `what` is a bare name (no '/' or '.') and no file; else
+ * NULL. scene_load refuses such names; the CLI checks them first, as a
+ * usage error. */
+const char *scene_builtin_near(const char *what);
 /* Loads a mesh file through assimp, appending to `s`. */
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform);
 

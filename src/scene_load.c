@@ -1023,6 +1023,15 @@ static bool load_json(Scene *s, const char *path)
     return true;
 }
 
+const char *scene_builtin_near(const char *what)
+{
+    static const char *const builtins[] = {"cornell", NULL};
+    if (strchr(what, '/') || strchr(what, '.') || !strcmp(what, "cornell"))
+        return NULL;
+    const char *near = util_nearest(what, builtins);
+    return near && access(what, F_OK) != 0 ? near : NULL;
+}
+
 bool scene_load(Scene *s, const char *what)
 {
     if (strcmp(what, "cornell") == 0) {
@@ -1030,10 +1039,8 @@ bool scene_load(Scene *s, const char *what)
         scene_finalize(s);
         return true;
     }
-    /* A bare name that is no file: a built-in scene's name, misspelt? */
-    static const char *const builtins[] = {"cornell", NULL};
-    const char *near = strchr(what, '/') || strchr(what, '.') ? NULL : util_nearest(what, builtins);
-    if (near && access(what, F_OK) != 0) {
+    const char *near = scene_builtin_near(what);
+    if (near) {
         log_error("scene", "%s: no such file or built-in scene; did you mean '%s'?", what, near);
         scene_init(s);
         return false;

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "json_util.h"
 #include "log.h"
 #include "shared/gpu_types.h"
@@ -260,11 +261,13 @@ static const char *check_number(const SettingDesc *d, double v)
     return NULL;
 }
 
+/* A command-line value's usage error, with the nearest choice of an enum. */
 static bool fail(const char *where, const SettingDesc *d, const char *value, const char *problem)
 {
     char range[160];
     describe_range(d, range, sizeof range);
-    log_error("settings", "%s: '%s' %s (allowed: %s)", where, value, problem, range);
+    cli_error(d->type == SETTING_ENUM ? util_nearest(value, d->choices) : NULL, "%s: '%s' %s (allowed: %s)", where,
+              value, problem, range);
     return false;
 }
 
@@ -391,6 +394,16 @@ static bool parse_json_value(const cJSON *v, const SettingDesc *d, const char *f
     }
 }
 
+int settings_keys(const char *group, const char **out, int cap)
+{
+    int n = 0;
+    for (int i = 0; i < settings_count && n < cap - 1; i++)
+        if (!group || !strcmp(settings_table[i].group, group))
+            out[n++] = settings_table[i].key;
+    out[n] = NULL;
+    return n;
+}
+
 bool settings_parse_json(const cJSON *obj, const char *group, const char *file, Settings *s)
 {
     if (!cJSON_IsObject(obj)) {
@@ -399,12 +412,8 @@ bool settings_parse_json(const cJSON *obj, const char *group, const char *file, 
     }
     /* Unknown keys (an error naming the nearest, or a warning with
      * --lenient) and duplicates: the scene file's one key check. */
-    const char *known[64];
-    int n = 0;
-    for (int i = 0; i < settings_count && n < 63; i++)
-        if (!strcmp(settings_table[i].group, group))
-            known[n++] = settings_table[i].key;
-    known[n] = NULL;
+    const char *known[128];
+    settings_keys(group, known, 128);
     if (!json_check_keys(obj, known, file, group))
         return false;
     for (const cJSON *a = obj->child; a; a = a->next) {

@@ -54,8 +54,13 @@ const SettingDesc *settings_find_option(const char *option);
 /* The row of `group`.`key`, or NULL. */
 const SettingDesc *settings_find_key(const char *group, const char *key);
 
+/* The keys of `group`'s rows (NULL: every row's) into out[0..cap-1],
+ * NULL-terminated (for "did you mean"); returns how many. */
+int settings_keys(const char *group, const char **out, int cap);
+
 /* Parses a command-line value (NULL for SETTING_FLAG) into `s`, range
- * checked. false after logging "<option>: <problem> (allowed: <range>)". */
+ * checked. false after logging a usage error (cli_error) "<option>: '<value>'
+ * <problem> (allowed: <range>)", with the nearest choice of an enum. */
 bool settings_parse_cli(const SettingDesc *d, const char *value, Settings *s);
 /* Reads the scene file's `group` object into `s`: every key must be a row
  * of the group (unknown keys are an error naming the nearest known key),

@@ -371,24 +371,28 @@ int util_edit_distance(const char *a, const char *b)
     size_t n = strlen(a), m = strlen(b);
     if (n > 255 || m > 255)
         return 1 << 20;
-    int row[256];
+    /* Three rows of the table: i-2, i-1 and i. */
+    int rows[3][256], *prev2 = rows[0], *prev = rows[1], *row = rows[2];
     for (size_t j = 0; j <= m; j++)
-        row[j] = (int)j;
+        prev[j] = (int)j;
     for (size_t i = 1; i <= n; i++) {
-        int diag = row[0];
         row[0] = (int)i;
         for (size_t j = 1; j <= m; j++) {
-            int up = row[j];
-            int best = diag + (a[i - 1] != b[j - 1]);
-            if (up + 1 < best)
-                best = up + 1;
+            int best = prev[j - 1] + (a[i - 1] != b[j - 1]); /* substitute (or keep) */
+            if (prev[j] + 1 < best)
+                best = prev[j] + 1; /* delete */
             if (row[j - 1] + 1 < best)
-                best = row[j - 1] + 1;
+                best = row[j - 1] + 1; /* insert */
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && prev2[j - 2] + 1 < best)
+                best = prev2[j - 2] + 1; /* swap two adjacent bytes */
             row[j] = best;
-            diag = up;
         }
+        int *t = prev2;
+        prev2 = prev;
+        prev = row;
+        row = t;
     }
-    return row[m];
+    return prev[m];
 }
 
 const char *util_nearest(const char *s, const char *const *names)

@@ -54,8 +54,10 @@ bool util_atomic_commit(AtomicFile *af, const char *tag);
 /* Closes and removes the temporary file (after an error elsewhere). */
 void util_atomic_abort(AtomicFile *af);
 
-/* Levenshtein edit distance between a and b (insert, delete, substitute
- * one byte each cost 1); strings longer than 255 bytes count as far away. */
+/* Optimal-string-alignment (restricted Damerau-Levenshtein) distance
+ * between a and b: inserting, deleting or substituting one byte, or
+ * swapping two adjacent ones ("pfc" for "pcf"), each cost 1; strings longer
+ * than 255 bytes count as far away. */
 int util_edit_distance(const char *a, const char *b);
 /* The name in the NULL-terminated `names` nearest to `s` by edit distance,
  * or NULL when none is near enough to be a likely typo (distance more than

@@ -717,6 +717,14 @@ static void nearest_and_keys(void **state)
     static const char *const names[] = {"position", "target", "fov_y_deg", NULL};
     assert_int_equal(util_edit_distance("kitten", "sitting"), 3);
     assert_int_equal(util_edit_distance("", "abc"), 3);
+    /* Optimal string alignment: a swapped pair is one edit (Levenshtein:
+     * two), but a swapped pair is not edited again ("ca" -> "abc" is 3,
+     * unrestricted Damerau-Levenshtein 2). */
+    assert_int_equal(util_edit_distance("pfc", "pcf"), 1);
+    assert_int_equal(util_edit_distance("ab", "ba"), 1);
+    assert_int_equal(util_edit_distance("ca", "abc"), 3);
+    static const char *const shadows[] = {"none", "hard", "pcf", "pcss", NULL};
+    assert_string_equal(util_nearest("pfc", shadows), "pcf");
     assert_string_equal(util_nearest("positon", names), "position");
     assert_string_equal(util_nearest("fov_y_dg", names), "fov_y_deg");
     assert_null(util_nearest("zzzzzzzzz", names));

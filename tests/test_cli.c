@@ -331,7 +331,7 @@ static void cli_conventions(void **state)
     rc = test_run_cli(&err, "render", "--gi", "rsn", NULL);
     test_expect_cli_error(rc, err, 2, "--gi", "did you mean 'rsm'");
     rc = test_run_cli(&err, "render", "--scene", "cornel", NULL);
-    test_expect_cli_error(rc, err, 1, "cornel", "did you mean 'cornell'");
+    test_expect_cli_error(rc, err, 2, "render: --scene: 'cornel'", "did you mean 'cornell'? (see rtgi render --help)");
     /* view's own options go through the same parser: their typos get a
      * suggestion, and each command names the other's options as such. */
     static const char *const view_typos[][2] = {{"--compair", "--compare"},     {"--window-outt", "--window-out"},
@@ -366,6 +366,342 @@ static void cli_conventions(void **state)
     assert_true(strncmp(line, "rtgi ", 5) == 0 && strlen(line) > 6);
 }
 
+/* Long work is never silent (issue 15): when the cost model puts a frame
+ * over the threshold (2 s, or RTGI_PROGRESS_S), render prints one line
+ * before the first frame. The estimate is the model's, not a timing, so
+ * the cases are deterministic: vpl-all at 64x64 with 4096 VPLs per light
+ * (the Cornell quad light's half cube of 37² texels: 4107 slots) is
+ * 4096 x 4107 / 4e7 = 0.42 s; rsm 4096 x 400 / 4e7 = 0.04 s. */
+static void render_estimate_line(void **state)
+{
+    (void)state;
+    char out[512], *err = NULL;
+    snprintf(out, sizeof out, "%s/estimate.png", RTGI_TEST_TMP);
+    static const char *const want = "render: vpl-all at 64x64: about 0.4 s per frame (estimate); 1 frame to draw\n";
+    setenv("RTGI_PROGRESS_S", "0.2", 1);
+    int rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "vpl-all", "--out", out, NULL);
+    print_message("vpl-all, threshold 0.2 s: %s", err ? err : "");
+    assert_int_equal(rc, 0);
+    assert_non_null(err);
+    assert_non_null(strstr(err, want));
+    free(err);
+    rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "rsm", "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "(estimate)"));
+    free(err);
+    rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "vpl-all", "--out", out, "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "(estimate)")); /* --quiet: no progress */
+    free(err);
+    unsetenv("RTGI_PROGRESS_S");
+    rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "vpl-all", "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "(estimate)")); /* 0.42 s is under the default 2 s */
+    free(err);
+}
+
+/* Every command takes --quiet (errors only on stderr: no info or progress
+ * lines) and --verbose (debug lines too), before or after its other
+ * options, and lists both in its --help. */
+static void quiet_and_verbose_everywhere(void **state)
+{
+    (void)state;
+    char png[512], pfm[512], *err = NULL;
+    snprintf(png, sizeof png, "%s/qv.png", RTGI_TEST_TMP);
+    snprintf(pfm, sizeof pfm, "%s/qv.pfm", RTGI_TEST_TMP);
+    static const char *const commands[] = {"render", "view", "reference", "compare", "probe", "bench"};
+    char cmd[700];
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        for (int verbose = 0; verbose < 2; verbose++) {
+            int rc = test_run_cli(&err, commands[i], verbose ? "--verbose" : "--quiet", "--help", NULL);
+            if (rc != 0)
+                fail_msg("%s %s --help: exit %d: %s", commands[i], verbose ? "--verbose" : "--quiet", rc, err);
+            free(err);
+        }
+        snprintf(cmd, sizeof cmd, "%s %s --help | grep -q -e --verbose && %s %s --help | grep -q -e --quiet",
+                 RTGI_BINARY, commands[i], RTGI_BINARY, commands[i]);
+        if (system(cmd) != 0)
+            fail_msg("rtgi %s --help does not list both --quiet and --verbose", commands[i]);
+    }
+    /* The meaning, where a run is cheap: quiet leaves stderr empty, verbose
+     * adds debug lines. */
+    int rc = test_run_cli(&err, "render", "--quiet", "--size", "8x8", "--out", png, NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--out", png, "--verbose", NULL);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(err, "rtgi: debug ["));
+    free(err);
+    rc = test_run_cli(&err, "reference", "--size", "8x8", "--spp", "1", "--out", pfm, "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "compare", "--quiet", pfm, pfm, NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "compare", pfm, pfm, "--verbose", NULL);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(err, "rtgi: debug [compare] test "));
+    free(err);
+    test_x_display();
+    rc = test_run_cli(&err, "view", "--size", "16x16", "--frames", "1", "--out", png, "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "probe", "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    assert_true(!err || !*err);
+    free(err);
+    rc = test_run_cli(&err, "render", "--quiet=1", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --quiet takes no value", "(see rtgi render --help)");
+    rc = test_run_cli(&err, "bench", "--verbos", NULL);
+    test_expect_cli_error(rc, err, 2, "bench: unknown option '--verbos'", "did you mean '--verbose'?");
+}
+
+/* One hint style for every usage error of every command:
+ * "<command>: <what>; did you mean '<y>'? (see rtgi <command> --help)",
+ * exit 2; suggestions by optimal-string-alignment distance, so a swapped
+ * pair of letters ("pfc") is one edit. */
+static void one_error_hint_style(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    static const char *const commands[] = {"render", "view", "reference", "compare", "probe", "bench"};
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++) {
+        char want[128], hint[64];
+        snprintf(want, sizeof want, "%s: unknown option '--bogus-option'", commands[i]);
+        snprintf(hint, sizeof hint, " (see rtgi %s --help)", commands[i]);
+        int rc = test_run_cli(&err, commands[i], "--bogus-option", NULL);
+        test_expect_cli_error(rc, err, 2, want, hint);
+        snprintf(want, sizeof want, "%s: --json needs a value", commands[i]);
+        if (!strcmp(commands[i], "compare") || !strcmp(commands[i], "probe")) {
+            rc = test_run_cli(&err, commands[i], "--json", NULL);
+            test_expect_cli_error(rc, err, 2, want, hint);
+        }
+    }
+    int rc = test_run_cli(&err, "render", "--shadow", "pfc", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --shadow: unknown value 'pfc'",
+                          "; did you mean 'pcf'? (see rtgi render --help)");
+    rc = test_run_cli(&err, "reference", "--mode", "one-bounse", NULL);
+    test_expect_cli_error(rc, err, 2, "reference: --mode: unknown value 'one-bounse'",
+                          "; did you mean 'one-bounce'? (see rtgi reference --help)");
+    rc = test_run_cli(&err, "render", "--exposure", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --exposure needs a value", "(see rtgi render --help)");
+    rc = test_run_cli(&err, "view", "--no-panel=yes", NULL);
+    test_expect_cli_error(rc, err, 2, "view: --no-panel takes no value", "(see rtgi view --help)");
+    rc = test_run_cli(&err, "render", "--rsm-weighting", "papre", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --rsm-weighting: 'papre'", "did you mean 'paper'? (see rtgi render --help)");
+    rc = test_run_cli(&err, "reference", "--scene", "cornel", NULL);
+    test_expect_cli_error(rc, err, 2, "reference: --scene: 'cornel'", "did you mean 'cornell'? (see rtgi reference --help)");
+    rc = test_run_cli(&err, "rendr", "--size", "8x8", NULL);
+    test_expect_cli_error(rc, err, 2, "unknown command 'rendr'", "did you mean 'render'? (see rtgi --help)");
+    rc = test_run_cli(&err, "bench", "--out", RTGI_TEST_TMP "/bench_typo", "--gi", "rsm:samplez=4", NULL);
+    test_expect_cli_error(rc, err, 2, "bench: --gi: 'samplez' is not a setting key",
+                          "did you mean 'samples'? (see rtgi bench --help)");
+    rc = test_run_cli(&err, "bench", "--out", RTGI_TEST_TMP "/bench_typo", "--gi", "rsm,vpl-sl", NULL);
+    test_expect_cli_error(rc, err, 2, "bench: --gi: unknown value 'vpl-sl'", "did you mean 'vpl-slc'? (see rtgi bench --help)");
+    rc = test_run_cli(&err, "render", "stray", NULL);
+    test_expect_cli_error(rc, err, 2, "render: unexpected argument 'stray'", "(see rtgi render --help)");
+}
+
+/* "--" ends the options: what follows is an operand whatever it looks like
+ * (compare's images), and commands without operands refuse it. */
+static void double_dash_ends_options(void **state)
+{
+    (void)state;
+    char a[512], *err = NULL;
+    snprintf(a, sizeof a, "%s/dd_a.pfm", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "reference", "--size", "8x8", "--spp", "1", "--out", a, "--quiet", NULL), 0);
+    int rc = test_run_cli(&err, "compare", "--metric", "rmse", "--", a, a, NULL);
+    if (rc != 0)
+        fail_msg("compare -- A B: exit %d: %s", rc, err ? err : "");
+    free(err);
+    /* After "--", "--json" is an image's name, not the option. */
+    rc = test_run_cli(&err, "compare", a, "--", "--json", NULL);
+    test_expect_cli_error(rc, err, 1, "--json", "does not exist");
+    rc = test_run_cli(&err, "compare", "--", a, a, "-x", NULL);
+    test_expect_cli_error(rc, err, 2, "compare: takes two images, got a third: '-x'", NULL);
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--", "--gi", NULL);
+    test_expect_cli_error(rc, err, 2, "render: unexpected argument '--gi'", NULL);
+}
+
+/* What `rtgi <args>` prints on stdout (a shell command line; caller
+ * frees); fails unless it exits 0. */
+static char *cli_stdout(const char *args)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "%s %s", RTGI_BINARY, args);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    StrBuf b = {0};
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0)
+        strbuf_append(&b, buf, n);
+    if (pclose(p) != 0)
+        fail_msg("rtgi %s failed", args);
+    assert_non_null(b.data);
+    return b.data;
+}
+
+/* What `rtgi [<command>] --help` prints on stdout (caller frees). */
+static char *help_text(const char *command)
+{
+    char args[64];
+    snprintf(args, sizeof args, "%s --help", command);
+    return cli_stdout(args);
+}
+
+/* The line of `text` holding `key`, copied into `line`; fails if none. */
+static const char *line_with(const char *text, const char *key, char *line, size_t cap)
+{
+    const char *k = strstr(text, key);
+    if (!k)
+        fail_msg("no line with '%s' in:\n%s", key, text);
+    const char *a = k, *e = strchr(k, '\n');
+    while (a > text && a[-1] != '\n')
+        a--;
+    snprintf(line, cap, "%.*s", (int)((e ? e : k + strlen(k)) - a), a);
+    return line;
+}
+
+/* The help texts name EXR wherever an image is read or written. */
+static void help_names_exr(void **state)
+{
+    (void)state;
+    char line[512];
+    char *top = help_text(""), *compare = help_text("compare"), *view = help_text("view"), *render = help_text("render");
+    assert_non_null(strstr(line_with(top, "  render ", line, sizeof line), "EXR"));
+    assert_non_null(strstr(line_with(top, "  compare ", line, sizeof line), "EXR"));
+    assert_non_null(strstr(line_with(compare, "TEST, REFERENCE", line, sizeof line), ".exr"));
+    /* view: --out's and --compare's descriptions (two lines each) */
+    const char *out = strstr(view, "  --out FILE"), *cmp = strstr(view, "  --compare FILE");
+    assert_true(out && cmp);
+    assert_true(strstr(out, ".exr") && strstr(out, ".exr") < strstr(out, "  --half"));
+    assert_true(strstr(cmp, ".exr") && strstr(cmp, ".exr") < strstr(cmp, "  --frames"));
+    assert_non_null(strstr(line_with(render, "  --half", line, sizeof line), "EXR"));
+    assert_non_null(strstr(line_with(view, "  --half", line, sizeof line), ".exr"));
+    free(top);
+    free(compare);
+    free(view);
+    free(render);
+}
+
+/* Runs rtgi with the arguments (NULL-terminated) and RTGI_PROGRESS_S=0,
+ * so that every progress line shows; fails unless it exits 0. Returns its
+ * stderr (caller frees). */
+static char *progress_stderr(const char *arg0, ...)
+{
+    char *err = NULL;
+    va_list ap;
+    va_start(ap, arg0);
+    setenv("RTGI_PROGRESS_S", "0", 1);
+    int rc = test_run_cli_va(&err, arg0, ap);
+    unsetenv("RTGI_PROGRESS_S");
+    va_end(ap);
+    if (rc != 0 || !err)
+        fail_msg("rtgi %s: exit %d: %s", arg0, rc, err ? err : "");
+    print_message("%s", err);
+    return err;
+}
+
+/* The reference's progress off a terminal (stderr to a file, as in logs):
+ * a line every 5 s, and a last one, each with the samples reached, the
+ * time, rays/s and the time left. RTGI_PROGRESS_S=0 makes a line at every
+ * poll of a short render, and the last one. */
+static void reference_progress_lines(void **state)
+{
+    (void)state;
+    char out[512];
+    snprintf(out, sizeof out, "%s/progress_ref.pfm", RTGI_TEST_TMP);
+    char *err = progress_stderr("reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
+    assert_null(strchr(err, '\r')); /* no bar redrawn in place */
+    int lines = 0, pct = -1, spp = -1, of = -1;
+    double secs = -1, mrays = -1, eta = -1;
+    for (char *save = NULL, *l = strtok_r(err, "\n", &save); l; l = strtok_r(NULL, "\n", &save)) {
+        if (strncmp(l, "reference [", 11))
+            continue;
+        const char *rest = strchr(l, ']');
+        assert_non_null(rest);
+        assert_int_equal(sscanf(rest, "] %d%%  %d/%d spp  %lf s  %lf Mrays/s  ETA %lf s", &pct, &spp, &of, &secs,
+                                &mrays, &eta), 6);
+        lines++;
+    }
+    free(err);
+    /* The last line: every sample, no time left, a positive ray rate. */
+    assert_true(lines >= 1);
+    assert_int_equal(pct, 100);
+    assert_int_equal(spp, 8);
+    assert_int_equal(of, 8);
+    assert_true(secs >= 0 && mrays > 0);
+    assert_true(eta == 0.0);
+    /* Without the override, a render under 5 s prints none. */
+    int rc = test_run_cli(&err, "reference", "--size", "16x16", "--spp", "8", "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "reference ["));
+    free(err);
+}
+
+/* After a first frame over the threshold (2 s; RTGI_PROGRESS_S=0 here),
+ * every frame of render reports: with --timings 1 warm-up + 1 timed + 1 +
+ * 1 steady frame, "render: frame i of 4 took X s; about Y s left". */
+static void render_frame_progress_lines(void **state)
+{
+    (void)state;
+    char out[512];
+    snprintf(out, sizeof out, "%s/progress_render.png", RTGI_TEST_TMP);
+    char *err = progress_stderr("render", "--size", "16x16", "--timings", "--warmup", "1", "--frames", "1", "--out",
+                                out, NULL);
+    int next = 1;
+    for (char *save = NULL, *l = strtok_r(err, "\n", &save); l; l = strtok_r(NULL, "\n", &save)) {
+        int i = 0, n = 0;
+        double took = -1, left = -1;
+        if (sscanf(l, "render: frame %d of %d took %lf s; about %lf s left", &i, &n, &took, &left) != 4)
+            continue;
+        assert_int_equal(i, next++);
+        assert_int_equal(n, 4);
+        assert_true(took >= 0 && left >= 0);
+    }
+    assert_int_equal(next, 5);
+    free(err);
+}
+
+/* render and reference default to the same size (256x256), so their images
+ * compare as they are; --vpls defaults to 4096 per light (render --help
+ * shows it, and the light stage makes at most its 3 x 37² slots for the
+ * Cornell quad light). */
+static void shared_defaults(void **state)
+{
+    (void)state;
+    char r[512], ref[512];
+    snprintf(r, sizeof r, "%s/default_size.pfm", RTGI_TEST_TMP);
+    snprintf(ref, sizeof ref, "%s/default_size_ref.pfm", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "render", "--out", r, "--quiet", NULL), 0);
+    assert_int_equal(test_run_cli(NULL, "reference", "--spp", "1", "--out", ref, "--quiet", NULL), 0);
+    ImageF a, b;
+    assert_true(image_read(r, &a));
+    assert_true(image_read(ref, &b));
+    print_message("render %dx%d, reference %dx%d\n", a.width, a.height, b.width, b.height);
+    assert_int_equal(a.width, 256);
+    assert_int_equal(a.height, 256);
+    assert_int_equal(b.width, 256);
+    assert_int_equal(b.height, 256);
+    image_free(&a);
+    image_free(&b);
+    char line[512], *help = help_text("render");
+    assert_non_null(strstr(line_with(help, "  --vpls N", line, sizeof line), "(default 4096 "));
+    free(help);
+    char args[700];
+    snprintf(args, sizeof args, "render --size 8x8 --gi vpl-all --timings --frames 1 --out %s --quiet", r);
+    char *out = cli_stdout(args);
+    int vpls = (int)strtol(line_with(out, "vpl_count: ", line, sizeof line) + strlen("vpl_count: "), NULL, 10);
+    print_message("vpl_count %d (--vpls 4096 by default: at most 4107 slots)\n", vpls);
+    assert_true(vpls > 2048 && vpls <= 4107);
+    free(out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -385,6 +721,14 @@ int main(void)
         cmocka_unit_test(reference_bad_input),
         cmocka_unit_test(compare_bad_input),
         cmocka_unit_test(cli_conventions),
+        cmocka_unit_test(render_estimate_line),
+        cmocka_unit_test(quiet_and_verbose_everywhere),
+        cmocka_unit_test(one_error_hint_style),
+        cmocka_unit_test(double_dash_ends_options),
+        cmocka_unit_test(help_names_exr),
+        cmocka_unit_test(reference_progress_lines),
+        cmocka_unit_test(render_frame_progress_lines),
+        cmocka_unit_test(shared_defaults),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

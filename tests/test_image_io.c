@@ -57,11 +57,31 @@ static void exr_float_round_trip_is_exact(void **state)
     /* image_write by extension writes float32 too. */
     const char *q = tmp("float2.exr");
     image_free(&b);
-    assert_true(image_write(q, &a, 1.f));
+    assert_true(image_write(q, &a, 1.f, false));
     assert_true(image_read(q, &b));
     assert_memory_equal(a.rgb, b.rgb, sizeof(float) * 37 * 23 * 3);
     image_free(&a);
     image_free(&b);
+}
+
+/* `h` is `f` rounded to half floats: within half a unit of the 10-bit
+ * mantissa (relative 2^-11; subnormals: absolute 2^-24), and not exact
+ * everywhere (it really is half). Returns the worst relative error. */
+static double expect_half_of(const ImageF *f, const ImageF *h)
+{
+    assert_int_equal(h->width, f->width);
+    assert_int_equal(h->height, f->height);
+    double worst = 0;
+    for (size_t i = 0; i < (size_t)f->width * f->height * 3; i++) {
+        float v = f->rgb[i];
+        if (fabsf(v) < 6.2e-5f) /* subnormal halves: absolute step 2^-24 */
+            assert_true(fabsf(h->rgb[i] - v) <= 0x1p-24f);
+        else
+            worst = fmax(worst, fabs((double)h->rgb[i] - v) / fabs(v));
+    }
+    assert_true(worst <= 0x1p-11); /* round to nearest, 10-bit mantissa */
+    assert_true(worst > 0);
+    return worst;
 }
 
 static void exr_half_round_trip_within_half_precision(void **state)
@@ -72,16 +92,7 @@ static void exr_half_round_trip_within_half_precision(void **state)
     const char *p = tmp("half.exr");
     assert_true(image_write_exr(p, &a, true, NULL, 0));
     assert_true(image_read_exr(p, &b));
-    double worst = 0;
-    for (int i = 0; i < 37 * 23 * 3; i++) {
-        float v = a.rgb[i];
-        if (fabsf(v) < 6.2e-5f) /* subnormal halves: absolute step 2^-24 */
-            assert_true(fabsf(b.rgb[i] - v) <= 0x1p-24f);
-        else
-            worst = fmax(worst, fabs((double)b.rgb[i] - v) / fabs(v));
-    }
-    assert_true(worst <= 0x1p-11); /* round to nearest, 10-bit mantissa */
-    assert_true(worst > 0);       /* it really is half */
+    expect_half_of(&a, &b);
     struct stat sf, sh;
     assert_int_equal(stat(tmp("float.exr"), &sf), 0);
     assert_int_equal(stat(p, &sh), 0);
@@ -214,6 +225,36 @@ static void reference_sigint_writes_partial_image(void **state)
     image_free(&b);
 }
 
+/* render --half and view --half (its --out capture) write half-float EXR
+ * through the same writer: the float render's radiance within half
+ * precision. */
+static void render_and_view_write_half_exr(void **state)
+{
+    (void)state;
+    static const char *const commands[] = {"render", "view"};
+    for (int c = 0; c < 2; c++) {
+        if (c == 1)
+            test_x_display();
+        const char *f = tmp("frame_float.exr"), *h = tmp("frame_half.exr");
+        char *err = NULL;
+        int rc = test_run_cli(&err, commands[c], "--size", "32x32", "--frames", "1", "--out", f, "--quiet", NULL);
+        if (rc != 0)
+            fail_msg("%s --out %s: exit %d: %s", commands[c], f, rc, err ? err : "");
+        free(err);
+        rc = test_run_cli(&err, commands[c], "--size", "32x32", "--frames", "1", "--out", h, "--half", "--quiet", NULL);
+        if (rc != 0)
+            fail_msg("%s --out %s --half: exit %d: %s", commands[c], h, rc, err ? err : "");
+        free(err);
+        ImageF a = {0}, b = {0};
+        assert_true(image_read(f, &a));
+        assert_true(image_read(h, &b));
+        assert_true(test_image_mean(&a) > 0.01);
+        print_message("%s --half: worst relative error %.2e (half: <= 4.9e-4)\n", commands[c], expect_half_of(&a, &b));
+        image_free(&a);
+        image_free(&b);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -221,6 +262,7 @@ int main(void)
         cmocka_unit_test(exr_half_round_trip_within_half_precision),
         cmocka_unit_test(bad_and_truncated_exr_are_errors),
         cmocka_unit_test(cli_writes_and_compares_exr),
+        cmocka_unit_test(render_and_view_write_half_exr),
         cmocka_unit_test(reference_sigint_writes_partial_image),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -152,6 +152,8 @@ int test_run_cli(char **err, const char *arg0, ...)
     return rc;
 }
 
+int test_run_cli_va(char **err, const char *arg0, va_list ap) { return run_argv(err, RTGI_BINARY, arg0, ap); }
+
 int test_run_exe(char **err, const char *exe, const char *arg0, ...)
 {
     va_list ap;

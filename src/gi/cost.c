@@ -1,8 +1,22 @@
 /* cost.c — a technique's work per frame, in gather evaluations, for
  * estimates made before it runs: the window's "slow" marking and render's
- * warning before a long first frame. Counts are upper bounds (every RSM
- * texel lit); an evaluation is one sample (RSM texel, VPL, voxel fetch or
- * LPV cell update) at one pixel or cell. */
+ * line before a long first frame. An evaluation is one sample (RSM texel,
+ * VPL, voxel fetch or LPV cell update) at one pixel or cell; the counts are
+ * upper bounds (VPL rows: every VPL slot the light stage fills, tiled rows:
+ * every VPL at every pixel).
+ *
+ * Against wall time on llvmpipe (Cornell box, --vpls 4096 = 3163 VPLs made
+ * of 4107 slots; --timings' frame_wall_ms, which also holds the direct
+ * light; shared 2-core machine, load 1.5 to 3), estimate / measured:
+ *   256²: vpl-all 6.7 / 2.9 s (2.3x), vpl-slc 6.7 / 0.87 s (7.7x),
+ *         vpl-interleaved 0.42 / 0.19 s (2.2x), rsm 0.66 / 0.74 s (0.9x),
+ *         vct 1.6 / 0.75 s (2.1x);
+ *   128²: vpl-all 1.7 / 0.49 s (3.5x), vpl-clamped 1.7 / 0.12 s (14x),
+ *         vpl-slc 1.7 / 0.28 s (6x), vpl-interleaved 0.10 / 0.058 s (1.8x).
+ * The tiled rows' excess is the culling (vpl-slc shades about a third of
+ * the VPLs at each pixel, vpl-clamped a tenth). Before (every texel of the
+ * RSM cube a VPL, at 1.5e7/s) the VPL rows were 5.3 times these: 12x
+ * (vpl-all) to 41x (vpl-slc) at 256². */
 #include "gi/gi.h"
 
 #include <math.h>
@@ -10,20 +24,37 @@
 #include "light_stage.h"
 #include "renderer.h"
 
-/* VPLs the light stage would make (every RSM texel lit: an upper bound). */
-static double vpl_upper_bound(const Scene *s, const GiParams *p, int gi)
+/* RSM texels per side for light `l`: what --vpls sets for rows that make
+ * VPLs from it, else the RSM size. */
+static int rsm_size(const Light *l, const GiParams *p, int gi)
+{
+    return gi_techniques[gi]->rsm_from_vpl_count && p->vpl_count > 0 ? light_stage_rsm_size_for_vpls(l, p->vpl_count)
+                                                                      : p->rsm_size;
+}
+
+/* Every RSM texel of every light (each face of a cube): what an exhaustive
+ * gather sums and LPV injects. With `lit_only`, only the texels that can
+ * hold a lit surface (light_stage_lit_layers): the VPLs the light stage
+ * makes at most, about --vpls per light (the Cornell box: 4107 slots for
+ * --vpls 4096, 3163 VPLs made). */
+static double rsm_texels(const Scene *s, const GiParams *p, int gi, bool lit_only)
 {
     double n = 0;
     for (int i = 0; i < s->light_count; i++) {
         const Light *l = &s->lights[i];
-        int faces = (l->type == LIGHT_POINT || l->type == LIGHT_QUAD) ? 6 : 1;
-        int size = gi_techniques[gi]->rsm_from_vpl_count && p->vpl_count > 0
-                       ? light_stage_rsm_size_for_vpls(l, p->vpl_count)
-                       : p->rsm_size;
-        n += (double)faces * size * size;
+        double layers = lit_only ? light_stage_lit_layers(l) : (l->type == LIGHT_POINT || l->type == LIGHT_QUAD) ? 6 : 1;
+        double size = rsm_size(l, p, gi);
+        n += layers * size * size;
     }
     return n;
 }
+
+/* The LPV and VCT rows count cell updates and voxel fetches, not gather
+ * samples, and were fitted to wall time at 1.5e7 of them per second
+ * (595a43d: vct at 128² and 256² estimated 1-2 s, measured 0.95-1.17 s):
+ * in gather evaluations at GI_COST_DEFAULT_EVALS_PER_S, each costs the
+ * ratio of the two rates (the same seconds as before). */
+#define VOLUME_EVAL_COST (GI_COST_DEFAULT_EVALS_PER_S / 1.5e7)
 
 /* Samples along one cone: the step grows with the diameter (by the step
  * fraction), so the count is logarithmic in the volume's size. */
@@ -35,7 +66,8 @@ static double vct_samples_per_cone(const GiParams *p)
 
 double gi_cost_evaluations(int gi, const GiParams *p, const Scene *s, double px)
 {
-    double samples = p->exhaustive ? vpl_upper_bound(s, p, gi) : p->samples;
+    double samples = p->exhaustive ? rsm_texels(s, p, gi, false) : p->samples;
+    double vpls = rsm_texels(s, p, gi, true);
     double subsets = (double)p->interleave_n * p->interleave_m;
     switch ((GiMode)gi) {
     case GI_RSM:
@@ -44,17 +76,17 @@ double gi_cost_evaluations(int gi, const GiParams *p, const Scene *s, double px)
     case GI_RSM_INTERP: /* low-res gathers plus a tenth of the pixels in full (Cornell: 5%) */
         return px * samples * (1.0 / (p->interp_factor * p->interp_factor) + 0.1);
     case GI_VPL_ALL:
-        return px * vpl_upper_bound(s, p, gi) * p->vpl_keep;
+        return px * vpls * p->vpl_keep;
     case GI_VPL_CLAMPED:
     case GI_VPL_SLC: /* tiles visit every VPL in the worst case */
-        return px * vpl_upper_bound(s, p, gi);
+        return px * vpls;
     case GI_VPL_INTERLEAVED:
     case GI_VPL_METALIGHTS:
-        return px * vpl_upper_bound(s, p, gi) / subsets;
+        return px * vpls / subsets;
     case GI_LPV: {
         double cells = pow(p->lpv_size, 3) * p->lpv_cascades;
         int steps = p->lpv_iterations > 0 ? p->lpv_iterations : p->lpv_size;
-        return cells * steps * 6 + vpl_upper_bound(s, p, gi) * p->lpv_cascades + px;
+        return (cells * steps * 6 + rsm_texels(s, p, gi, false) * p->lpv_cascades + px) * VOLUME_EVAL_COST;
     }
     case GI_VCT: {
         /* Traced pixels × (diffuse cones + the specular one) × samples per
@@ -73,9 +105,14 @@ double gi_cost_evaluations(int gi, const GiParams *p, const Scene *s, double px)
         double e = px / (scale * scale) * (nc + 1) * per_cone + px + voxels * 9.0;
         if (p->vct_bounces > 1)
             e += 40.0 * p->vct_size * p->vct_size * levels * 2.0 * nc * per_cone;
-        return e;
+        return e * VOLUME_EVAL_COST;
     }
     default:
         return 0;
     }
+}
+
+double gi_cost_seconds(int gi, const GiParams *p, const Scene *s, double px, double evals_per_s)
+{
+    return gi_cost_evaluations(gi, p, s, px) / evals_per_s;
 }

@@ -120,20 +120,27 @@ GLuint gi_ubo_make(GLsizeiptr size, const char *label);
 /* Dispatches a compute pass over w×h pixels in 8×8 groups and makes its
  * image and storage writes visible to what follows. */
 void gi_dispatch_pixels(int w, int h);
-/* A cubic grid of n cells per side around the box [bmin, bmax], centred on
- * it with a cell of margin on each side of its largest extent: writes the
- * grid's low corner and returns the cell size (LPV's single cascade, VCT's
- * single volume). */
-/* Gather evaluations/s assumed for estimates before a device has been
- * measured: what `rtgi probe` measures for VPL loops and two-fetch RSM
- * gathers on llvmpipe on this project's 2-core machine (probe_ssbo_vpl
- * 1.8e7/s, 2d_fetch2 1.7e7/s, cube_fetch2 1.1e7/s), and what vpl-all
- * sustained there (1.35e7/s, 12,705 VPLs at 96x96). */
-#define GI_COST_DEFAULT_EVALS_PER_S 1.5e7
+/* Gather evaluations/s (one RSM sample or one VPL at one pixel) assumed
+ * for estimates before a device has been measured; the window then uses
+ * the rate it measures. llvmpipe on this project's shared 2-core machine,
+ * quiet: gather_evals_per_s of rsm 9.1e7, vpl-all 7.4e7 to 9.1e7 (64² to
+ * 128²), vpl-slc 7.7e7, vpl-clamped 6.9e7; `rtgi probe`: ssbo_vpl 8.8e7,
+ * 2d_fetch2 6.6e7, cube_fetch2 4.0e7. Taken at about half the gathers'
+ * rate (the machine is shared; an estimate errs towards slow). It was
+ * 1.5e7, from an earlier, busier probe (1.1e7 to 1.8e7): VPL techniques
+ * were then estimated 10 to 50 times their wall time. */
+#define GI_COST_DEFAULT_EVALS_PER_S 4e7
 /* Work of one frame of technique `gi` (a row index of gi_techniques) with
  * `p` on scene `s` at `px` shading pixels, in gather evaluations: an upper
  * bound for estimates before it runs (src/gi/cost.c). */
 double gi_cost_evaluations(int gi, const GiParams *p, const Scene *s, double px);
+/* Seconds of that work at `evals_per_s` (a measured rate, or
+ * GI_COST_DEFAULT_EVALS_PER_S): the gather's share of a frame. */
+double gi_cost_seconds(int gi, const GiParams *p, const Scene *s, double px, double evals_per_s);
+/* A cubic grid of n cells per side around the box [bmin, bmax], centred on
+ * it with a cell of margin on each side of its largest extent: writes the
+ * grid's low corner and returns the cell size (LPV's single cascade, VCT's
+ * single volume). */
 float gi_grid_around(const float bmin[3], const float bmax[3], int n, float corner[3]);
 
 #endif

@@ -413,14 +413,15 @@ static void *worker(void *arg)
 }
 
 /* Progress on stderr: a bar redrawn in place on a terminal, else one line
- * every 5 s (logs) and a last one; with the samples reached, rays/s and the
- * time left. */
+ * every 5 s (logs; RTGI_PROGRESS_S sets the interval, log_progress_seconds)
+ * and a last one; with the samples reached, rays/s and the time left. */
 static void draw_progress(Job *j, double frac, double elapsed, bool last)
 {
     bool tty = isatty(STDERR_FILENO);
-    /* Off a terminal a render under 5 s prints nothing (the final line only
-     * closes earlier ones). */
-    if (!tty && (last ? j->printed_at <= 0 : elapsed - j->printed_at < 5.0))
+    double every = log_progress_seconds(5.0);
+    /* Off a terminal a render shorter than the interval prints nothing (the
+     * final line only closes earlier ones; with an interval of 0, always). */
+    if (!tty && (last ? j->printed_at <= 0 && every > 0 : elapsed - j->printed_at < every))
         return;
     j->printed_at = elapsed;
     double rps = elapsed > 0 ? (double)atomic_load(&j->rays) / elapsed : 0.0;

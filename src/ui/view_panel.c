@@ -26,7 +26,7 @@ double view_estimate_ms(const View *v, int gi)
         return v->measured_ms[gi] * px / v->measured_px[gi];
     double base = v->measured_px[GI_NONE] > 0 ? v->measured_ms[GI_NONE] * px / v->measured_px[GI_NONE] : 0;
     double rate = v->evals_per_s > 0 ? v->evals_per_s : GI_COST_DEFAULT_EVALS_PER_S;
-    return base + 1e3 * gi_cost_evaluations(gi, &v->settings.gi_params, v->scene, px) / rate;
+    return base + 1e3 * gi_cost_seconds(gi, &v->settings.gi_params, v->scene, px, rate);
 }
 
 bool view_gi_is_slow(const View *v, int gi)
@@ -148,7 +148,7 @@ bool view_save_image(View *v, const char *path)
         ImageF img;
         ok = renderer_read_hdr(r, &img);
         if (ok) {
-            ok = image_write(path, &img, r->settings.exposure);
+            ok = image_write(path, &img, r->settings.exposure, v->half);
             image_free(&img);
         }
     }
@@ -390,7 +390,7 @@ static void compare_section(View *v)
     if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
         ui_text("reference %dx%d: stretched, no RMSE", ab->reference.width, ab->reference.height);
     else if (ab->display)
-        ui_text("PNG reference: no RMSE (use .pfm)");
+        ui_text("PNG reference: no RMSE (use .pfm or .exr)");
     else if (v->ab_rmse >= 0)
         ui_text("RMSE %.5g (radiance)", v->ab_rmse);
 }
@@ -398,7 +398,7 @@ static void compare_section(View *v)
 static void capture_section(View *v)
 {
     ui_input_text("image", v->shot_path, sizeof v->shot_path);
-    ui_tooltip(".png: the image as shown; .pfm (and .exr where supported): linear radiance");
+    ui_tooltip(".png: the image as shown; .pfm or .exr (OpenEXR; --half: half floats): linear radiance");
     ui_same_line();
     if (ui_button("Save (P)"))
         v->screenshot = true;

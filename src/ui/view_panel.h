@@ -53,6 +53,7 @@ typedef struct View {
     bool status_error;
     bool reloading;             /* a shader reload is under way: its errors accumulate in status */
     char shot_path[256];        /* P: .png (as shown), .pfm/.exr (radiance) */
+    bool half;                  /* --half: .exr captures as half floats */
     char window_path[256];      /* Shift-P: .png of the window */
     AbView *ab;                 /* --compare, or NULL */
     double ab_rmse;             /* last measured RMSE against it (-1: not measured / sizes differ) */

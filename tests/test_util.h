@@ -51,6 +51,8 @@ const char *test_tmp_file(const char *name, const char *content);
  * exit status and, if `err` is not NULL, what it wrote on stderr (caller
  * frees). */
 int test_run_cli(char **err, const char *arg0, ...);
+/* Same, also returning what it wrote on stdout in `out` (caller frees). */
+int test_run_cli_out(char **out, char **err, const char *arg0, ...);
 /* Same, for any executable (argv[0] = exe). */
 int test_run_exe(char **err, const char *exe, const char *arg0, ...);
 

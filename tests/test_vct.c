@@ -28,6 +28,23 @@ static void vct_renderer(Renderer *r, const Scene *s, int w, int h, const GiPara
     assert_true(renderer_create(r, s, &rs));
 }
 
+/* One frame of `s` with `gp` (16×16 pixels) and mip 0 of volume `which`
+ * (4 floats a voxel, caller frees), with its grid: N, min corner, voxel
+ * size. */
+static float *vct_volume_of(const Scene *s, const GiParams *gp, VctVolume which, int *n, float origin[3],
+                            float *voxel)
+{
+    Renderer r;
+    vct_renderer(&r, s, 16, 16, gp);
+    renderer_frame(&r, &s->camera);
+    vct_grid(r.gi_state, n, origin, voxel);
+    float *vol = malloc(sizeof(float) * 4 * (size_t)*n * (size_t)*n * (size_t)*n);
+    assert_non_null(vol);
+    assert_true(vct_read_volume(r.gi_state, which, vol));
+    renderer_destroy(&r);
+    return vol;
+}
+
 /* ---- Voxelization --------------------------------------------------------- */
 
 /* Separating-axis test of triangle (a, b, c) against the box centred on
@@ -82,18 +99,13 @@ static void count_holes(const Scene *s, int n, bool conservative, int *holes, in
     gp.vct_size = n;
     gp.vct_conservative = conservative;
     gp.vct_aniso = false;
-    Renderer r;
-    vct_renderer(&r, s, 16, 16, &gp);
-    renderer_frame(&r, &s->camera);
     int size;
     float origin[3], voxel;
-    vct_grid(r.gi_state, &size, origin, &voxel);
+    float *vol = vct_volume_of(s, &gp, VCT_VOLUME_ALBEDO, &size, origin, &voxel);
     assert_int_equal(size, n);
     size_t n3 = (size_t)n * n * n;
-    float *vol = malloc(sizeof(float) * 4 * n3);
     unsigned char *may = calloc(n3, 1), *must = calloc(n3, 1);
-    assert_true(vol && may && must);
-    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, vol));
+    assert_true(may && must);
     *holes = *extras = *filled = 0;
     for (uint32_t t = 0; t + 2 < s->index_count; t += 3) {
         double p[3][3], lo[3], hi[3];
@@ -122,7 +134,6 @@ static void count_holes(const Scene *s, int n, bool conservative, int *holes, in
     free(vol);
     free(may);
     free(must);
-    renderer_destroy(&r);
 }
 
 /* A thin plane tilted 4° off the floor (grazing the voxel rows) and a wall
@@ -194,15 +205,10 @@ static void injection_matches_lambert(void **state)
     scene_finalize(&s);
     GiParams gp = s.gi;
     gp.vct_size = 32;
-    Renderer r;
-    vct_renderer(&r, &s, 16, 16, &gp);
-    renderer_frame(&r, &s.camera);
     int n;
     float origin[3], voxel;
-    vct_grid(r.gi_state, &n, origin, &voxel);
+    float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_RADIANCE, &n, origin, &voxel);
     size_t n3 = (size_t)n * n * n;
-    float *vol = malloc(sizeof(float) * 4 * n3);
-    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_RADIANCE, vol));
     int count = 0;
     double worst = 0;
     for (size_t i = 0; i < n3; i++) {
@@ -219,7 +225,6 @@ static void injection_matches_lambert(void **state)
     assert_true(count >= 30 * 30);
     assert_true(worst < 0.02);
     free(vol);
-    renderer_destroy(&r);
     scene_free(&s);
 }
 
@@ -286,16 +291,10 @@ static void count_masked_quad(bool masked, int *filled, int *beyond)
     assert_int_equal(s.materials[s.submeshes[0].material].alpha_mask, masked);
     GiParams gp = s.gi;
     gp.vct_size = 32;
-    Renderer r;
-    vct_renderer(&r, &s, 16, 16, &gp);
-    renderer_frame(&r, &s.camera);
     int n;
     float origin[3], voxel;
-    vct_grid(r.gi_state, &n, origin, &voxel);
+    float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
     size_t n3 = (size_t)n * n * n;
-    float *vol = malloc(sizeof(float) * 4 * n3);
-    assert_non_null(vol);
-    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, vol));
     *filled = *beyond = 0;
     for (size_t i = 0; i < n3; i++) {
         if (vol[4 * i + 3] == 0.f)
@@ -304,7 +303,6 @@ static void count_masked_quad(bool masked, int *filled, int *beyond)
         *beyond += origin[0] + ((float)(i % (size_t)n) + 0.5f) * voxel > voxel;
     }
     free(vol);
-    renderer_destroy(&r);
     scene_free(&s);
 }
 

@@ -347,6 +347,10 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddNumberToObject(sj, "vpl_candidates_per_pixel", (double)st->vpl_candidates / px);
     cJSON_AddNumberToObject(sj, "gather_evaluations_per_pixel", (double)st->gather_evaluations / px);
     cJSON_AddNumberToObject(sj, "gathered_pixels", st->gathered_pixels);
+    /* GPU memory the technique counts as its own (render's gi_memory_mib);
+     * null where it counts none. */
+    cJSON_AddItemToObject(sj, "gi_memory_mib", st->gpu_bytes ? json_num((double)st->gpu_bytes / (1024.0 * 1024.0))
+                                                              : cJSON_CreateNull());
     cJSON *m = cJSON_AddObjectToObject(o, "metrics");
     cJSON_AddItemToObject(m, "rmse", json_num(e->rmse));
     cJSON_AddItemToObject(m, "relmse", json_num(e->relmse));

@@ -21,26 +21,40 @@ void gpu_timer_destroy(GpuTimer *t)
     memset(t, 0, sizeof *t);
 }
 
-static int pass_index(GpuTimer *t, const char *name)
+/* The index of pass `name` in `list` (count entries of at most max), added
+ * if new; the last entry when the list is full. */
+static int pass_index(GpuTimerPass *list, int *count, int max, const char *name)
 {
-    for (int i = 0; i < t->pass_count; i++)
-        if (strcmp(t->passes[i].name, name) == 0)
+    for (int i = 0; i < *count; i++)
+        if (strcmp(list[i].name, name) == 0)
             return i;
-    if (t->pass_count == GPU_TIMER_MAX_PASSES)
-        return GPU_TIMER_MAX_PASSES - 1;
-    GpuTimerPass *p = &t->passes[t->pass_count];
+    if (*count == max)
+        return max - 1;
+    GpuTimerPass *p = &list[*count];
     memset(p, 0, sizeof *p);
     strncpy(p->name, name, sizeof p->name - 1);
-    return t->pass_count++;
+    return (*count)++;
 }
 
-void gpu_timer_begin(GpuTimer *t, const char *pass)
+/* Records `ms` of GPU (cpu false) or wall time for pass `index` (as in
+ * query_pass): summed for a per-frame pass, the last run's for a one-time
+ * pass. */
+static void record(GpuTimer *t, int index, bool cpu, double ms)
+{
+    bool once = index >= GPU_TIMER_MAX_PASSES;
+    GpuTimerPass *p = once ? &t->once[index - GPU_TIMER_MAX_PASSES] : &t->passes[index];
+    double *v = cpu ? &p->cpu_ms : &p->gpu_ms;
+    *v = once ? ms : *v + ms;
+}
+
+static void begin(GpuTimer *t, const char *pass, bool once)
 {
     glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, (GLuint)t->debug_groups, -1, pass);
     t->debug_groups++;
     if (!t->enabled || t->query_count + 2 > GPU_TIMER_MAX_QUERIES)
         return;
-    t->open_pass = pass_index(t, pass);
+    t->open_pass = once ? GPU_TIMER_MAX_PASSES + pass_index(t->once, &t->once_count, GPU_TIMER_MAX_ONCE, pass)
+                        : pass_index(t->passes, &t->pass_count, GPU_TIMER_MAX_PASSES, pass);
     if (t->sync) {
         glFinish();
         t->cpu_begin = util_seconds();
@@ -49,6 +63,10 @@ void gpu_timer_begin(GpuTimer *t, const char *pass)
     glQueryCounter(t->queries[t->query_count], GL_TIMESTAMP);
 }
 
+void gpu_timer_begin(GpuTimer *t, const char *pass) { begin(t, pass, false); }
+
+void gpu_timer_begin_once(GpuTimer *t, const char *pass) { begin(t, pass, true); }
+
 void gpu_timer_end(GpuTimer *t)
 {
     if (t->enabled && t->open_pass >= 0) {
@@ -56,7 +74,7 @@ void gpu_timer_end(GpuTimer *t)
         t->query_count += 2;
         if (t->sync) {
             glFinish();
-            t->passes[t->open_pass].cpu_ms += 1e3 * (util_seconds() - t->cpu_begin);
+            record(t, t->open_pass, true, 1e3 * (util_seconds() - t->cpu_begin));
         }
         t->open_pass = -1;
     }
@@ -74,7 +92,7 @@ void gpu_timer_end_frame(GpuTimer *t)
         GLuint64 a = 0, b = 0;
         glGetQueryObjectui64v(t->queries[q], GL_QUERY_RESULT, &a);
         glGetQueryObjectui64v(t->queries[q + 1], GL_QUERY_RESULT, &b);
-        t->passes[t->query_pass[q / 2]].gpu_ms += (double)(b - a) * 1e-6;
+        record(t, t->query_pass[q / 2], false, (double)(b - a) * 1e-6);
     }
     t->query_count = 0;
     t->frames++;
@@ -86,6 +104,8 @@ void gpu_timer_reset(GpuTimer *t)
     t->frames = 0;
     t->query_count = 0;
 }
+
+void gpu_timer_forget_once(GpuTimer *t) { t->once_count = 0; }
 
 double gpu_timer_mean_ms(const GpuTimer *t, const char *pass, bool cpu)
 {
@@ -116,4 +136,10 @@ void gpu_timer_print(const GpuTimer *t, FILE *f)
         fprintf(f, "  %-20s %10.3f %10.3f\n", "total", tg, tc);
     else
         fprintf(f, "  %-20s %10.3f\n", "total", tg);
+    for (int i = 0; i < t->once_count; i++) {
+        if (t->sync)
+            fprintf(f, "  %-20s %10.3f %10.3f  once\n", t->once[i].name, t->once[i].gpu_ms, t->once[i].cpu_ms);
+        else
+            fprintf(f, "  %-20s %10.3f  once\n", t->once[i].name, t->once[i].gpu_ms);
+    }
 }

@@ -9,7 +9,14 @@
  * named after the pass, whether timing is enabled or not, so RenderDoc and
  * apitrace captures show the frame as its passes. A disabled timer creates
  * no queries, never waits on the GPU and reads nothing back. Passes do not
- * nest: end the open one before the next begin. */
+ * nest: end the open one before the next begin.
+ *
+ * A one-time pass (gpu_timer_begin_once: setup work such as vct_voxelize,
+ * which runs in the first, untimed warm-up frame) is kept apart: its times
+ * are those of its last run, not summed over frames, kept across
+ * gpu_timer_reset, left out of `passes` and of the total, and printed after
+ * the total as a row marked "once". gpu_timer_forget_once drops them (the
+ * technique that ran them is gone). */
 #ifndef RTGI_GPU_TIMER_H
 #define RTGI_GPU_TIMER_H
 
@@ -18,19 +25,20 @@
 #include <stdio.h>
 
 #define GPU_TIMER_MAX_PASSES 32
+#define GPU_TIMER_MAX_ONCE 4
 #define GPU_TIMER_MAX_QUERIES 256
 
 typedef struct GpuTimerPass {
     char name[32];
-    double gpu_ms; /* summed over frames */
-    double cpu_ms; /* summed over frames (sync only) */
+    double gpu_ms; /* summed over frames (a one-time pass: its last run) */
+    double cpu_ms; /* summed over frames (sync only; a one-time pass: its last run) */
 } GpuTimerPass;
 
 typedef struct GpuTimer {
     bool enabled;
     bool sync;
     GLuint queries[GPU_TIMER_MAX_QUERIES]; /* owned */
-    int query_pass[GPU_TIMER_MAX_QUERIES / 2];
+    int query_pass[GPU_TIMER_MAX_QUERIES / 2]; /* index into passes, or GPU_TIMER_MAX_PASSES + index into once */
     int query_count;                       /* pairs in flight ×2 */
     double cpu_begin;
     int open_pass;                         /* pass between begin/end or -1 */
@@ -38,6 +46,8 @@ typedef struct GpuTimer {
     GpuTimerPass passes[GPU_TIMER_MAX_PASSES];
     int pass_count;
     int frames;
+    GpuTimerPass once[GPU_TIMER_MAX_ONCE]; /* one-time passes, kept across gpu_timer_reset */
+    int once_count;
 } GpuTimer;
 
 void gpu_timer_create(GpuTimer *t, bool enabled, bool sync);
@@ -45,14 +55,20 @@ void gpu_timer_destroy(GpuTimer *t);
 /* Opens pass `pass`: pushes its debug group, and when enabled starts its
  * timestamp (after a glFinish when `sync`). */
 void gpu_timer_begin(GpuTimer *t, const char *pass);
+/* The same for a one-time pass (see the top). */
+void gpu_timer_begin_once(GpuTimer *t, const char *pass);
 /* Closes the open pass: ends its timestamp and pops its debug group. */
 void gpu_timer_end(GpuTimer *t);
 /* Collects this frame's queries (waits for them). */
 void gpu_timer_end_frame(GpuTimer *t);
+/* Forgets the per-frame passes (not the one-time ones). */
 void gpu_timer_reset(GpuTimer *t);
+/* Forgets the one-time passes. */
+void gpu_timer_forget_once(GpuTimer *t);
 /* Mean per frame of a pass, or -1 if it never ran. */
 double gpu_timer_mean_ms(const GpuTimer *t, const char *pass, bool cpu);
-/* Prints "pass  gpu_ms  cpu_ms" lines and a total, means per frame. */
+/* Prints "pass  gpu_ms  cpu_ms" lines and a total, means per frame, then
+ * the one-time passes' rows with "once" after them. */
 void gpu_timer_print(const GpuTimer *t, FILE *f);
 
 #endif

@@ -329,7 +329,7 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
             printf("vpl_tile_overflow: %u\n", st->tile_overflow);
     }
     if (st->gpu_bytes)
-        printf("gi_memory_mib: %.2f\n", (double)st->gpu_bytes / (1024.0 * 1024.0));
+        printf("gi_memory_mib: %.3f\n", (double)st->gpu_bytes / (1024.0 * 1024.0));
     if (rs->gi == GI_VCT)
         printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
     print_gather_efficiency(r, st, s_probe_path);

@@ -173,8 +173,10 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
     bool timer = rs->timings != old.timings || rs->timing_sync != old.timing_sync;
     if (technique || lights || resized || timer || rs->aa != old.aa)
         r->remakes++;
-    if (technique || lights)
+    if (technique || lights) {
         technique_destroy(r); /* it may hold sizes of the old light products */
+        gpu_timer_forget_once(&r->timer); /* its one-time passes (vct_voxelize) */
+    }
     if (timer) {
         gpu_timer_destroy(&r->timer);
         gpu_timer_create(&r->timer, rs->timings, rs->timing_sync);

@@ -1,6 +1,7 @@
 /* test_bench.c — `rtgi bench`: the bench.json schema (one entry per
  * technique, the measured values sane against the reference: no GI is
- * darker than the reference, a GI technique brings the mean nearer), the
+ * darker than the reference, a GI technique brings the mean nearer; the GPU
+ * memory of the technique that counts it, vct), the
  * reference cache (a second run reuses it and measures the same), and
  * report.html in headless Chromium: it loads without errors and draws one
  * scatter point per technique. */
@@ -56,8 +57,8 @@ static int setup(void **state)
     if (system(cmd) != 0)
         return -1;
     char *err = NULL;
-    int rc = test_run_cli(&err, "bench", "--size", "48x48", "--gi", "none,rsm,vpl-slc:vpls=1024", "--spp", "16",
-                          "--frames", "1", "--threads", "2", "--cache", CACHE, "--out", DIR, NULL);
+    int rc = test_run_cli(&err, "bench", "--size", "48x48", "--gi", "none,rsm,vpl-slc:vpls=1024,vct:vct_size=16",
+                          "--spp", "16", "--frames", "1", "--threads", "2", "--cache", CACHE, "--out", DIR, NULL);
     if (rc != 0)
         fprintf(stderr, "bench failed (%d): %s\n", rc, err ? err : "");
     free(err);
@@ -83,10 +84,10 @@ static void schema(void **state)
     assert_false(cJSON_IsTrue(field(ref, "reused", 'b')));
     assert_int_equal(access(field(ref, "cache", 's')->valuestring, R_OK), 0);
     const cJSON *t = field(doc, "techniques", 'a');
-    assert_int_equal(cJSON_GetArraySize(t), 3);
-    static const char *const gi[] = {"none", "rsm", "vpl-slc"};
-    double ratio[3];
-    for (int i = 0; i < 3; i++) {
+    assert_int_equal(cJSON_GetArraySize(t), 4);
+    static const char *const gi[] = {"none", "rsm", "vpl-slc", "vct"};
+    double ratio[4], mib = 0;
+    for (int i = 0; i < 4; i++) {
         const cJSON *e = cJSON_GetArrayItem(t, i);
         assert_string_equal(field(e, "gi", 's')->valuestring, gi[i]);
         assert_string_equal(field(e, "shadow", 's')->valuestring, "pcss");
@@ -107,6 +108,19 @@ static void schema(void **state)
         }
         assert_true(fabs(sum - field(e, "gpu_ms", 'n')->valuedouble) < 1e-6 * (1 + sum));
         assert_true(field(e, "frame_ms", 'n')->valuedouble > 0);
+        /* The GPU memory the technique counts: vct's volumes (16³: albedo,
+         * normal, radiance and six directional chains, 131064 bytes) and
+         * its two 24×24 RGBA32F images (18432); null where none is counted. */
+        const cJSON *mem = cJSON_GetObjectItemCaseSensitive(field(e, "stats", 'o'), "gi_memory_mib");
+        if (!mem)
+            fail_msg("bench.json: no \"stats.gi_memory_mib\" in %s", gi[i]);
+        if (i == 3) {
+            assert_true(cJSON_IsNumber(mem));
+            mib = mem->valuedouble;
+            assert_true(fabs(mib - (131064 + 18432) / (1024.0 * 1024.0)) < 1e-9);
+        } else {
+            assert_true(cJSON_IsNull(mem));
+        }
         const cJSON *m = field(e, "metrics", 'o');
         double rmse = field(m, "rmse", 'n')->valuedouble, relmse = field(m, "relmse", 'n')->valuedouble;
         double flip = field(m, "flip", 'n')->valuedouble, ssim = field(m, "ssim", 'n')->valuedouble;
@@ -122,9 +136,10 @@ static void schema(void **state)
     }
     /* Measured: without GI the Cornell box lacks its indirect light (about
      * 40% of the mean); one bounce brings most of it back. */
-    print_message("mean ratio: none %.3f, rsm %.3f, vpl-slc %.3f\n", ratio[0], ratio[1], ratio[2]);
+    print_message("mean ratio: none %.3f, rsm %.3f, vpl-slc %.3f, vct %.3f; vct gi_memory_mib %.4f\n", ratio[0],
+                  ratio[1], ratio[2], ratio[3], mib);
     assert_true(ratio[0] < 0.75);
-    for (int i = 1; i < 3; i++)
+    for (int i = 1; i < 4; i++)
         assert_true(ratio[i] > ratio[0] + 0.1 && ratio[i] < 1.1);
 }
 
@@ -256,7 +271,15 @@ static void report_in_chromium(void **state)
     char *title = strstr(dom, "<title>");
     assert_non_null(title);
     print_message("%.60s\n", title);
-    assert_true(strncmp(title, "<title>ok:3</title>", 19) == 0);
+    assert_true(strncmp(title, "<title>ok:4</title>", 19) == 0);
+    /* The metrics table shows vct's GPU memory (and a dash for the others). */
+    assert_non_null(strstr(dom, "<th>GPU MiB</th>"));
+    const cJSON *vct = cJSON_GetArrayItem(cJSON_GetObjectItem(g_doc, "techniques"), 3);
+    char cell[64];
+    snprintf(cell, sizeof cell, "<td>%.3f</td>",
+             cJSON_GetObjectItem(cJSON_GetObjectItem(vct, "stats"), "gi_memory_mib")->valuedouble);
+    if (!strstr(dom, cell))
+        fail_msg("report.html: no metrics cell %s for vct's GPU memory", cell);
     /* The scatter's labels were placed clear of each other and the points. */
     const char *ov = strstr(dom, "data-label-overlaps=\"");
     assert_non_null(ov);

@@ -116,7 +116,7 @@ void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
     renderer_destroy(&r);
 }
 
-static int run_argv(char **err, const char *exe, const char *first, va_list ap)
+static int run_argv(char **out, char **err, const char *exe, const char *first, va_list ap)
 {
     const char *argv[64];
     int n = 0;
@@ -124,11 +124,12 @@ static int run_argv(char **err, const char *exe, const char *first, va_list ap)
     for (const char *a = first; a && n < 63; a = va_arg(ap, const char *))
         argv[n++] = a;
     argv[n] = NULL;
-    char errpath[512];
+    char errpath[512], outpath[512];
     snprintf(errpath, sizeof errpath, "%s/cli_stderr_%d.txt", RTGI_TEST_TMP, (int)getpid());
+    snprintf(outpath, sizeof outpath, "%s/cli_stdout_%d.txt", RTGI_TEST_TMP, (int)getpid());
     pid_t pid = fork();
     if (pid == 0) {
-        if (!freopen(errpath, "w", stderr) || !freopen("/dev/null", "w", stdout))
+        if (!freopen(errpath, "w", stderr) || !freopen(out ? outpath : "/dev/null", "w", stdout))
             _exit(127);
         execvp(exe, (char *const *)argv);
         _exit(127);
@@ -138,6 +139,10 @@ static int run_argv(char **err, const char *exe, const char *first, va_list ap)
     if (err)
         *err = util_read_file(errpath, NULL);
     remove(errpath);
+    if (out) {
+        *out = util_read_file(outpath, NULL);
+        remove(outpath);
+    }
     if (WIFSIGNALED(status))
         return 128 + WTERMSIG(status); /* a crash: tests treat it as failure */
     return WEXITSTATUS(status);
@@ -147,18 +152,27 @@ int test_run_cli(char **err, const char *arg0, ...)
 {
     va_list ap;
     va_start(ap, arg0);
-    int rc = run_argv(err, RTGI_BINARY, arg0, ap);
+    int rc = test_run_cli_va(err, arg0, ap);
     va_end(ap);
     return rc;
 }
 
-int test_run_cli_va(char **err, const char *arg0, va_list ap) { return run_argv(err, RTGI_BINARY, arg0, ap); }
+int test_run_cli_out(char **out, char **err, const char *arg0, ...)
+{
+    va_list ap;
+    va_start(ap, arg0);
+    int rc = run_argv(out, err, RTGI_BINARY, arg0, ap);
+    va_end(ap);
+    return rc;
+}
+
+int test_run_cli_va(char **err, const char *arg0, va_list ap) { return run_argv(NULL, err, RTGI_BINARY, arg0, ap); }
 
 int test_run_exe(char **err, const char *exe, const char *arg0, ...)
 {
     va_list ap;
     va_start(ap, arg0);
-    int rc = run_argv(err, exe, arg0, ap);
+    int rc = run_argv(NULL, err, exe, arg0, ap);
     va_end(ap);
     return rc;
 }

@@ -53,6 +53,8 @@ const char *test_tmp_file(const char *name, const char *content);
 int test_run_cli(char **err, const char *arg0, ...);
 /* The same with the arguments after arg0 in `ap` (for variadic helpers). */
 int test_run_cli_va(char **err, const char *arg0, va_list ap);
+/* Same, also returning what it wrote on stdout in `out` (caller frees). */
+int test_run_cli_out(char **out, char **err, const char *arg0, ...);
 /* Same, for any executable (argv[0] = exe). */
 int test_run_exe(char **err, const char *exe, const char *arg0, ...);
 

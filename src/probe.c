@@ -13,7 +13,7 @@
 #include "targets.h"
 #include "util.h"
 
-enum { MAP = 512, GRID = 256, SAMPLES = 64, RUNS = 3 };
+enum { MAP = 512, GRID = 256, SAMPLES = 64, RUNS = 5 };
 
 /* A map of plausible RSM data: positions near the receivers, unit normals. */
 static GLuint make_map(GLenum target, int which)

@@ -279,16 +279,18 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->aa = (AaMode)o->aa;
 }
 
-/* The gather's evaluations/s over its passes' GPU time and, with a probe
- * result, the fraction of the matching bound (PROBE_RSM_FETCHES fetches per
- * RSM sample: surfel and flux; or a VPL's three vec4). */
+/* The gather's evaluations/s over its passes' time in their fastest frame
+ * (each pass's, summed; as rtgi probe takes its kernels' fastest run, so
+ * that the load of a shared machine does not lower one side only) and, with
+ * a probe result, the fraction of the matching bound (PROBE_RSM_FETCHES
+ * fetches per RSM sample: surfel and flux; or a VPL's three vec4). */
 static void print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
 {
     static const char *const passes[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
                                          "rsm_gather_interleaved", "vpl_shade", NULL};
     double ms = 0;
     for (int i = 0; passes[i]; i++) {
-        double m = gpu_timer_mean_ms(&r->timer, passes[i], r->timer.sync);
+        double m = gpu_timer_min_ms(&r->timer, passes[i], r->timer.sync);
         ms += m > 0 ? m : 0;
     }
     if (st->gather_evaluations == 0 || ms <= 0)

@@ -9,21 +9,24 @@ bool pass_gbuffer_create(PassGbuffer *p, ProgramCache *pc)
     p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer", .vert = "frame/scene.vert", .frag = "frame/gbuffer.frag"});
     p->program_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer_opaque", .vert = "frame/scene.vert",
                                                                    .frag = "frame/gbuffer.frag", .defines = "#define OPAQUE_DRAW\n"});
-    return p->program != 0 && p->program_opaque != 0;
+    p->depth_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer_depth", .vert = "frame/scene.vert",
+                                                                  .frag = "frame/depth.frag"});
+    p->depth_masked = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer_depth_masked", .vert = "frame/scene.vert",
+                                                                  .frag = "frame/depth.frag", .defines = "#define MASKED\n"});
+    return p->program != 0 && p->program_opaque != 0 && p->depth_opaque != 0 && p->depth_masked != 0;
 }
 
 void pass_gbuffer_destroy(PassGbuffer *p)
 {
-    p->program = 0;
-    p->program_opaque = 0;
+    *p = (PassGbuffer){0};
 }
 
 void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull, GBuffer *out)
 {
     mat4 vp;
     camera_view_proj(cam, (float)out->width / (float)out->height, vp);
-    const GLuint programs[2] = {p->program_opaque, p->program};
-    for (int i = 0; i < 2; i++) {
+    const GLuint programs[4] = {p->program_opaque, p->program, p->depth_opaque, p->depth_masked};
+    for (int i = 0; i < 4; i++) {
         glProgramUniformMatrix4fv(programs[i], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
         glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
     }
@@ -40,8 +43,18 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
     glDisable(GL_BLEND);
     /* Opaque materials with early depth, nearest clusters first so it
      * rejects what they hide; alpha-masked ones after, with their discard.
-     * Clusters outside the view frustum are skipped. */
+     * Clusters outside the view frustum are skipped. Depth first, then the
+     * G-buffer where the depth is the pre-pass's. */
     DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = &p->culled};
+    glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    gpu_scene_draw_view(gs, s, p->depth_opaque, p->depth_masked, DRAW_ALL, cull ? &view : NULL);
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
     gpu_scene_draw_view(gs, s, p->program_opaque, p->program, DRAW_ALL, cull ? &view : NULL);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

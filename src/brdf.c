@@ -50,6 +50,73 @@ void brdf_diffuse_irradiance_weight(const vec3 f0, float n_dot_v, vec3 out)
         out[c] = brdf_diffuse_transmission(fv[c], f0[c] + (f90 - f0[c]) / 21.f, f0[c]);
 }
 
+/* Entry (i, j) of the albedo table: n·v = i/(N − 1) (at least 1e-3),
+ * roughness j/(N − 1): the grid holds both ends.
+ * With Schlick's F = F0·(1 − (1 − c)⁵) + F90·(1 − c)⁵ (c = v·h) the lobe's
+ * albedo is F0·A + F90·B; sampling h from the visible normals (Heitz 2018)
+ * gives f_s cosθ_l / pdf = F·G2/G1(v), so A and B average G2/G1 times the
+ * two Fresnel weights over BRDF_ALBEDO_SAMPLES Hammersley points. */
+static void albedo_entry(int i, int j, float ab[2])
+{
+    float mu = fmaxf((float)i / (BRDF_ALBEDO_N - 1), 1e-3f), alpha = brdf_alpha((float)j / (BRDF_ALBEDO_N - 1));
+    vec3 v = {sqrtf(1.f - mu * mu), 0.f, mu};
+    double a = 0, b = 0;
+    float lv = brdf_smith_lambda(mu, alpha);
+    for (uint32_t k = 0; k < BRDF_ALBEDO_SAMPLES; k++) {
+        uint32_t x = k; /* van der Corput radical inverse */
+        x = (x << 16) | (x >> 16);
+        x = ((x & 0x55555555u) << 1) | ((x & 0xAAAAAAAAu) >> 1);
+        x = ((x & 0x33333333u) << 2) | ((x & 0xCCCCCCCCu) >> 2);
+        x = ((x & 0x0F0F0F0Fu) << 4) | ((x & 0xF0F0F0F0u) >> 4);
+        x = ((x & 0x00FF00FFu) << 8) | ((x & 0xFF00FF00u) >> 8);
+        vec3 h, l;
+        brdf_sample_vndf(v, alpha, ((float)k + 0.5f) / BRDF_ALBEDO_SAMPLES, (float)x * 2.3283064365386963e-10f, h);
+        float c = glm_vec3_dot(v, h);
+        for (int d = 0; d < 3; d++)
+            l[d] = 2.f * c * h[d] - v[d];
+        if (l[2] <= 0.f)
+            continue;
+        double g = (1.0 + lv) / (1.0 + lv + brdf_smith_lambda(l[2], alpha));
+        double m = 1.0 - fminf(fmaxf(c, 0.f), 1.f), m5 = m * m * m * m * m;
+        a += g * (1.0 - m5);
+        b += g * m5;
+    }
+    ab[0] = (float)(a / BRDF_ALBEDO_SAMPLES);
+    ab[1] = (float)(b / BRDF_ALBEDO_SAMPLES);
+}
+
+const float (*brdf_albedo_table(void))[2]
+{
+    static float table[BRDF_ALBEDO_N * BRDF_ALBEDO_N][2];
+    static bool made;
+    if (!made) {
+        for (int j = 0; j < BRDF_ALBEDO_N; j++)
+            for (int i = 0; i < BRDF_ALBEDO_N; i++)
+                albedo_entry(i, j, table[j * BRDF_ALBEDO_N + i]);
+        made = true;
+    }
+    return (const float(*)[2])table;
+}
+
+void brdf_specular_albedo(const vec3 f0, float roughness, float n_dot_v, vec3 out)
+{
+    /* Bilinear between the entries: what the GPU's linear filter does with
+     * the table as a texture read at (x·(N − 1) + ½)/N (brdf.glsl). */
+    const float(*t)[2] = brdf_albedo_table();
+    float x = fminf(fmaxf(n_dot_v, 0.f), 1.f) * (BRDF_ALBEDO_N - 1);
+    float y = fminf(fmaxf(roughness, 0.f), 1.f) * (BRDF_ALBEDO_N - 1);
+    int x0 = (int)x, y0 = (int)y, x1 = x0 + 1 < BRDF_ALBEDO_N ? x0 + 1 : x0, y1 = y0 + 1 < BRDF_ALBEDO_N ? y0 + 1 : y0;
+    float fx = x - (float)x0, fy = y - (float)y0, ab[2];
+    for (int k = 0; k < 2; k++) {
+        float top = t[y0 * BRDF_ALBEDO_N + x0][k] * (1.f - fx) + t[y0 * BRDF_ALBEDO_N + x1][k] * fx;
+        float bot = t[y1 * BRDF_ALBEDO_N + x0][k] * (1.f - fx) + t[y1 * BRDF_ALBEDO_N + x1][k] * fx;
+        ab[k] = top * (1.f - fy) + bot * fy;
+    }
+    float f90 = fminf(1.f, 50.f * fmaxf(f0[0], fmaxf(f0[1], f0[2])));
+    for (int c = 0; c < 3; c++)
+        out[c] = f0[c] * ab[0] + f90 * ab[1];
+}
+
 float brdf_ggx_d(float n_dot_h, float alpha)
 {
     return ggx_d_cs(n_dot_h * n_dot_h, fmaxf(0.f, 1.f - n_dot_h * n_dot_h), alpha);

@@ -55,6 +55,19 @@ float brdf_diffuse_transmission(float fv, float fl, float f0);
  * techniques' irradiance with it, as the direct pass weighs each light
  * with T. */
 void brdf_diffuse_irradiance_weight(const vec3 f0, float n_dot_v, vec3 out);
+/* Directional albedo of this GGX lobe, ∫ f_s cosθ dω = F0·A + F90·B (the
+ * split-sum idea of Karis 2013, with our own table: his fits are for
+ * another masking term and were 13–21% low for metals at roughness
+ * 0.25–0.5 here). A and B for BRDF_ALBEDO_N² values of (n·v, perceptual
+ * roughness) on a grid that holds both ends, computed once per process by
+ * importance-sampling the lobe (brdf_albedo_table, row j = roughness);
+ * brdf_specular_albedo interpolates bilinearly, as the GPU's linear filter
+ * does with the table uploaded as an RG32F texture (TEX_BRDF_ALBEDO,
+ * common/brdf.glsl). */
+#define BRDF_ALBEDO_N 32
+#define BRDF_ALBEDO_SAMPLES 256
+const float (*brdf_albedo_table(void))[2];
+void brdf_specular_albedo(const vec3 f0, float roughness, float n_dot_v, vec3 out);
 /* Schlick Fresnel with F90 = min(1, 50·max(F0)). */
 void brdf_fresnel(const vec3 f0, float cos_theta, vec3 out);
 /* GGX normal distribution for cos θ_h = n·h. */

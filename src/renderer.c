@@ -1,5 +1,7 @@
 #include "renderer.h"
 
+#include "brdf.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -117,6 +119,20 @@ static bool technique_create(Renderer *r)
     return r->gi_state != NULL;
 }
 
+/* The BRDF's directional albedo table (brdf_albedo_table) as a texture
+ * (x = n·v, y = perceptual roughness; linear filtering between the entries,
+ * as brdf_specular_albedo interpolates in C). */
+static GLuint brdf_albedo_texture_make(void)
+{
+    GLuint t = gl_texture_make(GL_TEXTURE_2D, GL_RG32F, BRDF_ALBEDO_N, BRDF_ALBEDO_N, "brdf.albedo");
+    if (!t)
+        return 0;
+    glTextureSubImage2D(t, 0, 0, 0, BRDF_ALBEDO_N, BRDF_ALBEDO_N, GL_RG, GL_FLOAT, brdf_albedo_table());
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    return t;
+}
+
 /* ---- Lifetime ------------------------------------------------------------- */
 
 bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
@@ -137,6 +153,9 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
         !pass_resolve_create(&r->pass_resolve, pc, r->empty_vao) || !pass_fxaa_create(&r->pass_fxaa, pc, r->empty_vao))
         return false;
     r->frame_ubo = gi_ubo_make(sizeof(GpuFrame), "frame");
+    r->brdf_albedo = brdf_albedo_texture_make();
+    if (!r->brdf_albedo)
+        return false;
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
     return technique_create(r);
 }
@@ -151,6 +170,7 @@ void renderer_destroy(Renderer *r)
     pass_direct_destroy(&r->pass_direct);
     pass_gbuffer_destroy(&r->pass_gbuffer);
     glDeleteBuffers(1, &r->frame_ubo);
+    glDeleteTextures(1, &r->brdf_albedo);
     glDeleteVertexArrays(1, &r->empty_vao);
     targets_destroy(r);
     light_stage_destroy(&r->lights);
@@ -245,12 +265,14 @@ void renderer_frame(Renderer *r, const Camera *cam)
             .timer = t,
             .irradiance = r->irradiance,
             .specular = r->specular,
+            .brdf_albedo = r->brdf_albedo,
         };
         r->gi->run(r->gi_state, &f);
         r->last_frame = f;
         gpu_timer_begin(t, "composite");
         pass_composite_run(&r->pass_composite, &r->gbuffer, r->irradiance,
-                           (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, scene_has_glossy(r->scene), radiance);
+                           (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, r->brdf_albedo,
+                           scene_has_glossy(r->scene), radiance);
         gpu_timer_end(t);
     }
 

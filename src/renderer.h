@@ -77,6 +77,7 @@ typedef struct Renderer {
     ColorTarget ldr_pre;       /* SRGB8_ALPHA8, tone-mapped before FXAA (FXAA only) */
     GLuint irradiance;         /* RGBA32F indirect irradiance of the technique */
     GLuint specular;           /* RGBA32F indirect specular radiance, techniques with GI_HAS_SPECULAR */
+    GLuint brdf_albedo;        /* RG32F: the GGX lobe's directional albedo table (brdf_albedo_table) */
     GLuint frame_ubo;          /* GpuFrame */
     GLuint empty_vao;          /* for the full-screen passes */
     const GiTechnique *gi;     /* the selected row */

@@ -553,6 +553,84 @@ static void diffuse_irradiance_weight(void **state)
     free(cases);
 }
 
+/* The GGX lobe's directional albedo for evenly arriving light
+ * (brdf_specular_albedo: the table brdf.c computes with Hammersley points,
+ * interpolated) against an independent estimate of ∫ f_s cos dω with
+ * random visible-normal samples (65536), for dielectric, white-metal and
+ * copper F0 over roughness and view angle: within 1% + 0.003 (measured
+ * worst: see the message); exactly 0 for F0 = 0 (Lambertian surfaces stay
+ * Lambertian); the GPU's filtered texture (the renderer's, as the composite
+ * and vct read it) = C to 1e-3 (llvmpipe filters with 8-bit weights).
+ * Karis's 2014 fit, used before, was 13–21% low here for metals at
+ * roughness 0.25–0.5 and 47% high at 1. */
+static void specular_albedo_table(void **state)
+{
+    (void)state;
+    const float bases[3][3] = {{1, 1, 1}, {1, 1, 1}, {0.95f, 0.64f, 0.54f}};
+    const float metal[3] = {0.f, 1.f, 1.f};
+    const float rough[] = {0.1f, 0.25f, 0.5f, 0.75f, 1.f};
+    const float cos_v[] = {1.f, 0.7f, 0.4f, 0.15f};
+    enum { NB = 3, NR = 5, NV = 4, N = NB * NR * NV };
+    float(*cases)[4] = calloc((size_t)N * CASE_VEC4, sizeof *cases);
+    vec3 want[N];
+    double worst = 0;
+    int k = 0;
+    for (int b = 0; b < NB; b++)
+        for (int r = 0; r < NR; r++)
+            for (int j = 0; j < NV; j++, k++) {
+                BrdfSurface s;
+                brdf_surface(bases[b], metal[b], rough[r], 1.f, &s);
+                glm_vec3_zero(s.diffuse); /* the specular lobe alone */
+                vec3 n = {0, 0, 1}, v = {sqrtf(1.f - cos_v[j] * cos_v[j]), 0.f, cos_v[j]}, table;
+                brdf_specular_albedo(s.f0, rough[r], cos_v[j], table);
+                double q[3] = {0, 0, 0};
+                const int ns = 65536;
+                Rng rng = rng_make(31, (uint64_t)k);
+                for (int i = 0; i < ns; i++) {
+                    vec3 l, d, sp;
+                    if (!brdf_sample(&s, v, 0.f, rng_float(&rng), rng_float(&rng), l))
+                        continue;
+                    brdf_eval_lobes(&s, n, v, l, d, sp);
+                    float pdf = brdf_pdf(&s, v, l);
+                    for (int c = 0; c < 3; c++)
+                        q[c] += pdf > 0 ? sp[c] * l[2] / pdf / ns : 0.0;
+                }
+                for (int c = 0; c < 3; c++) {
+                    double e = fabs(table[c] - q[c]);
+                    worst = fmax(worst, e / (0.01 * q[c] + 0.003));
+                    if (e > 0.01 * q[c] + 0.003)
+                        fail_msg("F0 %g roughness %g n.v %g: table %g, sampled %g", (double)s.f0[c], (double)rough[r],
+                                 (double)cos_v[j], (double)table[c], q[c]);
+                }
+                memcpy(cases[CASE_VEC4 * k], s.f0, sizeof(vec3));
+                cases[CASE_VEC4 * k][3] = cos_v[j];
+                cases[CASE_VEC4 * k + 1][0] = rough[r];
+                memcpy(want[k], table, sizeof table);
+            }
+    print_message("GGX directional albedo, table against sampling: worst error %.2f of the bound\n", worst);
+    vec3 zero;
+    brdf_specular_albedo((vec3){0, 0, 0}, 0.5f, 0.7f, zero);
+    assert_true(zero[0] == 0.f && zero[1] == 0.f && zero[2] == 0.f);
+    Scene sc;
+    scene_build_cornell(&sc);
+    scene_finalize(&sc);
+    RenderSettings rs = test_settings(&sc, 8, 8, SHADOW_MODE_NONE);
+    Renderer rd;
+    assert_true(renderer_create(&rd, &sc, &rs));
+    glBindTextureUnit(TEX_BRDF_ALBEDO, rd.brdf_albedo);
+    float(*res)[4] = run_shader(3, (const float(*)[4])cases, N);
+    double gworst = 0;
+    for (int i = 0; i < N; i++)
+        for (int c = 0; c < 3; c++)
+            gworst = fmax(gworst, fabs(res[i][c] - want[i][c]));
+    print_message("GLSL texture lookup against C: worst |difference| %.2g\n", gworst);
+    assert_true(gworst < 1e-3);
+    renderer_destroy(&rd);
+    scene_free(&sc);
+    free(res);
+    free(cases);
+}
+
 /* ---- Polygon irradiance ------------------------------------------------- */
 
 /* E/L under a corner of an a×b rectangle parallel to the plane at height c
@@ -870,6 +948,7 @@ int main(void)
         cmocka_unit_test(reciprocity_and_energy),
         cmocka_unit_test(glsl_matches_c),
         cmocka_unit_test(diffuse_irradiance_weight),
+        cmocka_unit_test(specular_albedo_table),
         cmocka_unit_test(polygon_irradiance_matches_analytic),
         cmocka_unit_test(gltf_metallic_roughness_is_read),
         cmocka_unit_test(area_light_direct_matches_reference),

@@ -59,6 +59,23 @@ vec3 brdf_diffuse_irradiance_weight(vec3 f0, float n_dot_v)
     return brdf_diffuse_transmission(brdf_fresnel(f0, n_dot_v), f0 + (vec3(f90) - f0) / 21.0, f0);
 }
 
+// Directional albedo of the GGX lobe, ∫ f_s cosθ dω = F0·A + F90·B: what
+// the lobe returns of light that arrives evenly from the hemisphere. A and
+// B from the table src/brdf.c computes for this BRDF (brdf_albedo_table,
+// bound at TEX_BRDF_ALBEDO by the passes that use it: x = n·v, y =
+// perceptual roughness on a grid holding both ends: texel centre i is
+// i/(N − 1); linear filtering).
+layout(binding = TEX_BRDF_ALBEDO) uniform sampler2D u_brdf_albedo;
+
+vec3 brdf_specular_albedo(vec3 f0, float roughness, float n_dot_v)
+{
+    vec2 n = vec2(textureSize(u_brdf_albedo, 0));
+    vec2 uv = (clamp(vec2(n_dot_v, roughness), 0.0, 1.0) * (n - 1.0) + 0.5) / n;
+    vec2 ab = textureLod(u_brdf_albedo, uv, 0.0).rg;
+    float f90 = min(1.0, 50.0 * max(f0.r, max(f0.g, f0.b)));
+    return f0 * ab.x + vec3(f90 * ab.y);
+}
+
 float brdf_ggx_d(float n_dot_h, float alpha)
 {
     return brdf_ggx_d_cs(n_dot_h * n_dot_h, max(0.0, 1.0 - n_dot_h * n_dot_h), alpha);

@@ -1,10 +1,18 @@
 // frame/composite.frag — adds the GI technique's result to the HDR target
-// (additive blend): ρ/π · E · w · indirect_scale from its irradiance image,
-// and its specular radiance × indirect_scale when it has one. With GLOSSY
-// (the scene has a material with F0 > 0), w is the diffuse lobe's Fresnel
-// transmission for irradiance, brdf_diffuse_irradiance_weight (the same
-// (1 − F) factors the direct pass and the path tracer apply); without it,
-// every surface is Lambertian and w = 1.
+// (additive blend), × indirect_scale: what the surface returns of the
+// irradiance E in the technique's image, plus the technique's specular
+// radiance when it has one. Lambertian surfaces (every surface of a scene
+// without GLOSSY) return ρ_d/π · E. Glossy ones (F0 > 0) are shaded as if
+// the indirect light arrived evenly over the hemisphere (radiance E/π):
+// the diffuse lobe returns ρ_d/π · E · w, w its Fresnel transmission for
+// such light (brdf_diffuse_irradiance_weight: the (1 − F) factors the
+// direct pass and the path tracer apply), and, for techniques without a
+// specular image of their own (all but vct), the GGX lobe returns E/π
+// times its directional albedo (brdf_specular_albedo), the glossy
+// reflection of the bounce light that the reference has too. On Sponza
+// 320×180 against one-bounce-novis: rsm relMSE / FLIP / indirect mean
+// 0.00304 / 0.0687 / 0.956 with ρ_d/π alone, 0.00308 / 0.0775 / 0.939 with
+// w alone, 0.00292 / 0.0608 / 0.971 with both.
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "common/brdf.glsl"
@@ -25,8 +33,12 @@ void main()
     vec3 l = mat.diffuse / PI * e;
 #ifdef GLOSSY
     vec3 x, n;
-    if (any(greaterThan(mat.f0, vec3(0.0))) && gb_surface(px, x, n))
-        l *= brdf_diffuse_irradiance_weight(mat.f0, dot(n, normalize(u_frame.camera.xyz - x)));
+    if (any(greaterThan(mat.f0, vec3(0.0))) && gb_surface(px, x, n)) {
+        float nv = clamp(dot(n, normalize(u_frame.camera.xyz - x)), 0.0, 1.0);
+        l *= brdf_diffuse_irradiance_weight(mat.f0, nv);
+        if (u_has_specular == 0)
+            l += brdf_specular_albedo(mat.f0, mat.roughness, nv) / PI * e;
+    }
 #endif
     if (u_has_specular != 0)
         l += texelFetch(u_specular, px, 0).rgb;

@@ -5,6 +5,7 @@
 //   mode 0 (BRDF): n, v, l, (ρ_d rgb, roughness), (F0 rgb, –), – → (f rgb, –)
 //   mode 1 (polygon): x, n, p0, p1, p2, p3 → (E/L, –, –, –)
 //   mode 2 (diffuse irradiance weight): (F0 rgb, n·v) → (w rgb, –)
+//   mode 3 (specular albedo): (F0 rgb, n·v), (roughness, –, –, –) → (albedo rgb, –)
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "common/brdf.glsl"
@@ -25,6 +26,8 @@ void main()
     if (u_mode == 0) {
         vec4 d = cases[b + 3], f = cases[b + 4];
         results[i] = vec4(brdf_eval(d.rgb, f.rgb, d.a, cases[b].xyz, cases[b + 1].xyz, cases[b + 2].xyz), 0.0);
+    } else if (u_mode == 3) {
+        results[i] = vec4(brdf_specular_albedo(cases[b].rgb, cases[b + 1].x, cases[b].a), 0.0);
     } else if (u_mode == 2) {
         results[i] = vec4(brdf_diffuse_irradiance_weight(cases[b].rgb, cases[b].a), 0.0);
     } else {

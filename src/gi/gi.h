@@ -69,6 +69,7 @@ typedef struct GiFrame {
     GpuTimer *timer;
     GLuint irradiance;        /* out: RGBA32F E, full resolution */
     GLuint specular;          /* out: RGBA32F radiance, when GI_HAS_SPECULAR */
+    GLuint brdf_albedo;       /* RG32F: the GGX lobe's directional albedo (brdf.h; TEX_BRDF_ALBEDO) */
 } GiFrame;
 
 enum { GI_HAS_SPECULAR = 1u << 0 };

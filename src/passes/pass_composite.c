@@ -17,12 +17,13 @@ void pass_composite_destroy(PassComposite *p)
     *p = (PassComposite){0};
 }
 
-void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, GLuint specular, bool glossy,
-                        ColorTarget *hdr)
+void pass_composite_run(PassComposite *p, const GBuffer *gb, GLuint irradiance, GLuint specular, GLuint brdf_albedo,
+                        bool glossy, ColorTarget *hdr)
 {
     GLuint prog = glossy ? p->program_glossy : p->program;
     glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
     glBindTextureUnit(TEX_GB_MATERIAL, gb->material);
+    glBindTextureUnit(TEX_BRDF_ALBEDO, brdf_albedo);
     glBindTextureUnit(TEX_GI, irradiance);
     glBindTextureUnit(TEX_SPECULAR, specular ? specular : irradiance);
     glProgramUniform1i(prog, LOC_COMPOSITE_SPECULAR, specular ? 1 : 0);

@@ -451,6 +451,7 @@ static void vct_run(void *state, const GiFrame *f)
     bind_volumes(v, radiance);
     glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
     glBindTextureUnit(TEX_GB_MATERIAL, f->gbuffer->material);
+    glBindTextureUnit(TEX_BRDF_ALBEDO, f->brdf_albedo);
     glProgramUniform1i(v->trace, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
     glProgramUniform1i(v->trace, LOC_VCT_SCALE, v->scale);
     bool low = v->scale > 1;

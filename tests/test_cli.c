@@ -625,8 +625,12 @@ static void reference_progress_lines(void **state)
             continue;
         const char *rest = strchr(l, ']');
         assert_non_null(rest);
-        assert_int_equal(sscanf(rest, "] %d%%  %d/%d spp  %lf s  %lf Mrays/s  ETA %lf s", &pct, &spp, &of, &secs,
-                                &mrays, &eta), 6);
+        int n = sscanf(rest, "] %d%%  %d/%d spp  %lf s  %lf Mrays/s  ETA %lf s", &pct, &spp, &of, &secs, &mrays, &eta);
+        /* Before the first pass ends the time left is unknown: "ETA ?". */
+        if (n == 5)
+            assert_true(spp == 0 && strstr(rest, "ETA ?") != NULL);
+        else
+            assert_int_equal(n, 6);
         lines++;
     }
     free(err);

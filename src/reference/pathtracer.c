@@ -425,13 +425,16 @@ static void draw_progress(Job *j, double frac, double elapsed, bool last)
         return;
     j->printed_at = elapsed;
     double rps = elapsed > 0 ? (double)atomic_load(&j->rays) / elapsed : 0.0;
-    double eta = frac > 0 ? elapsed * (1.0 - frac) / frac : 0.0;
+    /* The time left is unknown until a pass has finished: "ETA ?" then. */
+    char eta[32] = "?";
+    if (frac > 0)
+        snprintf(eta, sizeof eta, "%.1f s", elapsed * (1.0 - frac) / frac);
     char bar[41];
     int filled = (int)(frac * 40);
     for (int i = 0; i < 40; i++)
         bar[i] = i < filled ? '#' : ' ';
     bar[40] = 0;
-    fprintf(stderr, "%sreference [%s] %3d%%  %d/%d spp  %.1f s  %.2f Mrays/s  ETA %.1f s%s", tty ? "\r" : "", bar,
+    fprintf(stderr, "%sreference [%s] %3d%%  %d/%d spp  %.1f s  %.2f Mrays/s  ETA %s%s", tty ? "\r" : "", bar,
             (int)(100 * frac), j->s0, j->set->spp, elapsed, rps / 1e6, eta, tty && !last ? "" : "\n");
     fflush(stderr);
 }

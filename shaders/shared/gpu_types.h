@@ -192,7 +192,8 @@
     F(int, sub_height)                                                             \
     F(int, list_size)       /* importance: entries in the sample list (sets × set) */ \
     F(int, list_set)        /* importance: points per set (the far-field samples of a pixel) */ \
-    F(int, list_sets)       /* importance: independently shifted sets; a pixel takes one */
+    F(int, list_sets)       /* importance: independently shifted sets; a pixel takes one */ \
+    F(float, disk_r2_per_area) /* --vpl-disk: 1/π (samples fall off as 1/(d² + A/π)); 0: points */
 
 /* One virtual point light (std430). */
 #define GPU_VPL_FIELDS(F, A)                                          \
@@ -294,7 +295,7 @@ layout(std140, binding = UBO_VCT) uniform VctBlock { GpuVctParams u_vct; };
 static_assert(sizeof(GpuLight) == 12 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
-static_assert(sizeof(GpuGiParams) == 17 * 4, "GpuGiParams: 17 scalars (std140 rounds the block to 80)");
+static_assert(sizeof(GpuGiParams) == 18 * 4, "GpuGiParams: 18 scalars (std140 rounds the block to 80)");
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");

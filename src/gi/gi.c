@@ -89,6 +89,7 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
     u->list_set = rsm_far_samples(p->samples);
     u->list_sets = RSM_LIST_SETS;
     u->list_size = u->list_set * RSM_LIST_SETS;
+    u->disk_r2_per_area = p->vpl_disk ? 1.f / 3.14159265358979f : 0.f;
 }
 
 GLuint gi_ubo_make(GLsizeiptr size, const char *label)

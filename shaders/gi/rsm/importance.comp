@@ -129,13 +129,13 @@ void main()
     }
     ivec3 t = ivec3(p, face);
     float lum = texelFetch(u_pyramid, t, 0).r;
-    vec3 flux = texelFetch(r_flux, t, 0).rgb;
+    vec4 flux = texelFetch(r_flux, t, 0); // a: the texel's surface area
     uvec4 s = texelFetch(r_surfel, t, 0);
     // Φ_t / p_t with p_t = lum_t / total; empty texels (p = 0) are never
     // chosen unless the whole map is dark, and then carry nothing.
-    vec3 w = lum > 0.0 && surfel_valid(s) ? flux * (total / lum) : vec3(0.0);
+    vec3 w = lum > 0.0 && surfel_valid(s) ? flux.rgb * (total / lum) : vec3(0.0);
     samples[i].position_xi = vec4(surfel_unpack_position(s), 0.0);
     samples[i].normal = vec4(surfel_unpack_normal(s), 0.0);
-    samples[i].flux = vec4(w, 0.0);
+    samples[i].flux = vec4(w, flux.a);
 }
 #endif

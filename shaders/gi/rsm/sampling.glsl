@@ -97,7 +97,7 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
 #ifdef RSM_CUBE
         vec3 D = f.a + q.x * f.r + q.y * f.u;
         uvec4 s = textureLod(rsm_surfel, D, 0.0);
-        vec3 flux = textureLod(rsm_flux, D, 0.0).rgb;
+        vec4 flux = textureLod(rsm_flux, D, 0.0);
         // Texels per plane area where D meets its own face, relative to the
         // face of x: (|D·a| / |D·major(D)|)³ with D·a = 1, i.e. m⁻³ for
         // m = max(1, |q.x|, |q.y|) (D's components along a, r, u are 1, q).
@@ -109,10 +109,11 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
         // counts in the average.
         bool inside = all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, vec2(1.0)));
         uvec4 s = textureLod(rsm_surfel, q, 0.0);
-        vec3 flux = textureLod(rsm_flux, q, 0.0).rgb;
+        vec4 flux = textureLod(rsm_flux, q, 0.0);
         float jac = inside ? 1.0 : 0.0;
 #endif
-        vec3 e = vpl_irradiance(x, n, surfel_unpack_position(s), surfel_unpack_normal(s), flux);
+        vec3 e = vpl_irradiance_disk(x, n, surfel_unpack_position(s), surfel_unpack_normal(s), flux.rgb,
+                                     flux.a * u_gi.disk_r2_per_area);
         float w = unbiased ? 2.0 * smp.z : smp.z * smp.z;
         sum += e * (w * jac);
         wsum += smp.z * smp.z;
@@ -154,7 +155,7 @@ vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int 
     uint base = set * uint(u_gi.list_set);
     for (int k = 0; k < global; k++) {
         GpuVpl v = rsm_samples[base + uint(first + k * stride)];
-        vec3 e = vpl_irradiance(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb);
+        vec3 e = vpl_irradiance_disk(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb, v.flux.w * u_gi.disk_r2_per_area);
         far += rsm_in_disk(f, v.position_xi.xyz) ? vec3(0.0) : e;
     }
     return near + far / float(global);

@@ -1,6 +1,8 @@
 /* brdf.c — see brdf.h; shaders/common/brdf.glsl is the same code. */
 #include "brdf.h"
 
+#include "util.h"
+
 #include <math.h>
 
 void brdf_surface(const vec3 base, float metallic, float roughness, float specular, BrdfSurface *out)
@@ -18,9 +20,14 @@ float brdf_alpha(float roughness)
     return r * r;
 }
 
+float brdf_f90(const vec3 f0)
+{
+    return fminf(1.f, 50.f * fmaxf(f0[0], fmaxf(f0[1], f0[2])));
+}
+
 void brdf_fresnel(const vec3 f0, float cos_theta, vec3 out)
 {
-    float f90 = fminf(1.f, 50.f * fmaxf(f0[0], fmaxf(f0[1], f0[2])));
+    float f90 = brdf_f90(f0);
     float m = 1.f - fminf(fmaxf(cos_theta, 0.f), 1.f);
     float m5 = m * m * m * m * m;
     for (int c = 0; c < 3; c++)
@@ -45,7 +52,7 @@ void brdf_diffuse_irradiance_weight(const vec3 f0, float n_dot_v, vec3 out)
 {
     vec3 fv;
     brdf_fresnel(f0, n_dot_v, fv);
-    float f90 = fminf(1.f, 50.f * fmaxf(f0[0], fmaxf(f0[1], f0[2])));
+    float f90 = brdf_f90(f0);
     for (int c = 0; c < 3; c++)
         out[c] = brdf_diffuse_transmission(fv[c], f0[c] + (f90 - f0[c]) / 21.f, f0[c]);
 }
@@ -63,14 +70,9 @@ static void albedo_entry(int i, int j, float ab[2])
     double a = 0, b = 0;
     float lv = brdf_smith_lambda(mu, alpha);
     for (uint32_t k = 0; k < BRDF_ALBEDO_SAMPLES; k++) {
-        uint32_t x = k; /* van der Corput radical inverse */
-        x = (x << 16) | (x >> 16);
-        x = ((x & 0x55555555u) << 1) | ((x & 0xAAAAAAAAu) >> 1);
-        x = ((x & 0x33333333u) << 2) | ((x & 0xCCCCCCCCu) >> 2);
-        x = ((x & 0x0F0F0F0Fu) << 4) | ((x & 0xF0F0F0F0u) >> 4);
-        x = ((x & 0x00FF00FFu) << 8) | ((x & 0xFF00FF00u) >> 8);
-        vec3 h, l;
-        brdf_sample_vndf(v, alpha, ((float)k + 0.5f) / BRDF_ALBEDO_SAMPLES, (float)x * 2.3283064365386963e-10f, h);
+        vec3 h, l; /* u2: the van der Corput radical inverse of k */
+        brdf_sample_vndf(v, alpha, ((float)k + 0.5f) / BRDF_ALBEDO_SAMPLES,
+                         (float)util_reverse_bits(k) * 2.3283064365386963e-10f, h);
         float c = glm_vec3_dot(v, h);
         for (int d = 0; d < 3; d++)
             l[d] = 2.f * c * h[d] - v[d];
@@ -112,7 +114,7 @@ void brdf_specular_albedo(const vec3 f0, float roughness, float n_dot_v, vec3 ou
         float bot = t[y1 * BRDF_ALBEDO_N + x0][k] * (1.f - fx) + t[y1 * BRDF_ALBEDO_N + x1][k] * fx;
         ab[k] = top * (1.f - fy) + bot * fy;
     }
-    float f90 = fminf(1.f, 50.f * fmaxf(f0[0], fmaxf(f0[1], f0[2])));
+    float f90 = brdf_f90(f0);
     for (int c = 0; c < 3; c++)
         out[c] = f0[c] * ab[0] + f90 * ab[1];
 }

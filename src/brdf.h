@@ -68,6 +68,8 @@ void brdf_diffuse_irradiance_weight(const vec3 f0, float n_dot_v, vec3 out);
 #define BRDF_ALBEDO_SAMPLES 256
 const float (*brdf_albedo_table(void))[2];
 void brdf_specular_albedo(const vec3 f0, float roughness, float n_dot_v, vec3 out);
+/* Schlick's F90 for this F0: min(1, 50·max(F0)) (0 for F0 = 0: Lambertian). */
+float brdf_f90(const vec3 f0);
 /* Schlick Fresnel with F90 = min(1, 50·max(F0)). */
 void brdf_fresnel(const vec3 f0, float cos_theta, vec3 out);
 /* GGX normal distribution for cos θ_h = n·h. */

@@ -8,6 +8,16 @@
 
 #include <stdio.h>
 
+/* The bits of x in reverse order (x / 2^32 is then x's van der Corput
+ * radical inverse in base 2: Hammersley points, Sobol' sampling). */
+static inline uint32_t util_reverse_bits(uint32_t x)
+{
+    x = __builtin_bswap32(x);
+    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    return ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+}
+
 /* Reads a whole regular file, NUL-terminated; NULL if it is missing,
  * unreadable or not a regular file (never blocks on a FIFO). Caller frees.
  * Silent: for input named by the user, use util_read_input. */

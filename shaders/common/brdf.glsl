@@ -24,10 +24,13 @@ void brdf_surface(vec3 base, float metallic, float specular, out vec3 diffuse, o
     f0 = (1.0 - metallic) * BRDF_DIELECTRIC_F0 * specular + metallic * base;
 }
 
+// Schlick's F90 for this F0: min(1, 50·max(F0)) (brdf.h).
+float brdf_f90(vec3 f0) { return min(1.0, 50.0 * max(f0.r, max(f0.g, f0.b))); }
+
 // Schlick Fresnel, F90 = min(1, 50·max(F0)).
 vec3 brdf_fresnel(vec3 f0, float cos_theta)
 {
-    float f90 = min(1.0, 50.0 * max(f0.r, max(f0.g, f0.b)));
+    float f90 = brdf_f90(f0);
     float m = 1.0 - clamp(cos_theta, 0.0, 1.0);
     float m5 = m * m * m * m * m;
     return f0 + (vec3(f90) - f0) * m5;
@@ -55,7 +58,7 @@ vec3 brdf_diffuse_transmission(vec3 fv, vec3 fl, vec3 f0)
 // (brdf.h); 1 where F0 = 0.
 vec3 brdf_diffuse_irradiance_weight(vec3 f0, float n_dot_v)
 {
-    float f90 = min(1.0, 50.0 * max(f0.r, max(f0.g, f0.b)));
+    float f90 = brdf_f90(f0);
     return brdf_diffuse_transmission(brdf_fresnel(f0, n_dot_v), f0 + (vec3(f90) - f0) / 21.0, f0);
 }
 
@@ -72,7 +75,7 @@ vec3 brdf_specular_albedo(vec3 f0, float roughness, float n_dot_v)
     vec2 n = vec2(textureSize(u_brdf_albedo, 0));
     vec2 uv = (clamp(vec2(n_dot_v, roughness), 0.0, 1.0) * (n - 1.0) + 0.5) / n;
     vec2 ab = textureLod(u_brdf_albedo, uv, 0.0).rg;
-    float f90 = min(1.0, 50.0 * max(f0.r, max(f0.g, f0.b)));
+    float f90 = brdf_f90(f0);
     return f0 * ab.x + vec3(f90 * ab.y);
 }
 

@@ -28,6 +28,7 @@
 
 #include "reference/pathtracer.h"
 #include "reference/rng.h"
+#include "util.h"
 
 typedef struct Sampler {
     PtSampler kind;
@@ -36,14 +37,6 @@ typedef struct Sampler {
     uint32_t index;    /* sobol: sample index within the pixel */
     uint32_t dim;      /* sobol: requests made so far in this sample */
 } Sampler;
-
-static inline uint32_t sampler_reverse_bits(uint32_t x)
-{
-    x = __builtin_bswap32(x);
-    x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
-    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    return ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-}
 
 /* Burley's hash in the style of Laine & Karras: a permutation of 32-bit
  * integers in which each bit depends only on the bits below it, so that on
@@ -63,7 +56,7 @@ static inline uint32_t sampler_lk_permute(uint32_t x, uint32_t seed)
 /* Owen scramble of a 32-bit binary fraction (most significant bit first). */
 static inline uint32_t sampler_owen(uint32_t x, uint32_t seed)
 {
-    return sampler_reverse_bits(sampler_lk_permute(sampler_reverse_bits(x), seed));
+    return util_reverse_bits(sampler_lk_permute(util_reverse_bits(x), seed));
 }
 
 /* Sobol' dimension 1 (generator matrix: Pascal's triangle mod 2, from the
@@ -137,7 +130,7 @@ static inline void sampler_2d(Sampler *s, float u[2])
     sampler_seeds(s, seed);
     uint32_t i = sampler_owen(s->index, seed[0]);
     /* Owen(van der Corput(i)) = reverse(LK(reverse(reverse(i)))). */
-    u[0] = sampler_to_float(sampler_reverse_bits(sampler_lk_permute(i, seed[1])));
+    u[0] = sampler_to_float(util_reverse_bits(sampler_lk_permute(i, seed[1])));
     u[1] = sampler_to_float(sampler_owen(sobol_dim1(i), seed[2]));
     s->dim++;
 }
@@ -149,7 +142,7 @@ static inline float sampler_1d(Sampler *s)
     uint32_t seed[3];
     sampler_seeds(s, seed);
     uint32_t i = sampler_owen(s->index, seed[0]);
-    float u = sampler_to_float(sampler_reverse_bits(sampler_lk_permute(i, seed[1])));
+    float u = sampler_to_float(util_reverse_bits(sampler_lk_permute(i, seed[1])));
     s->dim++;
     return u;
 }

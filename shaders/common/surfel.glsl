@@ -21,7 +21,7 @@ vec3 oct_decode(vec2 e)
     vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
     float t = max(-n.z, 0.0);
     n.xy -= vec2(n.x >= 0.0 ? t : -t, n.y >= 0.0 ? t : -t);
-    return normalize(n);
+    return n * inversesqrt(dot(n, n));
 }
 
 uvec4 surfel_pack(vec3 position, vec3 normal)
@@ -34,7 +34,7 @@ bool surfel_valid(uvec4 s) { return (s.w & 0x80000000u) != 0u; }
 vec3 surfel_unpack_position(uvec4 s) { return uintBitsToFloat(s.xyz); }
 vec3 surfel_unpack_normal(uvec4 s)
 {
-    vec2 e = vec2(uvec2(s.w, s.w >> 15) & 0x7fffu) / 32767.0;
+    vec2 e = vec2(uvec2(s.w, s.w >> 15) & 0x7fffu) * (1.0 / 32767.0);
     return oct_decode(e * 2.0 - 1.0);
 }
 

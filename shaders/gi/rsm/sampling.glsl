@@ -52,6 +52,11 @@ struct RsmFrame {
     vec3 a, r, u; // cube: the face's axis and its plane's basis
     vec2 st;      // x's coordinates
     float scale;  // the disk's radius (cube: the face is 2 wide)
+    // The light's position (cube) or projection (2D), read from u_light
+    // once: rsm_in_disk runs in a loop, where on llvmpipe every uniform
+    // read is a per-lane gather (16 of them for the matrix).
+    vec3 light;
+    mat4 view_proj;
 };
 
 RsmFrame rsm_frame(vec3 x)
@@ -59,14 +64,18 @@ RsmFrame rsm_frame(vec3 x)
     RsmFrame f;
     float r_max = u_gi.r_max;
 #ifdef RSM_CUBE
-    vec3 dir = x - u_light.position_type.xyz;
+    f.light = u_light.position_type.xyz;
+    f.view_proj = mat4(1.0);
+    vec3 dir = x - f.light;
     f.a = major_axis(dir);
     f.r = abs(f.a.y) > 0.5 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     f.u = cross(f.a, f.r);
     f.st = vec2(dot(dir, f.r), dot(dir, f.u)) / abs(dot(dir, f.a));
     f.scale = 2.0 * r_max;
 #else
-    vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
+    f.light = vec3(0.0);
+    f.view_proj = u_light.shadow_view_proj;
+    vec4 c = f.view_proj * vec4(x, 1.0);
     f.a = f.r = f.u = vec3(0.0);
     f.st = c.xy / c.w * 0.5 + 0.5;
     f.scale = r_max;
@@ -82,6 +91,8 @@ const float GOLDEN = 0.61803398874989485; // (√5 − 1)/2
 vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bool unbiased, int n_pattern)
 {
     float K = u_gi.disk_texels;
+    // Read once: a uniform read in the loop is a per-lane gather on llvmpipe.
+    float r2_per_area = u_gi.disk_r2_per_area;
     vec3 sum = vec3(0.0);
     float wsum = 0.0;
     // Fibonacci pattern: sample i at ξ1 = (i + ½)/n, angle 2π·frac(iφ); the
@@ -113,7 +124,7 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
         float jac = inside ? 1.0 : 0.0;
 #endif
         vec3 e = vpl_irradiance_disk(x, n, surfel_unpack_position(s), surfel_unpack_normal(s), flux.rgb,
-                                     flux.a * u_gi.disk_r2_per_area);
+                                     flux.a * r2_per_area);
         float w = unbiased ? 2.0 * smp.z : smp.z * smp.z;
         sum += e * (w * jac);
         wsum += smp.z * smp.z;
@@ -129,12 +140,12 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
 bool rsm_in_disk(RsmFrame f, vec3 xp)
 {
 #ifdef RSM_CUBE
-    vec3 dp = xp - u_light.position_type.xyz;
+    vec3 dp = xp - f.light;
     float h = dot(dp, f.a);
     vec2 q = vec2(dot(dp, f.r), dot(dp, f.u));
     return h > 0.0 && distance(q, f.st * h) <= f.scale * h;
 #else
-    vec4 cp = u_light.shadow_view_proj * vec4(xp, 1.0);
+    vec4 cp = f.view_proj * vec4(xp, 1.0);
     return distance(cp.xy / cp.w * 0.5 + 0.5, f.st) <= f.scale;
 #endif
 }
@@ -153,9 +164,10 @@ vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int 
     vec3 near = rsm_gather(f, x, n, first, stride, local, true, max(u_gi.samples / 2, 1));
     vec3 far = vec3(0.0);
     uint base = set * uint(u_gi.list_set);
+    float r2_per_area = u_gi.disk_r2_per_area;
     for (int k = 0; k < global; k++) {
         GpuVpl v = rsm_samples[base + uint(first + k * stride)];
-        vec3 e = vpl_irradiance_disk(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb, v.flux.w * u_gi.disk_r2_per_area);
+        vec3 e = vpl_irradiance_disk(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb, v.flux.w * r2_per_area);
         far += rsm_in_disk(f, v.position_xi.xyz) ? vec3(0.0) : e;
     }
     return near + far / float(global);

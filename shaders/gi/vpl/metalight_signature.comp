@@ -23,6 +23,7 @@ void main()
     ivec2 grid = ivec2(u_vpl.signature_w, u_vpl.signature_h);
     vec2 mean_uv = vec2(0.0);
     float total = 0.0;
+    VplFalloff fo = vpl_falloff_params();
     for (int sy = 0; sy < grid.y; sy++)
         for (int sx = 0; sx < grid.x; sx++) {
             vec2 uv = (vec2(sx, sy) + 0.5) / vec2(grid);
@@ -32,7 +33,7 @@ void main()
                 continue;
             float d2;
             vec3 ic = vpl_intensity_cos(vpls[i], p, n, d2);
-            float c = dot(ic * vpl_falloff(vpls[i], d2), vec3(0.2126, 0.7152, 0.0722));
+            float c = dot(ic * vpl_falloff(fo, vpls[i], d2), vec3(0.2126, 0.7152, 0.0722));
             mean_uv += c * uv;
             total += c;
         }

@@ -24,7 +24,7 @@ void main()
     float alpha = TWO_PI * u_vpl.slc_emax / (u_vpl.slc_exposure * max(i_max, 1e-30));
     // A disk VPL is kept while its falloff 1/(d² + r²) exceeds α·ξ, i.e.
     // within √(1/(α ξ) − r²): then E[kept · max(α, falloff)] = falloff.
-    float r2 = vpl_r2(vpls[i]), xi = vpls[i].position_xi.w;
+    float r2 = vpl_r2(vpl_falloff_params(), vpls[i]), xi = vpls[i].position_xi.w;
     ranges[i] = vec2(alpha, r2 > 0.0 ? sqrt(max(1.0 / (alpha * xi) - r2, 0.0)) : inversesqrt(alpha * xi));
 #else
     ranges[i] = vec2(0.0, u_vpl.clamp_range);

@@ -44,6 +44,7 @@ void main()
     uint count = 0u, visits = 0u;
     if (inside && gb_surface(px, x, n)) {
         float d2;
+        VplFalloff fo = vpl_falloff_params();
 #if defined(MODE_ALL)
         float q = u_vpl.keep;
         uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
@@ -51,7 +52,7 @@ void main()
             if (q < 1.0 && vpls[i].position_xi.w >= q)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * vpl_falloff(vpls[i], d2);
+            e += ic * vpl_falloff(fo, vpls[i], d2);
             count++;
         }
         e /= q;
@@ -68,7 +69,7 @@ void main()
             if (dot(d, d) >= ar.y * ar.y)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * max(ar.x, vpl_falloff(vpls[i], d2));
+            e += ic * max(ar.x, vpl_falloff(fo, vpls[i], d2));
             count++;
         }
 #elif defined(MODE_INTERLEAVED)
@@ -81,7 +82,7 @@ void main()
             if (i == 0xffffffffu)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * vpl_falloff(vpls[i], d2);
+            e += ic * vpl_falloff(fo, vpls[i], d2);
             count++;
         }
         e *= float(u_vpl.subset_count);

@@ -45,7 +45,7 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
     if (u_exhaustive == 0)
         return rsm_gather(rsm_frame(x), x, n, first, stride, count, u_gi.weighting == RSM_WEIGHT_UNBIASED, u_gi.samples);
     vec3 e = vec3(0.0);
-    float r2_per_area = u_gi.disk_r2_per_area; // read once (see rsm_gather)
+    float r2_per_area = u_gi.disk_r2_per_area; // read once (see RsmFrame)
     uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
     for (uint i = u_chunk; i < nv; i++)
         e += vpl_irradiance_disk(x, n, vpls[i].position_xi.xyz, vpls[i].normal.xyz, vpls[i].flux.rgb,

@@ -52,17 +52,18 @@ struct RsmFrame {
     vec3 a, r, u; // cube: the face's axis and its plane's basis
     vec2 st;      // x's coordinates
     float scale;  // the disk's radius (cube: the face is 2 wide)
-    // The light's position (cube) or projection (2D), read from u_light
-    // once: rsm_in_disk runs in a loop, where on llvmpipe every uniform
-    // read is a per-lane gather (16 of them for the matrix).
-    vec3 light;
-    mat4 view_proj;
+    // Uniforms the sample loops need, read once: in a loop, every uniform
+    // read is a per-lane gather on llvmpipe (16 of them for the matrix).
+    vec3 light;          // cube: the light's position
+    mat4 view_proj;      // 2D: the light's projection (rsm_in_disk)
+    float r2_per_area;   // the texel disk's r² per texel area
 };
 
 RsmFrame rsm_frame(vec3 x)
 {
     RsmFrame f;
     float r_max = u_gi.r_max;
+    f.r2_per_area = u_gi.disk_r2_per_area;
 #ifdef RSM_CUBE
     f.light = u_light.position_type.xyz;
     f.view_proj = mat4(1.0);
@@ -91,8 +92,6 @@ const float GOLDEN = 0.61803398874989485; // (√5 − 1)/2
 vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bool unbiased, int n_pattern)
 {
     float K = u_gi.disk_texels;
-    // Read once: a uniform read in the loop is a per-lane gather on llvmpipe.
-    float r2_per_area = u_gi.disk_r2_per_area;
     vec3 sum = vec3(0.0);
     float wsum = 0.0;
     // Fibonacci pattern: sample i at ξ1 = (i + ½)/n, angle 2π·frac(iφ); the
@@ -124,7 +123,7 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
         float jac = inside ? 1.0 : 0.0;
 #endif
         vec3 e = vpl_irradiance_disk(x, n, surfel_unpack_position(s), surfel_unpack_normal(s), flux.rgb,
-                                     flux.a * r2_per_area);
+                                     flux.a * f.r2_per_area);
         float w = unbiased ? 2.0 * smp.z : smp.z * smp.z;
         sum += e * (w * jac);
         wsum += smp.z * smp.z;
@@ -164,10 +163,9 @@ vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int 
     vec3 near = rsm_gather(f, x, n, first, stride, local, true, max(u_gi.samples / 2, 1));
     vec3 far = vec3(0.0);
     uint base = set * uint(u_gi.list_set);
-    float r2_per_area = u_gi.disk_r2_per_area;
     for (int k = 0; k < global; k++) {
         GpuVpl v = rsm_samples[base + uint(first + k * stride)];
-        vec3 e = vpl_irradiance_disk(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb, v.flux.w * r2_per_area);
+        vec3 e = vpl_irradiance_disk(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb, v.flux.w * f.r2_per_area);
         far += rsm_in_disk(f, v.position_xi.xyz) ? vec3(0.0) : e;
     }
     return near + far / float(global);

@@ -58,25 +58,19 @@ static bool rsm_map_create(RsmMap *m, bool cube, int size)
     GLenum target = cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D;
     m->size = size;
     m->cube = cube;
-    m->surfel = gl_texture_make(target, GL_RGBA32UI, size, size, "rsm.surfel");
-    m->flux = gl_texture_make(target, GL_RGBA32F, size, size, "rsm.flux");
+    m->texel = gl_texture_make(target, GL_RGBA32UI, size, size, "rsm.texel");
     m->depth = gl_texture_make(target, GL_DEPTH_COMPONENT32F, size, size, "rsm.depth");
-    const GLuint src[2] = {m->surfel, m->flux};
-    const GLenum fmt[2] = {GL_RGBA32UI, GL_RGBA32F};
-    glGenTextures(2, m->view); /* views need names that were never bound */
-    for (int i = 0; i < 2; i++) {
-        glTextureView(m->view[i], GL_TEXTURE_2D_ARRAY, src[i], fmt[i], 0, 1, 0, cube ? 6 : 1);
-        glTextureParameteri(m->view[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        glTextureParameteri(m->view[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    }
-    return fbo_make(&m->fbo, src, 2, m->depth, cube, "rsm");
+    glGenTextures(1, &m->view); /* views need names that were never bound */
+    glTextureView(m->view, GL_TEXTURE_2D_ARRAY, m->texel, GL_RGBA32UI, 0, 1, 0, cube ? 6 : 1);
+    glTextureParameteri(m->view, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(m->view, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    return fbo_make(&m->fbo, &m->texel, 1, m->depth, cube, "rsm");
 }
 
 static void rsm_map_destroy(RsmMap *m)
 {
-    GLuint t[3] = {m->surfel, m->flux, m->depth};
+    GLuint t[3] = {m->texel, m->depth, m->view};
     glDeleteTextures(3, t);
-    glDeleteTextures(2, m->view);
     glDeleteFramebuffers(1, &m->fbo);
     *m = (RsmMap){0};
 }
@@ -118,8 +112,8 @@ static void free_products(LightStage *ls)
     ls->vpl_key = 0;
 }
 
-/* GPU bytes of the products of `d` (shadow maps: depth; RSMs: position,
- * normal, flux, depth and a technique's importance pyramid; the VPLs). */
+/* GPU bytes of the products of `d` (shadow maps: depth; RSMs: the packed
+ * texel, depth and a technique's importance pyramid; the VPLs). */
 static bool products_fit(const LightStage *ls, const LightStageDesc *d)
 {
     uint64_t shadow = 0, rsm = 0;
@@ -129,7 +123,7 @@ static bool products_fit(const LightStage *ls, const LightStageDesc *d)
         if (d->needs & LIGHT_NEEDS_SHADOW_MAPS)
             shadow += faces * (uint64_t)d->shadow_map_size * (uint64_t)d->shadow_map_size * 4;
         if (d->needs & (LIGHT_NEEDS_RSM | LIGHT_NEEDS_VPLS))
-            rsm += faces * rs * rs * (44 + 6 + ((d->needs & LIGHT_NEEDS_VPLS) ? 48 : 0));
+            rsm += faces * rs * rs * (16 + 4 + 6 + ((d->needs & LIGHT_NEEDS_VPLS) ? 48 : 0));
     }
     char what[128];
     snprintf(what, sizeof what, "shadow.map_size %d (%d light%s)", d->shadow_map_size, ls->light_count,
@@ -314,22 +308,31 @@ static void shadow_face(const LightStage *ls, int face, void *user)
 static void rsm_face(const LightStage *ls, int face, void *user)
 {
     RsmMap *m = user;
-    const GLuint src[2] = {m->surfel, m->flux};
     if (m->cube) {
-        for (int i = 0; i < 2; i++)
-            fbo_attach(m->fbo, GL_COLOR_ATTACHMENT0 + (GLenum)i, src[i], true, face);
+        fbo_attach(m->fbo, GL_COLOR_ATTACHMENT0, m->texel, true, face);
         fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->depth, true, face);
     }
-    const GLuint zero_u[4] = {0, 0, 0, 0};
-    const float zero[4] = {0, 0, 0, 0}, one = 1.f;
-    glClearNamedFramebufferuiv(m->fbo, GL_COLOR, 0, zero_u);
-    glClearNamedFramebufferfv(m->fbo, GL_COLOR, 1, zero);
+    const GLuint zero[4] = {0, 0, 0, 0};
+    const float one = 1.f;
+    glClearNamedFramebufferuiv(m->fbo, GL_COLOR, 0, zero);
     glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
     /* The face (or spot) axis is the view's −z row. */
     const float *v = (const float *)m->frame.view[face];
     vec3 axis = {-v[2], -v[6], -v[10]};
     glProgramUniform3fv(ls->rsm_program, LOC_RSM_FACE_AXIS, 1, axis);
     glProgramUniform3fv(ls->rsm_program_opaque, LOC_RSM_FACE_AXIS, 1, axis);
+}
+
+void light_stage_rsm_texel_frame(const vec3 bounds_min, const vec3 bounds_max, GpuLight *g)
+{
+    for (int k = 0; k < 3; k++) {
+        float ext = bounds_max[k] - bounds_min[k];
+        float pad = 1e-4f * (ext > 0.f ? ext : 0.f) + 1e-6f;
+        g->rsm_box_min[k] = bounds_min[k] - pad;
+        g->rsm_box_step[k] = (ext + 2.f * pad) / 2097151.f;
+    }
+    float most = glm_vec3_max(g->color) * g->shadow_info[1] * g->shadow_info[1];
+    g->rsm_box_min[3] = most > 0.f && isfinite(most) ? most / 16384.f : 1.f;
 }
 
 /* What the VPLs depend on: the lights, the RSM sizes and the seed. */
@@ -397,6 +400,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         GpuLight g;
         shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, m->size, &m->frame);
         shadow_frame_to_gpu(&s->lights[i], &m->frame, m->size, &g);
+        light_stage_rsm_texel_frame(s->bounds_min, s->bounds_max, &g);
         upload_slot(ls, i, SLOT_RSM, &g);
         uint64_t key = map_key(&s->lights[i], m->size, 2);
         if (d->cache && m->key == key)
@@ -449,17 +453,14 @@ void light_stage_bind_shadow(const LightStage *ls, int i)
 
 void light_stage_bind_rsm(const LightStage *ls, int i)
 {
-    const RsmMap *m = &ls->rsm[i];
     bind_slot(ls, i, SLOT_RSM);
-    glBindTextureUnit(TEX_RSM_SURFEL, m->surfel);
-    glBindTextureUnit(TEX_RSM_FLUX, m->flux);
+    glBindTextureUnit(TEX_RSM, ls->rsm[i].texel);
 }
 
 void light_stage_bind_rsm_layers(const LightStage *ls, int i)
 {
-    const RsmMap *m = &ls->rsm[i];
-    glBindTextureUnit(TEX_RSM_SURFEL, m->view[0]);
-    glBindTextureUnit(TEX_RSM_FLUX, m->view[1]);
+    bind_slot(ls, i, SLOT_RSM);
+    glBindTextureUnit(TEX_RSM, ls->rsm[i].view);
 }
 
 void light_stage_bind_vpls(const LightStage *ls)

@@ -46,11 +46,10 @@ typedef struct ShadowMap {
 typedef struct RsmMap {
     int size;          /* texels per side (per face) */
     bool cube;
-    GLuint surfel;     /* RGBA32UI: position and normal of the lit side, packed
-                          (shaders/common/surfel.glsl); 0 where no surface */
-    GLuint flux;       /* RGBA32F: reflected flux Φ (W), a = surface area (m²) */
+    GLuint texel;      /* RGBA32UI: position, normal of the lit side and flux, packed
+                          (shaders/common/rsm_texel.glsl); 0 where no surface */
     GLuint depth;      /* DEPTH32F */
-    GLuint view[2];    /* 2D-array views of surfel and flux (compute passes) */
+    GLuint view;       /* 2D-array view of texel (compute passes) */
     GLuint fbo;
     ShadowFrame frame; /* projection of the last frame */
     uint64_t key;      /* what it was last drawn for (0: never) */
@@ -120,6 +119,14 @@ void light_stage_bind_shadow(const LightStage *ls, int i);
 /* Binds light i's RSM block to UBO_LIGHT and the RSM (2D or cube) to
  * TEX_RSM_SURFEL and TEX_RSM_FLUX. */
 void light_stage_bind_rsm(const LightStage *ls, int i);
+/* How light g's RSM texels are packed (shaders/common/rsm_texel.glsl),
+ * given g's other fields (shadow_frame_to_gpu): positions in the scene's
+ * bounds (padded by 1e-4 of their extent) at 2^21 − 1 steps per axis, flux
+ * in units of 1/16384 of the most a texel can receive, M = max(color)·a
+ * (I ≤ color for every light type; a = texel_k², the texel's area or solid
+ * angle on the projection plane): RGB9E5 keeps its 9 bits from 2^-15 to
+ * 65408 units, i.e. from 1.9e-9·M to 4·M (albedo up to 4). */
+void light_stage_rsm_texel_frame(const vec3 bounds_min, const vec3 bounds_max, GpuLight *g);
 /* Binds light i's RSM as 2D arrays (one layer, or six for a cube) to the
  * same units, for compute passes that walk its texels. */
 void light_stage_bind_rsm_layers(const LightStage *ls, int i);

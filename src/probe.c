@@ -13,26 +13,39 @@
 #include "targets.h"
 #include "util.h"
 
-enum { MAP = 512, GRID = 256, SAMPLES = 64, RUNS = 5 };
+enum { GRID = 256, SAMPLES = 64, RUNS = 5, MAPS = 4 };
 
-/* A map of plausible RSM data: positions near the receivers, unit normals. */
-static GLuint make_map(GLenum target, int which)
+/* A map of plausible RSM data: positions near the receivers, unit normals,
+ * flux (maps 0..2, RGBA32F); map 3 the same packed as RSM texels
+ * (shaders/common/rsm_texel.glsl, in the unit box: position u, v, 0 at
+ * 2^21 − 1 steps, normal +z, flux (1, 1, 1) in RGB9E5). */
+static GLuint make_map(GLenum target, int which, int size)
 {
-    float *texels = malloc(sizeof(float) * 4 * MAP * MAP);
+    bool packed = which == 3;
+    float *texels = malloc(sizeof(float) * 4 * (size_t)size * (size_t)size);
     if (!texels)
         return 0;
-    for (int i = 0; i < MAP * MAP; i++) {
-        float u = (float)(i % MAP) / MAP, v = (float)(i / MAP) / MAP;
+    uint32_t *words = (uint32_t *)texels;
+    for (int i = 0; i < size * size; i++) {
+        float u = (float)(i % size) / (float)size, v = (float)(i / size) / (float)size;
         float *t = texels + 4 * i;
         if (which == 0) { t[0] = u; t[1] = v; t[2] = 0.f; t[3] = 1.f; }
         else if (which == 1) { t[0] = 0.f; t[1] = 0.f; t[2] = 1.f; t[3] = 0.f; }
-        else { t[0] = u; t[1] = v; t[2] = 1.f; t[3] = 1.f; }
+        else if (which == 2) { t[0] = u; t[1] = v; t[2] = 1.f; t[3] = 1.f; }
+        else {
+            uint32_t qx = (uint32_t)(u * 2097151.f + 0.5f), qy = (uint32_t)(v * 2097151.f + 0.5f);
+            words[4 * i + 0] = qx | (qy << 21);
+            words[4 * i + 1] = (qy >> 11) | 0x80000000u; /* z = 0, a surface */
+            words[4 * i + 2] = 32768u | (32768u << 16);  /* octahedral (0, 0): +z */
+            words[4 * i + 3] = 256u | (256u << 9) | (256u << 18) | (16u << 27); /* 1.0 per channel */
+        }
     }
-    GLuint tex = gl_texture_make(target, GL_RGBA32F, MAP, MAP, "probe.map");
+    GLuint tex = gl_texture_make(target, packed ? GL_RGBA32UI : GL_RGBA32F, size, size, "probe.map");
     if (tex) {
         int faces = target == GL_TEXTURE_CUBE_MAP ? 6 : 1;
         for (int f = 0; f < faces; f++)
-            glTextureSubImage3D(tex, 0, 0, 0, f, MAP, MAP, 1, GL_RGBA, GL_FLOAT, texels);
+            glTextureSubImage3D(tex, 0, 0, 0, f, size, size, 1, packed ? GL_RGBA_INTEGER : GL_RGBA,
+                                packed ? GL_UNSIGNED_INT : GL_FLOAT, texels);
     }
     free(texels);
     return tex;
@@ -56,26 +69,28 @@ static double time_kernel(GLuint program)
     return best;
 }
 
-bool probe_run(ProbeResult *out)
+bool probe_run(ProbeResult *out, int map_size)
 {
     memset(out, 0, sizeof *out);
-    GLuint maps[2][3] = {{0}};
+    int size = map_size <= 0 ? PROBE_MAP_DEFAULT : map_size < 64 ? 64 : map_size > PROBE_MAP_MAX ? PROBE_MAP_MAX : map_size;
+    out->map_size = size;
+    GLuint maps[2][MAPS] = {{0}};
     bool ok = true;
     for (int c = 0; c < 2 && ok; c++)
-        for (int k = 0; k < 3 && ok; k++)
-            ok = (maps[c][k] = make_map(c ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, k)) != 0;
+        for (int k = 0; k < MAPS && ok; k++)
+            ok = (maps[c][k] = make_map(c ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, k, size)) != 0;
     GLuint result = ok ? gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, GRID, GRID, "probe.result") : 0;
     ok = ok && result;
     ProgramCache pc;
     program_cache_create(&pc);
     for (int c = 0; c < 2 && ok; c++) {
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < MAPS; k++)
             glBindTextureUnit((GLuint)(TEX_PROBE_MAP + k), maps[c][k]);
         glBindImageTexture(IMG_OUT, result, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        for (int f = c ? 1 : 0; f <= 3 && ok; f++) {
+        for (int f = c ? 1 : 0; f <= 4 && ok; f++) { /* 4: one packed texel */
             char defs[96];
-            snprintf(defs, sizeof defs, "#define SAMPLES %d\n#define FETCHES %d\n%s", SAMPLES, f,
-                     c ? "#define CUBE\n" : "");
+            snprintf(defs, sizeof defs, "#define SAMPLES %d\n#define FETCHES %d\n%s%s", SAMPLES, f > 3 ? 1 : f,
+                     c ? "#define CUBE\n" : "", f > 3 ? "#define PACKED\n" : "");
             GLuint prog = program_cache_get(&pc, &(ShaderProgramDesc){.label = "probe", .comp = "probe/probe.comp",
                                                                       .defines = defs});
             if (!prog) {
@@ -83,7 +98,9 @@ bool probe_run(ProbeResult *out)
                 break;
             }
             double rate = time_kernel(prog);
-            if (c)
+            if (f > 3)
+                *(c ? &out->evals_texel_cube : &out->evals_texel_2d) = rate;
+            else if (c)
                 out->evals_cube[f] = rate;
             else
                 out->evals_2d[f] = rate;
@@ -114,26 +131,33 @@ bool probe_run(ProbeResult *out)
     program_cache_destroy(&pc);
     glDeleteTextures(1, &result);
     for (int c = 0; c < 2; c++)
-        glDeleteTextures(3, maps[c]);
+        glDeleteTextures(MAPS, maps[c]);
     return ok;
 }
 
-double probe_bound(const ProbeResult *r, bool vpl, bool cube, double from_list)
+double probe_bound(const ProbeResult *r, bool vpl, bool cube, double from_list, bool texel)
 {
     if (vpl)
         return r->evals_ssbo;
-    double tex = cube ? r->evals_cube[PROBE_RSM_FETCHES] : r->evals_2d[PROBE_RSM_FETCHES];
+    double tex = texel ? (cube ? r->evals_texel_cube : r->evals_texel_2d)
+                       : cube ? r->evals_cube[PROBE_RSM_FETCHES] : r->evals_2d[PROBE_RSM_FETCHES];
+    if (tex <= 0)
+        return 0;
     /* Time per evaluation adds up over the two kinds of sample. */
     return 1.0 / ((1.0 - from_list) / tex + from_list / r->evals_ssbo);
 }
 
 void probe_print(FILE *out, const ProbeResult *r)
 {
+    fprintf(out, "probe_map_size: %d\n", r->map_size);
     fprintf(out, "probe_arith_evals_per_s: %.4g\n", r->evals_2d[0]);
     for (int f = 1; f <= 3; f++)
         fprintf(out, "probe_2d_fetch%d_evals_per_s: %.4g\n", f, r->evals_2d[f]);
     for (int f = 1; f <= 3; f++)
         fprintf(out, "probe_cube_fetch%d_evals_per_s: %.4g\n", f, r->evals_cube[f]);
+    if (r->evals_texel_2d > 0)
+        fprintf(out, "probe_2d_texel_evals_per_s: %.4g\nprobe_cube_texel_evals_per_s: %.4g\n", r->evals_texel_2d,
+                r->evals_texel_cube);
     fprintf(out, "probe_ssbo_vpl_evals_per_s: %.4g\n", r->evals_ssbo);
 }
 
@@ -143,6 +167,9 @@ bool probe_write_json(const char *path, const ProbeResult *r)
     cJSON_AddItemToObject(o, "evals_2d", cJSON_CreateDoubleArray(r->evals_2d, 4));
     cJSON_AddItemToObject(o, "evals_cube", cJSON_CreateDoubleArray(r->evals_cube, 4));
     cJSON_AddNumberToObject(o, "evals_ssbo", r->evals_ssbo);
+    cJSON_AddNumberToObject(o, "evals_texel_2d", r->evals_texel_2d);
+    cJSON_AddNumberToObject(o, "evals_texel_cube", r->evals_texel_cube);
+    cJSON_AddNumberToObject(o, "map_size", r->map_size);
     char *text = cJSON_Print(o);
     cJSON_Delete(o);
     bool to_stdout = !strcmp(path, "-");
@@ -175,6 +202,15 @@ bool probe_read_json(const char *path, ProbeResult *r)
     ok = ok && cJSON_IsNumber(c) && c->valuedouble > 0;
     if (ok)
         r->evals_ssbo = c->valuedouble;
+    /* Added later: optional (an older result has no packed-texel rates and
+     * was measured on 512² maps). */
+    const cJSON *t2 = cJSON_GetObjectItemCaseSensitive(o, "evals_texel_2d");
+    const cJSON *tc = cJSON_GetObjectItemCaseSensitive(o, "evals_texel_cube");
+    const cJSON *ms = cJSON_GetObjectItemCaseSensitive(o, "map_size");
+    r->evals_texel_2d = cJSON_IsNumber(t2) && t2->valuedouble > 0 ? t2->valuedouble : 0;
+    r->evals_texel_cube = cJSON_IsNumber(tc) && tc->valuedouble > 0 ? tc->valuedouble : 0;
+    r->map_size = cJSON_IsNumber(ms) && ms->valuedouble >= 1 && ms->valuedouble <= 65536 ? (int)ms->valuedouble
+                                                                                           : PROBE_MAP_DEFAULT;
     cJSON_Delete(o);
     if (!ok)
         log_error("probe", "%s: not a probe result (write one with rtgi probe --json FILE)", path);

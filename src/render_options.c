@@ -282,8 +282,12 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
 /* The gather's evaluations/s over its passes' time in their fastest frame
  * (each pass's, summed; as rtgi probe takes its kernels' fastest run, so
  * that the load of a shared machine does not lower one side only) and, with
- * a probe result, the fraction of the matching bound (PROBE_RSM_FETCHES
- * fetches per RSM sample: surfel and flux; or a VPL's three vec4). */
+ * a probe result, the fraction of two bounds: issue 11's yardstick, the
+ * two-fetch kernel (PROBE_RSM_FETCHES RGBA32F fetches per RSM sample; a
+ * VPL's three vec4 from a storage buffer for VPL loops), and for RSM
+ * gathers the kernel that reads what they read, one packed texel per
+ * sample. `--probe run` measures on maps of the gather's RSM size: the
+ * rate of a fetch depends on the size of the map it reads. */
 static void print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
 {
     static const char *const passes[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
@@ -299,13 +303,23 @@ static void print_gather_efficiency(const Renderer *r, const RenderStats *st, co
     printf("gather_evaluations: %llu\n", (unsigned long long)st->gather_evaluations);
     printf("gather_evals_per_s: %.4g\n", rate);
     ProbeResult pr;
-    bool have = probe_path && (!strcmp(probe_path, "run") ? probe_run(&pr) : probe_read_json(probe_path, &pr));
-    if (have) {
-        double bound = probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list);
-        printf("gather_probe_bound: %.4g (%s)\n", bound,
-               st->gather_vpl ? "ssbo_vpl" : st->gather_from_list > 0 ? (st->gather_cube ? "cube_fetch2 + ssbo_vpl" : "2d_fetch2 + ssbo_vpl")
-                              : st->gather_cube ? "cube_fetch2" : "2d_fetch2");
-        printf("gather_fraction_of_bound: %.3f\n", rate / bound);
+    bool have = probe_path && (!strcmp(probe_path, "run") ? probe_run(&pr, st->gather_vpl ? 0 : st->gather_map_size)
+                                                          : probe_read_json(probe_path, &pr));
+    if (!have)
+        return;
+    const char *map = st->gather_cube ? "cube" : "2d", *list = st->gather_from_list > 0 ? " + ssbo_vpl" : "";
+    double bound = probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list, false);
+    if (!st->gather_vpl)
+        printf("gather_probe_map_size: %d\n", pr.map_size);
+    if (st->gather_vpl)
+        printf("gather_probe_bound: %.4g (ssbo_vpl)\n", bound);
+    else
+        printf("gather_probe_bound: %.4g (%s_fetch2%s)\n", bound, map, list);
+    printf("gather_fraction_of_bound: %.3f\n", rate / bound);
+    double texel = st->gather_vpl ? 0 : probe_bound(&pr, false, st->gather_cube, st->gather_from_list, true);
+    if (texel > 0) {
+        printf("gather_texel_bound: %.4g (%s_texel%s)\n", texel, map, list);
+        printf("gather_fraction_of_texel_bound: %.3f\n", rate / texel);
     }
 }
 

@@ -8,11 +8,14 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "light_stage.h"
 #include "passes/pass_direct.h"
 #include "scene.h"
 #include "shader.h"
 #include "shared/gpu_types.h"
 #include "test_util.h"
+
+static double fmax_d(double a, double b) { return a > b ? a : b; }
 
 typedef struct Field {
     const char *name;
@@ -146,14 +149,14 @@ static void constants_match_c_enums(void **state)
     glDeleteProgram(prog);
 }
 
-/* The packed RSM texel (shaders/common/surfel.glsl) gives positions
+/* The G-buffer's packed surfel (shaders/common/surfel.glsl) gives positions
  * back exactly and normals within 1e-3 rad (measured: < 1e-4), over random
  * directions and the octahedron's folds (poles, axes, the equator). */
-static void rsm_surfel_round_trips(void **state)
+static void surfel_round_trips(void **state)
 {
     (void)state;
     enum { N = 4096 };
-    GLuint prog = shader_compute_make("rsm_surfel", "test/rsm_surfel.comp", NULL);
+    GLuint prog = shader_compute_make("surfel", "test/surfel.comp", NULL);
     assert_true(prog != 0);
     static GpuVpl v[N], back[N];
     uint32_t rng = 12345u;
@@ -195,9 +198,154 @@ static void rsm_surfel_round_trips(void **state)
         double angle = 2.0 * asin(sqrt(d2) / 2.0);
         worst = angle > worst ? angle : worst;
     }
-    print_message("rsm surfel: worst normal error %.3g rad over %d directions\n", worst, N);
+    print_message("surfel: worst normal error %.3g rad over %d directions\n", worst, N);
     assert_true(worst < 1e-3);
     glDeleteBuffers(1, &buf);
+    glDeleteProgram(prog);
+}
+
+/* Random unit vector, or one of the 26 directions of the cube's faces,
+ * edges and corners for i < 26 (the octahedron's folds). */
+static void test_direction(int i, uint32_t *rng, float n[3])
+{
+    if (i < 26) {
+        int c = i < 13 ? i : i + 1;
+        n[0] = (float)(c % 3 - 1), n[1] = (float)(c / 3 % 3 - 1), n[2] = (float)(c / 9 - 1);
+    } else {
+        for (int k = 0; k < 3; k++) {
+            *rng = *rng * 1664525u + 1013904223u;
+            n[k] = (float)(*rng >> 8) / 16777216.f * 2.f - 1.f;
+        }
+    }
+    float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len < 1e-3f)
+        n[0] = 1.f, n[1] = n[2] = 0.f, len = 1.f;
+    for (int k = 0; k < 3; k++)
+        n[k] /= len;
+}
+
+static float test_uniform(uint32_t *rng)
+{
+    *rng = *rng * 1664525u + 1013904223u;
+    return (float)(*rng >> 8) / 16777216.f;
+}
+
+/* The RSM texel (shaders/common/rsm_texel.glsl), packed and unpacked in the
+ * frame light_stage_rsm_texel_frame gives a light, over a Sponza-sized box
+ * and each kind of light (cube, spot, directional): positions within 1e-5
+ * of the scene's size, normals within 1e-3 rad, flux within 1% of each
+ * channel at or above a quarter of the texel's largest (and 2^-9 of the
+ * largest for every channel: RGB9E5 shares one exponent), flux spanning six
+ * decades; the area the unpacking derives equals light/rsm.frag's former
+ * stored one, a·cos³·d²/max(n·l, 0.05) (ortho: A/max(n·l, 0.05)), within 1%;
+ * a cleared texel reads as empty with flux and area 0. */
+static void rsm_texel_round_trips(void **state)
+{
+    (void)state;
+    enum { N = 4096 };
+    GLuint prog = shader_compute_make("rsm_texel", "test/rsm_texel.comp", NULL);
+    assert_true(prog != 0);
+    const vec3 bmin = {-19.f, -0.1f, -8.f}, bmax = {18.f, 15.6f, 7.5f};
+    const float extent = 37.f;
+    static GpuVpl v[N], back[N];
+    GLuint buf, ubo;
+    glCreateBuffers(1, &buf);
+    glNamedBufferStorage(buf, sizeof v, NULL, GL_DYNAMIC_STORAGE_BIT);
+    glCreateBuffers(1, &ubo);
+    glNamedBufferStorage(ubo, sizeof(GpuLight), NULL, GL_DYNAMIC_STORAGE_BIT);
+    for (int kind = 0; kind < 3; kind++) { /* point (cube), spot, directional */
+        GpuLight g = {0};
+        const float light[3] = {0.5f, 14.f, -0.3f}, axis[3] = {0.f, -1.f, 0.f};
+        const float sun[3] = {0.3f / 1.0295630f, -0.9f / 1.0295630f, 0.4f / 1.0295630f}; /* unit */
+        const float *dir = kind == 2 ? sun : axis;
+        memcpy(g.position_type, light, sizeof light);
+        g.position_type[3] = (float)(kind == 0 ? LIGHT_POINT : kind == 1 ? LIGHT_SPOT : LIGHT_DIRECTIONAL);
+        memcpy(g.direction_width, dir, 3 * sizeof(float));
+        g.color[0] = 40.f, g.color[1] = 30.f, g.color[2] = 10.f;
+        g.shadow_info[1] = kind == 2 ? 60.f / 2048.f : 2.f / 512.f; /* texel_k */
+        g.shadow_info[3] = kind == 0 ? 1.f : 0.f;
+        light_stage_rsm_texel_frame(bmin, bmax, &g);
+        const float most = 16384.f * g.rsm_box_min[3]; /* the most a texel receives */
+        uint32_t rng = 777u + (uint32_t)kind;
+        for (int i = 0; i < N; i++) {
+            float n[3];
+            test_direction(i, &rng, n);
+            for (int k = 0; k < 3; k++)
+                v[i].position_xi[k] = bmin[k] + (bmax[k] - bmin[k]) * test_uniform(&rng);
+            /* the lit side: facing the light (as rsm.frag flips it) */
+            float to_light[3], tl = 0.f, dot = 0.f;
+            for (int k = 0; k < 3; k++) {
+                to_light[k] = kind == 2 ? -dir[k] : light[k] - v[i].position_xi[k];
+                tl += to_light[k] * to_light[k];
+            }
+            for (int k = 0; k < 3; k++)
+                dot += n[k] * to_light[k];
+            for (int k = 0; k < 3; k++)
+                v[i].normal[k] = dot < 0.f ? -n[k] : n[k];
+            float mag = most * powf(10.f, -6.f * test_uniform(&rng));
+            for (int k = 0; k < 3; k++)
+                v[i].flux[k] = mag * (k == (i % 3) ? 1.f : test_uniform(&rng));
+            v[i].position_xi[3] = i == N - 1 ? -1.f : 0.f; /* the last: a cleared texel */
+        }
+        glNamedBufferSubData(buf, 0, sizeof v, v);
+        glNamedBufferSubData(ubo, 0, sizeof g, &g);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VPL, buf);
+        glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LIGHT, ubo);
+        glUseProgram(prog);
+        glDispatchCompute(N / 64, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(buf, 0, sizeof back, back);
+        double worst_p = 0, worst_n = 0, worst_f = 0, worst_fmax = 0, worst_a = 0;
+        for (int i = 0; i < N - 1; i++) {
+            assert_true(back[i].normal[3] == 1.f);
+            double d2 = 0.0, fmax = 0.0;
+            for (int k = 0; k < 3; k++) {
+                worst_p = fmax_d(worst_p, fabs((double)back[i].position_xi[k] - v[i].position_xi[k]) / extent);
+                d2 += ((double)back[i].normal[k] - v[i].normal[k]) * ((double)back[i].normal[k] - v[i].normal[k]);
+                fmax = fmax_d(fmax, v[i].flux[k]);
+            }
+            worst_n = fmax_d(worst_n, 2.0 * asin(sqrt(d2) / 2.0)); /* the angle from the chord */
+            for (int k = 0; k < 3; k++) {
+                double err = fabs((double)back[i].flux[k] - v[i].flux[k]);
+                worst_fmax = fmax_d(worst_fmax, err / fmax);
+                if (v[i].flux[k] >= 0.25 * fmax)
+                    worst_f = fmax_d(worst_f, err / v[i].flux[k]);
+            }
+            /* rsm.frag's former area, from the exact position and normal */
+            double d[3], dd = 0, h, cos_s = 0;
+            for (int k = 0; k < 3; k++) {
+                d[k] = kind == 2 ? dir[k] : (double)v[i].position_xi[k] - light[k];
+                dd += d[k] * d[k];
+            }
+            for (int k = 0; k < 3; k++)
+                cos_s -= v[i].normal[k] * d[k] / sqrt(dd);
+            cos_s = fmax_d(cos_s, 0.05);
+            double a = (double)g.shadow_info[1] * g.shadow_info[1];
+            if (kind == 2) {
+                h = 1.0;
+            } else if (kind == 1) {
+                h = fabs(d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2]) / sqrt(dd);
+            } else {
+                h = fmax_d(fabs(d[0]), fmax_d(fabs(d[1]), fabs(d[2]))) / sqrt(dd);
+            }
+            double area = kind == 2 ? a / cos_s : a * h * h * h * dd / cos_s;
+            worst_a = fmax_d(worst_a, fabs(back[i].flux[3] - area) / area);
+        }
+        print_message("rsm texel (%s): worst position error %.3g of the scene, normal %.3g rad, flux %.3g "
+                      "(channels >= max/4), %.3g of the largest, area %.3g\n",
+                      kind == 0 ? "cube" : kind == 1 ? "spot" : "directional", worst_p, worst_n, worst_f, worst_fmax,
+                      worst_a);
+        assert_true(worst_p < 1e-5);
+        assert_true(worst_n < 1e-3);
+        assert_true(worst_f < 0.01);
+        assert_true(worst_fmax <= 1.0 / 512.0 + 1e-6);
+        assert_true(worst_a < 0.01);
+        const GpuVpl *e = &back[N - 1];
+        assert_true(e->normal[3] == 0.f && e->flux[0] == 0.f && e->flux[1] == 0.f && e->flux[2] == 0.f &&
+                    e->flux[3] == 0.f);
+    }
+    glDeleteBuffers(1, &buf);
+    glDeleteBuffers(1, &ubo);
     glDeleteProgram(prog);
 }
 
@@ -221,7 +369,8 @@ int main(void)
         cmocka_unit_test(blocks_match_c),
         cmocka_unit_test(texture_units_exist),
         cmocka_unit_test(constants_match_c_enums),
-        cmocka_unit_test(rsm_surfel_round_trips),
+        cmocka_unit_test(surfel_round_trips),
+        cmocka_unit_test(rsm_texel_round_trips),
     };
     return cmocka_run_group_tests_name("layout", tests, test_gl_setup, test_gl_teardown);
 }

@@ -97,7 +97,7 @@ static void resize_and_exposure(void **state)
 
     /* Exposure: nothing remade, only the tone-mapped image changes. */
     GlObjectCounts c0 = gl_count_live_objects(MAX_NAME);
-    GLuint hdr = r.hdr.texture, rsm = r.lights.rsm[0].surfel;
+    GLuint hdr = r.hdr.texture, rsm = r.lights.rsm[0].texel;
     uint8_t *ldr0 = renderer_read_ldr(&r);
     rs.exposure *= 0.5f;
     assert_true(renderer_apply(&r, &rs));
@@ -105,7 +105,7 @@ static void resize_and_exposure(void **state)
     GlObjectCounts c1 = gl_count_live_objects(MAX_NAME);
     assert_int_equal(gl_object_counts_total(&c1), gl_object_counts_total(&c0));
     assert_int_equal(r.hdr.texture, hdr);
-    assert_int_equal(r.lights.rsm[0].surfel, rsm);
+    assert_int_equal(r.lights.rsm[0].texel, rsm);
     uint8_t *ldr1 = renderer_read_ldr(&r);
     assert_true(memcmp(ldr0, ldr1, 3 * (size_t)W * H) != 0);
     free(ldr0);

@@ -178,9 +178,12 @@ static void bad_scene_settings(void **state)
     test_expect_cli_error(rc, err, 2, "--interleave-blur", "on or off");
     rc = test_run_cli(&err, "render", "--size", "8x8", "--bias-const", "nan", NULL);
     test_expect_cli_error(rc, err, 2, "--bias-const", "finite");
-    /* In range, but more than the GPU memory budget (4 GiB by default):
-     * refused before anything is allocated, naming the setting. */
+    /* In range, but more than the GPU memory budget (here 2 GiB; a 4096²
+     * cube RSM takes 2.5 GiB): refused before anything is allocated, naming
+     * the setting. */
+    setenv("RTGI_GPU_BUDGET_MIB", "2048", 1);
     rc = test_run_cli(&err, "render", "--size", "8x8", "--gi", "rsm", "--rsm-size", "4096", NULL);
+    unsetenv("RTGI_GPU_BUDGET_MIB");
     test_expect_cli_error(rc, err, 1, "gi.rsm_size 4096", "budget");
     rc = test_run_cli(&err, "render", "--size", "16384x16384", NULL);
     test_expect_cli_error(rc, err, 1, "--size 16384x16384", "budget");

@@ -26,31 +26,6 @@
 
 #include "common/surfel.glsl"
 
-const float RGB9E5_MAX = 65408.0; // (2⁹ − 1)/2⁹ · 2¹⁶
-
-// The shared exponent e (bias 15, plus 1) is floor(log2(max channel)) + 16,
-// read from the float's exponent bits (no log2/exp2 per fragment); each
-// channel is round(c / 2^(e − 24)), and e rises by one where the largest
-// rounds up to 512.
-uint pack_rgb9e5(vec3 c)
-{
-    c = clamp(c, 0.0, RGB9E5_MAX);
-    float m = max(c.r, max(c.g, c.b));
-    int e = max(int(floatBitsToUint(m) >> 23) - 127, -16) + 16;
-    float scale = uintBitsToFloat(uint(127 + 24 - e) << 23); // 2^(24 − e)
-    if (floor(m * scale + 0.5) >= 512.0) {
-        e++;
-        scale *= 0.5;
-    }
-    uvec3 q = uvec3(floor(c * scale + 0.5));
-    return q.r | (q.g << 9) | (q.b << 18) | (uint(e) << 27);
-}
-
-vec3 unpack_rgb9e5(uint p)
-{
-    return vec3(uvec3(p, p >> 9, p >> 18) & 0x1ffu) * exp2(float(int(p >> 27) - 24));
-}
-
 uvec4 gb_material_pack(vec3 base, float metallic, float roughness, float specular, vec3 emission)
 {
     return uvec4(packUnorm2x16(base.rg), packUnorm2x16(vec2(base.b, roughness)), pack_rgb9e5(emission),

@@ -1,28 +1,13 @@
 // surfel.glsl — a surface point packed in one RGBA32UI texel: the world
 // position (xyz: the float bits, exact) and a unit normal in w (octahedral
 // map, Cigolle et al. 2014, 15 bits per coordinate: error < 1e-4 rad; bit
-// 31 marks a texel that holds a surface). The RSM's texel (the lit side's
-// normal, beside its RGBA32F flux texel: two fetches per gather sample,
-// issue 11) and the G-buffer's surface texel (the camera-facing normal,
-// common/gbuffer.glsl) are both one.
+// 31 marks a texel that holds a surface): the G-buffer's surface texel
+// (the camera-facing normal, common/gbuffer.glsl). RSM texels are packed
+// tighter, flux included (common/rsm_texel.glsl).
 #ifndef SURFEL_GLSL
 #define SURFEL_GLSL
 
-vec2 oct_encode(vec3 n)
-{
-    vec2 p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
-    if (n.z < 0.0)
-        p = (1.0 - abs(p.yx)) * vec2(p.x >= 0.0 ? 1.0 : -1.0, p.y >= 0.0 ? 1.0 : -1.0);
-    return p;
-}
-
-vec3 oct_decode(vec2 e)
-{
-    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-    float t = max(-n.z, 0.0);
-    n.xy -= vec2(n.x >= 0.0 ? t : -t, n.y >= 0.0 ? t : -t);
-    return n * inversesqrt(dot(n, n));
-}
+#include "common/packing.glsl"
 
 uvec4 surfel_pack(vec3 position, vec3 normal)
 {

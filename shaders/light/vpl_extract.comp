@@ -3,12 +3,11 @@
 // counts them. The RSM layers are read through 2D-array views (a 2D RSM is
 // one layer, a cube RSM six).
 #include "shared/gpu_types.h"
-#include "common/surfel.glsl"
+#include "common/rsm_texel.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray r_surfel;
-layout(binding = TEX_RSM_FLUX) uniform sampler2DArray r_flux;
+layout(binding = TEX_RSM) uniform usampler2DArray r_texel;
 layout(location = LOC_VPL_STRIDE) uniform int u_stride; // keep every stride-th texel per axis (subsampling)
 layout(location = LOC_VPL_SEED) uniform uint u_seed; // seed of the VPLs' random ξ
 
@@ -25,19 +24,20 @@ uint hash_u32(uint x)
 
 void main()
 {
-    ivec3 size = textureSize(r_surfel, 0);
+    ivec3 size = textureSize(r_texel, 0);
     ivec3 id = ivec3(gl_GlobalInvocationID.xy * uint(u_stride), gl_GlobalInvocationID.z);
     if (id.x >= size.x || id.y >= size.y || id.z >= size.z)
         return;
-    uvec4 s = texelFetch(r_surfel, id, 0);
-    vec4 fa = texelFetch(r_flux, id, 0) * float(u_stride * u_stride); // flux, area
-    vec3 flux = fa.rgb;
-    if (!surfel_valid(s) || max(flux.r, max(flux.g, flux.b)) <= 0.0)
+    vec3 p, n, flux;
+    float area;
+    bool valid = rsm_texel_unpack(rsm_texel_frame(), texelFetch(r_texel, id, 0), p, n, flux, area);
+    float k = float(u_stride * u_stride); // a kept texel stands for k
+    if (!valid || max(flux.r, max(flux.g, flux.b)) <= 0.0)
         return;
     uint texel = uint(id.x + size.x * (id.y + size.y * id.z));
     float xi = (float(hash_u32(texel ^ hash_u32(u_seed + 0x9e3779b9u)) >> 8) + 1.0) / 16777216.0;
     uint i = atomicAdd(counters[0], 1u);
-    vpls[i].position_xi = vec4(surfel_unpack_position(s), xi);
-    vpls[i].normal = vec4(surfel_unpack_normal(s), 0.0);
-    vpls[i].flux = vec4(flux, fa.a);
+    vpls[i].position_xi = vec4(p, xi);
+    vpls[i].normal = vec4(n, 0.0);
+    vpls[i].flux = vec4(flux * k, area * k);
 }

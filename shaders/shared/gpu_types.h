@@ -40,9 +40,8 @@
 #define TEX_GB_MATERIAL 4 /* G-buffer RGBA32UI: base colour, roughness, emission, metallic, specular weight */
 #define TEX_BRDF_ALBEDO 5 /* RG32F BRDF_ALBEDO_N²: the GGX lobe's directional albedo terms A, B (src/brdf.c) */
 #define TEX_HDR 7
-#define TEX_RSM_SURFEL 8 /* RGBA32UI: position bits, octahedral normal (common/surfel.glsl) */
+#define TEX_RSM 8        /* RGBA32UI: position, normal, flux packed (common/rsm_texel.glsl) */
 #define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..2 at 8 + k */
-#define TEX_RSM_FLUX 10  /* RGBA32F: Φ rgb, a = area */
 #define TEX_GI 11        /* indirect irradiance */
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
 #define TEX_REFERENCE 12 /* the window's A/B view: the --compare image (shares TEX_INPUT's unit) */
@@ -151,7 +150,9 @@
     F(vec4, shadow_origin)    /* directional: point on the ortho near plane; others: light position */ \
     F(vec4, shadow_info)      /* x: far (stored depth × far = m), y: texel factor k, z: map resolution, w: 1 for a cube */ \
     F(vec4, quad_u)           /* quad: full edge vector u at the light's size (m); rgb of color is then L·A */ \
-    F(vec4, quad_v)           /* quad: full edge vector v; corners = position ± u/2 ± v/2; w: area A (m²) */
+    F(vec4, quad_v)           /* quad: full edge vector v; corners = position ± u/2 ± v/2; w: area A (m²) */ \
+    F(vec4, rsm_box_min)      /* RSM texels (common/rsm_texel.glsl): xyz min corner of the position box; w: flux unit (W) */ \
+    F(vec4, rsm_box_step)     /* xyz: the position quantum per axis (m), the box over 2^21 − 1 */
 
 /* Shadow filtering (std140). */
 #define GPU_SHADOW_PARAMS_FIELDS(F, A)                                          \
@@ -292,7 +293,7 @@ layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
 layout(std140, binding = UBO_LPV) uniform LpvBlock { GpuLpvParams u_lpv; };
 layout(std140, binding = UBO_VCT) uniform VctBlock { GpuVctParams u_vct; };
 #else
-static_assert(sizeof(GpuLight) == 12 * 16, "GpuLight: std140 size");
+static_assert(sizeof(GpuLight) == 14 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
 static_assert(sizeof(GpuGiParams) == 18 * 4, "GpuGiParams: 18 scalars (std140 rounds the block to 80)");

@@ -41,6 +41,7 @@ typedef struct GiStats {
     int metalight_regroups;   /* times the metalight grouping was computed */
     uint64_t gather_evaluations; /* sample (or VPL) evaluations of the gather passes */
     bool gather_cube;         /* they read cube maps (the probe's matching bound) */
+    int gather_map_size;      /* side of the maps they read (the probe's maps for --probe run); 0: none */
     bool gather_vpl;          /* they loop over VPLs in a storage buffer */
     float gather_from_list;   /* fraction of their samples read from a storage-buffer list */
     uint64_t gpu_bytes;       /* GPU memory the technique holds (its own textures and buffers) */

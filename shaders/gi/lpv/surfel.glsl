@@ -11,23 +11,29 @@
 #define LPV_SURFEL_GLSL
 
 // surfel_position: xyz, w = 1 where the texel holds a surface.
-// Both kinds are packed surfels (common/surfel.glsl).
+// G-buffer pixels are packed surfels (common/surfel.glsl), RSM texels packed
+// RSM texels (common/rsm_texel.glsl, positions in the light's box).
 #include "common/surfel.glsl"
+#include "common/rsm_texel.glsl" // (the shader loader inlines a file once, wherever it is first named)
 #ifdef GBUFFER
 layout(binding = TEX_GB_SURFACE) uniform usampler2D s_surfel;
-uvec4 surfel_texel(ivec3 q) { return texelFetch(s_surfel, q.xy, 0); }
 ivec3 surfel_size() { return ivec3(textureSize(s_surfel, 0), 1); }
-#else
-layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray s_surfel;
-uvec4 surfel_texel(ivec3 q) { return texelFetch(s_surfel, q, 0); }
-ivec3 surfel_size() { return textureSize(s_surfel, 0); }
-#endif
 vec4 surfel_position(ivec3 q)
 {
-    uvec4 s = surfel_texel(q);
+    uvec4 s = texelFetch(s_surfel, q.xy, 0);
     return vec4(surfel_unpack_position(s), surfel_valid(s) ? 1.0 : 0.0);
 }
-vec3 surfel_normal(ivec3 q) { return surfel_unpack_normal(surfel_texel(q)); }
+vec3 surfel_normal(ivec3 q) { return surfel_unpack_normal(texelFetch(s_surfel, q.xy, 0)); }
+#else
+layout(binding = TEX_RSM) uniform usampler2DArray s_texel;
+ivec3 surfel_size() { return textureSize(s_texel, 0); }
+vec4 surfel_position(ivec3 q)
+{
+    uvec4 t = texelFetch(s_texel, q, 0);
+    return vec4(rsm_texel_position(rsm_texel_frame(), t), rsm_texel_valid(t) ? 1.0 : 0.0);
+}
+vec3 surfel_normal(ivec3 q) { return rsm_texel_normal(texelFetch(s_texel, q, 0)); }
+#endif
 
 // The shorter valid difference to the neighbours along `axis`; zero if none.
 vec3 surfel_tangent(ivec3 q, ivec3 axis, ivec2 size, vec3 p)

@@ -12,13 +12,14 @@
 // A pixel's gather takes one whole set (chosen by a hash of the pixel), so
 // its samples are stratified and neighbours' are independent.
 #include "shared/gpu_types.h"
+#include "common/rsm_texel.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(location = LOC_IMPORTANCE_LEVEL) uniform int u_level; // level written (REDUCE), top level (SAMPLE)
 
 #if defined(MODE_LEVEL0)
-layout(binding = TEX_RSM_FLUX) uniform sampler2DArray r_flux;
+layout(binding = TEX_RSM) uniform usampler2DArray r_texel;
 layout(r32f, binding = IMG_OUT) uniform writeonly image2DArray o_level;
 void main()
 {
@@ -26,10 +27,10 @@ void main()
     ivec3 size = imageSize(o_level);
     if (id.x >= size.x || id.y >= size.y || id.z >= size.z)
         return;
-    ivec3 rsm = textureSize(r_flux, 0);
+    ivec3 rsm = textureSize(r_texel, 0);
     float lum = 0.0;
     if (id.x < rsm.x && id.y < rsm.y) {
-        vec3 f = texelFetch(r_flux, id, 0).rgb;
+        vec3 f = rsm_texel_flux(rsm_texel_frame(), texelFetch(r_texel, id, 0));
         lum = dot(f, vec3(0.2126, 0.7152, 0.0722));
     }
     imageStore(o_level, id, vec4(lum));
@@ -51,9 +52,7 @@ void main()
 }
 #elif defined(MODE_SAMPLE)
 layout(binding = TEX_INPUT) uniform sampler2DArray u_pyramid;
-#include "common/surfel.glsl"
-layout(binding = TEX_RSM_SURFEL) uniform usampler2DArray r_surfel;
-layout(binding = TEX_RSM_FLUX) uniform sampler2DArray r_flux;
+layout(binding = TEX_RSM) uniform usampler2DArray r_texel;
 layout(std430, binding = SSBO_SAMPLES) writeonly buffer SampleBlock { GpuVpl samples[]; };
 
 uint hash_u32(uint x)
@@ -129,13 +128,14 @@ void main()
     }
     ivec3 t = ivec3(p, face);
     float lum = texelFetch(u_pyramid, t, 0).r;
-    vec4 flux = texelFetch(r_flux, t, 0); // a: the texel's surface area
-    uvec4 s = texelFetch(r_surfel, t, 0);
+    vec3 xp, np, flux;
+    float area;
+    bool valid = rsm_texel_unpack(rsm_texel_frame(), texelFetch(r_texel, t, 0), xp, np, flux, area);
     // Φ_t / p_t with p_t = lum_t / total; empty texels (p = 0) are never
     // chosen unless the whole map is dark, and then carry nothing.
-    vec3 w = lum > 0.0 && surfel_valid(s) ? flux.rgb * (total / lum) : vec3(0.0);
-    samples[i].position_xi = vec4(surfel_unpack_position(s), 0.0);
-    samples[i].normal = vec4(surfel_unpack_normal(s), 0.0);
-    samples[i].flux = vec4(w, flux.a);
+    vec3 w = lum > 0.0 && valid ? flux * (total / lum) : vec3(0.0);
+    samples[i].position_xi = vec4(xp, 0.0);
+    samples[i].normal = vec4(np, 0.0);
+    samples[i].flux = vec4(w, area);
 }
 #endif

@@ -24,13 +24,15 @@
 
 layout(std430, binding = SSBO_SAMPLES) readonly buffer SampleBlock { GpuVpl rsm_samples[]; };
 
-#include "common/surfel.glsl"
+#ifndef RSM_CUBE
+#define RSM_2D
+#endif
+#include "common/rsm_texel.glsl"
+// One RGBA32UI texel per sample: position, normal and flux (the area follows).
 #ifdef RSM_CUBE
-layout(binding = TEX_RSM_SURFEL) uniform usamplerCube rsm_surfel;
-layout(binding = TEX_RSM_FLUX) uniform samplerCube rsm_flux;
+layout(binding = TEX_RSM) uniform usamplerCube rsm_map;
 #else
-layout(binding = TEX_RSM_SURFEL) uniform usampler2D rsm_surfel;
-layout(binding = TEX_RSM_FLUX) uniform sampler2D rsm_flux;
+layout(binding = TEX_RSM) uniform usampler2D rsm_map;
 #endif
 
 // Signed major axis of d.
@@ -57,6 +59,7 @@ struct RsmFrame {
     vec3 light;          // cube: the light's position
     mat4 view_proj;      // 2D: the light's projection (rsm_in_disk)
     float r2_per_area;   // the texel disk's r² per texel area
+    RsmTexelFrame texel; // how the map's texels unpack
 };
 
 RsmFrame rsm_frame(vec3 x)
@@ -64,6 +67,7 @@ RsmFrame rsm_frame(vec3 x)
     RsmFrame f;
     float r_max = u_gi.r_max;
     f.r2_per_area = u_gi.disk_r2_per_area;
+    f.texel = rsm_texel_frame();
 #ifdef RSM_CUBE
     f.light = u_light.position_type.xyz;
     f.view_proj = mat4(1.0);
@@ -106,8 +110,7 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
         vec2 q = f.st + f.scale * smp.xy;
 #ifdef RSM_CUBE
         vec3 D = f.a + q.x * f.r + q.y * f.u;
-        uvec4 s = textureLod(rsm_surfel, D, 0.0);
-        vec4 flux = textureLod(rsm_flux, D, 0.0);
+        uvec4 t = textureLod(rsm_map, D, 0.0);
         // Texels per plane area where D meets its own face, relative to the
         // face of x: (|D·a| / |D·major(D)|)³ with D·a = 1, i.e. m⁻³ for
         // m = max(1, |q.x|, |q.y|) (D's components along a, r, u are 1, q).
@@ -118,12 +121,13 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
         // border texel is weighted 0) but, with the paper's weights, still
         // counts in the average.
         bool inside = all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, vec2(1.0)));
-        uvec4 s = textureLod(rsm_surfel, q, 0.0);
-        vec4 flux = textureLod(rsm_flux, q, 0.0);
+        uvec4 t = textureLod(rsm_map, q, 0.0);
         float jac = inside ? 1.0 : 0.0;
 #endif
-        vec3 e = vpl_irradiance_disk(x, n, surfel_unpack_position(s), surfel_unpack_normal(s), flux.rgb,
-                                     flux.a * f.r2_per_area);
+        // An empty texel unpacks to flux 0 and a finite area: it adds 0.
+        vec3 xp = rsm_texel_position(f.texel, t), np = rsm_texel_normal(t);
+        vec3 e = vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f.texel, t),
+                                     rsm_texel_area(f.texel, xp, np) * f.r2_per_area);
         float w = unbiased ? 2.0 * smp.z : smp.z * smp.z;
         sum += e * (w * jac);
         wsum += smp.z * smp.z;

@@ -350,6 +350,7 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
         per_pixel = (uint64_t)(g->params.samples / (g->params.interleave_n * g->params.interleave_m));
     st->gather_evaluations = (uint64_t)st->gathered_pixels * (per_pixel ? per_pixel : 1);
     st->gather_cube = f->lights->light_count > 0 && f->lights->rsm[0].cube;
+    st->gather_map_size = f->lights->light_count > 0 ? f->lights->rsm[0].size : 0;
     st->gather_vpl = g->params.exhaustive;
     st->gather_from_list = importance_on(g) ? 0.5f : 0.f;
 }

@@ -1,5 +1,5 @@
-// test/rsm_surfel.comp — packs each GpuVpl's position and normal into an
-// RSM surfel texel and unpacks it again in place (tests/test_layout.c);
+// test/surfel.comp — packs each GpuVpl's position and normal into a
+// G-buffer surfel texel and unpacks it again in place (tests/test_layout.c);
 // normal.w = 1 where the texel reads as valid.
 #include "shared/gpu_types.h"
 #include "common/surfel.glsl"

@@ -19,7 +19,8 @@ static void probe_measures_and_round_trips(void **state)
                   r.evals_2d[0], r.evals_2d[1], r.evals_2d[2], r.evals_2d[3], r.evals_cube[3], r.evals_ssbo);
     for (int f = 0; f < 4; f++)
         assert_true(r.evals_2d[f] > 0 && r.evals_cube[f] > 0);
-    assert_true(r.evals_ssbo > 0);
+    assert_true(r.evals_ssbo > 0 && r.evals_texel_2d > 0 && r.evals_texel_cube > 0);
+    assert_int_equal(r.map_size, 64);
     /* Which kernel is faster is a measurement, not a test: under load on
      * shared cores the 3-fetch kernel once timed faster than the 1-fetch
      * one. `rtgi probe` prints the rates. */
@@ -31,6 +32,17 @@ static void probe_measures_and_round_trips(void **state)
         assert_true(fabs(back.evals_2d[f] / r.evals_2d[f] - 1) < 1e-12 &&
                     fabs(back.evals_cube[f] / r.evals_cube[f] - 1) < 1e-12);
     assert_true(fabs(back.evals_ssbo / r.evals_ssbo - 1) < 1e-12);
+    assert_true(fabs(back.evals_texel_2d / r.evals_texel_2d - 1) < 1e-12 &&
+                fabs(back.evals_texel_cube / r.evals_texel_cube - 1) < 1e-12);
+    assert_int_equal(back.map_size, 64);
+    /* A result written before the packed-texel kernels still reads: 512²
+     * maps, no texel rates (and no texel bound). */
+    assert_true(probe_read_json(
+        test_tmp_file("old_probe.json", "{\"evals_2d\": [1, 2, 3, 4], \"evals_cube\": [1, 2, 3, 4], \"evals_ssbo\": 5}"),
+        &back));
+    assert_int_equal(back.map_size, 512);
+    assert_true(back.evals_texel_2d == 0 && probe_bound(&back, false, false, 0, true) == 0);
+    assert_true(probe_bound(&back, false, false, 0, false) == 3);
     assert_false(probe_read_json(test_tmp_file("not_probe.json", "{\"evals_2d\": [1, 2]}"), &back));
 }
 
@@ -48,6 +60,9 @@ static void timings_state_the_fraction(void **state)
     text[len] = 0;
     assert_int_equal(pclose(p), 0);
     assert_non_null(strstr(text, "gather_fraction_of_bound: "));
+    /* the kernel that reads what the gather reads, on maps of its RSM size */
+    assert_non_null(strstr(text, "gather_fraction_of_texel_bound: "));
+    assert_non_null(strstr(text, "gather_probe_map_size: 512\n"));
     /* Cold frames draw the light products; steady frames (issue 11) keep
      * them: no shadow or RSM pass among the steady ones. */
     assert_non_null(strstr(text, "  shadow "));
@@ -85,12 +100,22 @@ static void json_to_stdout(void **state)
     free(err);
 }
 
+/* --map-size out of range: a clear error naming the option, exit 2. */
+static void map_size_is_checked(void **state)
+{
+    (void)state;
+    char *err = NULL;
+    int rc = test_run_cli(&err, "probe", "--map-size", "16", NULL);
+    test_expect_cli_error(rc, err, 2, "--map-size", "64");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(probe_measures_and_round_trips),
         cmocka_unit_test(timings_state_the_fraction),
         cmocka_unit_test(json_to_stdout),
+        cmocka_unit_test(map_size_is_checked),
     };
     return cmocka_run_group_tests_name("probe", tests, test_gl_setup, test_gl_teardown);
 }

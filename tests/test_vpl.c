@@ -206,6 +206,42 @@ static void metalights(void **state)
     scene_free(&s);
 }
 
+/* The interleaved methods shade one sub-image per work group (8n × 8m
+ * pixel blocks, shaders/gi/vpl/shade.comp): at a size no block divides,
+ * every pixel that brute force lights gets a finite, positive sum (a pixel
+ * the dispatch missed would keep the cleared 0). */
+static void interleaved_covers_odd_sizes(void **state)
+{
+    (void)state;
+    enum { OW = 45, OH = 37 };
+    Scene s;
+    GiParams gp;
+    cornell(&s, &gp, 1024);
+    gp.interleave_blur = false;
+    ImageF brute, img;
+    test_render_gi(&s, OW, OH, GI_VPL_ALL, &gp, &brute);
+    const GiMode modes[2] = {GI_VPL_INTERLEAVED, GI_VPL_METALIGHTS};
+    for (int m = 0; m < 2; m++) {
+        test_render_gi(&s, OW, OH, modes[m], &gp, &img);
+        int lit = 0, bad = 0;
+        for (int i = 0; i < OW * OH; i++) {
+            float b = brute.rgb[3 * i] + brute.rgb[3 * i + 1] + brute.rgb[3 * i + 2];
+            float v = img.rgb[3 * i] + img.rgb[3 * i + 1] + img.rgb[3 * i + 2];
+            if (b > 1e-6f) {
+                lit++;
+                bad += !(isfinite(v) && v > 0.f);
+            }
+        }
+        print_message("%s at %dx%d: %d of %d lit pixels unshaded\n", m ? "metalights" : "vpl-interleaved", OW, OH, bad,
+                      lit);
+        assert_true(lit > OW * OH / 2);
+        assert_int_equal(bad, 0);
+        image_free(&img);
+    }
+    image_free(&brute);
+    scene_free(&s);
+}
+
 /* The notes' near clamp 1/max(d², 0.1) changes the result: its bias. */
 static void near_clamp_bias_is_measurable(void **state)
 {
@@ -388,6 +424,7 @@ int main(void)
         cmocka_unit_test(slc_work_is_sublinear),
         cmocka_unit_test(slc_beats_uniform_subsampling),
         cmocka_unit_test(metalights),
+        cmocka_unit_test(interleaved_covers_odd_sizes),
         cmocka_unit_test(near_clamp_bias_is_measurable),
         cmocka_unit_test(vpl_all_sums_every_vpl),
         cmocka_unit_test(disk_vpls_bound_the_singularity),

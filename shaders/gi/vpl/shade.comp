@@ -37,7 +37,19 @@ void main()
         s_visits = 0u;
     }
     barrier();
+#if defined(MODE_INTERLEAVED)
+    // A work group shades one sub-image's pixels: group (X, Y) takes subset
+    // (X mod n, Y mod m) over an 8n × 8m block, every n-th pixel across and
+    // m-th down (src/gi/vpl/vpl.c dispatches n·m times the blocks). A SIMD
+    // row then reads one VPL per step, the same in every lane, where
+    // neighbouring pixels' different subsets made every read a per-lane
+    // gather; each pixel sums what it summed before, in the same order.
+    ivec2 nm = ivec2(u_vpl.interleave_n, u_vpl.interleave_m);
+    ivec2 wg = ivec2(gl_WorkGroupID.xy);
+    ivec2 px = (wg / nm) * 8 * nm + ivec2(gl_LocalInvocationID.xy) * nm + wg % nm;
+#else
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+#endif
     bool inside = all(lessThan(px, gb_size()));
     vec3 x, n;
     vec3 e = vec3(0.0);
@@ -73,8 +85,7 @@ void main()
             count++;
         }
 #elif defined(MODE_INTERLEAVED)
-        int nn = u_vpl.interleave_n, mm = u_vpl.interleave_m;
-        uint k = uint(px.x % nn + nn * (px.y % mm));
+        uint k = uint(wg.x % nm.x + nm.x * (wg.y % nm.y)); // = px.x mod n + n·(px.y mod m)
         uint len = u_vpl.subset_len;
         uint j1 = min(len, u_chunk + uint(LOOP_CHUNK));
         for (uint j = k * len + u_chunk; j < k * len + j1; j++) {

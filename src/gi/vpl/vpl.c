@@ -49,7 +49,8 @@ typedef struct VplGi {
     uint32_t tile_capacity; /* list entries per tile */
     int tiles_x, tiles_y;
     int width, height;
-    int groups;           /* shading work groups */
+    int groups;           /* shading work groups (groups_x × groups_y) */
+    int groups_x, groups_y;
     uint64_t grouping_key;/* what the metalight grouping was computed for */
     int regroups;         /* how many times the grouping was (re)computed */
     uint32_t subset_len;  /* L */
@@ -58,6 +59,16 @@ typedef struct VplGi {
 
 static bool interleaved(const VplGi *v) { return v->method == VPL_INTERLEAVED || v->method == VPL_METALIGHTS; }
 static bool tiled(const VplGi *v) { return v->method == VPL_CLAMPED || v->method == VPL_SLC; }
+
+/* The shading dispatch: 8×8 pixels per work group; interleaved methods
+ * cover blocks of 8n × 8m pixels with n·m groups each, one per sub-image
+ * (shaders/gi/vpl/shade.comp). */
+static void shade_groups(const VplGi *v, int *gx, int *gy)
+{
+    int n = interleaved(v) ? v->params.interleave_n : 1, m = interleaved(v) ? v->params.interleave_m : 1;
+    *gx = (v->width + 8 * n - 1) / (8 * n) * n;
+    *gy = (v->height + 8 * m - 1) / (8 * m) * m;
+}
 
 static unsigned vpl_needs(const GiParams *p)
 {
@@ -86,7 +97,8 @@ static bool vpl_resize(void *state, int w, int h)
     v->tile_capacity = LIST_BUDGET / ntiles;
     if (v->tile_capacity > v->vpl_capacity)
         v->tile_capacity = v->vpl_capacity;
-    v->groups = ((w + 7) / 8) * ((h + 7) / 8);
+    shade_groups(v, &v->groups_x, &v->groups_y);
+    v->groups = v->groups_x * v->groups_y;
     glCreateBuffers(1, &v->tiles);
     size_t tile_words = tiled(v) ? ntiles + 1 + (size_t)ntiles * v->tile_capacity : 1;
     glNamedBufferStorage(v->tiles, (GLsizeiptr)(sizeof(uint32_t) * tile_words), NULL, GL_DYNAMIC_STORAGE_BIT);
@@ -348,7 +360,7 @@ static void vpl_run(void *state, const GiFrame *f)
     uint32_t longest = tiled(v) ? v->tile_capacity : interleaved(v) ? v->subset_len : v->vpl_capacity;
     for (uint32_t chunk = 0; chunk == 0 || chunk < longest; chunk += LOOP_CHUNK) {
         glProgramUniform1ui(v->shade, LOC_CHUNK, chunk);
-        glDispatchCompute((GLuint)(v->width + 7) / 8, (GLuint)(v->height + 7) / 8, 1);
+        glDispatchCompute((GLuint)v->groups_x, (GLuint)v->groups_y, 1);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                         GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     }

@@ -94,6 +94,11 @@ void main()
     if (any(greaterThanEqual((gid % sub) * ivec2(n, m) + k2, ivec2(u_frame.width, u_frame.height))))
         return; // padding texel of a sub-image: no pixel maps here
     int first = k2.x + n * k2.y, stride = n * m, count = max(N / (n * m), 1);
+    if (u_gi.weighting != RSM_WEIGHT_IMPORTANCE) { // the pattern's subset (importance: its two parts')
+        ivec2 sub = rsm_subset(N, first, stride);
+        first = sub.x;
+        count = sub.y;
+    }
 #endif
     vec3 x, nrm;
     if (!gb_surface(px, x, nrm)) {

@@ -90,6 +90,18 @@ RsmFrame rsm_frame(vec3 x)
 
 const float GOLDEN = 0.61803398874989485; // (√5 − 1)/2
 
+// Subset `first` of an n-point pattern dealt to `stride` interleaved
+// subsets (points first, first + stride, ...): its first point and size.
+// Over the subsets every point is taken exactly once, so each pixel of a
+// sub-image still sees radii ξ1 spread over all of (0, 1) and the list
+// sets' points are never read past their end; with n < stride, subset k
+// takes point k mod n alone.
+ivec2 rsm_subset(int n, int first, int stride)
+{
+    int f = first % n;
+    return ivec2(f, max((n - f + stride - 1) / stride, 1));
+}
+
 // Sums E over samples first, first+stride, ... (count of them) of the
 // n_pattern-sample pattern, with the paper's weights or (unbiased) those of
 // the polar pdf.
@@ -162,13 +174,19 @@ bool rsm_in_disk(RsmFrame f, vec3 xp)
 // for the sum over every RSM texel.
 vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int count)
 {
-    int local = max(count / 2, 1), global = max(count - local, 1);
+    int n_near = max(u_gi.samples / 2, 1), n_far = u_gi.list_set;
+    ivec2 near_k = ivec2(0, max(count / 2, 1)), far_k = ivec2(0, max(count - near_k.y, 1));
+    if (stride > 1) { // interleaved: subset `first` of the near pattern and of the list set
+        near_k = rsm_subset(n_near, first, stride);
+        far_k = rsm_subset(n_far, first, stride);
+    }
     RsmFrame f = rsm_frame(x);
-    vec3 near = rsm_gather(f, x, n, first, stride, local, true, max(u_gi.samples / 2, 1));
+    vec3 near = rsm_gather(f, x, n, near_k.x, stride, near_k.y, true, n_near);
     vec3 far = vec3(0.0);
-    uint base = set * uint(u_gi.list_set);
+    uint base = set * uint(n_far);
+    int global = far_k.y;
     for (int k = 0; k < global; k++) {
-        GpuVpl v = rsm_samples[base + uint(first + k * stride)];
+        GpuVpl v = rsm_samples[base + uint(far_k.x + k * stride)];
         vec3 e = vpl_irradiance_disk(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb, v.flux.w * f.r2_per_area);
         far += rsm_in_disk(f, v.position_xi.xyz) ? vec3(0.0) : e;
     }

@@ -15,6 +15,11 @@
 
 enum { SLOT_SHADOW = 0, SLOT_RSM = 1, SLOTS_PER_LIGHT = 2 };
 
+/* RSM draws in this process: each draw's RsmMap.version, unique even
+ * across light stages, so what a technique derived from an earlier map
+ * never passes for current. */
+static uint64_t s_rsm_draws;
+
 static bool light_is_cube(const Light *l) { return l->type == LIGHT_POINT || l->type == LIGHT_QUAD; }
 
 float light_stage_lit_layers(const Light *l)
@@ -409,6 +414,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
             gpu_timer_begin(t, "rsm");
         timing = true;
         m->key = key;
+        m->version = ++s_rsm_draws;
         ls->map_draws++;
         bind_slot(ls, i, SLOT_RSM);
         /* Texel area on the projection plane: ortho (2r/res)², perspective at

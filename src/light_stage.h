@@ -53,6 +53,8 @@ typedef struct RsmMap {
     GLuint fbo;
     ShadowFrame frame; /* projection of the last frame */
     uint64_t key;      /* what it was last drawn for (0: never) */
+    uint64_t version;  /* which draw it holds (unique in the process; 0: none): what is derived
+                          from it is current while this is unchanged */
 } RsmMap;
 
 typedef struct VplBuffer {

@@ -163,11 +163,14 @@ static void cached_light_products(void **state)
     assert_true(renderer_read_hdr(&r, &steady));
     assert_int_equal(r.lights.map_draws, cold_draws); /* nothing redrawn */
     assert_memory_equal(cold.rgb, steady.rgb, sizeof(float) * 3 * W * H);
+    /* nor the importance pyramid and sample list derived from the RSM */
+    assert_int_equal(renderer_collect_stats(&r)->rsm_importance_builds, 1);
 
     /* The light moves: its shadow map and RSM are redrawn. */
     s.lights[0].position[0] -= 0.05f;
     renderer_frame(&r, &s.camera);
     assert_int_equal(r.lights.map_draws, 2 * cold_draws);
+    assert_int_equal(renderer_collect_stats(&r)->rsm_importance_builds, 2);
     assert_true(renderer_read_hdr(&r, &got));
     RenderSettings fresh = rs;
     fresh.cache = false;
@@ -194,6 +197,14 @@ static void cached_light_products(void **state)
     image_free(&got);
     assert_true(renderer_read_hdr(&r, &got));
     assert_memory_equal(got.rgb, want.rgb, sizeof(float) * 3 * W * H);
+    /* Without caching the RSM is redrawn every frame, and so what derives
+     * from it is rebuilt. */
+    Renderer u;
+    assert_true(renderer_create(&u, &s, &fresh));
+    renderer_frame(&u, &s.camera);
+    renderer_frame(&u, &s.camera);
+    assert_int_equal(renderer_collect_stats(&u)->rsm_importance_builds, 2);
+    renderer_destroy(&u);
     print_message("cold frame: %d maps drawn; steady frames: 0; redrawn on a light move, a new map size and "
                   "invalidation, each equal to a fresh renderer\n",
                   cold_draws);

@@ -49,6 +49,8 @@ typedef struct RsmGi {
     GLuint *pyramid;                  /* R32F 2D array, power-of-two, full mip chain: flux luminance sums */
     int *pyramid_levels;
     GLuint *samples;                  /* SSBO: GpuVpl[list_size], flux Φ/p */
+    uint64_t *built_from;             /* RsmMap.version each pyramid and list were built from (0: none) */
+    int importance_builds;            /* how many times one was built */
 } RsmGi;
 
 static unsigned rsm_needs(const GiParams *p)
@@ -113,8 +115,10 @@ static void importance_destroy(RsmGi *g)
     free(g->pyramid);
     free(g->samples);
     free(g->pyramid_levels);
+    free(g->built_from);
     g->pyramid = g->samples = NULL;
     g->pyramid_levels = NULL;
+    g->built_from = NULL;
 }
 
 /* A flux pyramid and a sample list for each light's RSM. */
@@ -131,7 +135,8 @@ static bool importance_create(RsmGi *g, const LightStage *ls)
     g->pyramid = calloc((size_t)g->lights + 1, sizeof(GLuint));
     g->samples = calloc((size_t)g->lights + 1, sizeof(GLuint));
     g->pyramid_levels = calloc((size_t)g->lights + 1, sizeof(int));
-    if (!g->pyramid || !g->samples || !g->pyramid_levels) {
+    g->built_from = calloc((size_t)g->lights + 1, sizeof(uint64_t));
+    if (!g->pyramid || !g->samples || !g->pyramid_levels || !g->built_from) {
         log_error("rsm", "out of memory for %d importance pyramids", g->lights);
         return false;
     }
@@ -286,10 +291,21 @@ static void rsm_run(void *state, const GiFrame *f)
     RsmGi *g = state;
     GpuTimer *t = f->timer;
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_GI, g->ubo);
-    if (importance_on(g)) {
+    /* The pyramid and the sample list derive from the RSM alone: rebuilt
+     * when the light stage redrew it (a light or the scene moved, caching
+     * off), kept while it keeps it. */
+    bool stale = false;
+    for (int i = 0; importance_on(g) && i < f->lights->light_count; i++)
+        stale |= g->built_from[i] != f->lights->rsm[i].version;
+    if (stale) {
         gpu_timer_begin(t, "rsm_importance");
-        for (int i = 0; i < f->lights->light_count; i++)
+        for (int i = 0; i < f->lights->light_count; i++) {
+            if (g->built_from[i] == f->lights->rsm[i].version)
+                continue;
             importance_run(g, f->lights, i);
+            g->built_from[i] = f->lights->rsm[i].version;
+            g->importance_builds++;
+        }
         gpu_timer_end(t);
     }
     switch (g->variant) {
@@ -351,6 +367,7 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     st->gather_evaluations = (uint64_t)st->gathered_pixels * (per_pixel ? per_pixel : 1);
     st->gather_cube = f->lights->light_count > 0 && f->lights->rsm[0].cube;
     st->gather_map_size = f->lights->light_count > 0 ? f->lights->rsm[0].size : 0;
+    st->rsm_importance_builds = g->importance_builds;
     st->gather_vpl = g->params.exhaustive;
     st->gather_from_list = importance_on(g) ? 0.5f : 0.f;
 }

@@ -15,10 +15,10 @@
 
 enum { SLOT_SHADOW = 0, SLOT_RSM = 1, SLOTS_PER_LIGHT = 2 };
 
-/* RSM draws in this process: each draw's RsmMap.version, unique even
- * across light stages, so what a technique derived from an earlier map
+/* Map draws in this process: each draw's ShadowMap/RsmMap.version, unique
+ * even across light stages, so what a technique derived from an earlier map
  * never passes for current. */
-static uint64_t s_rsm_draws;
+static uint64_t s_map_draws;
 
 static bool light_is_cube(const Light *l) { return l->type == LIGHT_POINT || l->type == LIGHT_QUAD; }
 
@@ -387,6 +387,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
             gpu_timer_begin(t, "shadow");
         timing = true;
         m->key = key;
+        m->version = ++s_map_draws;
         ls->map_draws++;
         bind_slot(ls, i, SLOT_SHADOW);
         int ortho = s->lights[i].type == LIGHT_DIRECTIONAL;
@@ -414,7 +415,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
             gpu_timer_begin(t, "rsm");
         timing = true;
         m->key = key;
-        m->version = ++s_rsm_draws;
+        m->version = ++s_map_draws;
         ls->map_draws++;
         bind_slot(ls, i, SLOT_RSM);
         /* Texel area on the projection plane: ortho (2r/res)², perspective at
@@ -447,6 +448,18 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     gpu_timer_end(t);
     ls->vpl_key = key;
     ls->vpl_extractions++;
+}
+
+uint64_t light_stage_products_key(const LightStage *ls)
+{
+    uint64_t h = util_hash_bytes(UTIL_HASH_SEED, ls->scene->lights, sizeof(Light) * (size_t)ls->light_count);
+    for (int i = 0; i < ls->light_count; i++) {
+        if (ls->shadow)
+            h = util_hash_bytes(h, &ls->shadow[i].version, sizeof(uint64_t));
+        if (ls->rsm)
+            h = util_hash_bytes(h, &ls->rsm[i].version, sizeof(uint64_t));
+    }
+    return h ? h : 1;
 }
 
 void light_stage_bind_shadow(const LightStage *ls, int i)

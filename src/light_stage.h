@@ -41,6 +41,7 @@ typedef struct ShadowMap {
     GLuint fbo;
     ShadowFrame frame; /* projection of the last frame */
     uint64_t key;      /* what it was last drawn for (0: never) */
+    uint64_t version;  /* which draw it holds (as RsmMap.version) */
 } ShadowMap;
 
 typedef struct RsmMap {
@@ -120,6 +121,11 @@ void light_stage_invalidate(LightStage *ls);
 void light_stage_bind_shadow(const LightStage *ls, int i);
 /* Binds light i's RSM block to UBO_LIGHT and the RSM (2D or cube) to
  * TEX_RSM_SURFEL and TEX_RSM_FLUX. */
+/* What the light products hold now, as one key (never 0): the lights and
+ * which draw each shadow map and RSM holds. A technique that derives
+ * volumes from them (LPV injection, VCT radiance) rebuilds them when this
+ * changes and keeps them while it does not. */
+uint64_t light_stage_products_key(const LightStage *ls);
 void light_stage_bind_rsm(const LightStage *ls, int i);
 /* How light g's RSM texels are packed (shaders/common/rsm_texel.glsl),
  * given g's other fields (shadow_frame_to_gpu): positions in the scene's

@@ -216,6 +216,73 @@ static void cached_light_products(void **state)
     scene_free(&s);
 }
 
+/* Issue 11: LPV injection and propagation, and VCT radiance injection and
+ * filtering, are kept while the light products (and the grids, which may
+ * follow the camera) stand: a steady frame equals the cold one bit for bit
+ * without rebuilding them; a moved light rebuilds them (equal to a fresh
+ * renderer); a moved camera rebuilds camera-centred grids only; LPV's
+ * G-buffer occlusion rebuilds every frame. */
+static void cached_gi_volumes(void **state)
+{
+    (void)state;
+    static const struct {
+        GiMode gi;
+        int cascades_or_levels, bounces;
+        bool gbuffer_occlusion;
+        const char *what;
+    } cases[] = {
+        {GI_LPV, 1, 1, false, "lpv"},
+        {GI_LPV, 2, 1, false, "lpv, 2 cascades"},
+        {GI_LPV, 1, 1, true, "lpv, G-buffer occlusion"},
+        {GI_VCT, 1, 1, false, "vct"},
+        {GI_VCT, 2, 2, false, "vct, 2-level clipmap, 2 bounces"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        Scene s;
+        assert_true(scene_load(&s, "cornell"));
+        RenderSettings rs = settings_for(&s, cases[k].gi, W, H);
+        rs.cache = true;
+        rs.gi_params.lpv_size = 16;
+        rs.gi_params.lpv_cascades = cases[k].gi == GI_LPV ? cases[k].cascades_or_levels : 1;
+        rs.gi_params.lpv_gbuffer_occlusion = cases[k].gbuffer_occlusion;
+        rs.gi_params.vct_size = 16;
+        rs.gi_params.vct_levels = cases[k].gi == GI_VCT ? cases[k].cascades_or_levels : 1;
+        rs.gi_params.vct_bounces = cases[k].bounces;
+        bool follows_camera = cases[k].cascades_or_levels > 1 || cases[k].gbuffer_occlusion;
+        Renderer r;
+        assert_true(renderer_create(&r, &s, &rs));
+        renderer_frame(&r, &s.camera);
+        ImageF cold, steady, want;
+        assert_true(renderer_read_hdr(&r, &cold));
+        renderer_frame(&r, &s.camera);
+        assert_true(renderer_read_hdr(&r, &steady));
+        int builds = renderer_collect_stats(&r)->volume_builds;
+        assert_int_equal(builds, cases[k].gbuffer_occlusion ? 2 : 1);
+        assert_memory_equal(cold.rgb, steady.rgb, sizeof(float) * 3 * W * H);
+        /* The light moves: rebuilt, as a fresh renderer draws it. */
+        s.lights[0].position[0] -= 0.05f;
+        renderer_frame(&r, &s.camera);
+        assert_int_equal(renderer_collect_stats(&r)->volume_builds, builds + 1);
+        image_free(&steady);
+        assert_true(renderer_read_hdr(&r, &steady));
+        fresh_image(&s, &rs, &want);
+        assert_memory_equal(steady.rgb, want.rgb, sizeof(float) * 3 * W * H);
+        /* The camera moves by a grid cell or more: camera-centred grids follow. */
+        builds = renderer_collect_stats(&r)->volume_builds;
+        s.camera.position[0] += 0.2f;
+        renderer_frame(&r, &s.camera);
+        assert_int_equal(renderer_collect_stats(&r)->volume_builds, builds + (follows_camera ? 1 : 0));
+        print_message("%s: built %d time(s) over two still frames, again when the light moved%s\n", cases[k].what,
+                      cases[k].gbuffer_occlusion ? 2 : 1,
+                      follows_camera ? " and when the camera did" : ", not when the camera did");
+        image_free(&cold);
+        image_free(&steady);
+        image_free(&want);
+        renderer_destroy(&r);
+        scene_free(&s);
+    }
+}
+
 /* Issue 11: a one-sided quad light's shadow map and RSM skip the cube face
  * behind its emitting plane (5 faces each); a point light needs all 6. The
  * images do not change (scripts/render-matrix.sh, before/after). */
@@ -245,6 +312,7 @@ int main(void)
         cmocka_unit_test(switching_matches_fresh_and_releases),
         cmocka_unit_test(resize_and_exposure),
         cmocka_unit_test(cached_light_products),
+        cmocka_unit_test(cached_gi_volumes),
         cmocka_unit_test(quad_light_skips_the_face_behind),
     };
     return cmocka_run_group_tests_name("lifetime", tests, test_gl_setup, test_gl_teardown);

@@ -40,6 +40,8 @@ typedef struct GiStats {
     uint32_t tile_overflow;   /* tile-list entries dropped (should be 0) */
     int metalight_regroups;   /* times the metalight grouping was computed */
     int rsm_importance_builds; /* times an RSM's flux pyramid and sample list were built (importance weighting) */
+    int volume_builds;        /* lpv: times the volumes were injected and propagated; vct: times radiance was
+                                 injected and filtered (both kept while the light products and grids stand) */
     uint64_t gather_evaluations; /* sample (or VPL) evaluations of the gather passes */
     bool gather_cube;         /* they read cube maps (the probe's matching bound) */
     int gather_map_size;      /* side of the maps they read (the probe's maps for --probe run); 0: none */

@@ -45,6 +45,7 @@
 #include "gl_resources.h"
 #include "log.h"
 #include "shader.h"
+#include "util.h"
 
 /* Volume sets of a cascade: every VPL inside it, and (k ≥ 1) only those
  * outside the next finer cascade. */
@@ -80,7 +81,9 @@ typedef struct LpvGi {
     GLuint test_vpls;       /* lpv_set_vpls' buffer, or 0 */
     int test_count;
     GpuLpvParams gpu;       /* as last uploaded */
-    uint32_t vpls_injected; /* last frame (stats) */
+    uint64_t built_for;     /* the light products and grids the volumes hold (0: none) */
+    int builds;             /* times the volumes were injected and propagated */
+    uint32_t vpls_injected; /* last build (stats) */
     int width, height;
 } LpvGi;
 
@@ -471,6 +474,22 @@ static void lpv_run(void *state, const GiFrame *f)
     LpvGi *l = state;
     GpuTimer *t = f->timer;
     place_grids(l, f->camera);
+    /* Injection and propagation depend on the light products and where the
+     * grids stand (the cascades follow the camera), and, with G-buffer
+     * occlusion, on the camera's view: kept while those stand still. */
+    uint64_t key = util_hash_bytes(light_stage_products_key(f->lights), &l->gpu, sizeof l->gpu);
+    key = util_hash_bytes(key, &l->test_vpls, sizeof l->test_vpls);
+    key = util_hash_bytes(key, &l->test_count, sizeof l->test_count);
+    if (l->params.lpv_gbuffer_occlusion)
+        key = 0;
+    if (key != 0 && key == l->built_for) {
+        gpu_timer_begin(t, "lpv_lookup");
+        lookup(l, f);
+        gpu_timer_end(t);
+        return;
+    }
+    l->built_for = key;
+    l->builds++;
     GLint viewport[4];
     glGetIntegerv(GL_VIEWPORT, viewport);
     glBindVertexArray(l->vao);
@@ -505,6 +524,7 @@ static void lpv_stats(void *state, const GiFrame *f, GiStats *st)
     LpvGi *l = state;
     st->vpl_count = l->test_vpls ? (uint32_t)l->test_count : light_stage_vpl_count(f->lights);
     st->gathered_pixels = (uint32_t)(l->width * l->height);
+    st->volume_builds = l->builds;
 }
 
 void lpv_set_vpls(void *state, const GpuVpl *vpls, int count)
@@ -513,6 +533,7 @@ void lpv_set_vpls(void *state, const GpuVpl *vpls, int count)
     glDeleteBuffers(1, &l->test_vpls);
     l->test_vpls = 0;
     l->test_count = 0;
+    l->built_for = 0; /* a new buffer may reuse the old name */
     if (count <= 0)
         return;
     glCreateBuffers(1, &l->test_vpls);

@@ -68,6 +68,8 @@ typedef struct VctGi {
     GpuVctParams gpu;        /* as uploaded */
     bool voxelized;          /* the volumes hold the scene */
     int voxelizations;
+    uint64_t built_for;      /* the light products and voxels the radiance volumes hold (0: none) */
+    int builds;              /* times radiance was injected and filtered */
     double voxelize_ms;      /* wall time of the last voxelization */
     uint64_t bytes;          /* GPU memory held by the volumes */
     int width, height;
@@ -425,14 +427,25 @@ static void vct_run(void *state, const GiFrame *f)
         v->voxelized = voxelize(v, f);
         gpu_timer_end(t);
     }
-    gpu_timer_begin(t, "vct_inject");
-    inject(v, f);
-    gpu_timer_end(t);
-    gpu_timer_begin(t, "vct_mips");
-    build_mips(v, v->radiance[0]);
-    gpu_timer_end(t);
+    /* The radiance volumes (injection, mips, the second bounce) depend on
+     * the voxels and the light products alone: kept while both stand. */
+    uint64_t key = util_hash_bytes(light_stage_products_key(f->lights), &v->voxelizations, sizeof v->voxelizations);
+    key = util_hash_bytes(key, v->gpu.level, sizeof v->gpu.level);
+    bool build = key != v->built_for;
+    v->built_for = key;
+    if (build) {
+        v->builds++;
+        gpu_timer_begin(t, "vct_inject");
+        inject(v, f);
+        gpu_timer_end(t);
+        gpu_timer_begin(t, "vct_mips");
+        build_mips(v, v->radiance[0]);
+        gpu_timer_end(t);
+    }
     GLuint radiance = v->radiance[0];
-    if (v->params.vct_bounces > 1) {
+    if (v->params.vct_bounces > 1 && !build) {
+        radiance = v->radiance[1];
+    } else if (v->params.vct_bounces > 1) {
         gpu_timer_begin(t, "vct_bounce");
         glUseProgram(v->bounce);
         bind_volumes(v, v->radiance[0]);
@@ -482,6 +495,7 @@ static void vct_stats(void *state, const GiFrame *f, GiStats *st)
     int lw = (v->width + v->scale - 1) / v->scale, lh = (v->height + v->scale - 1) / v->scale;
     st->gpu_bytes = v->bytes + (v->scale > 1 ? 2u * 16u * (uint64_t)lw * (uint64_t)lh : 0u);
     st->voxelizations = v->voxelizations;
+    st->volume_builds = v->builds;
     st->voxelize_ms = v->voxelize_ms;
 }
 

@@ -178,12 +178,12 @@ void gpu_scene_destroy(GpuScene *g)
 
 void gpu_scene_draw(const GpuScene *g, const Scene *s, GLuint program, DrawFlags flags)
 {
-    gpu_scene_draw_view(g, s, program, program, flags, NULL);
+    gpu_scene_draw_view(g, s, &(DrawPrograms){program, program, 0}, flags, NULL);
 }
 
 void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags)
 {
-    gpu_scene_draw_view(g, s, opaque, masked, flags, NULL);
+    gpu_scene_draw_view(g, s, &(DrawPrograms){opaque, masked, 0}, flags, NULL);
 }
 
 static int drawitem_cmp(const void *a, const void *b)
@@ -219,9 +219,12 @@ static void bind_material(const GpuScene *g, const Material *m, GLuint program)
         glBindTextureUnit(TEX_MATERIAL_MR, g->textures[m->mr_tex]);
 }
 
-void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags,
+static bool untextured(const Material *m) { return m->albedo_tex < 0 && m->mr_tex < 0 && !m->alpha_mask; }
+
+void gpu_scene_draw_view(const GpuScene *g, const Scene *s, const DrawPrograms *programs, DrawFlags flags,
                          const DrawView *view)
 {
+    GLuint opaque = programs->opaque, masked = programs->masked;
     /* The visible clusters, in scene order or nearest first (the scratch
      * list the scene owns: no allocation per draw). */
     DrawItem *items = g->draw_items;
@@ -251,9 +254,8 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuin
     /* Opaque first (they fill depth that masked draws are then tested
      * against), masked after; one pass when both programs are the same. */
     for (int pass = 0; pass < (opaque == masked ? 1 : 2); pass++) {
-        GLuint program = pass == 0 ? opaque : masked;
-        glUseProgram(program);
-        int bound = -1; /* the material whose uniforms are set */
+        GLuint in_use = 0;
+        int bound = -1; /* the material whose uniforms are set in the program in use */
         for (int k = 0; k < n; k++) {
             const GpuCluster *c = &g->clusters[items[k].cluster];
             int mi = s->submeshes[c->submesh].material;
@@ -262,6 +264,12 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuin
                 continue;
             if (opaque != masked && m->alpha_mask != (pass == 1))
                 continue;
+            GLuint program = pass == 1 ? masked : programs->untextured && untextured(m) ? programs->untextured : opaque;
+            if (program != in_use) {
+                glUseProgram(program);
+                in_use = program;
+                bound = -1;
+            }
             if (mi != bound)
                 bind_material(g, m, program);
             bound = mi;

@@ -57,8 +57,19 @@ void gpu_scene_draw(const GpuScene *g, const Scene *s, GLuint program, DrawFlags
 /* The same with opaque materials drawn by `opaque` (which may skip the
  * material altogether) and alpha-masked ones by `masked`. */
 void gpu_scene_draw_split(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags);
-/* gpu_scene_draw_split seen from `view` (NULL: the whole scene in order). */
-void gpu_scene_draw_view(const GpuScene *g, const Scene *s, GLuint opaque, GLuint masked, DrawFlags flags,
+/* The programs a draw uses per kind of material. */
+typedef struct DrawPrograms {
+    GLuint opaque;     /* opaque materials (may skip the material altogether) */
+    GLuint masked;     /* alpha-masked ones (may equal opaque: one pass) */
+    GLuint untextured; /* opaque ones with neither an albedo nor a metallicRoughness texture, built
+                          with UNTEXTURED (common/material.glsl); 0: opaque draws them */
+} DrawPrograms;
+
+/* gpu_scene_draw_split seen from `view` (NULL: the whole scene in order),
+ * with an optional program for untextured opaque materials: llvmpipe pays
+ * for the texture code behind a branch that no fragment takes (Cornell
+ * G-buffer 800×600: 10.9 -> 9.0 ms). */
+void gpu_scene_draw_view(const GpuScene *g, const Scene *s, const DrawPrograms *programs, DrawFlags flags,
                          const DrawView *view);
 
 #endif

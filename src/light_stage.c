@@ -199,7 +199,11 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     ls->rsm_program_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm_opaque", .vert = "frame/scene.vert",
                                                                         .frag = "light/rsm.frag", .defines = "#define OPAQUE_DRAW\n"});
     ls->vpl_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "vpl_extract", .comp = "light/vpl_extract.comp", .defines = NULL});
-    if (!ls->shadow_program || !ls->rsm_program || !ls->rsm_program_opaque || !ls->vpl_program)
+    ls->rsm_program_untextured = program_cache_get(
+        pc, &(ShaderProgramDesc){.label = "rsm_untextured", .vert = "frame/scene.vert", .frag = "light/rsm.frag",
+                                 .defines = "#define OPAQUE_DRAW\n#define UNTEXTURED\n"});
+    if (!ls->shadow_program || !ls->rsm_program || !ls->rsm_program_opaque || !ls->rsm_program_untextured ||
+        !ls->vpl_program)
         return false;
     GLint align = 256;
     glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
@@ -247,8 +251,8 @@ static void bind_slot(const LightStage *ls, int light, int slot)
     glBindBufferRange(GL_UNIFORM_BUFFER, UBO_LIGHT, ls->light_array, at, sizeof(GpuLight));
 }
 
-/* Draws the scene (emitters skipped) into each face of a map: opaque
- * materials with `program`, alpha-masked ones with `masked` (may equal it). */
+/* Draws the scene (emitters skipped) into each face of a map with
+ * `programs` (gpu_scene.h: opaque, alpha-masked and untextured materials). */
 /* A one-sided quad light lights nothing through a cube face whose every
  * direction lies behind its emitting plane: the emitter normal's dot with
  * the face's directions, linear over the face plane, is at most 0 at all
@@ -271,7 +275,7 @@ static bool face_behind_quad(const Light *l, const ShadowFrame *f, int face)
     return true;
 }
 
-static void draw_faces(LightStage *ls, const Light *l, GLuint program, GLuint masked, const ShadowFrame *f, int size,
+static void draw_faces(LightStage *ls, const Light *l, const DrawPrograms *programs, const ShadowFrame *f, int size,
                        GLuint fbo, const GpuScene *gs, void (*per_face)(const LightStage *, int face, void *),
                        void *user)
 {
@@ -286,15 +290,16 @@ static void draw_faces(LightStage *ls, const Light *l, GLuint program, GLuint ma
         if (face_behind_quad(l, f, face))
             continue;
         ls->faces_drawn++;
-        glProgramUniformMatrix4fv(program, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
-        if (masked != program)
-            glProgramUniformMatrix4fv(masked, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
+        const GLuint progs[3] = {programs->opaque, programs->masked, programs->untextured};
+        for (int k = 0; k < 3; k++)
+            if (progs[k])
+                glProgramUniformMatrix4fv(progs[k], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)f->view_proj[face]);
         /* Clusters outside the face's frustum are skipped; the rest are
          * drawn nearest to the light first (directional: scene order). */
         int culled = 0;
         DrawView view = {.view_proj = (const float *)f->view_proj[face],
                          .eye = l->type == LIGHT_DIRECTIONAL ? NULL : l->position, .culled = &culled};
-        gpu_scene_draw_view(gs, ls->scene, program, masked, DRAW_SKIP_EMITTERS, ls->desc.no_cull ? NULL : &view);
+        gpu_scene_draw_view(gs, ls->scene, programs, DRAW_SKIP_EMITTERS, ls->desc.no_cull ? NULL : &view);
         ls->clusters_culled += culled;
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -324,8 +329,9 @@ static void rsm_face(const LightStage *ls, int face, void *user)
     /* The face (or spot) axis is the view's −z row. */
     const float *v = (const float *)m->frame.view[face];
     vec3 axis = {-v[2], -v[6], -v[10]};
-    glProgramUniform3fv(ls->rsm_program, LOC_RSM_FACE_AXIS, 1, axis);
-    glProgramUniform3fv(ls->rsm_program_opaque, LOC_RSM_FACE_AXIS, 1, axis);
+    const GLuint programs[3] = {ls->rsm_program, ls->rsm_program_opaque, ls->rsm_program_untextured};
+    for (int i = 0; i < 3; i++)
+        glProgramUniform3fv(programs[i], LOC_RSM_FACE_AXIS, 1, axis);
 }
 
 void light_stage_rsm_texel_frame(const vec3 bounds_min, const vec3 bounds_max, GpuLight *g)
@@ -391,7 +397,8 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         ls->map_draws++;
         bind_slot(ls, i, SLOT_SHADOW);
         int ortho = s->lights[i].type == LIGHT_DIRECTIONAL;
-        draw_faces(ls, &s->lights[i], ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], &m->frame, m->size,
+        draw_faces(ls, &s->lights[i], &(DrawPrograms){ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], 0},
+                   &m->frame, m->size,
                    m->fbo, gs,
                    shadow_face, m);
     }
@@ -420,9 +427,11 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         bind_slot(ls, i, SLOT_RSM);
         /* Texel area on the projection plane: ortho (2r/res)², perspective at
          * distance 1: k² with k = 2·tan(fov/2)/res. */
-        glProgramUniform1f(ls->rsm_program, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
-        glProgramUniform1f(ls->rsm_program_opaque, LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
-        draw_faces(ls, &s->lights[i], ls->rsm_program_opaque, ls->rsm_program, &m->frame, m->size, m->fbo, gs, rsm_face,
+        const GLuint programs[3] = {ls->rsm_program, ls->rsm_program_opaque, ls->rsm_program_untextured};
+        for (int k = 0; k < 3; k++)
+            glProgramUniform1f(programs[k], LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
+        draw_faces(ls, &s->lights[i], &(DrawPrograms){ls->rsm_program_opaque, ls->rsm_program, ls->rsm_program_untextured},
+                   &m->frame, m->size, m->fbo, gs, rsm_face,
                    m);
     }
     if (timing)

@@ -93,6 +93,7 @@ typedef struct LightStage {
     GLuint shadow_program;        /* nonzero when all four built */
     GLuint rsm_program, vpl_program; /* from the program cache */
     GLuint rsm_program_opaque;       /* rsm_program for opaque materials: early depth */
+    GLuint rsm_program_untextured;   /* the same for opaque materials without textures */
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
 } LightStage;
 

@@ -13,7 +13,11 @@ layout(binding = TEX_MATERIAL_MR) uniform sampler2D u_mr_tex;
 // discard, so their depth test can run before shading.
 vec3 material_albedo(vec2 uv)
 {
+#ifdef UNTEXTURED
+    vec4 t = vec4(1.0); // programs for materials without textures (gpu_scene.h DrawPrograms)
+#else
     vec4 t = u_has_tex != 0 ? texture(u_albedo_tex, uv) : vec4(1.0);
+#endif
 #ifndef OPAQUE_DRAW
     if (u_alpha_cutoff >= 0.0 && t.a < u_alpha_cutoff)
         discard;
@@ -25,10 +29,12 @@ vec3 material_albedo(vec2 uv)
 vec2 material_metal_rough(vec2 uv)
 {
     vec2 mr = u_pbr.xy;
+#ifndef UNTEXTURED
     if (u_pbr.w != 0.0) {
         vec4 t = texture(u_mr_tex, uv);
         mr *= vec2(t.b, t.g);
     }
+#endif
     return mr;
 }
 

@@ -9,11 +9,15 @@ bool pass_gbuffer_create(PassGbuffer *p, ProgramCache *pc)
     p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer", .vert = "frame/scene.vert", .frag = "frame/gbuffer.frag"});
     p->program_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer_opaque", .vert = "frame/scene.vert",
                                                                    .frag = "frame/gbuffer.frag", .defines = "#define OPAQUE_DRAW\n"});
+    p->program_untextured = program_cache_get(
+        pc, &(ShaderProgramDesc){.label = "gbuffer_untextured", .vert = "frame/scene.vert", .frag = "frame/gbuffer.frag",
+                                 .defines = "#define OPAQUE_DRAW\n#define UNTEXTURED\n"});
     p->depth_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer_depth", .vert = "frame/scene.vert",
                                                                   .frag = "frame/depth.frag"});
     p->depth_masked = program_cache_get(pc, &(ShaderProgramDesc){.label = "gbuffer_depth_masked", .vert = "frame/scene.vert",
                                                                   .frag = "frame/depth.frag", .defines = "#define MASKED\n"});
-    return p->program != 0 && p->program_opaque != 0 && p->depth_opaque != 0 && p->depth_masked != 0;
+    return p->program != 0 && p->program_opaque != 0 && p->program_untextured != 0 && p->depth_opaque != 0 &&
+           p->depth_masked != 0;
 }
 
 void pass_gbuffer_destroy(PassGbuffer *p)
@@ -25,8 +29,8 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
 {
     mat4 vp;
     camera_view_proj(cam, (float)out->width / (float)out->height, vp);
-    const GLuint programs[4] = {p->program_opaque, p->program, p->depth_opaque, p->depth_masked};
-    for (int i = 0; i < 4; i++) {
+    const GLuint programs[5] = {p->program_opaque, p->program, p->program_untextured, p->depth_opaque, p->depth_masked};
+    for (int i = 0; i < 5; i++) {
         glProgramUniformMatrix4fv(programs[i], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
         glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
     }
@@ -48,12 +52,13 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
     DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = &p->culled};
     glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    gpu_scene_draw_view(gs, s, p->depth_opaque, p->depth_masked, DRAW_ALL, cull ? &view : NULL);
+    gpu_scene_draw_view(gs, s, &(DrawPrograms){p->depth_opaque, p->depth_masked, 0}, DRAW_ALL, cull ? &view : NULL);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_FALSE);
-    gpu_scene_draw_view(gs, s, p->program_opaque, p->program, DRAW_ALL, cull ? &view : NULL);
+    gpu_scene_draw_view(gs, s, &(DrawPrograms){p->program_opaque, p->program, p->program_untextured}, DRAW_ALL,
+                        cull ? &view : NULL);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

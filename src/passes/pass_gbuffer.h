@@ -21,6 +21,7 @@
 typedef struct PassGbuffer {
     GLuint program;        /* every material (alpha-masked ones discard holes) */
     GLuint program_opaque; /* opaque materials only: early depth */
+    GLuint program_untextured; /* opaque materials without textures: no texture code */
     GLuint depth_opaque;   /* pre-pass: opaque materials, no fragment work */
     GLuint depth_masked;   /* pre-pass: alpha-masked materials, discard only */
     int culled; /* clusters outside the view in the last run */

@@ -5,8 +5,9 @@
 //   MODE_ALL          every VPL; with u_vpl.keep = q < 1 only those with
 //                     ξ < q, weighted 1/q (uniform subsampling)
 //   MODE_TILED        the pixel's tile list; a VPL counts inside its range
-//                     r_i with falloff max(α_i, 1/d²) (stochastic light
-//                     culling, unbiased) or 1/d² (clamped range, α = 0)
+//                     r_i with falloff max(α_i, 1/d²) (SLC defined:
+//                     stochastic light culling, unbiased) or 1/d² (clamped
+//                     range, α = 0)
 //   MODE_INTERLEAVED  sub-image k = (x mod n) + n·(y mod m) sums its VPL
 //                     subset (SSBO_SUBSETS, length L each), weighted by K = n·m
 // Each dispatch sums one chunk of LOOP_CHUNK entries of the pixel's list and
@@ -22,7 +23,6 @@ layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
 layout(location = LOC_CHUNK) uniform uint u_chunk; // this dispatch sums list entries [u_chunk, u_chunk + LOOP_CHUNK)
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
-layout(std430, binding = SSBO_VPL_RANGE) readonly buffer RangeBlock { vec2 ranges[]; };
 layout(std430, binding = SSBO_TILES) readonly buffer TileBlock { uint tiles[]; };
 layout(std430, binding = SSBO_EVALS) buffer EvalBlock { uint evals[]; };
 layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { uint subsets[]; };
@@ -74,14 +74,31 @@ void main()
         uint cap = u_vpl.tile_capacity, nt = tiles[tile];
         uint k1 = min(nt, u_chunk + uint(LOOP_CHUNK));
         visits = k1 > u_chunk ? k1 - u_chunk : 0u;
+        // The range test from the VPL itself rather than a load of
+        // params.comp's (α, r) per VPL (a per-lane gather on llvmpipe):
+        // SLC keeps a VPL while (d² + r_disk²)·α·ξ < 1, i.e. d < r, with
+        // α = 2π·e_max/(E·max(Φ)/π) as params.comp computes it; the
+        // clamped range keeps d < R with α = 0.
+#ifdef SLC
+        float alpha_num = TWO_PI * u_vpl.slc_emax / u_vpl.slc_exposure;
+#else
+        float range2 = u_vpl.clamp_range * u_vpl.clamp_range;
+#endif
         for (uint k = u_chunk; k < k1; k++) {
             uint i = tiles[ntiles + 1u + tile * cap + k];
-            vec2 ar = ranges[i];
             vec3 d = x - vpls[i].position_xi.xyz;
-            if (dot(d, d) >= ar.y * ar.y)
+#ifdef SLC
+            vec3 phi = vpls[i].flux.rgb;
+            float alpha = alpha_num / max(max(phi.r, max(phi.g, phi.b)) / PI, 1e-30);
+            if ((dot(d, d) + vpl_r2(fo, vpls[i])) * (alpha * vpls[i].position_xi.w) >= 1.0)
                 continue;
+#else
+            const float alpha = 0.0;
+            if (dot(d, d) >= range2)
+                continue;
+#endif
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * max(ar.x, vpl_falloff(fo, vpls[i], d2));
+            e += ic * max(alpha, vpl_falloff(fo, vpls[i], d2));
             count++;
         }
 #elif defined(MODE_INTERLEAVED)

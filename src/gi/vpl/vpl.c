@@ -146,7 +146,8 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
                              ? cached(v, "vpl_params_slc", "gi/vpl/params.comp", "#define MODE_SLC\n")
                              : cached(v, "vpl_params_clamped", "gi/vpl/params.comp", NULL);
         v->cull = cached(v, "vpl_cull", "gi/vpl/cull.comp", NULL);
-        v->shade = cached(v, "vpl_shade_tiled", "gi/vpl/shade.comp", "#define MODE_TILED\n");
+        v->shade = method == VPL_SLC ? cached(v, "vpl_shade_slc", "gi/vpl/shade.comp", "#define MODE_TILED\n#define SLC\n")
+                                     : cached(v, "vpl_shade_clamped", "gi/vpl/shade.comp", "#define MODE_TILED\n");
         ok = v->params_prog && v->cull && v->shade;
     } else if (method == VPL_ALL) {
         ok = (v->shade = cached(v, "vpl_shade_all", "gi/vpl/shade.comp", "#define MODE_ALL\n")) != 0;

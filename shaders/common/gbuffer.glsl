@@ -24,6 +24,7 @@
 #ifndef GBUFFER_GLSL
 #define GBUFFER_GLSL
 
+#include "common/math.glsl"
 #include "common/surfel.glsl"
 
 uvec4 gb_material_pack(vec3 base, float metallic, float roughness, float specular, vec3 emission)
@@ -39,7 +40,7 @@ layout(binding = TEX_GB_SURFACE) uniform usampler2D g_surface;
 // drawn (position and normal are then meaningless).
 bool gb_surface(ivec2 px, out vec3 position, out vec3 normal)
 {
-    uvec4 s = texelFetch(g_surface, px, 0);
+    uvec4 s = FETCH_NEAREST(g_surface, px);
     position = surfel_unpack_position(s);
     normal = surfel_unpack_normal(s);
     return surfel_valid(s);
@@ -48,7 +49,7 @@ bool gb_surface(ivec2 px, out vec3 position, out vec3 normal)
 // The same without the normal's decoding, for passes that test positions.
 bool gb_position(ivec2 px, out vec3 position)
 {
-    uvec4 s = texelFetch(g_surface, px, 0);
+    uvec4 s = FETCH_NEAREST(g_surface, px);
     position = surfel_unpack_position(s);
     return surfel_valid(s);
 }
@@ -67,7 +68,7 @@ struct GbMaterial {
 
 GbMaterial gb_material(ivec2 px)
 {
-    uvec4 m = texelFetch(g_material, px, 0);
+    uvec4 m = FETCH_NEAREST(g_material, px);
     vec2 rg = unpackUnorm2x16(m.x), b_rough = unpackUnorm2x16(m.y);
     vec2 metal_spec = unpackUnorm2x16(m.w);
     GbMaterial g;

@@ -2,6 +2,12 @@
 const float PI = 3.14159265358979323846;
 const float TWO_PI = 6.28318530717958647692;
 
+// texelFetch(t, px, 0) of a NEAREST-filtered texture's level 0, through
+// the sampling path: llvmpipe's texelFetch function looks up each lane's
+// mip offsets and strides, textureLod's does not (the direct pass at
+// 800×600 26.5 -> 25.0 ms, tone mapping 3.4 -> 2.9; the same texels).
+#define FETCH_NEAREST(t, px) textureLod(t, (vec2(px) + 0.5) / vec2(textureSize(t, 0)), 0.0)
+
 // Interleaved gradient noise (Jimenez 2014): a per-pixel value in [0,1).
 float ign(vec2 pixel)
 {

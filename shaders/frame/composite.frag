@@ -28,7 +28,7 @@ out vec4 o_radiance;
 void main()
 {
     ivec2 px = ivec2(gl_FragCoord.xy);
-    vec3 e = texelFetch(u_irradiance, px, 0).rgb;
+    vec3 e = FETCH_NEAREST(u_irradiance, px).rgb;
     GbMaterial mat = gb_material(px);
     vec3 l = mat.diffuse / PI * e;
 #ifdef GLOSSY
@@ -41,6 +41,6 @@ void main()
     }
 #endif
     if (u_has_specular != 0)
-        l += texelFetch(u_specular, px, 0).rgb;
+        l += FETCH_NEAREST(u_specular, px).rgb;
     o_radiance = vec4(l * u_frame.indirect_scale, 1.0);
 }

@@ -77,13 +77,13 @@ vec3 rsm_texel_flux(RsmTexelFrame f, uvec4 t) { return unpack_rgb9e5(t.w) * f.fl
 // The surface area texel (p, n) stands for (see the top).
 float rsm_texel_area(RsmTexelFrame f, vec3 p, vec3 n)
 {
-    vec3 d = mix(p - f.light, f.axis, f.ortho);
+    vec3 d = mix(p - f.light, f.axis, f.ortho), a = abs(d);
 #if defined(RSM_CUBE)
-    float h = max(abs(d.x), max(abs(d.y), abs(d.z)));
+    float h = max(a.x, max(a.y, a.z));
 #elif defined(RSM_2D)
     float h = abs(dot(d, f.axis));
 #else
-    float h = f.cube ? max(abs(d.x), max(abs(d.y), abs(d.z))) : abs(dot(d, f.axis));
+    float h = f.cube ? max(a.x, max(a.y, a.z)) : abs(dot(d, f.axis));
 #endif
     return f.texel_area * h * h * h / max(max(-dot(n, d), 0.05 * length(d)), 1e-30);
 }

@@ -1,6 +1,6 @@
 // light/rsm.frag — reflective shadow map (Dachsbacher & Stamminger 2005): per
-// texel, in one RGBA32UI (common/rsm_texel.glsl), the world position, the normal facing the light, and the reflected
-// flux Φ = ρ_d · (power through the texel): I(ω)·Ω_texel for spot, point and
+// texel, in one RGBA32UI (common/rsm_texel.glsl), the world position, the
+// normal facing the light, and the reflected flux Φ = ρ_d · (power through the texel): I(ω)·Ω_texel for spot, point and
 // quad lights (Ω = a·cos³ of the angle to the face axis, a = texel area on
 // the projection plane at distance 1), E·A_texel for directional lights.
 #include "shared/gpu_types.h"

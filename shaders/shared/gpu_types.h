@@ -41,7 +41,7 @@
 #define TEX_BRDF_ALBEDO 5 /* RG32F BRDF_ALBEDO_N²: the GGX lobe's directional albedo terms A, B (src/brdf.c) */
 #define TEX_HDR 7
 #define TEX_RSM 8        /* RGBA32UI: position, normal, flux packed (common/rsm_texel.glsl) */
-#define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..2 at 8 + k */
+#define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..3 at 8 + k (3: the packed RSM texels) */
 #define TEX_GI 11        /* indirect irradiance */
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
 #define TEX_REFERENCE 12 /* the window's A/B view: the --compare image (shares TEX_INPUT's unit) */

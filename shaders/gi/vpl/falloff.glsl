@@ -30,6 +30,18 @@ float vpl_falloff(VplFalloff f, GpuVpl v, float d2)
     return 1.0 / max(d2 + vpl_r2(f, v), f.near);
 }
 
+// Stochastic light culling's α_i = 2π·e_max / (E·max I_i) with
+// max I_i = max(Φ)/π for a diffuse VPL (Tokuyoshi & Harada 2016); `num`
+// is vpl_slc_num(), 2π·e_max/E, read once outside the loops. params.comp's
+// ranges and shade.comp's in-loop range test take the same α.
+float vpl_slc_num() { return TWO_PI * u_vpl.slc_emax / u_vpl.slc_exposure; }
+
+float vpl_slc_alpha(float num, GpuVpl v)
+{
+    vec3 phi = v.flux.rgb;
+    return num / max(max(phi.r, max(phi.g, phi.b)) / PI, 1e-30);
+}
+
 // Φ/π · cosθ_p · cosθ_x (the VPL's radiant intensity toward x times the
 // receiver cosine), and the squared distance.
 vec3 vpl_intensity_cos(GpuVpl v, vec3 x, vec3 n, out float d2)

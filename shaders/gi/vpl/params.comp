@@ -19,9 +19,7 @@ void main()
     if (i >= counters[0])
         return;
 #ifdef MODE_SLC
-    vec3 phi = vpls[i].flux.rgb;
-    float i_max = max(phi.r, max(phi.g, phi.b)) / PI;
-    float alpha = TWO_PI * u_vpl.slc_emax / (u_vpl.slc_exposure * max(i_max, 1e-30));
+    float alpha = vpl_slc_alpha(vpl_slc_num(), vpls[i]);
     // A disk VPL is kept while its falloff 1/(d² + r²) exceeds α·ξ, i.e.
     // within √(1/(α ξ) − r²): then E[kept · max(α, falloff)] = falloff.
     float r2 = vpl_r2(vpl_falloff_params(), vpls[i]), xi = vpls[i].position_xi.w;

@@ -80,7 +80,7 @@ void main()
         // α = 2π·e_max/(E·max(Φ)/π) as params.comp computes it; the
         // clamped range keeps d < R with α = 0.
 #ifdef SLC
-        float alpha_num = TWO_PI * u_vpl.slc_emax / u_vpl.slc_exposure;
+        float alpha_num = vpl_slc_num();
 #else
         float range2 = u_vpl.clamp_range * u_vpl.clamp_range;
 #endif
@@ -88,8 +88,7 @@ void main()
             uint i = tiles[ntiles + 1u + tile * cap + k];
             vec3 d = x - vpls[i].position_xi.xyz;
 #ifdef SLC
-            vec3 phi = vpls[i].flux.rgb;
-            float alpha = alpha_num / max(max(phi.r, max(phi.g, phi.b)) / PI, 1e-30);
+            float alpha = vpl_slc_alpha(alpha_num, vpls[i]);
             if ((dot(d, d) + vpl_r2(fo, vpls[i])) * (alpha * vpls[i].position_xi.w) >= 1.0)
                 continue;
 #else

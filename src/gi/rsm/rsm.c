@@ -294,20 +294,19 @@ static void rsm_run(void *state, const GiFrame *f)
     /* The pyramid and the sample list derive from the RSM alone: rebuilt
      * when the light stage redrew it (a light or the scene moved, caching
      * off), kept while it keeps it. */
-    bool stale = false;
-    for (int i = 0; importance_on(g) && i < f->lights->light_count; i++)
-        stale |= g->built_from[i] != f->lights->rsm[i].version;
-    if (stale) {
-        gpu_timer_begin(t, "rsm_importance");
-        for (int i = 0; i < f->lights->light_count; i++) {
-            if (g->built_from[i] == f->lights->rsm[i].version)
-                continue;
-            importance_run(g, f->lights, i);
-            g->built_from[i] = f->lights->rsm[i].version;
-            g->importance_builds++;
-        }
-        gpu_timer_end(t);
+    bool timing = false;
+    for (int i = 0; importance_on(g) && i < f->lights->light_count; i++) {
+        if (g->built_from[i] == f->lights->rsm[i].version)
+            continue;
+        if (!timing)
+            gpu_timer_begin(t, "rsm_importance");
+        timing = true;
+        importance_run(g, f->lights, i);
+        g->built_from[i] = f->lights->rsm[i].version;
+        g->importance_builds++;
     }
+    if (timing)
+        gpu_timer_end(t);
     switch (g->variant) {
     case RSM_FULL:
         gpu_timer_begin(t, "rsm_gather");

@@ -442,10 +442,8 @@ static void vct_run(void *state, const GiFrame *f)
         build_mips(v, v->radiance[0]);
         gpu_timer_end(t);
     }
-    GLuint radiance = v->radiance[0];
-    if (v->params.vct_bounces > 1 && !build) {
-        radiance = v->radiance[1];
-    } else if (v->params.vct_bounces > 1) {
+    GLuint radiance = v->params.vct_bounces > 1 ? v->radiance[1] : v->radiance[0];
+    if (build && v->params.vct_bounces > 1) {
         gpu_timer_begin(t, "vct_bounce");
         glUseProgram(v->bounce);
         bind_volumes(v, v->radiance[0]);
@@ -457,7 +455,6 @@ static void vct_run(void *state, const GiFrame *f)
         gpu_timer_begin(t, "vct_mips");
         build_mips(v, v->radiance[1]);
         gpu_timer_end(t);
-        radiance = v->radiance[1];
     }
     gpu_timer_begin(t, "vct_trace");
     glUseProgram(v->trace);

@@ -216,6 +216,19 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     glObjectLabel(GL_BUFFER, ls->light_array, -1, "lights");
     ls->dummy_2d = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummy2d");
     ls->dummy_cube = gl_texture_make(GL_TEXTURE_CUBE_MAP, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummycube");
+    /* The grid PCF's taps (common/shadow.glsl): a bilinear blend of four
+     * depth tests, lit where reference <= stored; off the map, lit. */
+    glCreateSamplers(1, &ls->shadow_compare);
+    glSamplerParameteri(ls->shadow_compare, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(ls->shadow_compare, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glSamplerParameteri(ls->shadow_compare, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(ls->shadow_compare, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    const GLenum wraps[3] = {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R};
+    for (int k = 0; k < 3; k++)
+        glSamplerParameteri(ls->shadow_compare, wraps[k], GL_CLAMP_TO_BORDER);
+    const float border[4] = {1.f, 1.f, 1.f, 1.f};
+    glSamplerParameterfv(ls->shadow_compare, GL_TEXTURE_BORDER_COLOR, border);
+    glObjectLabel(GL_SAMPLER, ls->shadow_compare, -1, "shadow.compare");
     return make_products(ls);
 }
 
@@ -225,6 +238,7 @@ void light_stage_destroy(LightStage *ls)
     glDeleteBuffers(1, &ls->light_array);
     GLuint t[2] = {ls->dummy_2d, ls->dummy_cube};
     glDeleteTextures(2, t);
+    glDeleteSamplers(1, &ls->shadow_compare);
     memset(ls, 0, sizeof *ls);
 }
 
@@ -475,8 +489,13 @@ void light_stage_bind_shadow(const LightStage *ls, int i)
 {
     bind_slot(ls, i, SLOT_SHADOW);
     const ShadowMap *m = ls->shadow && i < ls->light_count ? &ls->shadow[i] : NULL;
-    glBindTextureUnit(TEX_SHADOW_2D, m && !m->cube ? m->texture : ls->dummy_2d);
-    glBindTextureUnit(TEX_SHADOW_CUBE, m && m->cube ? m->texture : ls->dummy_cube);
+    GLuint map_2d = m && !m->cube ? m->texture : ls->dummy_2d, cube = m && m->cube ? m->texture : ls->dummy_cube;
+    glBindTextureUnit(TEX_SHADOW_2D, map_2d);
+    glBindTextureUnit(TEX_SHADOW_CUBE, cube);
+    glBindTextureUnit(TEX_SHADOW_COMPARE_2D, map_2d);
+    glBindTextureUnit(TEX_SHADOW_COMPARE_CUBE, cube);
+    glBindSampler(TEX_SHADOW_COMPARE_2D, ls->shadow_compare);
+    glBindSampler(TEX_SHADOW_COMPARE_CUBE, ls->shadow_compare);
 }
 
 void light_stage_bind_rsm(const LightStage *ls, int i)

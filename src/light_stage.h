@@ -95,6 +95,7 @@ typedef struct LightStage {
     GLuint rsm_program_opaque;       /* rsm_program for opaque materials: early depth */
     GLuint rsm_program_untextured;   /* the same for opaque materials without textures */
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
+    GLuint shadow_compare;       /* depth-compare sampler for TEX_SHADOW_COMPARE_2D/CUBE */
 } LightStage;
 
 /* RSM layers (2D maps or cube faces) whose texels can hold a lit surface
@@ -118,7 +119,8 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t);
 void light_stage_invalidate(LightStage *ls);
 
 /* Binds light i's shadow-lookup block to UBO_LIGHT and its shadow map (or a
- * dummy) to TEX_SHADOW_2D/CUBE. */
+ * dummy) to TEX_SHADOW_2D/CUBE, and through the depth-compare sampler to
+ * TEX_SHADOW_COMPARE_2D/CUBE. */
 void light_stage_bind_shadow(const LightStage *ls, int i);
 /* Binds light i's RSM block to UBO_LIGHT and the RSM (2D or cube) to
  * TEX_RSM_SURFEL and TEX_RSM_FLUX. */

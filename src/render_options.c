@@ -43,6 +43,9 @@ void render_options_help(void)
         "  --ssaa N                      N x N supersampling, box filter (default: 1, off)\n"
         "  --aa none|fxaa                post-process AA of the tone-mapped image\n"
         "                                (default: none for render, fxaa for view)\n"
+        "  --shading auto|forward|deferred  frames without a GI technique: shade while drawing\n"
+        "                                the scene or from the G-buffer, as GI frames do; auto\n"
+        "                                (default): forward below 1 triangle per 64 pixels\n"
         "other:\n"
         "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
         "  --debug            GL debug context, KHR_debug messages logged\n"
@@ -63,6 +66,7 @@ void render_options_help_settings(void)
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
 static const char *const k_aa_names[] = {"none", "fxaa", NULL};
+static const char *const k_shading_names[] = {"auto", "forward", "deferred", NULL};
 
 /* --probe of the options last turned into settings (read by the timings report). */
 static const char *s_probe_path;
@@ -94,7 +98,7 @@ static const char *const k_view_only[] = {"--compare", "--no-panel", "--slow-ms"
  * included (for "did you mean"). */
 static const char *const *known_options(bool view)
 {
-    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--half", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shadow", "--size", "--ssaa", "--verbose", NULL};
+    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--half", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shading", "--shadow", "--size", "--ssaa", "--verbose", NULL};
     static const char *all[2][128];
     const char **list = all[view];
     if (!list[0]) {
@@ -193,6 +197,10 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             if ((o->aa = cli_choice(opt, v, k_aa_names)) < 0)
                 return 2;
+        } else if (!strcmp(opt, "--shading")) {
+            CLI_VALUE(&a, v);
+            if ((o->shading = cli_choice(opt, v, k_shading_names)) < 0)
+                return 2;
         } else if (!strcmp(opt, "--frames")) {
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 1000000, &o->frames))
@@ -277,6 +285,7 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->timing_sync = o->timings;
     rs->ssaa = o->ssaa;
     rs->aa = (AaMode)o->aa;
+    rs->shading = (ShadingMode)o->shading;
 }
 
 /* The gather's evaluations/s over its passes' time in their fastest frame

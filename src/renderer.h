@@ -43,6 +43,9 @@ typedef enum GiMode {
     GI_MODE_COUNT
 } GiMode;
 
+/* How frames without a GI technique shade (renderer_forward). */
+typedef enum ShadingMode { SHADING_AUTO = 0, SHADING_FORWARD = 1, SHADING_DEFERRED = 2 } ShadingMode;
+
 /* Post-process anti-aliasing of the tone-mapped image. */
 typedef enum AaMode { AA_NONE = 0, AA_FXAA = 1 } AaMode;
 
@@ -57,6 +60,7 @@ typedef struct RenderSettings {
     bool timing_sync; /* also wall time per pass (glFinish around passes) */
     bool cache;       /* keep light products (shadow maps, RSMs) until their light or size changes */
     bool no_cull;     /* draw every cluster in scene order (culling's baseline in tests) */
+    ShadingMode shading; /* direct-only frames (no GI technique): forward, deferred, or chosen by the scene */
     int ssaa;         /* N×N supersampling with a box filter; 0 or 1: off */
     AaMode aa;        /* post-process AA of the tone-mapped image */
 } RenderSettings;
@@ -72,6 +76,7 @@ typedef struct Renderer {
     LightStage lights;
     GBuffer gbuffer;
     ColorTarget hdr;           /* RGBA32F radiance, output size */
+    GLuint forward_fbo;        /* the shading target's radiance + the G-buffer's depth (forward shading) */
     ColorTarget hdr_ss;        /* RGBA32F radiance at N× the output size (supersampling only) */
     ColorTarget ldr;           /* SRGB8_ALPHA8, the final image */
     ColorTarget ldr_pre;       /* SRGB8_ALPHA8, tone-mapped before FXAA (FXAA only) */
@@ -112,6 +117,11 @@ void renderer_frame(Renderer *r, const Camera *cam);
 const RenderStats *renderer_collect_stats(Renderer *r);
 /* Supersampling factor (≥ 1) and the size the shading passes run at. */
 int renderer_ssaa(const RenderSettings *rs);
+/* Whether r's frames shade forward: a depth pre-pass and one draw of the
+ * scene per light, no G-buffer. Only without a GI technique (they read the
+ * G-buffer); SHADING_AUTO picks forward where the scene has fewer
+ * triangles than shading pixels / 64 (see renderer.c). */
+bool renderer_forward(const Renderer *r);
 /* Reads back radiance at the output size (row 0 = top). */
 bool renderer_read_hdr(Renderer *r, ImageF *out);
 /* Reads back the tone-mapped image as 8-bit RGB, row 0 = top. Caller frees;

@@ -93,8 +93,12 @@ typedef struct ShadowParams {
     int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
     float pcss_max_radius; /* PCSS search/filter radius cap in texels */
     int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
+    int pcf_filter;        /* ShadowPcfFilter: Poisson disk, or a grid of hardware-compare bilinear taps */
     int area_light;        /* AreaLightMode: quad lights' exact polygon irradiance, or a point at the centre */
 } ShadowParams;
+
+/* PCF's taps (ShadowParams.pcf_filter; SHADOW_FILTER_* in shared/gpu_types.h). */
+typedef enum ShadowPcfFilter { SHADOW_PCF_FILTER_DISK = 0, SHADOW_PCF_FILTER_GRID = 1 } ShadowPcfFilter;
 
 typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
 /* How the rasterizer lights with quad lights (values AREA_LIGHT_* in

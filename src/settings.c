@@ -18,6 +18,7 @@ static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 static const char *const k_lpv_inject[] = {"compute", "points", NULL};
 static const char *const k_vct_cones[] = {"6", "9", "16", NULL};
 static const char *const k_area_lights[] = {"exact", "point", NULL};
+static const char *const k_pcf_filters[] = {"disk", "grid", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -43,6 +44,8 @@ const SettingDesc settings_table[] = {
      "PCSS search/filter radius cap (texels)"},
     {"shadow", "filter_bias", "--filter-bias", SETTING_ENUM, SH(filter_bias), 0, 0, 1, 0, k_filter_biases,
      "PCF/PCSS: receiver-plane depth + 1-texel bias, Poisson disk; legacy: slope bias x filter radius, spiral"},
+    {"shadow", "pcf_filter", "--pcf-filter", SETTING_ENUM, SH(pcf_filter), 0, 0, 1, 0, k_pcf_filters,
+     "PCF taps: disk (pcf_samples depth tests on a turned Poisson disk); grid (a square of bilinear hardware-compare taps one texel apart, 2x2 for radius 1: the 3x3 tent; PCSS keeps the disk)"},
     {"shadow", "area_light", "--area-light", SETTING_ENUM, SH(area_light), 0, 0, 1, 0, k_area_lights,
      "quad lights: exact polygon irradiance (diffuse) + 8x8 quadrature of the GGX lobe over the rectangle (specular); point: a point at the centre"},
     /* Reflective shadow maps (SPEC §3). */

@@ -805,6 +805,7 @@ static void gltf_metallic_roughness_is_read(void **state)
     glm_vec3_copy((vec3){0, 0, 1}, s.camera.up);
     s.camera.fov_y = glm_rad(30.f);
     RenderSettings rs = test_settings(&s, 16, 16, SHADOW_MODE_NONE);
+    rs.shading = SHADING_DEFERRED; /* a forward frame has no G-buffer */
     Renderer r;
     assert_true(renderer_create(&r, &s, &rs));
     renderer_frame(&r, &s.camera);

@@ -1,12 +1,18 @@
 /* test_direct.c — the direct pass draws each light with a program built for
- * its light type, shadow mode and filter bias (and, without glossy
- * materials, the diffuse BRDF only), the first light of a frame unblended
- * into an uncleared target (issue 11). None of that may change the image:
- * every variant's frame equals the general program's bit for bit, for each
- * light type, shadow mode and filter bias, with one and with two lights
- * (the second blended onto the first), diffuse-only and glossy. */
+ * its light type, shadow mode, filter bias and PCF filter (and, without
+ * glossy materials, the diffuse BRDF only), the first light of a frame
+ * unblended into an uncleared target (issue 11). None of that may change
+ * the image: every variant's frame equals the general program's bit for
+ * bit, for each light type, shadow mode, filter bias and PCF filter, with
+ * one and with two lights (the second blended onto the first),
+ * diffuse-only and glossy. Frames without GI shade forward (no G-buffer);
+ * their image equals the deferred one up to the G-buffer's quantisation. */
+#include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "metrics.h"
 
 #include "test_util.h"
 
@@ -67,12 +73,16 @@ static void variants_equal_general(void **state)
         make_scene(&s, types[t], two, glossy);
         RenderSettings rs = test_settings(&s, 40, 40, SHADOW_MODE_NONE);
         rs.shadow_params.map_size = 128;
+        rs.shading = t < 2 ? SHADING_FORWARD : SHADING_DEFERRED; /* each light type once per path */
         Renderer r;
         assert_true(renderer_create(&r, &s, &rs));
+        assert_true(renderer_forward(&r) == (t < 2));
         for (int mode = SHADOW_MODE_NONE; mode <= SHADOW_MODE_PCSS; mode++)
-            for (int bias = 0; bias < 2; bias++) {
+            for (int variant = 0; variant < (mode == SHADOW_MODE_PCF ? 4 : 2); variant++) {
+                int bias = variant % 2, filter = variant / 2;
                 rs.shadow = (ShadowMode)mode;
                 rs.shadow_params.filter_bias = bias;
+                rs.shadow_params.pcf_filter = filter;
                 assert_true(renderer_apply(&r, &rs));
                 ImageF img[2];
                 for (int g = 0; g < 2; g++) {
@@ -83,8 +93,9 @@ static void variants_equal_general(void **state)
                 size_t diff = differing_pixels(&img[0], &img[1]);
                 double mean = test_image_mean(&img[0]);
                 if (diff)
-                    print_message("light type %d, shadow mode %d, bias %d, %s, %s: %zu pixels differ\n", types[t],
-                                  mode, bias, two ? "two lights" : "one light", glossy ? "glossy" : "diffuse", diff);
+                    print_message("light type %d, shadow mode %d, bias %d, filter %d, %s, %s: %zu pixels differ\n",
+                                  types[t], mode, bias, filter, two ? "two lights" : "one light",
+                                  glossy ? "glossy" : "diffuse", diff);
                 assert_true(mean > 0.0);
                 assert_int_equal(diff, 0);
                 image_free(&img[0]);
@@ -97,10 +108,165 @@ static void variants_equal_general(void **state)
     print_message("%d light/shadow configurations: variants equal the general program\n", frames);
 }
 
+/* Forward and deferred frames of the same settings: the G-buffer keeps
+ * positions exactly but the normal to 15 bits per octahedral coordinate
+ * and the base colour to 16 bits, so the two agree to about 1e-4 of a
+ * pixel's value, except where that moves a shadow test across its
+ * reference. Bounds: relMSE < 1e-5 over the image, and fewer than 0.5% of
+ * the lit pixels off by more than 1%. Forward frames that lose the
+ * emission or the blending of the second light fail them (checked by
+ * breaking each: relMSE 0.0069 and 0.26). */
+static void compare_shadings(const Scene *s, RenderSettings rs, const char *what)
+{
+    ImageF img[2];
+    for (int d = 0; d < 2; d++) {
+        rs.shading = d == 1 ? SHADING_DEFERRED : SHADING_FORWARD;
+        test_render(s, &rs, &img[d]);
+    }
+    double rel = metric_relmse(&img[0], &img[1], NULL, NULL);
+    int off = 0, lit = 0;
+    for (int i = 0; i < img[0].width * img[0].height; i++) {
+        float a = luminance(img[0].rgb + 3 * i), b = luminance(img[1].rgb + 3 * i);
+        lit += b > 0.f;
+        off += fabsf(a - b) > 0.01f * fmaxf(b, 1e-3f);
+    }
+    print_message("%s: forward vs deferred relMSE %.2g, %d of %d lit pixels off by > 1%%\n", what, rel, off, lit);
+    assert_true(lit > 0 && test_image_mean(&img[1]) > 0.0);
+    assert_true(rel < 1e-5);
+    assert_true(off <= lit / 200);
+    image_free(&img[0]);
+    image_free(&img[1]);
+}
+
+static void forward_equals_deferred(void **state)
+{
+    (void)state;
+    const LightType types[] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD};
+    const char *names[] = {"sun", "spot", "point", "quad"};
+    for (int t = 0; t < 4; t++) {
+        Scene s;
+        bool two = t % 2 == 1, glossy = t >= 2;
+        make_scene(&s, types[t], two, glossy);
+        for (int mode = SHADOW_MODE_NONE; mode <= SHADOW_MODE_PCSS; mode++)
+            for (int filter = 0; filter < (mode == SHADOW_MODE_PCF ? 2 : 1); filter++) {
+                RenderSettings rs = test_settings(&s, 48, 48, (ShadowMode)mode);
+                rs.shadow_params.map_size = 256;
+                rs.shadow_params.pcf_filter = filter;
+                char what[96];
+                snprintf(what, sizeof what, "%s%s%s, shadow mode %d%s", names[t], two ? " + point" : "",
+                         glossy ? ", glossy" : "", mode, filter ? " (grid)" : "");
+                compare_shadings(&s, rs, what);
+            }
+        /* Supersampled: both shade at 2x the size. */
+        RenderSettings rs = test_settings(&s, 24, 24, SHADOW_MODE_PCF);
+        rs.ssaa = 2;
+        compare_shadings(&s, rs, "supersampled x2");
+        scene_free(&s);
+    }
+}
+
+/* An alpha-masked leaf (a quad whose texture is transparent on its x > 0
+ * half) over a floor, lit from above: forward shading draws masked
+ * materials with their discard, so the floor shows through the hole, lit
+ * through it, as in the G-buffer. */
+static void forward_masked_materials(void **state)
+{
+    (void)state;
+    enum { T = 8 };
+    uint8_t white[T * T * 3], half[T * T * 3];
+    for (int i = 0; i < T * T; i++)
+        for (int c = 0; c < 3; c++) {
+            white[3 * i + c] = 255;
+            half[3 * i + c] = i % T < T / 2 ? 255 : 0;
+        }
+    char path[512];
+    snprintf(path, sizeof path, "%s/direct_mask_albedo.png", RTGI_TEST_TMP);
+    assert_true(image_write_png8(path, T, T, white));
+    snprintf(path, sizeof path, "%s/direct_mask_alpha.png", RTGI_TEST_TMP);
+    assert_true(image_write_png8(path, T, T, half));
+    test_tmp_file("direct_masked.mtl", "newmtl leaf\nKd 0.3 0.6 0.3\nmap_Kd direct_mask_albedo.png\n"
+                                       "map_d direct_mask_alpha.png\nnewmtl ground\nKd 0.8 0.8 0.8\n");
+    const char *obj = "mtllib direct_masked.mtl\n"
+                      "v -1 0.5 -1\nv 1 0.5 -1\nv 1 0.5 1\nv -1 0.5 1\n"
+                      "v -3 0 -3\nv 3 0 -3\nv 3 0 3\nv -3 0 3\n"
+                      "vt 0.0625 0.0625\nvt 0.9375 0.0625\nvt 0.9375 0.9375\nvt 0.0625 0.9375\nvn 0 1 0\n"
+                      "usemtl leaf\nf 1/1/1 4/4/1 3/3/1 2/2/1\n"
+                      "usemtl ground\nf 5/1/1 8/4/1 7/3/1 6/2/1\n";
+    Scene s;
+    assert_true(scene_load(&s, test_tmp_file("direct_masked.obj", obj)));
+    int masked = 0;
+    for (int i = 0; i < s.material_count; i++)
+        masked += s.materials[i].alpha_mask;
+    assert_int_equal(masked, 1);
+    glm_vec3_copy((vec3){0, 4, 0}, s.camera.position);
+    glm_vec3_copy((vec3){0, -1, 0}, s.camera.forward);
+    glm_vec3_copy((vec3){0, 0, -1}, s.camera.up);
+    s.camera.fov_y = glm_rad(40.f);
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0, -1, 0}, .color = {2, 2, 2}};
+    free(s.lights);
+    s.lights = NULL;
+    s.light_count = 0;
+    scene_add_light(&s, &sun);
+    RenderSettings rs = test_settings(&s, 64, 64, SHADOW_MODE_PCF);
+    compare_shadings(&s, rs, "alpha-masked leaf");
+    /* The hole shows the lit floor: ρ/π·E = 0.8/π·2 beside the leaf's centre. */
+    ImageF img;
+    test_render(&s, &rs, &img);
+    float hole = luminance(image_px(&img, 40, 32)), leaf = luminance(image_px(&img, 24, 32));
+    print_message("masked leaf: hole %.4f (lit floor %.4f), leaf %.4f\n", hole, 0.8 / GLM_PI * 2.0, leaf);
+    assert_float_equal(hole, 0.8 / GLM_PI * 2.0, 0.01);
+    assert_true(fabsf(leaf - hole) > 0.1f);
+    image_free(&img);
+    scene_free(&s);
+}
+
+/* --shading auto: forward where the scene has fewer triangles than shading
+ * pixels / 64, deferred otherwise and always with a GI technique (it reads
+ * the G-buffer), whatever the mode asks. */
+static void auto_shading_follows_triangle_density(void **state)
+{
+    (void)state;
+    Scene s;
+    assert_true(scene_load(&s, "cornell"));
+    int triangles = (int)(s.index_count / 3);
+    struct {
+        int w, h, ssaa;
+        GiMode gi;
+        ShadingMode shading;
+        bool forward;
+    } cases[] = {
+        {256, 256, 1, GI_NONE, SHADING_AUTO, triangles * 64 < 256 * 256},
+        {8, 8, 1, GI_NONE, SHADING_AUTO, false},
+        {8, 8, 4, GI_NONE, SHADING_AUTO, triangles * 64 < 32 * 32},
+        {8, 8, 1, GI_NONE, SHADING_FORWARD, true},
+        {256, 256, 1, GI_NONE, SHADING_DEFERRED, false},
+        {64, 64, 1, GI_RSM, SHADING_FORWARD, false},
+    };
+    assert_true(cases[0].forward && !cases[2].forward); /* the box's 36-odd triangles at these sizes */
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        RenderSettings rs = test_settings(&s, cases[i].w, cases[i].h, SHADOW_MODE_HARD);
+        rs.ssaa = cases[i].ssaa;
+        rs.gi = cases[i].gi;
+        rs.gi_params = s.gi;
+        rs.gi_params.rsm_size = 32;
+        rs.shading = cases[i].shading;
+        Renderer r;
+        assert_true(renderer_create(&r, &s, &rs));
+        assert_true(renderer_forward(&r) == cases[i].forward);
+        renderer_destroy(&r);
+    }
+    print_message("Cornell box (%d triangles): forward at 256x256, deferred at 8x8 and 32x32 shading pixels\n",
+                  triangles);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(variants_equal_general),
+        cmocka_unit_test(forward_equals_deferred),
+        cmocka_unit_test(forward_masked_materials),
+        cmocka_unit_test(auto_shading_follows_triangle_density),
     };
     return cmocka_run_group_tests_name("direct", tests, test_gl_setup, test_gl_teardown);
 }

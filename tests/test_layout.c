@@ -121,7 +121,7 @@ static void constants_match_c_enums(void **state)
     assert_true(prog != 0);
     GLuint out, vpl;
     glCreateBuffers(1, &out);
-    glNamedBufferStorage(out, 16 * sizeof(int), NULL, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(out, 18 * sizeof(int), NULL, GL_DYNAMIC_STORAGE_BIT);
     glCreateBuffers(1, &vpl);
     glNamedBufferStorage(vpl, sizeof(GpuVpl), NULL, GL_DYNAMIC_STORAGE_BIT);
     GLuint ubo;
@@ -135,14 +135,15 @@ static void constants_match_c_enums(void **state)
     glUseProgram(prog);
     glDispatchCompute(1, 1, 1);
     glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    int v[16];
+    int v[18];
     glGetNamedBufferSubData(out, 0, sizeof v, v);
-    const int want[16] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD,
+    const int want[18] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD,
                           SHADOW_MODE_NONE,  SHADOW_MODE_HARD, SHADOW_MODE_PCF, SHADOW_MODE_PCSS,
                           0, SHADOW_BIAS_RECEIVER_PLANE, SHADOW_BIAS_LEGACY,
                           RSM_WEIGHT_PAPER, RSM_WEIGHT_UNBIASED, RSM_WEIGHT_IMPORTANCE,
-                          AREA_LIGHT_MODE_EXACT, AREA_LIGHT_MODE_POINT};
-    for (int i = 0; i < 16; i++)
+                          AREA_LIGHT_MODE_EXACT, AREA_LIGHT_MODE_POINT,
+                          SHADOW_PCF_FILTER_DISK, SHADOW_PCF_FILTER_GRID};
+    for (int i = 0; i < 18; i++)
         assert_int_equal(v[i], want[i]);
     GLuint bufs[3] = {out, vpl, ubo};
     glDeleteBuffers(3, bufs);

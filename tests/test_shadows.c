@@ -7,7 +7,7 @@
 
 enum { CW = 192, CH = 192 };
 
-static void render_cornell(ShadowMode mode, float bias_const, float bias_slope, ImageF *img)
+static void render_cornell_filter(ShadowMode mode, float bias_const, float bias_slope, int filter, ImageF *img)
 {
     Scene s;
     scene_build_cornell(&s);
@@ -17,8 +17,14 @@ static void render_cornell(ShadowMode mode, float bias_const, float bias_slope, 
         rs.shadow_params.bias_const = bias_const;
         rs.shadow_params.bias_slope = bias_slope;
     }
+    rs.shadow_params.pcf_filter = filter;
     test_render(&s, &rs, img);
     scene_free(&s);
+}
+
+static void render_cornell(ShadowMode mode, float bias_const, float bias_slope, ImageF *img)
+{
+    render_cornell_filter(mode, bias_const, bias_slope, SHADOW_PCF_FILTER_DISK, img);
 }
 
 /* Floor behind the tall block as seen from the light, and a lit floor point. */
@@ -96,6 +102,13 @@ static void lit_floor_has_no_acne(void **state)
     double f_nobias = acne_fraction(&nobias, &none, lx, ly, 6, &rs_nobias);
     print_message("acne: biased %.3f dark, rel std %.4f; unbiased %.3f dark, rel std %.4f\n", f_hard, rs_hard,
                   f_nobias, rs_nobias);
+    /* The grid PCF's taps (cube map of the quad light) on the same patch. */
+    ImageF grid;
+    render_cornell_filter(SHADOW_MODE_PCF, -1, 0, SHADOW_PCF_FILTER_GRID, &grid);
+    double rs_grid, f_grid = acne_fraction(&grid, &none, lx, ly, 6, &rs_grid);
+    print_message("acne: grid PCF %.3f dark, rel std %.4f\n", f_grid, rs_grid);
+    assert_true(f_grid == 0.0 && rs_grid <= 0.01);
+    image_free(&grid);
     assert_true(f_hard == 0.0);
     assert_true(rs_hard <= 0.01);
     assert_true(f_nobias > 0.1); /* the measure detects acne when there is some */
@@ -195,9 +208,71 @@ static void pcss_penumbra_grows_pcf_does_not(void **state)
     scene_free(&s);
 }
 
+/* Grid PCF (--pcf-filter grid): bilinear hardware-compare taps one texel
+ * apart, r = 1 the 3×3 tent. On the penumbra scene with a 256² map
+ * (3.7 cm texels on the floor, 1.7 cm pixels): a symmetric filter moves
+ * no shadow edge, so the high blocker's shadow area along the row
+ * (Σ 1 − v) stays the hard shadow's, within 5% (nothing random), and
+ * so does its centre, within 0.6 px (measured 0.25 and 0.47: the far
+ * edge's blur spans more pixels; taps shifted by half a texel move it by
+ * 0.87 and 1.14 px); its
+ * penumbra is wider than the hard shadow's and grows with the radius (the
+ * taps span 2r + 1 texels: 3 at r = 1, 7 at r = 3). */
+static void grid_pcf_keeps_the_shadow_and_widens_with_radius(void **state)
+{
+    (void)state;
+    Scene s;
+    penumbra_scene(&s);
+    s.shadow.map_size = 256;
+    ImageF none, hard, grid1, grid3;
+    RenderSettings rs = test_settings(&s, PW, PH, SHADOW_MODE_NONE);
+    test_render(&s, &rs, &none);
+    rs.shadow = SHADOW_MODE_HARD;
+    test_render(&s, &rs, &hard);
+    rs.shadow = SHADOW_MODE_PCF;
+    rs.shadow_params.pcf_filter = SHADOW_PCF_FILTER_GRID;
+    rs.shadow_params.pcf_radius = 1.f;
+    test_render(&s, &rs, &grid1);
+    rs.shadow_params.pcf_radius = 3.f;
+    test_render(&s, &rs, &grid3);
+    double v_hard[PW], v1[PW], v3[PW];
+    visibility_row(&hard, &none, v_hard);
+    visibility_row(&grid1, &none, v1);
+    visibility_row(&grid3, &none, v3);
+    /* The high blocker's shadow (the right half; the camera sees most of
+     * the low one's hidden under its blocker). */
+    int x0 = PW / 2, x1 = PW;
+    double a_hard = 0, a1 = 0, a3 = 0, c_hard = 0, c1 = 0, c3 = 0;
+    for (int x = x0; x < x1; x++) {
+        a_hard += 1.0 - v_hard[x];
+        a1 += 1.0 - v1[x];
+        a3 += 1.0 - v3[x];
+        c_hard += x * (1.0 - v_hard[x]);
+        c1 += x * (1.0 - v1[x]);
+        c3 += x * (1.0 - v3[x]);
+    }
+    c_hard /= a_hard;
+    c1 /= a1;
+    c3 /= a3;
+    int w_hard = penumbra_width(v_hard, x0, x1), w1 = penumbra_width(v1, x0, x1), w3 = penumbra_width(v3, x0, x1);
+    print_message("shadow area (px) hard %.1f, grid r=1 %.1f, r=3 %.1f; centre %.2f, %.2f, %.2f; penumbra px %d, %d, %d\n",
+                  a_hard, a1, a3, c_hard, c1, c3, w_hard, w1, w3);
+    assert_true(a_hard > 20.0);
+    assert_true(fabs(c1 - c_hard) < 0.6 && fabs(c3 - c_hard) < 0.6);
+    assert_true(fabs(a1 - a_hard) < 0.05 * a_hard && fabs(a3 - a_hard) < 0.05 * a_hard);
+    assert_true(w1 > w_hard && w1 >= 4);
+    assert_true(w3 >= 2 * w1);
+    image_free(&none);
+    image_free(&hard);
+    image_free(&grid1);
+    image_free(&grid3);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(grid_pcf_keeps_the_shadow_and_widens_with_radius),
         cmocka_unit_test(tall_block_casts_shadow),
         cmocka_unit_test(lit_floor_has_no_acne),
         cmocka_unit_test(pcss_penumbra_grows_pcf_does_not),

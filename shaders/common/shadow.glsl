@@ -5,6 +5,8 @@
 
 layout(binding = TEX_SHADOW_2D) uniform sampler2D u_shadow_2d;
 layout(binding = TEX_SHADOW_CUBE) uniform samplerCube u_shadow_cube;
+layout(binding = TEX_SHADOW_COMPARE_2D) uniform sampler2DShadow u_shadow_cmp_2d;
+layout(binding = TEX_SHADOW_COMPARE_CUBE) uniform samplerCubeShadow u_shadow_cmp_cube;
 
 struct ShadowCoord {
     vec3 dir;  // cube: unit direction light → receiver
@@ -32,6 +34,14 @@ int shadow_filter_bias()
     return SHADOW_FIXED_BIAS;
 #else
     return u_shadow.filter_bias;
+#endif
+}
+int shadow_pcf_filter()
+{
+#ifdef SHADOW_FIXED_FILTER
+    return SHADOW_FIXED_FILTER;
+#else
+    return u_shadow.pcf_filter;
 #endif
 }
 int shadow_mode()
@@ -221,6 +231,58 @@ float shadow_pcf(ShadowCoord sc, vec2 g, float radius, float cos_theta, float an
     return lit / float(n);
 }
 
+// Grid PCF: k² bilinear depth-compare taps (the sampler does four depth tests
+// and blends them) on a square k = 2⌈r⌉ taps wide, capped at 8, spaced
+// 2r/k texels: r = 1 is four taps at (±½, ±½), the 3×3 tent (weights
+// 1 2 1 / 2 4 2 / 1 2 1). A tap's four texels share its reference: with
+// the receiver-plane bias it is the plane's depth at the lowest of the four
+// texel centres (each axis contributes min(−g·f, g·(1−f)) for the tap's
+// position f within its texel), with shadow_ref_at's rule that the plane
+// only lowers it. Explicit level 0 (the maps have one): no implicit
+// derivatives to compute, and none to differ between the programs that
+// unroll the loop and those that do not. Programs built for one radius fix k (SHADOW_GRID_TAPS,
+// shadow_grid_taps in pass_direct.c): llvmpipe runs a loop of a constant
+// count unrolled, twice as fast as the same loop over a uniform's count
+// (pcf_sun.json 800×600, one thread: direct pass 32 -> 17 ms).
+int shadow_grid_taps(float radius) { return min(2 * int(ceil(max(radius, 0.5))), 8); }
+
+float shadow_pcf_grid(ShadowCoord sc, vec2 g, float radius, float cos_theta)
+{
+    ShadowRef r = shadow_ref(sc, g, cos_theta, radius);
+    float far = u_light.shadow_info.x;
+#ifdef SHADOW_GRID_TAPS
+    const int k = SHADOW_GRID_TAPS;
+#else
+    int k = shadow_grid_taps(radius);
+#endif
+    float step = 2.0 * max(radius, 0.5) / float(k), first = 0.5 * step * float(1 - k);
+    bool plane = shadow_filter_bias() != SHADOW_BIAS_LEGACY;
+    // precise: no contraction into FMAs, which the unrolled loop of a
+    // constant count got and the general program's did not (1-ulp
+    // differences in penumbrae, test_direct).
+    precise float lit = 0.0;
+    for (int j = 0; j < k; j++)
+        for (int i = 0; i < k; i++) {
+            precise vec2 o = vec2(first + step * float(i), first + step * float(j));
+            precise float ref = r.d;
+            if (shadow_is_cube()) {
+                if (plane)
+                    ref += min(dot(g, o) - 0.5 * (abs(g.x) + abs(g.y)), 0.0);
+                vec3 d = sc.dir + (sc.t * o.x + sc.b * o.y) * u_light.shadow_info.y;
+                lit += textureGrad(u_shadow_cmp_cube, vec4(d, ref / far), vec3(0.0), vec3(0.0));
+            } else {
+                vec2 p = sc.uv * u_light.shadow_info.z + o;
+                if (plane) {
+                    vec2 f = fract(p - 0.5);
+                    vec2 lo = min(-g * f, g * (1.0 - f));
+                    ref += min(dot(g, o) + lo.x + lo.y, 0.0);
+                }
+                lit += textureLod(u_shadow_cmp_2d, vec3(p / u_light.shadow_info.z, ref / far), 0.0);
+            }
+        }
+    return lit / float(k * k);
+}
+
 // Light width as seen from distance 1: PCSS's w_light/d for perspective
 // lights becomes w·(1/d_b); the sun's is tan of its angular diameter.
 float shadow_pcss(ShadowCoord sc, vec2 g, float cos_theta, float angle)
@@ -284,6 +346,7 @@ float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
     float angle = TWO_PI * ign(pixel);
     vec2 g = shadow_filter_bias() == SHADOW_BIAS_LEGACY ? vec2(0.0) : shadow_receiver_gradient(sc, xo, n);
     if (mode == SHADOW_PCF)
-        return shadow_pcf(sc, g, u_shadow.pcf_radius, cos_theta, angle);
+        return shadow_pcf_filter() == SHADOW_FILTER_GRID ? shadow_pcf_grid(sc, g, u_shadow.pcf_radius, cos_theta)
+                                                         : shadow_pcf(sc, g, u_shadow.pcf_radius, cos_theta, angle);
     return shadow_pcss(sc, g, cos_theta, angle);
 }

@@ -7,6 +7,8 @@ layout(location = 2) in vec2 a_uv;
 
 layout(location = LOC_VIEW_PROJ) uniform mat4 u_view_proj;
 
+invariant gl_Position; // the same depth in every program that draws the scene (GL_EQUAL tests)
+
 out vec3 v_world;
 out vec3 v_normal;
 out vec2 v_uv;

@@ -41,7 +41,7 @@
 #define TEX_BRDF_ALBEDO 5 /* RG32F BRDF_ALBEDO_N²: the GGX lobe's directional albedo terms A, B (src/brdf.c) */
 #define TEX_HDR 7
 #define TEX_RSM 8        /* RGBA32UI: position, normal, flux packed (common/rsm_texel.glsl) */
-#define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..3 at 8 + k (3: the packed RSM texels) */
+#define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..3 at 8 + k (3: the packed RSM texels); the probe binds nothing else */
 #define TEX_GI 11        /* indirect irradiance */
 #define TEX_INPUT 12     /* a technique's intermediate image (low-res, de-interleaved, pre-blur) */
 #define TEX_REFERENCE 12 /* the window's A/B view: the --compare image (shares TEX_INPUT's unit) */
@@ -49,6 +49,11 @@
 #define TEX_LDR 31       /* tone-mapped colour (FXAA's input, linear filtering) */
 #define TEX_MATERIAL_MR 33 /* glTF metallicRoughness texture while drawing the scene (G roughness, B metallic); past
                               the 0..31 units a fragment stage has, still below GL 4.5's 80 combined units */
+/* TEX_SHADOW_2D's and TEX_SHADOW_CUBE's maps again, through a depth-compare
+ * sampler object (the grid PCF's taps): units no other pass binds, as the
+ * sampler object stays bound to them. */
+#define TEX_SHADOW_COMPARE_2D 34
+#define TEX_SHADOW_COMPARE_CUBE 35
 #define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
 #define TEX_LPV_GV1 15   /* lpv: geometry volume, normal tensor xy xz yz */
 #define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
@@ -134,6 +139,9 @@
 #define RSM_WEIGHT_IMPORTANCE 2
 #define SHADOW_BIAS_RECEIVER_PLANE 0
 #define SHADOW_BIAS_LEGACY 1
+/* GpuShadowParams.pcf_filter: PCF's taps (SHADOW_PCF only; PCSS filters on the disk) */
+#define SHADOW_FILTER_DISK 0 /* pcf_samples depth tests on a Poisson disk turned per pixel */
+#define SHADOW_FILTER_GRID 1 /* a square of bilinear depth-compare taps one texel apart (radius 1: 3x3 tent) */
 #define AREA_LIGHT_EXACT 0
 #define AREA_LIGHT_POINT 1
 #endif
@@ -165,7 +173,8 @@
     F(int, blocker_samples)   /* PCSS blocker-search samples */                \
     F(float, pcss_max_radius) /* PCSS search/filter radius cap (texels) */     \
     A(vec4, poisson, SHADOW_MAX_SAMPLES) /* xy: Poisson disk in the unit disk */ \
-    F(int, filter_bias)       /* SHADOW_BIAS_RECEIVER_PLANE or SHADOW_BIAS_LEGACY (PCF/PCSS) */
+    F(int, filter_bias)       /* SHADOW_BIAS_RECEIVER_PLANE or SHADOW_BIAS_LEGACY (PCF/PCSS) */ \
+    F(int, pcf_filter)        /* SHADOW_FILTER_DISK or SHADOW_FILTER_GRID */
 
 /* Per-frame values every screen-space pass may read (std140). */
 #define GPU_FRAME_FIELDS(F, A)                                              \

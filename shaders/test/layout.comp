@@ -27,4 +27,6 @@ void main()
     values[13] = RSM_WEIGHT_IMPORTANCE;
     values[14] = AREA_LIGHT_EXACT;
     values[15] = AREA_LIGHT_POINT;
+    values[16] = SHADOW_FILTER_DISK;
+    values[17] = SHADOW_FILTER_GRID;
 }

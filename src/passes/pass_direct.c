@@ -8,14 +8,28 @@
 
 #include <cglm/cglm.h>
 
+#include "camera.h"
 #include "log.h"
 #include "shared/gpu_types.h"
 #include "shader.h"
 
+/* The forward programs for kind k of material draw (gpu_scene.h
+ * DrawPrograms: opaque, alpha-masked, untextured) with `defines` before. */
+static GLuint forward_program(ProgramCache *pc, int k, const char *defines)
+{
+    static const char *const kinds[3] = {"#define OPAQUE_DRAW\n", "", "#define OPAQUE_DRAW\n#define UNTEXTURED\n"};
+    char all[320];
+    snprintf(all, sizeof all, "%s%s", defines, kinds[k]);
+    return program_cache_get(pc, &(ShaderProgramDesc){.label = "forward", .vert = "frame/scene.vert",
+                                                      .frag = "frame/forward.frag", .defines = all});
+}
+
 bool pass_direct_create(PassDirect *p, ProgramCache *pc, GLuint vao)
 {
     p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert", .frag = "frame/direct.frag"});
-    if (!p->program)
+    for (int k = 0; k < 3; k++)
+        p->forward[k] = forward_program(pc, k, "");
+    if (!p->program || !p->forward[0] || !p->forward[1] || !p->forward[2])
         return false;
     p->pc = pc;
     glCreateBuffers(1, &p->shadow_ubo);
@@ -94,6 +108,9 @@ void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *
     int n = sp->pcf_samples > sp->blocker_samples ? sp->pcf_samples : sp->blocker_samples;
     assert(n >= 1 && n <= SHADOW_MAX_SAMPLES);
     g.filter_bias = sp->filter_bias;
+    g.pcf_filter = sp->pcf_filter;
+    p->pcf_filter = sp->pcf_filter;
+    p->pcf_radius = sp->pcf_radius;
     p->area_light = sp->area_light;
     if (sp->filter_bias == SHADOW_BIAS_LEGACY)
         poisson_disk_spiral(n, 10, g.poisson);
@@ -102,23 +119,48 @@ void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *
     glNamedBufferSubData(p->shadow_ubo, 0, sizeof g, &g);
 }
 
-/* The direct program specialised to light `l`'s type and the shadow mode:
- * with both fixed at compile time the compiler drops the other types' and
- * filters' code, which llvmpipe would otherwise pay for although no pixel
- * takes it (pcf_sun.json 800x600 with PCF, one thread: 160-210 -> 35-63 ms,
- * the image bit for bit the same, see test_direct). A scene without glossy
- * materials drops the GGX code too (10-12 ms of the unshadowed pass's ~35 in
- * one measurement, within the noise in another). Variants are built on
- * first use; one that does not build falls back to the general program
+/* The grid PCF's taps per side for a radius (common/shadow.glsl's
+ * shadow_grid_taps). */
+static int shadow_grid_taps(float radius)
+{
+    int k = 2 * (int)ceilf(fmaxf(radius, 0.5f));
+    return k < 8 ? k : 8;
+}
+
+/* The defines that specialise a program to light `l`'s type and the shadow
+ * mode: with both fixed at compile time the compiler drops the other types'
+ * and filters' code, which llvmpipe would otherwise pay for although no
+ * pixel takes it (pcf_sun.json 800x600 with PCF, one thread: 160-210 ->
+ * 35-63 ms, the image bit for bit the same, see test_direct). A scene
+ * without glossy materials drops the GGX code too (10-12 ms of the
+ * unshadowed pass's ~35 in one measurement, within the noise in another).
+ * NULL light: the general program (no light, or PassDirect.general). */
+static void variant_defines(const PassDirect *p, const Scene *s, const Light *l, const char *extra, char *out,
+                            size_t size)
+{
+    if (!l || p->general) {
+        snprintf(out, size, "%s", extra);
+        return;
+    }
+    char grid[48] = "";
+    if (p->mode == SHADOW_MODE_PCF && p->pcf_filter == SHADOW_PCF_FILTER_GRID)
+        snprintf(grid, sizeof grid, "#define SHADOW_GRID_TAPS %d\n", shadow_grid_taps(p->pcf_radius));
+    snprintf(out, size,
+             "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_MODE %d\n#define SHADOW_FIXED_BIAS %d\n"
+             "#define SHADOW_FIXED_FILTER %d\n%s%s%s",
+             (int)l->type, (int)p->mode, p->filter_bias, p->pcf_filter, grid,
+             scene_has_glossy(s) ? "" : "#define DIRECT_DIFFUSE_ONLY\n", extra);
+}
+
+/* The deferred program for light `l` (variant_defines). Variants are built
+ * on first use; one that does not build falls back to the general program
  * (logged once by the cache). */
 static GLuint direct_program(PassDirect *p, const Scene *s, const Light *l)
 {
     if (p->general)
         return p->program;
-    bool diffuse_only = !scene_has_glossy(s);
-    char defines[128];
-    snprintf(defines, sizeof defines, "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_MODE %d\n#define SHADOW_FIXED_BIAS %d\n%s",
-             (int)l->type, (int)p->mode, p->filter_bias, diffuse_only ? "#define DIRECT_DIFFUSE_ONLY\n" : "");
+    char defines[256];
+    variant_defines(p, s, l, "", defines, sizeof defines);
     GLuint prog = program_cache_get(
         p->pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert", .frag = "frame/direct.frag",
                                     .defines = defines});
@@ -151,4 +193,63 @@ void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, Col
         light_stage_bind_shadow(ls, i);
         direct_draw(p, direct_program(p, ls->scene, &ls->scene->lights[i]), i == 0, hdr);
     }
+}
+
+/* Light `l`'s forward programs (variant_defines; NULL: no light), each
+ * falling back to the general one as direct_program does. */
+static DrawPrograms forward_programs(PassDirect *p, const Scene *s, const Light *l)
+{
+    GLuint progs[3] = {p->forward[0], p->forward[1], p->forward[2]};
+    if (l && !p->general) {
+        char defines[256];
+        variant_defines(p, s, l, "", defines, sizeof defines);
+        for (int k = 0; k < 3; k++) {
+            GLuint prog = forward_program(p->pc, k, defines);
+            progs[k] = prog ? prog : progs[k];
+        }
+    }
+    /* Alpha-masked materials draw with the opaque program: the depth
+     * pre-pass discarded their holes, and at GL_EQUAL a hole's fragment
+     * (nearer than what the pre-pass left there) fails the test. So no
+     * fragment of the shading pass discards, and every one tests its depth
+     * before shading: a masked fragment behind another costs no shading. */
+    return (DrawPrograms){progs[0], progs[0], progs[2]};
+}
+
+void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs, const Camera *cam, bool cull,
+                         GLuint fbo, int width, int height)
+{
+    const Scene *s = ls->scene;
+    mat4 vp;
+    camera_view_proj(cam, (float)width / (float)height, vp);
+    const float zero[4] = {0.f, 0.f, 0.f, 0.f};
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero); /* the background */
+    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_SHADOW, p->shadow_ubo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_EQUAL);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_CULL_FACE);
+    glBlendFunc(GL_ONE, GL_ONE);
+    DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = NULL};
+    int n = ls->light_count > 0 ? ls->light_count : 1; /* no light: slot 0 is a zero light, emission only */
+    for (int i = 0; i < n; i++) {
+        DrawPrograms dp = forward_programs(p, s, ls->light_count > 0 ? &s->lights[i] : NULL);
+        const GLuint progs[3] = {dp.opaque, dp.masked, dp.untextured};
+        for (int k = 0; k < 3; k++) {
+            glProgramUniformMatrix4fv(progs[k], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
+            glProgramUniform3fv(progs[k], LOC_EYE, 1, cam->position);
+            glProgramUniform1i(progs[k], LOC_DIRECT_AREA_LIGHT, p->area_light);
+            glProgramUniform1i(progs[k], LOC_DIRECT_EMISSION, i == 0 ? 1 : 0);
+        }
+        light_stage_bind_shadow(ls, i);
+        if (i == 1)
+            glEnable(GL_BLEND);
+        gpu_scene_draw_view(gs, s, &dp, DRAW_ALL, cull ? &view : NULL);
+    }
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glDepthFunc(GL_LESS);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

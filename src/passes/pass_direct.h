@@ -14,6 +14,8 @@
 
 #include <stdbool.h>
 
+#include "camera.h"
+#include "gpu_scene.h"
 #include "light_stage.h"
 #include "scene.h"
 #include "shader.h"
@@ -27,12 +29,15 @@ typedef enum ShadowMode { SHADOW_MODE_NONE = 0, SHADOW_MODE_HARD = 1, SHADOW_MOD
 
 typedef struct PassDirect {
     GLuint program;    /* for any light and shadow mode (the variants' fallback) */
+    GLuint forward[3]; /* forward shading, any light and mode: opaque, alpha-masked, untextured draws */
     ProgramCache *pc;  /* borrowed: builds the per-light-type, per-mode variants */
     GLuint shadow_ubo; /* GpuShadowParams */
     GLuint vao; /* borrowed empty vertex array */
     int area_light; /* AreaLightMode of quad lights */
     ShadowMode mode;  /* the shadow mode and */
     int filter_bias;  /* ShadowFilterBias the variants are built for */
+    int pcf_filter;   /* ShadowPcfFilter the variants are built for */
+    float pcf_radius; /* the grid's radius (its taps are fixed per variant) */
     bool general;     /* draw every light with `program` (tests compare the variants with it) */
 } PassDirect;
 
@@ -41,8 +46,17 @@ bool pass_direct_create(PassDirect *p, ProgramCache *pc, GLuint vao);
 void pass_direct_destroy(PassDirect *p);
 /* Uploads the shadow parameters (call when they change). */
 void pass_direct_set_shadow(PassDirect *p, ShadowMode mode, const ShadowParams *sp);
-/* Clears `hdr` and adds every light's direct radiance and the emission. */
+/* Deferred: writes every light's direct radiance and the emission of the
+ * G-buffer's surfaces into `hdr` (zero where no surface). */
 void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, ColorTarget *hdr);
+/* Forward: the same radiance, shaded while drawing the scene (seen from
+ * `cam`, clusters outside its frustum skipped with `cull`) into `fbo`
+ * (width × height): its colour the radiance target, cleared here, its depth
+ * what pass_gbuffer_depth_run left, tested at LEQUAL so each pixel is
+ * shaded once per light by the surface it shows. One draw of the scene per
+ * light, the first one's with the emission, the others blended. */
+void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs, const Camera *cam, bool cull,
+                         GLuint fbo, int width, int height);
 
 /* The Poisson disk of the notes: `n` (≤ SHADOW_MAX_SAMPLES) samples on a
  * spiral of `rings` turns (radius grows as ((i+1)/n)^0.75), in the unit disk. */

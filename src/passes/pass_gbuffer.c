@@ -25,9 +25,10 @@ void pass_gbuffer_destroy(PassGbuffer *p)
     *p = (PassGbuffer){0};
 }
 
-void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull, GBuffer *out)
+/* The view's matrix into every program, the depth (and with `colors` the
+ * colour targets) cleared, the state for the depth pre-pass. */
+static void gbuffer_begin(PassGbuffer *p, const Camera *cam, const GBuffer *out, bool colors, mat4 vp)
 {
-    mat4 vp;
     camera_view_proj(cam, (float)out->width / (float)out->height, vp);
     const GLuint programs[5] = {p->program_opaque, p->program, p->program_untextured, p->depth_opaque, p->depth_masked};
     for (int i = 0; i < 5; i++) {
@@ -36,7 +37,7 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
     }
     const GLuint zero[4] = {0, 0, 0, 0}; /* no surface, no material */
     const float one = 1.f;
-    for (int i = 0; i < 2; i++)
+    for (int i = 0; i < 2 && colors; i++)
         glClearNamedFramebufferuiv(out->fbo, GL_COLOR, i, zero);
     glClearNamedFramebufferfv(out->fbo, GL_DEPTH, 0, &one);
     glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);
@@ -45,16 +46,37 @@ void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const 
     glDepthFunc(GL_LESS);
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
-    /* Opaque materials with early depth, nearest clusters first so it
-     * rejects what they hide; alpha-masked ones after, with their discard.
-     * Clusters outside the view frustum are skipped. Depth first, then the
-     * G-buffer where the depth is the pre-pass's. */
-    DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = &p->culled};
+}
+
+/* Opaque materials with early depth, nearest clusters first so it rejects
+ * what they hide; alpha-masked ones after, with their discard. Clusters
+ * outside the view frustum are skipped. */
+static void gbuffer_depth(PassGbuffer *p, const GpuScene *gs, const Scene *s, const DrawView *view)
+{
     glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     glColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    gpu_scene_draw_view(gs, s, &(DrawPrograms){p->depth_opaque, p->depth_masked, 0}, DRAW_ALL, cull ? &view : NULL);
+    gpu_scene_draw_view(gs, s, &(DrawPrograms){p->depth_opaque, p->depth_masked, 0}, DRAW_ALL, view);
     glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void pass_gbuffer_depth_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull,
+                            GBuffer *out)
+{
+    mat4 vp;
+    gbuffer_begin(p, cam, out, false, vp);
+    DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = &p->culled};
+    gbuffer_depth(p, gs, s, cull ? &view : NULL);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull, GBuffer *out)
+{
+    mat4 vp;
+    gbuffer_begin(p, cam, out, true, vp);
+    /* Depth first, then the G-buffer where the depth is the pre-pass's. */
+    DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = &p->culled};
+    gbuffer_depth(p, gs, s, cull ? &view : NULL);
     glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_FALSE);
     gpu_scene_draw_view(gs, s, &(DrawPrograms){p->program_opaque, p->program, p->program_untextured}, DRAW_ALL,

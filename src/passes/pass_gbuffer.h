@@ -33,5 +33,10 @@ void pass_gbuffer_destroy(PassGbuffer *p);
 /* With `cull`, clusters outside the camera's frustum are skipped and the
  * rest drawn nearest first; the image is the same either way. */
 void pass_gbuffer_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull, GBuffer *out);
+/* The depth pre-pass alone (forward shading's, pass_direct_forward): the
+ * G-buffer's depth as pass_gbuffer_run leaves it; its colour targets are
+ * left as they were (stale: nothing reads them in a forward frame). */
+void pass_gbuffer_depth_run(PassGbuffer *p, const GpuScene *gs, const Scene *s, const Camera *cam, bool cull,
+                            GBuffer *out);
 
 #endif

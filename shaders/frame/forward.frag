@@ -1,0 +1,43 @@
+// frame/forward.frag — forward direct shading of one light
+// (common/direct_light.glsl) while drawing the scene: what frame/gbuffer.frag
+// would pack and frame/direct.frag unpack, evaluated in place, for frames
+// that need no G-buffer (no GI technique; pass_forward.c). The surface as
+// the G-buffer's: the shading normal turned toward the camera (two-sided),
+// emission toward the front only, added when u_add_emission is set (the
+// first light; later lights blend additively at equal depth).
+#include "shared/gpu_types.h"
+#include "common/math.glsl"
+#include "common/brdf.glsl"
+#include "common/material.glsl"
+#include "common/lights.glsl"
+#include "common/shadow.glsl"
+#include "common/direct_light.glsl"
+
+layout(location = LOC_EYE) uniform vec3 u_eye;
+layout(location = LOC_DIRECT_EMISSION) uniform int u_add_emission;
+
+#ifdef OPAQUE_DRAW
+layout(early_fragment_tests) in;
+#endif
+
+in vec3 v_world;
+in vec3 v_normal;
+in vec2 v_uv;
+
+out vec4 o_radiance;
+
+void main()
+{
+    vec3 base = material_albedo(v_uv);
+    vec2 mr = material_metal_rough(v_uv);
+    vec3 n = normalize(v_normal);
+    vec3 v = normalize(u_eye - v_world);
+    bool front = dot(n, v) >= 0.0;
+    n = front ? n : -n;
+    vec3 albedo, f0;
+    brdf_surface(base, mr.x, u_pbr.z, albedo, f0);
+    vec3 radiance = direct_light(v_world, n, v, albedo, f0, mr.y, gl_FragCoord.xy);
+    if (u_add_emission != 0 && front)
+        radiance += u_emission;
+    o_radiance = vec4(radiance, 1.0);
+}

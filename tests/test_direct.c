@@ -172,18 +172,7 @@ static void forward_equals_deferred(void **state)
 static void forward_masked_materials(void **state)
 {
     (void)state;
-    enum { T = 8 };
-    uint8_t white[T * T * 3], half[T * T * 3];
-    for (int i = 0; i < T * T; i++)
-        for (int c = 0; c < 3; c++) {
-            white[3 * i + c] = 255;
-            half[3 * i + c] = i % T < T / 2 ? 255 : 0;
-        }
-    char path[512];
-    snprintf(path, sizeof path, "%s/direct_mask_albedo.png", RTGI_TEST_TMP);
-    assert_true(image_write_png8(path, T, T, white));
-    snprintf(path, sizeof path, "%s/direct_mask_alpha.png", RTGI_TEST_TMP);
-    assert_true(image_write_png8(path, T, T, half));
+    test_mask_textures("direct_mask_albedo.png", "direct_mask_alpha.png");
     test_tmp_file("direct_masked.mtl", "newmtl leaf\nKd 0.3 0.6 0.3\nmap_Kd direct_mask_albedo.png\n"
                                        "map_d direct_mask_alpha.png\nnewmtl ground\nKd 0.8 0.8 0.8\n");
     const char *obj = "mtllib direct_masked.mtl\n"

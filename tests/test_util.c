@@ -107,6 +107,22 @@ const char *test_tmp_file(const char *name, const char *content)
     return path;
 }
 
+void test_mask_textures(const char *albedo_name, const char *alpha_name)
+{
+    enum { T = 8 };
+    uint8_t white[T * T * 3], half[T * T * 3];
+    for (int i = 0; i < T * T; i++)
+        for (int c = 0; c < 3; c++) {
+            white[3 * i + c] = 255;
+            half[3 * i + c] = i % T < T / 2 ? 255 : 0; /* columns 0-3 opaque */
+        }
+    char path[512];
+    snprintf(path, sizeof path, "%s/%s", RTGI_TEST_TMP, albedo_name);
+    assert_true(image_write_png8(path, T, T, white));
+    snprintf(path, sizeof path, "%s/%s", RTGI_TEST_TMP, alpha_name);
+    assert_true(image_write_png8(path, T, T, half));
+}
+
 void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
 {
     Renderer r;

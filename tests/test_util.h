@@ -47,6 +47,10 @@ double test_image_mean(const ImageF *img);
  * valid until the next call). */
 const char *test_tmp_file(const char *name, const char *content);
 
+/* Writes two 8×8 PNGs to RTGI_TEST_TMP for an alpha-masked material: a
+ * white albedo, and a mask (map_d) opaque on texel columns 0-3 and
+ * transparent on 4-7. */
+void test_mask_textures(const char *albedo_name, const char *alpha_name);
 /* Runs build/rtgi with the given arguments (NULL-terminated); returns its
  * exit status and, if `err` is not NULL, what it wrote on stderr (caller
  * frees). */

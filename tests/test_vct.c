@@ -260,18 +260,7 @@ static void voxelizes_once(void **state)
  * past x = 0, on the transparent side. */
 static void count_masked_quad(bool masked, int *filled, int *beyond)
 {
-    enum { T = 8 };
-    uint8_t white[T * T * 3], half[T * T * 3];
-    for (int i = 0; i < T * T; i++)
-        for (int c = 0; c < 3; c++) {
-            white[3 * i + c] = 255;
-            half[3 * i + c] = i % T < T / 2 ? 255 : 0; /* columns 0-3 opaque */
-        }
-    char path[512];
-    snprintf(path, sizeof path, "%s/vct_mask_albedo.png", RTGI_TEST_TMP);
-    assert_true(image_write_png8(path, T, T, white));
-    snprintf(path, sizeof path, "%s/vct_mask_alpha.png", RTGI_TEST_TMP);
-    assert_true(image_write_png8(path, T, T, half));
+    test_mask_textures("vct_mask_albedo.png", "vct_mask_alpha.png");
     const char *name = masked ? "vct_masked" : "vct_unmasked";
     char mtl[256], obj[1024], file[64];
     snprintf(mtl, sizeof mtl, "newmtl leaf\nKd 0.8 0.8 0.8\nmap_Kd vct_mask_albedo.png\n%s",

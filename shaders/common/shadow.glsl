@@ -240,10 +240,11 @@ float shadow_pcf(ShadowCoord sc, vec2 g, float radius, float cos_theta, float an
 // position f within its texel), with shadow_ref_at's rule that the plane
 // only lowers it. Explicit level 0 (the maps have one): no implicit
 // derivatives to compute, and none to differ between the programs that
-// unroll the loop and those that do not. Programs built for one radius fix k (SHADOW_GRID_TAPS,
-// shadow_grid_taps in pass_direct.c): llvmpipe runs a loop of a constant
-// count unrolled, twice as fast as the same loop over a uniform's count
-// (pcf_sun.json 800×600, one thread: direct pass 32 -> 17 ms).
+// unroll the loop and those that do not. Programs built for one radius fix
+// k (SHADOW_GRID_TAPS, shadow_grid_taps in pass_direct.c): llvmpipe runs a
+// loop of a constant count unrolled, twice as fast as the same loop over a
+// uniform's count (pcf_sun.json 800×600, one thread: direct pass 32 -> 17
+// ms).
 int shadow_grid_taps(float radius) { return min(2 * int(ceil(max(radius, 0.5))), 8); }
 
 float shadow_pcf_grid(ShadowCoord sc, vec2 g, float radius, float cos_theta)

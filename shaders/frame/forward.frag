@@ -1,7 +1,9 @@
 // frame/forward.frag — forward direct shading of one light
 // (common/direct_light.glsl) while drawing the scene: what frame/gbuffer.frag
 // would pack and frame/direct.frag unpack, evaluated in place, for frames
-// that need no G-buffer (no GI technique; pass_forward.c). The surface as
+// that need no G-buffer (no GI technique; pass_direct_forward). Built with
+// OPAQUE_DRAW for every material: alpha-masked ones too, whose holes the
+// depth pre-pass discarded (pass_direct.c). The surface as
 // the G-buffer's: the shading normal turned toward the camera (two-sided),
 // emission toward the front only, added when u_add_emission is set (the
 // first light; later lights blend additively at equal depth).

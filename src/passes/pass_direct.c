@@ -13,11 +13,12 @@
 #include "shared/gpu_types.h"
 #include "shader.h"
 
-/* The forward programs for kind k of material draw (gpu_scene.h
- * DrawPrograms: opaque, alpha-masked, untextured) with `defines` before. */
+/* The forward program for kind k of material draw with `defines` before:
+ * 0 textured (opaque and alpha-masked materials alike, see
+ * forward_programs), 1 untextured (gpu_scene.h DrawPrograms). */
 static GLuint forward_program(ProgramCache *pc, int k, const char *defines)
 {
-    static const char *const kinds[3] = {"#define OPAQUE_DRAW\n", "", "#define OPAQUE_DRAW\n#define UNTEXTURED\n"};
+    static const char *const kinds[2] = {"#define OPAQUE_DRAW\n", "#define OPAQUE_DRAW\n#define UNTEXTURED\n"};
     char all[320];
     snprintf(all, sizeof all, "%s%s", defines, kinds[k]);
     return program_cache_get(pc, &(ShaderProgramDesc){.label = "forward", .vert = "frame/scene.vert",
@@ -27,9 +28,9 @@ static GLuint forward_program(ProgramCache *pc, int k, const char *defines)
 bool pass_direct_create(PassDirect *p, ProgramCache *pc, GLuint vao)
 {
     p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert", .frag = "frame/direct.frag"});
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < 2; k++)
         p->forward[k] = forward_program(pc, k, "");
-    if (!p->program || !p->forward[0] || !p->forward[1] || !p->forward[2])
+    if (!p->program || !p->forward[0] || !p->forward[1])
         return false;
     p->pc = pc;
     glCreateBuffers(1, &p->shadow_ubo);
@@ -196,24 +197,24 @@ void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, Col
 }
 
 /* Light `l`'s forward programs (variant_defines; NULL: no light), each
- * falling back to the general one as direct_program does. */
-static DrawPrograms forward_programs(PassDirect *p, const Scene *s, const Light *l)
+ * falling back to the general one as direct_program does. Alpha-masked
+ * materials draw with the textured opaque program: the depth pre-pass
+ * discarded their holes, and at GL_EQUAL a hole's fragment (nearer than
+ * what the pre-pass left there) fails the test. So no fragment of the
+ * shading pass discards, and every one tests its depth before shading: a
+ * masked fragment behind another costs no shading. */
+static void forward_programs(PassDirect *p, const Scene *s, const Light *l, GLuint progs[2])
 {
-    GLuint progs[3] = {p->forward[0], p->forward[1], p->forward[2]};
-    if (l && !p->general) {
-        char defines[256];
-        variant_defines(p, s, l, "", defines, sizeof defines);
-        for (int k = 0; k < 3; k++) {
-            GLuint prog = forward_program(p->pc, k, defines);
-            progs[k] = prog ? prog : progs[k];
-        }
+    progs[0] = p->forward[0];
+    progs[1] = p->forward[1];
+    if (!l || p->general)
+        return;
+    char defines[256];
+    variant_defines(p, s, l, "", defines, sizeof defines);
+    for (int k = 0; k < 2; k++) {
+        GLuint prog = forward_program(p->pc, k, defines);
+        progs[k] = prog ? prog : progs[k];
     }
-    /* Alpha-masked materials draw with the opaque program: the depth
-     * pre-pass discarded their holes, and at GL_EQUAL a hole's fragment
-     * (nearer than what the pre-pass left there) fails the test. So no
-     * fragment of the shading pass discards, and every one tests its depth
-     * before shading: a masked fragment behind another costs no shading. */
-    return (DrawPrograms){progs[0], progs[0], progs[2]};
 }
 
 void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs, const Camera *cam, bool cull,
@@ -235,9 +236,9 @@ void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs
     DrawView view = {.view_proj = (const float *)vp, .eye = cam->position, .culled = NULL};
     int n = ls->light_count > 0 ? ls->light_count : 1; /* no light: slot 0 is a zero light, emission only */
     for (int i = 0; i < n; i++) {
-        DrawPrograms dp = forward_programs(p, s, ls->light_count > 0 ? &s->lights[i] : NULL);
-        const GLuint progs[3] = {dp.opaque, dp.masked, dp.untextured};
-        for (int k = 0; k < 3; k++) {
+        GLuint progs[2];
+        forward_programs(p, s, ls->light_count > 0 ? &s->lights[i] : NULL, progs);
+        for (int k = 0; k < 2; k++) {
             glProgramUniformMatrix4fv(progs[k], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
             glProgramUniform3fv(progs[k], LOC_EYE, 1, cam->position);
             glProgramUniform1i(progs[k], LOC_DIRECT_AREA_LIGHT, p->area_light);
@@ -246,7 +247,7 @@ void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs
         light_stage_bind_shadow(ls, i);
         if (i == 1)
             glEnable(GL_BLEND);
-        gpu_scene_draw_view(gs, s, &dp, DRAW_ALL, cull ? &view : NULL);
+        gpu_scene_draw_view(gs, s, &(DrawPrograms){progs[0], progs[0], progs[1]}, DRAW_ALL, cull ? &view : NULL);
     }
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);

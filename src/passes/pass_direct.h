@@ -1,10 +1,12 @@
-/* pass_direct.h — deferred direct lighting of one light: the BRDF of
- * brdf.h (Lambert + GGX), quad lights as exact polygons (--area-light),
- * physical light model (common/lights.glsl), shadow visibility (hard, PCF,
- * PCSS; common/shadow.glsl). Adds into the HDR target; the first call of a
+/* pass_direct.h — direct lighting of each light, deferred from the
+ * G-buffer or forward while drawing the scene (common/direct_light.glsl):
+ * the BRDF of brdf.h (Lambert + GGX), quad lights as exact polygons
+ * (--area-light), physical light model (common/lights.glsl), shadow
+ * visibility (hard, PCF, PCSS; common/shadow.glsl). The first light of a
  * frame also adds emitted radiance.
- * Inputs: GBuffer, the light stage (light block and shadow map of each
- * light), shadow parameters.
+ * Inputs: GBuffer (deferred) or the scene and the pre-pass depth
+ * (forward), the light stage (light block and shadow map of each light),
+ * shadow parameters.
  * Output: HDR radiance target (RGBA32F): the first light written, the
  * others blended additively.
  * Owns: the shadow-parameter uniform buffer (its programs are the program
@@ -29,7 +31,7 @@ typedef enum ShadowMode { SHADOW_MODE_NONE = 0, SHADOW_MODE_HARD = 1, SHADOW_MOD
 
 typedef struct PassDirect {
     GLuint program;    /* for any light and shadow mode (the variants' fallback) */
-    GLuint forward[3]; /* forward shading, any light and mode: opaque, alpha-masked, untextured draws */
+    GLuint forward[2]; /* forward shading, any light and mode: textured (opaque and masked), untextured draws */
     ProgramCache *pc;  /* borrowed: builds the per-light-type, per-mode variants */
     GLuint shadow_ubo; /* GpuShadowParams */
     GLuint vao; /* borrowed empty vertex array */
@@ -52,7 +54,7 @@ void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, Col
 /* Forward: the same radiance, shaded while drawing the scene (seen from
  * `cam`, clusters outside its frustum skipped with `cull`) into `fbo`
  * (width × height): its colour the radiance target, cleared here, its depth
- * what pass_gbuffer_depth_run left, tested at LEQUAL so each pixel is
+ * what pass_gbuffer_depth_run left, tested at GL_EQUAL so each pixel is
  * shaded once per light by the surface it shows. One draw of the scene per
  * light, the first one's with the emission, the others blended. */
 void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs, const Camera *cam, bool cull,

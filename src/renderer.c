@@ -71,7 +71,8 @@ static void targets_destroy(Renderer *r)
         color_target_destroy(&r->hdr_ss);
     color_target_destroy(&r->ldr);
     glDeleteFramebuffers(1, &r->forward_fbo);
-    r->forward_fbo = 0;
+    glDeleteFramebuffers(1, &r->forward_display_fbo);
+    r->forward_fbo = r->forward_display_fbo = 0;
     if (r->ldr_pre.fbo)
         color_target_destroy(&r->ldr_pre);
     GLuint t[2] = {r->irradiance, r->specular};
@@ -115,6 +116,9 @@ static bool targets_create(Renderer *r, int w, int h)
         return false;
     /* Forward shading's: the radiance target with the G-buffer's depth. */
     if (!fbo_make(&r->forward_fbo, &shading_target(r)->texture, 1, r->gbuffer.depth, false, "forward"))
+        return false;
+    const GLuint display[2] = {r->hdr.texture, r->ldr.texture};
+    if (n == 1 && !fbo_make(&r->forward_display_fbo, display, 2, r->gbuffer.depth, false, "forward.display"))
         return false;
     r->irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.irradiance");
     r->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.specular");
@@ -270,12 +274,18 @@ void renderer_frame(Renderer *r, const Camera *cam)
     light_stage_run(&r->lights, &r->gpu_scene, t);
 
     bool cull = !r->settings.no_cull;
+    bool fxaa = r->settings.aa == AA_FXAA;
+    /* A forward frame of one light with nothing between its shading and the
+     * final image tone-maps as it shades (pass_direct_forward's display). */
+    bool tonemapped = false;
     if (renderer_forward(r)) {
+        tonemapped = n == 1 && !fxaa && r->lights.light_count <= 1;
         gpu_timer_begin(t, "depth");
         pass_gbuffer_depth_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
         gpu_timer_end(t);
         gpu_timer_begin(t, "direct");
-        pass_direct_forward(&r->pass_direct, &r->lights, &r->gpu_scene, cam, cull, r->forward_fbo, radiance->width,
+        pass_direct_forward(&r->pass_direct, &r->lights, &r->gpu_scene, cam, cull,
+                            tonemapped ? r->forward_display_fbo : r->forward_fbo, tonemapped, radiance->width,
                             radiance->height);
         gpu_timer_end(t);
     } else {
@@ -316,10 +326,11 @@ void renderer_frame(Renderer *r, const Camera *cam)
         gpu_timer_end(t);
     }
 
-    bool fxaa = r->settings.aa == AA_FXAA;
-    gpu_timer_begin(t, "tonemap");
-    pass_tonemap_run(&r->pass_tonemap, &r->hdr, r->settings.exposure, fxaa ? &r->ldr_pre : &r->ldr);
-    gpu_timer_end(t);
+    if (!tonemapped) {
+        gpu_timer_begin(t, "tonemap");
+        pass_tonemap_run(&r->pass_tonemap, &r->hdr, r->settings.exposure, fxaa ? &r->ldr_pre : &r->ldr);
+        gpu_timer_end(t);
+    }
 
     if (fxaa) {
         gpu_timer_begin(t, "fxaa");

@@ -77,6 +77,8 @@ typedef struct Renderer {
     GBuffer gbuffer;
     ColorTarget hdr;           /* RGBA32F radiance, output size */
     GLuint forward_fbo;        /* the shading target's radiance + the G-buffer's depth (forward shading) */
+    GLuint forward_display_fbo; /* hdr + ldr + the G-buffer's depth: forward frames that tone-map as they
+                                   shade (renderer_frame); no supersampling only */
     ColorTarget hdr_ss;        /* RGBA32F radiance at N× the output size (supersampling only) */
     ColorTarget ldr;           /* SRGB8_ALPHA8, the final image */
     ColorTarget ldr_pre;       /* SRGB8_ALPHA8, tone-mapped before FXAA (FXAA only) */

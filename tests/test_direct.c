@@ -212,6 +212,65 @@ static void forward_masked_materials(void **state)
 /* --shading auto: forward where the scene has fewer triangles than shading
  * pixels / 64, deferred otherwise and always with a GI technique (it reads
  * the G-buffer), whatever the mode asks. */
+/* Largest difference (in 8-bit steps) between r's final image and its
+ * radiance tone-mapped on the CPU (× exposure, clamped, sRGB-encoded);
+ * counts the pixels the clamp reaches in *clamped. */
+static int display_error(Renderer *r, float exposure, int *clamped)
+{
+    ImageF hdr;
+    assert_true(renderer_read_hdr(r, &hdr));
+    uint8_t *ldr = renderer_read_ldr(r);
+    assert_non_null(ldr);
+    int worst = 0;
+    *clamped = 0;
+    for (int i = 0; i < 3 * hdr.width * hdr.height; i++) {
+        float c = hdr.rgb[i] * exposure;
+        *clamped += c > 1.f;
+        int want = (int)lroundf(255.f * srgb_encode(fminf(fmaxf(c, 0.f), 1.f)));
+        worst = abs(want - (int)ldr[i]) > worst ? abs(want - (int)ldr[i]) : worst;
+    }
+    free(ldr);
+    image_free(&hdr);
+    return worst;
+}
+
+/* The final image is the radiance tone-mapped, whether a tone-mapping pass
+ * makes it (deferred frames, forward frames of two lights) or the forward
+ * draw of a one-light frame writes it as it shades: within one 8-bit step
+ * (llvmpipe's sRGB encoding rounds) of the CPU's, at two exposures in one
+ * renderer (an exposure change remakes nothing and must reach both). A
+ * one-light forward frame that left the final image unwritten, or wrote
+ * it without the exposure or the sRGB encoding, fails (checked by breaking
+ * each: errors of 255, 118 and 73 steps). */
+static void display_image_is_tone_mapped_radiance(void **state)
+{
+    (void)state;
+    for (int c = 0; c < 3; c++) {
+        Scene s;
+        make_scene(&s, LIGHT_SPOT, c == 2, false);
+        RenderSettings rs = test_settings(&s, 48, 40, SHADOW_MODE_PCF);
+        rs.shadow_params.map_size = 256;
+        rs.shading = c == 1 ? SHADING_DEFERRED : SHADING_FORWARD;
+        Renderer r;
+        assert_true(renderer_create(&r, &s, &rs));
+        const float exposures[2] = {4.f, 0.7f};
+        for (int e = 0; e < 2; e++) {
+            rs.exposure = exposures[e];
+            assert_true(renderer_apply(&r, &rs));
+            renderer_frame(&r, &s.camera);
+            int clamped, worst = display_error(&r, rs.exposure, &clamped);
+            print_message("%s, exposure %.1f: largest difference %d of 255, %d channels clamped\n",
+                          c == 0 ? "forward, one light" : c == 1 ? "deferred" : "forward, two lights", rs.exposure,
+                          worst, clamped);
+            assert_true(worst <= 1);
+            if (e == 0)
+                assert_true(clamped > 0);
+        }
+        renderer_destroy(&r);
+        scene_free(&s);
+    }
+}
+
 static void auto_shading_follows_triangle_density(void **state)
 {
     (void)state;
@@ -256,6 +315,7 @@ int main(void)
         cmocka_unit_test(forward_equals_deferred),
         cmocka_unit_test(forward_masked_materials),
         cmocka_unit_test(auto_shading_follows_triangle_density),
+        cmocka_unit_test(display_image_is_tone_mapped_radiance),
     };
     return cmocka_run_group_tests_name("direct", tests, test_gl_setup, test_gl_teardown);
 }

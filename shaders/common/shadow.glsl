@@ -145,9 +145,24 @@ vec3 shadow_local(ShadowCoord sc0, vec3 p)
 // coords). Capped at a slope of 20 texels of depth per texel (87°).
 vec2 shadow_receiver_gradient(ShadowCoord sc, vec3 x, vec3 n)
 {
+    float h = shadow_texel(sc.d), cap = 20.0 * h;
+    if (shadow_is_ortho()) {
+        // Orthographic maps: the light-space map is linear with orthogonal
+        // rows a_u, a_v (texels per metre) and the light direction D (depth),
+        // so on the plane n·s = 0, d = −(n·a_u/|a_u|² o_u + n·a_v/|a_v|² o_v)
+        // / n·D, the same gradient as the finite differences below to
+        // rounding, with three dot products.
+        mat4 m = u_light.shadow_view_proj;
+        vec3 au = vec3(m[0][0], m[1][0], m[2][0]), av = vec3(m[0][1], m[1][1], m[2][1]);
+        float dn = dot(n, u_light.direction_width.xyz);
+        if (abs(dn) < 1e-6)
+            return vec2(0.0);
+        vec2 g = -vec2(dot(n, au) / dot(au, au), dot(n, av) / dot(av, av)) * (2.0 / u_light.shadow_info.z) / dn;
+        float len = length(g);
+        return len > cap ? g * (cap / len) : g;
+    }
     vec3 t1, t2;
     basis(n, t1, t2);
-    float h = shadow_texel(sc.d);
     vec3 p0 = shadow_local(sc, x);
     vec3 da = (shadow_local(sc, x + t1 * h) - p0) / h;
     vec3 db = (shadow_local(sc, x + t2 * h) - p0) / h;
@@ -156,7 +171,6 @@ vec2 shadow_receiver_gradient(ShadowCoord sc, vec3 x, vec3 n)
         return vec2(0.0);
     // inverse(J)^T · (da.z, db.z) with J = [da.xy db.xy] (columns).
     vec2 g = vec2(db.y * da.z - da.y * db.z, -db.x * da.z + da.x * db.z) / det;
-    float cap = 20.0 * h;
     float len = length(g);
     return len > cap ? g * (cap / len) : g;
 }

@@ -7,6 +7,10 @@
 // the G-buffer's: the shading normal turned toward the camera (two-sided),
 // emission toward the front only, added when u_add_emission is set (the
 // first light; later lights blend additively at equal depth).
+// o_display is the tone-mapped colour (frame/tonemap.frag's, the sRGB
+// encoding by the target): a frame of one light with nothing after the
+// shading (pass_direct_forward's `tonemap`) binds the final image there and
+// skips the tone-mapping pass; other frames bind nothing, and it is dropped.
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "common/brdf.glsl"
@@ -26,7 +30,8 @@ in vec3 v_world;
 in vec3 v_normal;
 in vec2 v_uv;
 
-out vec4 o_radiance;
+layout(location = 0) out vec4 o_radiance;
+layout(location = 1) out vec4 o_display;
 
 void main()
 {
@@ -42,4 +47,5 @@ void main()
     if (u_add_emission != 0 && front)
         radiance += u_emission;
     o_radiance = vec4(radiance, 1.0);
+    o_display = vec4(clamp(radiance * u_frame.exposure, 0.0, 1.0), 1.0);
 }

@@ -56,9 +56,13 @@ void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, Col
  * (width × height): its colour the radiance target, cleared here, its depth
  * what pass_gbuffer_depth_run left, tested at GL_EQUAL so each pixel is
  * shaded once per light by the surface it shows. One draw of the scene per
- * light, the first one's with the emission, the others blended. */
+ * light, the first one's with the emission, the others blended. With
+ * `display` (at most one light), `fbo`'s second colour attachment is the
+ * final sRGB image, which the draw also writes tone-mapped (× the frame's
+ * exposure, clamped; frame/tonemap.frag's), so no tone-mapping pass
+ * follows. */
 void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs, const Camera *cam, bool cull,
-                         GLuint fbo, int width, int height);
+                         GLuint fbo, bool display, int width, int height);
 
 /* The Poisson disk of the notes: `n` (≤ SHADOW_MAX_SAMPLES) samples on a
  * spiral of `rings` turns (radius grows as ((i+1)/n)^0.75), in the unit disk. */

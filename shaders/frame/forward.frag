@@ -9,7 +9,7 @@
 // first light; later lights blend additively at equal depth).
 // o_display is the tone-mapped colour (frame/tonemap.frag's, the sRGB
 // encoding by the target): a frame of one light with nothing after the
-// shading (pass_direct_forward's `tonemap`) binds the final image there and
+// shading (pass_direct_forward's `display`) binds the final image there and
 // skips the tone-mapping pass; other frames bind nothing, and it is dropped.
 #include "shared/gpu_types.h"
 #include "common/math.glsl"

@@ -122,13 +122,13 @@ void light_stage_invalidate(LightStage *ls);
  * dummy) to TEX_SHADOW_2D/CUBE, and through the depth-compare sampler to
  * TEX_SHADOW_COMPARE_2D/CUBE. */
 void light_stage_bind_shadow(const LightStage *ls, int i);
-/* Binds light i's RSM block to UBO_LIGHT and the RSM (2D or cube) to
- * TEX_RSM_SURFEL and TEX_RSM_FLUX. */
 /* What the light products hold now, as one key (never 0): the lights and
  * which draw each shadow map and RSM holds. A technique that derives
  * volumes from them (LPV injection, VCT radiance) rebuilds them when this
  * changes and keeps them while it does not. */
 uint64_t light_stage_products_key(const LightStage *ls);
+/* Binds light i's RSM block to UBO_LIGHT and the RSM (2D or cube) to
+ * TEX_RSM. */
 void light_stage_bind_rsm(const LightStage *ls, int i);
 /* How light g's RSM texels are packed (shaders/common/rsm_texel.glsl),
  * given g's other fields (shadow_frame_to_gpu): positions in the scene's
@@ -138,8 +138,8 @@ void light_stage_bind_rsm(const LightStage *ls, int i);
  * angle on the projection plane): RGB9E5 keeps its 9 bits from 2^-15 to
  * 65408 units, i.e. from 1.9e-9·M to 4·M (albedo up to 4). */
 void light_stage_rsm_texel_frame(const vec3 bounds_min, const vec3 bounds_max, GpuLight *g);
-/* Binds light i's RSM as 2D arrays (one layer, or six for a cube) to the
- * same units, for compute passes that walk its texels. */
+/* light_stage_bind_rsm with the RSM as a 2D array (one layer, or six for
+ * a cube) at TEX_RSM, for compute passes that walk its texels. */
 void light_stage_bind_rsm_layers(const LightStage *ls, int i);
 /* Binds the VPL buffer to SSBO_VPL and SSBO_COUNTERS. */
 void light_stage_bind_vpls(const LightStage *ls);

@@ -7,7 +7,7 @@
 // the G-buffer's: the shading normal turned toward the camera (two-sided),
 // emission toward the front only, added when u_add_emission is set (the
 // first light; later lights blend additively at equal depth).
-// o_display is the tone-mapped colour (frame/tonemap.frag's, the sRGB
+// o_display is the tone-mapped colour (common/tonemap.glsl, the sRGB
 // encoding by the target): a frame of one light with nothing after the
 // shading (pass_direct_forward's `display`) binds the final image there and
 // skips the tone-mapping pass; other frames bind nothing, and it is dropped.
@@ -18,6 +18,7 @@
 #include "common/lights.glsl"
 #include "common/shadow.glsl"
 #include "common/direct_light.glsl"
+#include "common/tonemap.glsl"
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_DIRECT_EMISSION) uniform int u_add_emission;
@@ -47,5 +48,5 @@ void main()
     if (u_add_emission != 0 && front)
         radiance += u_emission;
     o_radiance = vec4(radiance, 1.0);
-    o_display = vec4(clamp(radiance * u_frame.exposure, 0.0, 1.0), 1.0);
+    o_display = tonemap(radiance, u_frame.exposure);
 }

@@ -25,13 +25,14 @@ void pass_gbuffer_destroy(PassGbuffer *p)
     *p = (PassGbuffer){0};
 }
 
-/* The view's matrix into every program, the depth (and with `colors` the
+/* The view's matrix into the programs the run draws with (the pre-pass's,
+ * and with `colors` the G-buffer's), the depth (and with `colors` the
  * colour targets) cleared, the state for the depth pre-pass. */
 static void gbuffer_begin(PassGbuffer *p, const Camera *cam, const GBuffer *out, bool colors, mat4 vp)
 {
     camera_view_proj(cam, (float)out->width / (float)out->height, vp);
-    const GLuint programs[5] = {p->program_opaque, p->program, p->program_untextured, p->depth_opaque, p->depth_masked};
-    for (int i = 0; i < 5; i++) {
+    const GLuint programs[5] = {p->depth_opaque, p->depth_masked, p->program_opaque, p->program, p->program_untextured};
+    for (int i = 0; i < (colors ? 5 : 2); i++) {
         glProgramUniformMatrix4fv(programs[i], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
         glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
     }

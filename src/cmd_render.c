@@ -124,6 +124,9 @@ int cmd_render(int argc, char **argv)
 
     RenderSettings rs;
     render_options_settings(&o, &scene, &rs);
+    /* A PNG is the final image only: frames that can skip the radiance do. */
+    bool hdr_out = util_ends_with(o.out, ".pfm") || util_ends_with(o.out, ".exr");
+    rs.display_only = !hdr_out;
     if (o.out_ao && (rs.gi != GI_VCT || !rs.gi_params.vct_ao)) {
         cli_error(NULL, "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
         scene_free(&scene);
@@ -153,21 +156,22 @@ int cmd_render(int argc, char **argv)
         for (int f = 0; f < frames; f++)
             frame(&r, &scene.camera, &clock);
         double t1 = util_seconds();
-        /* Nothing non-finite leaves the renderer: the LDR image would hide it. */
+        /* Nothing non-finite leaves the renderer: the LDR image would hide it
+         * (display-only frames count it as they shade). */
         ImageF hdr = {0};
-        bool ok = renderer_read_hdr(&r, &hdr);
+        size_t bad = 0;
+        int x = 0, y = 0;
+        bool ok = hdr_out ? renderer_read_hdr(&r, &hdr) : renderer_count_nonfinite(&r, &bad, &x, &y);
         if (!ok)
             log_error("render", "cannot read back the %dx%d HDR image", rs.width, rs.height);
-        if (ok) {
-            int x = 0, y = 0;
-            size_t bad = image_count_nonfinite(&hdr, &x, &y);
-            if (bad) {
-                log_error("render", "%s: the rendered HDR image has %zu NaN or infinite pixels (first at x=%d y=%d); "
-                          "nothing written", scene.source, bad, x, y);
-                ok = false;
-            }
+        if (ok && hdr_out)
+            bad = image_count_nonfinite(&hdr, &x, &y);
+        if (ok && bad) {
+            log_error("render", "%s: the rendered HDR image has %zu NaN or infinite pixels (first at x=%d y=%d); "
+                      "nothing written", scene.source, bad, x, y);
+            ok = false;
         }
-        if (ok && (util_ends_with(o.out, ".pfm") || util_ends_with(o.out, ".exr"))) {
+        if (ok && hdr_out) {
             ok = image_write(o.out, &hdr, 1.f, o.half); /* linear radiance */
         } else if (ok) {
             uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */

@@ -318,6 +318,10 @@ int cmd_view(int argc, char **argv)
             if (!ok)
                 break;
         }
+        /* The window shows the final image; the A/B view reads the radiance. */
+        v.settings.display_only = v.ab == NULL;
+        if (r.settings.display_only != v.settings.display_only && !(ok = renderer_apply(&r, &v.settings)))
+            break;
         renderer_frame(&r, &v.camera);
         if (v.ab)
             ab_view_draw(v.ab, &r, fw, fh);

@@ -72,7 +72,8 @@ static void targets_destroy(Renderer *r)
     color_target_destroy(&r->ldr);
     glDeleteFramebuffers(1, &r->forward_fbo);
     glDeleteFramebuffers(1, &r->forward_display_fbo);
-    r->forward_fbo = r->forward_display_fbo = 0;
+    glDeleteFramebuffers(1, &r->forward_ldr_fbo);
+    r->forward_fbo = r->forward_display_fbo = r->forward_ldr_fbo = 0;
     if (r->ldr_pre.fbo)
         color_target_destroy(&r->ldr_pre);
     GLuint t[2] = {r->irradiance, r->specular};
@@ -120,6 +121,12 @@ static bool targets_create(Renderer *r, int w, int h)
     const GLuint display[2] = {r->hdr.texture, r->ldr.texture};
     if (n == 1 && !fbo_make(&r->forward_display_fbo, display, 2, r->gbuffer.depth, false, "forward.display"))
         return false;
+    if (n == 1) { /* display only: nothing at location 0, the final image at 1 */
+        if (!fbo_make(&r->forward_ldr_fbo, &r->ldr.texture, 1, r->gbuffer.depth, false, "forward.display_only"))
+            return false;
+        const GLenum bufs[2] = {GL_NONE, GL_COLOR_ATTACHMENT0};
+        glNamedFramebufferDrawBuffers(r->forward_ldr_fbo, 2, bufs);
+    }
     r->irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.irradiance");
     r->specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, sw, sh, "gi.specular");
     return r->irradiance && r->specular;
@@ -168,6 +175,7 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
     memset(r, 0, sizeof *r);
     r->scene = s;
     r->settings = *rs;
+    r->radiance_kept = true; /* (nothing drawn yet: hdr as created) */
     gpu_timer_create(&r->timer, rs->timings, rs->timing_sync);
     program_cache_create(&r->programs);
     LightStageDesc ld = light_desc(rs);
@@ -277,15 +285,19 @@ void renderer_frame(Renderer *r, const Camera *cam)
     bool fxaa = r->settings.aa == AA_FXAA;
     /* A forward frame of one light with nothing between its shading and the
      * final image tone-maps as it shades (pass_direct_forward's display). */
-    bool tonemapped = false;
+    bool tonemapped = false, display_only = false;
     if (renderer_forward(r)) {
         tonemapped = n == 1 && !fxaa && r->lights.light_count <= 1;
+        display_only = tonemapped && r->settings.display_only;
         gpu_timer_begin(t, "depth");
         pass_gbuffer_depth_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
         gpu_timer_end(t);
         gpu_timer_begin(t, "direct");
         pass_direct_forward(&r->pass_direct, &r->lights, &r->gpu_scene, cam, cull,
-                            tonemapped ? r->forward_display_fbo : r->forward_fbo, tonemapped, radiance->width,
+                            display_only ? r->forward_ldr_fbo
+                            : tonemapped ? r->forward_display_fbo
+                                         : r->forward_fbo,
+                            tonemapped, radiance->width,
                             radiance->height);
         gpu_timer_end(t);
     } else {
@@ -326,6 +338,7 @@ void renderer_frame(Renderer *r, const Camera *cam)
         gpu_timer_end(t);
     }
 
+    r->radiance_kept = !display_only;
     if (!tonemapped) {
         gpu_timer_begin(t, "tonemap");
         pass_tonemap_run(&r->pass_tonemap, &r->hdr, r->settings.exposure, fxaa ? &r->ldr_pre : &r->ldr);
@@ -353,6 +366,10 @@ const RenderStats *renderer_collect_stats(Renderer *r)
 
 bool renderer_read_hdr(Renderer *r, ImageF *out)
 {
+    if (!r->radiance_kept) {
+        log_error("render", "the last frame kept no radiance (a display-only frame): nothing to read back");
+        return false;
+    }
     int w = r->hdr.width, h = r->hdr.height;
     float *rgba = malloc(sizeof(float) * 4 * (size_t)w * h);
     if (!rgba || !image_alloc(out, w, h)) {
@@ -365,6 +382,36 @@ bool renderer_read_hdr(Renderer *r, ImageF *out)
         for (int x = 0; x < w; x++)
             memcpy(image_px(out, x, h - 1 - y), rgba + 4 * ((size_t)y * w + x), 3 * sizeof(float));
     free(rgba);
+    return true;
+}
+
+bool renderer_count_nonfinite(Renderer *r, size_t *count, int *x, int *y)
+{
+    *x = *y = 0;
+    *count = 0;
+    if (!r->radiance_kept) {
+        /* The forward draw wrote alpha 0 where the radiance is not finite. */
+        int w = r->ldr.width, h = r->ldr.height;
+        uint8_t *rgba = malloc(4 * (size_t)w * h);
+        if (!rgba) {
+            log_error("render", "out of memory reading back a %dx%d image", w, h);
+            return false;
+        }
+        glGetTextureImage(r->ldr.texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, (GLsizei)(4 * (size_t)w * h), rgba);
+        for (int row = h - 1; row >= 0; row--) /* GL rows are bottom-up: the first from the top */
+            for (int col = 0; col < w; col++)
+                if (rgba[4 * ((size_t)row * w + col) + 3] == 0 && (*count)++ == 0) {
+                    *x = col;
+                    *y = h - 1 - row;
+                }
+        free(rgba);
+        return true;
+    }
+    ImageF hdr;
+    if (!renderer_read_hdr(r, &hdr))
+        return false;
+    *count = image_count_nonfinite(&hdr, x, y);
+    image_free(&hdr);
     return true;
 }
 

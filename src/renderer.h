@@ -63,6 +63,9 @@ typedef struct RenderSettings {
     ShadingMode shading; /* direct-only frames (no GI technique): forward, deferred, or chosen by the scene */
     int ssaa;         /* N×N supersampling with a box filter; 0 or 1: off */
     AaMode aa;        /* post-process AA of the tone-mapped image */
+    bool display_only; /* only the final image is read: a forward frame that tone-maps as it shades
+                          keeps no radiance (renderer_read_hdr then fails; renderer_count_nonfinite
+                          still answers) */
 } RenderSettings;
 
 typedef GiStats RenderStats;
@@ -79,6 +82,9 @@ typedef struct Renderer {
     GLuint forward_fbo;        /* the shading target's radiance + the G-buffer's depth (forward shading) */
     GLuint forward_display_fbo; /* hdr + ldr + the G-buffer's depth: forward frames that tone-map as they
                                    shade (renderer_frame); no supersampling only */
+    GLuint forward_ldr_fbo;    /* ldr (drawn by location 1) + the G-buffer's depth: the same frames when
+                                  display_only */
+    bool radiance_kept;        /* whether the last frame wrote hdr */
     ColorTarget hdr_ss;        /* RGBA32F radiance at N× the output size (supersampling only) */
     ColorTarget ldr;           /* SRGB8_ALPHA8, the final image */
     ColorTarget ldr_pre;       /* SRGB8_ALPHA8, tone-mapped before FXAA (FXAA only) */
@@ -124,8 +130,13 @@ int renderer_ssaa(const RenderSettings *rs);
  * G-buffer); SHADING_AUTO picks forward where the scene has fewer
  * triangles than shading pixels / 64 (see renderer.c). */
 bool renderer_forward(const Renderer *r);
-/* Reads back radiance at the output size (row 0 = top). */
+/* Reads back radiance at the output size (row 0 = top). false after
+ * logging where the last frame kept none (display_only). */
 bool renderer_read_hdr(Renderer *r, ImageF *out);
+/* The last frame's pixels of NaN or infinite radiance (*x, *y: the first,
+ * row 0 = top), from its radiance or, where it kept none, from the forward
+ * draw's count. false after logging if it cannot be read back. */
+bool renderer_count_nonfinite(Renderer *r, size_t *count, int *x, int *y);
 /* Reads back the tone-mapped image as 8-bit RGB, row 0 = top. Caller frees;
  * NULL after logging if memory runs out. */
 uint8_t *renderer_read_ldr(Renderer *r);

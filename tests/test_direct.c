@@ -237,7 +237,7 @@ static int display_error(Renderer *r, float exposure, int *clamped)
 /* The final image is the radiance tone-mapped, whether a tone-mapping pass
  * makes it (deferred frames, forward frames of two lights) or the forward
  * draw of a one-light frame writes it as it shades: within one 8-bit step
- * (llvmpipe's sRGB encoding rounds) of the CPU's, at two exposures in one
+ * (the shaders' sRGB encoding is a fit, srgb_encode_matches_the_standard) of the CPU's, at two exposures in one
  * renderer (an exposure change remakes nothing and must reach both). A
  * one-light forward frame that left the final image unwritten, or wrote
  * it without the exposure or the sRGB encoding, fails (checked by breaking
@@ -269,6 +269,107 @@ static void display_image_is_tone_mapped_radiance(void **state)
         renderer_destroy(&r);
         scene_free(&s);
     }
+}
+
+/* A display-only frame (RenderSettings.display_only: render's PNG output)
+ * keeps no radiance: its final image is the one a frame that keeps it
+ * writes, bit for bit; renderer_read_hdr refuses it; and radiance that is
+ * not finite still shows: renderer_count_nonfinite finds the same pixels
+ * (and the same first one) from the final image's alpha as from the
+ * radiance of a frame that keeps it, here with a NaN in the light's colour.
+ * Without the alpha mark the display-only count is 0. */
+static void display_only_frames(void **state)
+{
+    (void)state;
+    Scene s;
+    make_scene(&s, LIGHT_SPOT, false, false);
+    RenderSettings rs = test_settings(&s, 48, 40, SHADOW_MODE_PCF);
+    rs.shadow_params.map_size = 256;
+    rs.shading = SHADING_FORWARD;
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    for (int nan = 0; nan < 2; nan++) {
+        if (nan)
+            s.lights[0].color[1] = NAN; /* past the loader's checks: the renderer must still notice */
+        uint8_t *ldr[2];
+        size_t bad[2];
+        int x[2], y[2];
+        for (int k = 0; k < 2; k++) {
+            rs.display_only = k == 1;
+            assert_true(renderer_apply(&r, &rs));
+            renderer_frame(&r, &s.camera);
+            ldr[k] = renderer_read_ldr(&r);
+            assert_non_null(ldr[k]);
+            assert_true(renderer_count_nonfinite(&r, &bad[k], &x[k], &y[k]));
+        }
+        ImageF hdr;
+        assert_false(renderer_read_hdr(&r, &hdr)); /* the last frame was display-only */
+        print_message("%s: non-finite pixels %zu (radiance kept) and %zu (display only), first at (%d, %d) and (%d, %d)\n",
+                      nan ? "NaN light" : "finite", bad[0], bad[1], x[0], y[0], x[1], y[1]);
+        if (nan) {
+            assert_true(bad[0] > 0);
+        } else {
+            assert_int_equal(bad[0], 0);
+            assert_memory_equal(ldr[0], ldr[1], 3 * 48 * 40);
+        }
+        assert_int_equal(bad[1], bad[0]);
+        assert_int_equal(x[1], x[0]);
+        assert_int_equal(y[1], y[0]);
+        free(ldr[0]);
+        free(ldr[1]);
+    }
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
+/* The shaders' sRGB encoding (common/tonemap.glsl's fit) against the
+ * standard's formula (image.c's srgb_encode) on 2^16 + 1 values spread over
+ * [0, 1] and squeezed toward the branch at 0.0031308: within 0.06 of an
+ * 8-bit step (the fit's own bound is 0.052), so the final image's bytes are
+ * the exact encoding's or one step off where it lies that near a rounding
+ * boundary. A plain 1/2.2 gamma is 8.5 steps off, the fit without its
+ * constant term 8.8 (both measured). */
+static void srgb_encode_matches_the_standard(void **state)
+{
+    (void)state;
+    enum { N = 65537 };
+    float(*v)[4] = malloc(sizeof(float) * 4 * N);
+    assert_non_null(v);
+    for (int i = 0; i < N; i++) {
+        double t = (double)i / (N - 1);
+        v[i][0] = (float)t;
+        v[i][1] = (float)(t * t * t); /* dense near the knee */
+        v[i][2] = (float)(0.0031308 * (1.0 + 0.02 * (t - 0.5)));
+        v[i][3] = 0.f;
+    }
+    GLuint prog = shader_compute_make("test_srgb", "test/srgb.comp", NULL);
+    assert_true(prog != 0);
+    GLuint buf;
+    glCreateBuffers(1, &buf);
+    glNamedBufferStorage(buf, (GLsizeiptr)(sizeof(float) * 4 * N), v, GL_DYNAMIC_STORAGE_BIT);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, buf);
+    glUseProgram(prog);
+    glDispatchCompute((N + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    float(*got)[4] = malloc(sizeof(float) * 4 * N);
+    assert_non_null(got);
+    glGetNamedBufferSubData(buf, 0, (GLsizeiptr)(sizeof(float) * 4 * N), got);
+    double worst = 0.0;
+    float at = 0.f;
+    for (int i = 0; i < N; i++)
+        for (int c = 0; c < 3; c++) {
+            double e = 255.0 * fabs((double)got[i][c] - (double)srgb_encode(v[i][c]));
+            if (e > worst) {
+                worst = e;
+                at = v[i][c];
+            }
+        }
+    print_message("srgb_encode: largest error %.4f of an 8-bit step (at %.6g)\n", worst, at);
+    assert_true(worst < 0.06);
+    glDeleteBuffers(1, &buf);
+    glDeleteProgram(prog);
+    free(got);
+    free(v);
 }
 
 static void auto_shading_follows_triangle_density(void **state)
@@ -316,6 +417,8 @@ int main(void)
         cmocka_unit_test(forward_masked_materials),
         cmocka_unit_test(auto_shading_follows_triangle_density),
         cmocka_unit_test(display_image_is_tone_mapped_radiance),
+        cmocka_unit_test(srgb_encode_matches_the_standard),
+        cmocka_unit_test(display_only_frames),
     };
     return cmocka_run_group_tests_name("direct", tests, test_gl_setup, test_gl_teardown);
 }

@@ -76,7 +76,7 @@ ShadowCoord shadow_coord(vec3 x)
     }
     if (!shadow_is_cube()) {
         vec4 c = u_light.shadow_view_proj * vec4(x, 1.0);
-        sc.uv = c.xy / c.w * 0.5 + 0.5;
+        sc.uv = (shadow_is_ortho() ? c.xy : c.xy / c.w) * 0.5 + 0.5;
     }
     return sc;
 }
@@ -272,6 +272,7 @@ float shadow_pcf_grid(ShadowCoord sc, vec2 g, float radius, float cos_theta)
 #endif
     float step = 2.0 * max(radius, 0.5) / float(k), first = 0.5 * step * float(1 - k);
     bool plane = shadow_filter_bias() != SHADOW_BIAS_LEGACY;
+    float inv_size = 1.0 / u_light.shadow_info.z, inv_far = 1.0 / far;
     // precise: no contraction into FMAs, which the unrolled loop of a
     // constant count got and the general program's did not (1-ulp
     // differences in penumbrae, test_direct).
@@ -292,7 +293,7 @@ float shadow_pcf_grid(ShadowCoord sc, vec2 g, float radius, float cos_theta)
                     vec2 lo = min(-g * f, g * (1.0 - f));
                     ref += min(dot(g, o) + lo.x + lo.y, 0.0);
                 }
-                lit += textureLod(u_shadow_cmp_2d, vec3(p / u_light.shadow_info.z, ref / far), 0.0);
+                lit += textureLod(u_shadow_cmp_2d, vec3(p * inv_size, ref * inv_far), 0.0);
             }
         }
     return lit / float(k * k);

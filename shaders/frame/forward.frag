@@ -7,10 +7,14 @@
 // the G-buffer's: the shading normal turned toward the camera (two-sided),
 // emission toward the front only, added when u_add_emission is set (the
 // first light; later lights blend additively at equal depth).
-// o_display is the tone-mapped colour (common/tonemap.glsl, the sRGB
-// encoding by the target): a frame of one light with nothing after the
+// o_display is the tone-mapped, sRGB-encoded colour (common/tonemap.glsl):
+// a frame of one light with nothing after the
 // shading (pass_direct_forward's `display`) binds the final image there and
 // skips the tone-mapping pass; other frames bind nothing, and it is dropped.
+// A display-only frame (RenderSettings.display_only) binds nothing at
+// location 0 either, so no radiance is kept to check for NaN and infinity:
+// the final image's alpha is 0 where the radiance is not finite instead
+// (renderer_count_nonfinite; everything else writes alpha 1).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "common/brdf.glsl"
@@ -49,4 +53,5 @@ void main()
         radiance += u_emission;
     o_radiance = vec4(radiance, 1.0);
     o_display = tonemap(radiance, u_frame.exposure);
+    o_display.a = any(isnan(radiance)) || any(isinf(radiance)) ? 0.0 : 1.0;
 }

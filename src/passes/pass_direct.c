@@ -225,11 +225,10 @@ void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs
     camera_view_proj(cam, (float)width / (float)height, vp);
     const float zero[4] = {0.f, 0.f, 0.f, 0.f};
     const float black[4] = {0.f, 0.f, 0.f, 1.f};
+    /* (Clearing a draw buffer that is GL_NONE, display-only frames', does nothing.) */
     glClearNamedFramebufferfv(fbo, GL_COLOR, 0, zero); /* the background */
-    if (display) {
-        glClearNamedFramebufferfv(fbo, GL_COLOR, 1, black); /* tone-mapped: opaque */
-        glEnable(GL_FRAMEBUFFER_SRGB);
-    }
+    if (display)
+        glClearNamedFramebufferfv(fbo, GL_COLOR, 1, black); /* tone-mapped (and encoded): opaque */
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_SHADOW, p->shadow_ubo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, width, height);
@@ -255,7 +254,6 @@ void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs
         gpu_scene_draw_view(gs, s, &(DrawPrograms){progs[0], progs[0], progs[1]}, DRAW_ALL, cull ? &view : NULL);
     }
     glDisable(GL_BLEND);
-    glDisable(GL_FRAMEBUFFER_SRGB);
     glDepthMask(GL_TRUE);
     glDepthFunc(GL_LESS);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -59,8 +59,10 @@ void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, Col
  * light, the first one's with the emission, the others blended. With
  * `display` (at most one light), `fbo`'s second colour attachment is the
  * final sRGB image, which the draw also writes tone-mapped (× the frame's
- * exposure, clamped; frame/tonemap.frag's), so no tone-mapping pass
- * follows. */
+ * exposure, clamped, sRGB-encoded: common/tonemap.glsl), so no tone-mapping pass
+ * follows, with alpha 0 where the radiance is NaN or infinite (1
+ * elsewhere); an `fbo` whose first draw buffer is GL_NONE keeps no radiance
+ * (display-only frames). */
 void pass_direct_forward(PassDirect *p, const LightStage *ls, const GpuScene *gs, const Camera *cam, bool cull,
                          GLuint fbo, bool display, int width, int height);
 

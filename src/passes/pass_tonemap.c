@@ -19,7 +19,6 @@ void pass_tonemap_run(PassTonemap *p, const ColorTarget *hdr, float exposure, Co
 {
     glProgramUniform1f(p->program, LOC_TONEMAP_EXPOSURE, exposure);
     glBindTextureUnit(TEX_HDR, hdr->texture);
-    glEnable(GL_FRAMEBUFFER_SRGB);
+    /* The shader encodes (common/tonemap.glsl): GL_FRAMEBUFFER_SRGB stays off. */
     fullscreen_draw(p->program, p->vao, ldr->fbo, ldr->width, ldr->height, false);
-    glDisable(GL_FRAMEBUFFER_SRGB);
 }

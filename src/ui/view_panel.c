@@ -145,6 +145,14 @@ bool view_save_image(View *v, const char *path)
         ok = rgb && image_write_png8(path, r->settings.width, r->settings.height, rgb);
         free(rgb);
     } else {
+        /* A display-only frame kept no radiance: draw it again with it (the
+         * window's loop turns display_only back on). */
+        if (!r->radiance_kept) {
+            RenderSettings rs = r->settings;
+            rs.display_only = false;
+            if (renderer_apply(r, &rs))
+                renderer_frame(r, &v->camera);
+        }
         ImageF img;
         ok = renderer_read_hdr(r, &img);
         if (ok) {

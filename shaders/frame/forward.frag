@@ -52,6 +52,6 @@ void main()
     if (u_add_emission != 0 && front)
         radiance += u_emission;
     o_radiance = vec4(radiance, 1.0);
-    o_display = tonemap(radiance, u_frame.exposure);
-    o_display.a = any(isnan(radiance)) || any(isinf(radiance)) ? 0.0 : 1.0;
+    o_display = vec4(srgb_encode(tonemap(radiance, u_frame.exposure).rgb),
+                     any(isnan(radiance)) || any(isinf(radiance)) ? 0.0 : 1.0);
 }

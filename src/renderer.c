@@ -118,12 +118,12 @@ static bool targets_create(Renderer *r, int w, int h)
     /* Forward shading's: the radiance target with the G-buffer's depth. */
     if (!fbo_make(&r->forward_fbo, &shading_target(r)->texture, 1, r->gbuffer.depth, false, "forward"))
         return false;
-    const GLuint display[2] = {r->hdr.texture, r->ldr.texture};
-    if (n == 1 && !fbo_make(&r->forward_display_fbo, display, 2, r->gbuffer.depth, false, "forward.display"))
-        return false;
-    if (n == 1) { /* display only: nothing at location 0, the final image at 1 */
-        if (!fbo_make(&r->forward_ldr_fbo, &r->ldr.texture, 1, r->gbuffer.depth, false, "forward.display_only"))
+    if (n == 1) {
+        const GLuint display[2] = {r->hdr.texture, r->ldr.texture};
+        if (!fbo_make(&r->forward_display_fbo, display, 2, r->gbuffer.depth, false, "forward.display") ||
+            !fbo_make(&r->forward_ldr_fbo, &r->ldr.texture, 1, r->gbuffer.depth, false, "forward.display_only"))
             return false;
+        /* display only: nothing at location 0, the final image at 1 */
         const GLenum bufs[2] = {GL_NONE, GL_COLOR_ATTACHMENT0};
         glNamedFramebufferDrawBuffers(r->forward_ldr_fbo, 2, bufs);
     }
@@ -385,6 +385,20 @@ bool renderer_read_hdr(Renderer *r, ImageF *out)
     return true;
 }
 
+/* The final image as GL holds it (RGBA, rows bottom-up); caller frees.
+ * NULL after logging if memory runs out. */
+static uint8_t *ldr_rgba(Renderer *r)
+{
+    int w = r->ldr.width, h = r->ldr.height;
+    uint8_t *rgba = malloc(4 * (size_t)w * h);
+    if (!rgba) {
+        log_error("render", "out of memory reading back a %dx%d image", w, h);
+        return NULL;
+    }
+    glGetTextureImage(r->ldr.texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, (GLsizei)(4 * (size_t)w * h), rgba);
+    return rgba;
+}
+
 bool renderer_count_nonfinite(Renderer *r, size_t *count, int *x, int *y)
 {
     *x = *y = 0;
@@ -392,12 +406,9 @@ bool renderer_count_nonfinite(Renderer *r, size_t *count, int *x, int *y)
     if (!r->radiance_kept) {
         /* The forward draw wrote alpha 0 where the radiance is not finite. */
         int w = r->ldr.width, h = r->ldr.height;
-        uint8_t *rgba = malloc(4 * (size_t)w * h);
-        if (!rgba) {
-            log_error("render", "out of memory reading back a %dx%d image", w, h);
+        uint8_t *rgba = ldr_rgba(r);
+        if (!rgba)
             return false;
-        }
-        glGetTextureImage(r->ldr.texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, (GLsizei)(4 * (size_t)w * h), rgba);
         for (int row = h - 1; row >= 0; row--) /* GL rows are bottom-up: the first from the top */
             for (int col = 0; col < w; col++)
                 if (rgba[4 * ((size_t)row * w + col) + 3] == 0 && (*count)++ == 0) {
@@ -418,14 +429,13 @@ bool renderer_count_nonfinite(Renderer *r, size_t *count, int *x, int *y)
 uint8_t *renderer_read_ldr(Renderer *r)
 {
     int w = r->ldr.width, h = r->ldr.height;
-    uint8_t *rgba = malloc(4 * (size_t)w * h), *rgb = malloc(3 * (size_t)w * h);
-    if (!rgba || !rgb) {
-        log_error("render", "out of memory reading back a %dx%d image", w, h);
+    uint8_t *rgba = ldr_rgba(r), *rgb = rgba ? malloc(3 * (size_t)w * h) : NULL;
+    if (!rgb) {
+        if (rgba)
+            log_error("render", "out of memory reading back a %dx%d image", w, h);
         free(rgba);
-        free(rgb);
         return NULL;
     }
-    glGetTextureImage(r->ldr.texture, 0, GL_RGBA, GL_UNSIGNED_BYTE, (GLsizei)(4 * (size_t)w * h), rgba);
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++)
             memcpy(rgb + 3 * ((size_t)(h - 1 - y) * w + x), rgba + 4 * ((size_t)y * w + x), 3);

@@ -8,9 +8,9 @@
 // emission toward the front only, added when u_add_emission is set (the
 // first light; later lights blend additively at equal depth).
 // o_display is the tone-mapped, sRGB-encoded colour (common/tonemap.glsl):
-// a frame of one light with nothing after the
-// shading (pass_direct_forward's `display`) binds the final image there and
-// skips the tone-mapping pass; other frames bind nothing, and it is dropped.
+// a frame of one light with nothing after the shading
+// (pass_direct_forward's `display`) binds the final image there and skips
+// the tone-mapping pass; other frames bind nothing, and it is dropped.
 // A display-only frame (RenderSettings.display_only) binds nothing at
 // location 0 either, so no radiance is kept to check for NaN and infinity:
 // the final image's alpha is 0 where the radiance is not finite instead

@@ -217,7 +217,11 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     ls->dummy_2d = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummy2d");
     ls->dummy_cube = gl_texture_make(GL_TEXTURE_CUBE_MAP, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummycube");
     /* The grid PCF's taps (common/shadow.glsl): a bilinear blend of four
-     * depth tests, lit where reference <= stored; off the map, lit. */
+     * depth tests, lit where reference <= stored. Off the map, lit: a 2D
+     * map's outermost texels are never drawn (shadow_face), so they hold
+     * the clear depth 1, which the edge clamp reads for whatever lies
+     * beyond (on llvmpipe 4% fewer instructions per frame than a border
+     * colour, whose texels it selects lane by lane). */
     glCreateSamplers(1, &ls->shadow_compare);
     glSamplerParameteri(ls->shadow_compare, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glSamplerParameteri(ls->shadow_compare, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
@@ -225,9 +229,7 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     glSamplerParameteri(ls->shadow_compare, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     const GLenum wraps[3] = {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R};
     for (int k = 0; k < 3; k++)
-        glSamplerParameteri(ls->shadow_compare, wraps[k], GL_CLAMP_TO_BORDER);
-    const float border[4] = {1.f, 1.f, 1.f, 1.f};
-    glSamplerParameterfv(ls->shadow_compare, GL_TEXTURE_BORDER_COLOR, border);
+        glSamplerParameteri(ls->shadow_compare, wraps[k], GL_CLAMP_TO_EDGE);
     glObjectLabel(GL_SAMPLER, ls->shadow_compare, -1, "shadow.compare");
     return make_products(ls);
 }
@@ -316,9 +318,17 @@ static void draw_faces(LightStage *ls, const Light *l, const DrawPrograms *progr
         gpu_scene_draw_view(gs, ls->scene, programs, DRAW_SKIP_EMITTERS, ls->desc.no_cull ? NULL : &view);
         ls->clusters_culled += culled;
     }
+    glDisable(GL_SCISSOR_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+/* Clears the face to depth 1. A 2D map is then drawn inside its outermost
+ * ring of texels only (draw_faces turns the scissor off after): the ring
+ * keeps depth 1, what the depth-compare sampler's edge clamp reads off the
+ * map, where nothing is recorded. A directional map's ring holds nothing
+ * anyway (the scene's bounding sphere lies a hundredth of its radius inside
+ * the map: 5 texels at 1024); a spot map's lies outside its cone (5% wider
+ * than the cone angle), unless the 170° cap on its field of view cuts it. */
 static void shadow_face(const LightStage *ls, int face, void *user)
 {
     (void)ls;
@@ -327,6 +337,10 @@ static void shadow_face(const LightStage *ls, int face, void *user)
         fbo_attach(m->fbo, GL_DEPTH_ATTACHMENT, m->texture, true, face);
     const float one = 1.f;
     glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
+    if (!m->cube) {
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(1, 1, m->size - 2, m->size - 2);
+    }
 }
 
 static void rsm_face(const LightStage *ls, int face, void *user)

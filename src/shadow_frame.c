@@ -30,7 +30,11 @@ void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int 
     if (l->type == LIGHT_DIRECTIONAL) {
         vec3 c;
         glm_vec3_center((float *)bmin, (float *)bmax, c);
-        float r = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax) * 1.01f + 1e-3f;
+        /* The scene's bounding sphere, 1% and at least two texels inside
+         * the map: its outermost ring of texels holds nothing (light_stage.c,
+         * shadow_face). */
+        float r0 = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
+        float r = fmaxf(r0 * 1.01f, r0 / (1.f - 4.f / (float)res)) + 1e-3f;
         glm_vec3_copy(c, f->origin);
         glm_vec3_muladds((float *)l->direction, -r, f->origin);
         glm_vec3_add(f->origin, (float *)l->direction, target);

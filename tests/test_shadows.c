@@ -1,6 +1,7 @@
 /* test_shadows.c — shadow maps on the Cornell box and PCSS vs PCF.
  * All renders at small sizes on whatever GL 4.5 is present (llvmpipe). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "test_util.h"
@@ -269,6 +270,127 @@ static void grid_pcf_keeps_the_shadow_and_widens_with_radius(void **state)
     scene_free(&s);
 }
 
+/* A wide spot light (outer 89°: its map's field of view stops at the 170°
+ * cap), 0.5 m up, pointing down; a wall 3 m away facing it; a 1 m lip
+ * 0.1 m under the light between 1.04 and 1.14 m out, which the map's
+ * outermost texels toward the wall hold (84.5°–85° from the axis). The
+ * camera looks at the wall from under the lip. */
+static void wide_spot_scene(Scene *s)
+{
+    scene_init(s);
+    strcpy(s->source, "wide-spot-test");
+    int grey = scene_add_material(s, "grey", (vec3){0.8f, 0.8f, 0.8f});
+    scene_add_quad(s, grey, (vec3){3, -1, -3}, (vec3){3, 1, -3}, (vec3){3, 1, 3}, (vec3){3, -1, 3});
+    scene_add_quad(s, grey, (vec3){1.04f, 0.4f, -0.5f}, (vec3){1.04f, 0.4f, 0.5f}, (vec3){1.14f, 0.4f, 0.5f},
+                   (vec3){1.14f, 0.4f, -0.5f});
+    Light l = {.type = LIGHT_SPOT, .position = {0, 0.5f, 0}, .direction = {0, -1, 0}, .color = {100, 100, 100},
+               .size = 0.01f, .spot_inner = glm_rad(80.f), .spot_outer = glm_rad(89.f)};
+    scene_add_light(s, &l);
+    glm_vec3_copy((vec3){0.5f, 0.3f, 0}, s->camera.position);
+    glm_vec3_copy((vec3){1, 0, 0}, s->camera.forward);
+    glm_vec3_copy((vec3){0, 1, 0}, s->camera.up);
+    s->camera.fov_y = glm_rad(40.f);
+    s->shadow.map_size = 256;
+    scene_finalize(s);
+}
+
+/* Whether every texel of ring k (k texels in from the edge) of light 0's
+ * 2D shadow map holds the clear depth 1; `inner_drawn`: some texel of ring
+ * k + 1 holds less. */
+static bool ring_clear(const Renderer *r, int k, bool *inner_drawn)
+{
+    const ShadowMap *m = &r->lights.shadow[0];
+    int n = m->size;
+    float *z = malloc(sizeof(float) * (size_t)n * (size_t)n);
+    assert_non_null(z);
+    glGetTextureImage(m->texture, 0, GL_DEPTH_COMPONENT, GL_FLOAT, (GLsizei)(sizeof(float) * (size_t)n * (size_t)n), z);
+    bool clear = true;
+    *inner_drawn = false;
+    for (int y = 0; y < n; y++)
+        for (int x = 0; x < n; x++) {
+            int ring = x < y ? x : y;
+            ring = ring < n - 1 - x ? ring : n - 1 - x;
+            ring = ring < n - 1 - y ? ring : n - 1 - y;
+            if (ring == k && z[y * n + x] != 1.f)
+                clear = false;
+            if (ring == k + 1 && z[y * n + x] < 1.f)
+                *inner_drawn = true;
+        }
+    free(z);
+    return clear;
+}
+
+/* Off the map, lit: the grid PCF's compare sampler clamps to the map's
+ * edge, whose texels are never drawn (light_stage.c, shadow_face) and so
+ * read the clear depth 1 as a border would. The wide spot's wall between
+ * 0.3 and 0.45 m high lies 86°–89° from its axis: inside the cone, off the
+ * map; it must be lit as without shadows, where the edge texels holding
+ * the lip (nearer the light) would shadow it. A directional map keeps the
+ * scene two texels inside its edge (shadow_frame.c), so not drawing the
+ * ring loses no blocker: checked on a 16² map of a 6 × 1 m strip seen
+ * straight down, whose ends come within 0.04 m of the bounding sphere the
+ * map is fitted to (they reached the outermost ring before). */
+static void off_the_map_is_lit(void **state)
+{
+    (void)state;
+    Scene s;
+    wide_spot_scene(&s);
+    RenderSettings rs = test_settings(&s, PW, PH, SHADOW_MODE_NONE);
+    ImageF none, grid;
+    test_render(&s, &rs, &none);
+    rs.shadow = SHADOW_MODE_PCF;
+    rs.shadow_params.pcf_filter = SHADOW_PCF_FILTER_GRID;
+    rs.shadow_params.pcf_radius = 1.f;
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    assert_true(renderer_read_hdr(&r, &grid));
+    double lit = 0, unshadowed = 0;
+    int count = 0;
+    for (int j = 0; j <= 15; j++)
+        for (int i = 0; i <= 20; i++) {
+            int x, y;
+            test_project(&s, PW, PH, (vec3){2.999f, 0.3f + 0.01f * (float)j, -0.5f + 0.05f * (float)i}, &x, &y);
+            if (x < 0 || y < 0 || x >= PW || y >= PH)
+                continue;
+            lit += grid.rgb[3 * (y * PW + x)];
+            unshadowed += none.rgb[3 * (y * PW + x)];
+            count++;
+        }
+    print_message("wall beyond the spot map (%d points): grid PCF %g of the unshadowed radiance\n", count,
+                  lit / unshadowed);
+    assert_true(count == 16 * 21 && unshadowed > 0.0);
+    assert_true(fabs(lit / unshadowed - 1.0) < 1e-6);
+    bool inner_drawn;
+    assert_true(ring_clear(&r, 0, &inner_drawn));
+    assert_true(inner_drawn); /* the lip reaches the map's edge */
+    renderer_destroy(&r);
+    image_free(&none);
+    image_free(&grid);
+    scene_free(&s);
+
+    scene_init(&s);
+    strcpy(s.source, "sun-ring-test");
+    int floor = scene_add_material(&s, "floor", (vec3){0.8f, 0.8f, 0.8f});
+    scene_add_quad(&s, floor, (vec3){-3, 0, -0.5f}, (vec3){-3, 0, 0.5f}, (vec3){3, 0, 0.5f}, (vec3){3, 0, -0.5f});
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0, -1, 0}, .color = {1, 1, 1}, .size = glm_rad(0.5f)};
+    scene_add_light(&s, &sun);
+    glm_vec3_copy((vec3){0, 10.f, 0}, s.camera.position);
+    glm_vec3_copy((vec3){0, -1, 0}, s.camera.forward);
+    glm_vec3_copy((vec3){0, 0, -1}, s.camera.up);
+    s.camera.fov_y = glm_rad(40.f);
+    s.shadow.map_size = 16;
+    scene_finalize(&s);
+    rs = test_settings(&s, 32, 32, SHADOW_MODE_PCF);
+    rs.shadow_params.pcf_filter = SHADOW_PCF_FILTER_GRID;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    assert_true(ring_clear(&r, 0, &inner_drawn) && ring_clear(&r, 1, &inner_drawn));
+    assert_true(inner_drawn); /* the strip reaches ring 2 */
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -276,6 +398,7 @@ int main(void)
         cmocka_unit_test(tall_block_casts_shadow),
         cmocka_unit_test(lit_floor_has_no_acne),
         cmocka_unit_test(pcss_penumbra_grows_pcf_does_not),
+        cmocka_unit_test(off_the_map_is_lit),
     };
     return cmocka_run_group_tests_name("shadows", tests, test_gl_setup, test_gl_teardown);
 }

@@ -273,6 +273,14 @@ float shadow_pcf_grid(ShadowCoord sc, vec2 g, float radius, float cos_theta)
     float step = 2.0 * max(radius, 0.5) / float(k), first = 0.5 * step * float(1 - k);
     bool plane = shadow_filter_bias() != SHADOW_BIAS_LEGACY;
     float inv_size = 1.0 / u_light.shadow_info.z, inv_far = 1.0 / far;
+#ifdef SHADOW_GRID_UNIT_STEP
+    // Taps a whole texel apart at half-texel offsets (an integer radius,
+    // pass_direct.c): every tap's position within its texel is the
+    // receiver's, fract(p − ½) = fract(x), so the plane's lowest texel
+    // centre is found once.
+    vec2 f1 = fract(sc.uv * u_light.shadow_info.z);
+    vec2 lo1 = min(-g * f1, g * (1.0 - f1));
+#endif
     // precise: no contraction into FMAs, which the unrolled loop of a
     // constant count got and the general program's did not (1-ulp
     // differences in penumbrae, test_direct).
@@ -289,8 +297,12 @@ float shadow_pcf_grid(ShadowCoord sc, vec2 g, float radius, float cos_theta)
             } else {
                 vec2 p = sc.uv * u_light.shadow_info.z + o;
                 if (plane) {
+#ifdef SHADOW_GRID_UNIT_STEP
+                    vec2 lo = lo1;
+#else
                     vec2 f = fract(p - 0.5);
                     vec2 lo = min(-g * f, g * (1.0 - f));
+#endif
                     ref += min(dot(g, o) + lo.x + lo.y, 0.0);
                 }
                 lit += textureLod(u_shadow_cmp_2d, vec3(p * inv_size, ref * inv_far), 0.0);
@@ -346,14 +358,13 @@ float shadow_visibility(vec3 x, vec3 n, vec3 l, vec2 pixel)
     float cos_theta = max(dot(n, l), 0.0);
     ShadowCoord sc = shadow_coord(x);
     // Normal offset: move the receiver along n by a few texels before
-    // lookup. Off by default; then the second light-space transform is
-    // skipped (a quarter of the hard-shadow pass on llvmpipe: pcf_sun
-    // 800×600, 21 -> 16 ms), the point being the same.
-    vec3 xo = x;
-    if (u_shadow.normal_offset > 0.0) {
-        xo = x + n * u_shadow.normal_offset * shadow_texel(sc.d);
-        sc = shadow_coord(xo);
-    }
+    // lookup (off by default: then xo = x exactly). Without a branch:
+    // llvmpipe runs an if's body whether or not a lane takes it, and this
+    // one's, never taken by default, cost 3% of the instructions of a
+    // pcf_sun frame (800×600); the transform it saved is dead code for
+    // orthographic maps.
+    vec3 xo = x + n * (u_shadow.normal_offset * shadow_texel(sc.d));
+    sc = shadow_coord(xo);
     if (mode == SHADOW_HARD)
         return shadow_fetch(sc, vec2(0.0)) >= sc.d - shadow_bias(sc.d, cos_theta, 1.0) ? 1.0 : 0.0;
     // Per-pixel rotation of the disk by interleaved gradient noise (Jimenez

@@ -43,8 +43,11 @@ void main()
     vec3 base = material_albedo(v_uv);
     vec2 mr = material_metal_rough(v_uv);
     vec3 n = normalize(v_normal);
-    vec3 v = normalize(u_eye - v_world);
-    bool front = dot(n, v) >= 0.0;
+    // The side from the unnormalised view vector: the programs of diffuse
+    // scenes use v for nothing else, and drop its normalisation.
+    vec3 to_eye = u_eye - v_world;
+    bool front = dot(n, to_eye) >= 0.0;
+    vec3 v = normalize(to_eye);
     n = front ? n : -n;
     vec3 albedo, f0;
     brdf_surface(base, mr.x, u_pbr.z, albedo, f0);

@@ -143,9 +143,14 @@ static void variant_defines(const PassDirect *p, const Scene *s, const Light *l,
         snprintf(out, size, "%s", extra);
         return;
     }
-    char grid[48] = "";
-    if (p->mode == SHADOW_MODE_PCF && p->pcf_filter == SHADOW_PCF_FILTER_GRID)
-        snprintf(grid, sizeof grid, "#define SHADOW_GRID_TAPS %d\n", shadow_grid_taps(p->pcf_radius));
+    char grid[96] = "";
+    if (p->mode == SHADOW_MODE_PCF && p->pcf_filter == SHADOW_PCF_FILTER_GRID) {
+        /* Taps exactly one texel apart (an integer radius up to 4):
+         * SHADOW_GRID_UNIT_STEP, see shadow_pcf_grid. */
+        int k = shadow_grid_taps(p->pcf_radius);
+        bool unit = 2.f * fmaxf(p->pcf_radius, 0.5f) == (float)k;
+        snprintf(grid, sizeof grid, "#define SHADOW_GRID_TAPS %d\n%s", k, unit ? "#define SHADOW_GRID_UNIT_STEP\n" : "");
+    }
     snprintf(out, size,
              "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_MODE %d\n#define SHADOW_FIXED_BIAS %d\n"
              "#define SHADOW_FIXED_FILTER %d\n%s%s%s",

@@ -326,9 +326,10 @@ static void draw_faces(LightStage *ls, const Light *l, const DrawPrograms *progr
  * ring of texels only (draw_faces turns the scissor off after): the ring
  * keeps depth 1, what the depth-compare sampler's edge clamp reads off the
  * map, where nothing is recorded. A directional map's ring holds nothing
- * anyway (the scene's bounding sphere lies a hundredth of its radius inside
- * the map: 5 texels at 1024); a spot map's lies outside its cone (5% wider
- * than the cone angle), unless the 170° cap on its field of view cuts it. */
+ * anyway (the scene's bounding sphere lies a hundredth of its radius, and at
+ * least two texels, inside the map: shadow_frame_compute's margin); a spot
+ * map's lies outside its cone (5% wider than the cone angle), unless the
+ * 170° cap on its field of view cuts it. RSMs keep every texel. */
 static void shadow_face(const LightStage *ls, int face, void *user)
 {
     (void)ls;
@@ -411,7 +412,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     for (int i = 0; i < ls->light_count; i++) {
         ShadowMap none = {0}, *m = maps ? &ls->shadow[i] : &none;
         GpuLight g;
-        shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, d->shadow_map_size, &m->frame);
+        shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, d->shadow_map_size, 2, &m->frame);
         shadow_frame_to_gpu(&s->lights[i], &m->frame, d->shadow_map_size, &g);
         upload_slot(ls, i, SLOT_SHADOW, &g);
         uint64_t key = map_key(&s->lights[i], d->shadow_map_size, 1);
@@ -439,7 +440,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     for (int i = 0; i < ls->light_count; i++) {
         RsmMap *m = &ls->rsm[i];
         GpuLight g;
-        shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, m->size, &m->frame);
+        shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, m->size, 0, &m->frame);
         shadow_frame_to_gpu(&s->lights[i], &m->frame, m->size, &g);
         light_stage_rsm_texel_frame(s->bounds_min, s->bounds_max, &g);
         upload_slot(ls, i, SLOT_RSM, &g);

@@ -23,18 +23,19 @@ static float farthest_corner(const vec3 p, const vec3 bmin, const vec3 bmax)
     return m;
 }
 
-void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int res, ShadowFrame *f)
+void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int res, int margin_texels,
+                          ShadowFrame *f)
 {
     memset(f, 0, sizeof *f);
     vec3 up, target;
     if (l->type == LIGHT_DIRECTIONAL) {
         vec3 c;
         glm_vec3_center((float *)bmin, (float *)bmax, c);
-        /* The scene's bounding sphere, 1% and at least two texels inside
-         * the map: its outermost ring of texels holds nothing (light_stage.c,
-         * shadow_face). */
+        /* The scene's bounding sphere, 1% and at least margin_texels texels
+         * (t = 2r/res each: r − r0 ≥ m·t) inside the map. */
         float r0 = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
-        float r = fmaxf(r0 * 1.01f, r0 / (1.f - 4.f / (float)res)) + 1e-3f;
+        float keep = 1.f - 2.f * (float)margin_texels / (float)res;
+        float r = (keep > 0.f ? fmaxf(r0 * 1.01f, r0 / keep) : r0 * 1.01f) + 1e-3f;
         glm_vec3_copy(c, f->origin);
         glm_vec3_muladds((float *)l->direction, -r, f->origin);
         glm_vec3_add(f->origin, (float *)l->direction, target);

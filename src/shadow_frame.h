@@ -23,8 +23,11 @@ typedef struct ShadowFrame {
     bool cube, ortho;
 } ShadowFrame;
 
+/* The frame of light l's map at `resolution` texels per side. Directional
+ * maps fit the scene's bounding sphere with a 1% margin, and at least
+ * `margin_texels` texels (shadow maps: 2, see light_stage.c shadow_face). */
 void shadow_frame_compute(const Light *l, const vec3 bounds_min, const vec3 bounds_max, int resolution,
-                          ShadowFrame *out);
+                          int margin_texels, ShadowFrame *out);
 /* Maps a world point through face 0 to shadow-map coordinates (u, v in
  * [0,1], depth = stored distance / far). */
 void shadow_frame_project(const ShadowFrame *f, const Light *l, const vec3 world, vec3 out_uvd);

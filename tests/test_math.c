@@ -17,7 +17,7 @@ static void directional_mvp_maps_known_points(void **state)
     (void)state;
     Light l = {.type = LIGHT_DIRECTIONAL, .direction = {0, -1, 0}};
     ShadowFrame f;
-    shadow_frame_compute(&l, k_min, k_max, 1024, &f);
+    shadow_frame_compute(&l, k_min, k_max, 1024, 0, &f);
     float r = sqrtf(3.f) * 1.01f + 1e-3f;
     vec3 uvd;
     shadow_frame_project(&f, &l, (vec3){0, 0, 0}, uvd);
@@ -34,7 +34,7 @@ static void directional_mvp_maps_known_points(void **state)
     /* A slanted sun: points on the axis through the centre map to the
      * middle of the map at depth (r + t)/(2r). */
     Light s = {.type = LIGHT_DIRECTIONAL, .direction = {0.6f, -0.8f, 0}};
-    shadow_frame_compute(&s, k_min, k_max, 512, &f);
+    shadow_frame_compute(&s, k_min, k_max, 512, 0, &f);
     for (float t = -1.f; t <= 1.f; t += 0.5f) {
         vec3 p = {0.6f * t, -0.8f * t, 0};
         shadow_frame_project(&f, &s, p, uvd);
@@ -53,7 +53,7 @@ static void spot_mvp_maps_known_points(void **state)
     Light l = {.type = LIGHT_SPOT, .position = {0, 2, 0}, .direction = {0, -1, 0},
                .spot_inner = glm_rad(25.f), .spot_outer = glm_rad(30.f)};
     ShadowFrame f;
-    shadow_frame_compute(&l, k_min, k_max, 256, &f);
+    shadow_frame_compute(&l, k_min, k_max, 256, 0, &f);
     vec3 uvd;
     shadow_frame_project(&f, &l, (vec3){0, 0, 0}, uvd);
     assert_float_equal(uvd[0], 0.5f, 1e-5);
@@ -76,7 +76,7 @@ static void cube_faces_look_along_axes(void **state)
     (void)state;
     Light l = {.type = LIGHT_POINT, .position = {0.1f, 0.2f, 0.3f}};
     ShadowFrame f;
-    shadow_frame_compute(&l, k_min, k_max, 128, &f);
+    shadow_frame_compute(&l, k_min, k_max, 128, 0, &f);
     assert_int_equal(f.face_count, 6);
     static const float dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
     for (int i = 0; i < 6; i++) {

@@ -1,16 +1,18 @@
 // lights.glsl — the light model; identical to light_intensity() in
 // src/scene.c, which the path tracer uses. Change both together.
 
-// FLAT_LIGHT (the direct-light programs, pass_direct.c): the light block
+// FLAT_UNIFORMS (the direct-light programs, pass_direct.c): the light block
 // reaches the fragment shader as a flat input that the vertex shader copied
 // from u_light (frame/scene.vert, frame/fullscreen.vert), and u_light names
-// it here. The same values, bit for bit; but llvmpipe 22.3 reads a uniform
-// block in a fragment shader lane by lane (its one-load path needs lane 0
-// active, which a fragment shader never promises): about 34 instructions
-// per scalar per 8 pixels, where a flat input costs one load per triangle.
-// pcf_sun.json 800×600, one thread: 216 -> 177M instructions per frame
-// (cachegrind), 12.7 -> 10.7 ms.
-#ifdef FLAT_LIGHT
+// it here; the forward draw's material constants, eye and exposure likewise
+// (common/material.glsl, frame/forward.frag). The same values, bit for bit;
+// but llvmpipe 22.3 reads a uniform in a fragment shader lane by lane (its
+// one-load path needs lane 0 active, which a fragment shader never
+// promises): about 34 instructions per scalar per 8 pixels, where a flat
+// input costs one load per triangle. pcf_sun.json 800×600, one thread:
+// 216 -> 177M instructions per frame (cachegrind) with the light block,
+// 155M with the rest; 12.7 -> 10.7 -> 9.4 ms.
+#ifdef FLAT_UNIFORMS
 flat in GpuLight v_light;
 #define u_light v_light
 #endif

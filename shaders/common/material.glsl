@@ -7,6 +7,15 @@ layout(location = LOC_MATERIAL_EMISSION) uniform vec3 u_emission;
 layout(location = LOC_MATERIAL_PBR) uniform vec4 u_pbr; // metallic, roughness, specular weight, has MR texture
 layout(binding = TEX_ALBEDO) uniform sampler2D u_albedo_tex;
 layout(binding = TEX_MATERIAL_MR) uniform sampler2D u_mr_tex;
+#ifdef FLAT_UNIFORMS
+// The constants as flat inputs from frame/scene.vert (common/lights.glsl).
+flat in vec3 v_albedo;
+flat in vec3 v_emission;
+flat in vec4 v_pbr;
+#define u_albedo v_albedo
+#define u_emission v_emission
+#define u_pbr v_pbr
+#endif
 
 // Linear base colour; discards alpha-masked texels. Programs compiled with
 // OPAQUE_DRAW draw only opaque materials (gpu_scene_draw_split) and hold no

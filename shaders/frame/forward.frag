@@ -26,6 +26,16 @@
 
 layout(location = LOC_EYE) uniform vec3 u_eye;
 layout(location = LOC_DIRECT_EMISSION) uniform int u_add_emission;
+#ifdef FLAT_UNIFORMS
+// The same as flat inputs from frame/scene.vert (common/lights.glsl).
+flat in vec4 v_eye_emission; // u_eye, u_add_emission
+flat in float v_exposure;    // u_frame.exposure
+#define u_eye v_eye_emission.xyz
+#define u_add_emission int(v_eye_emission.w)
+#define EXPOSURE v_exposure
+#else
+#define EXPOSURE u_frame.exposure
+#endif
 
 #ifdef OPAQUE_DRAW
 layout(early_fragment_tests) in;
@@ -55,6 +65,6 @@ void main()
     if (u_add_emission != 0 && front)
         radiance += u_emission;
     o_radiance = vec4(radiance, 1.0);
-    o_display = vec4(srgb_encode(tonemap(radiance, u_frame.exposure).rgb),
+    o_display = vec4(srgb_encode(tonemap(radiance, EXPOSURE).rgb),
                      any(isnan(radiance)) || any(isinf(radiance)) ? 0.0 : 1.0);
 }

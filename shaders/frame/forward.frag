@@ -24,18 +24,14 @@
 #include "common/direct_light.glsl"
 #include "common/tonemap.glsl"
 
-layout(location = LOC_EYE) uniform vec3 u_eye;
-layout(location = LOC_DIRECT_EMISSION) uniform int u_add_emission;
-#ifdef FLAT_UNIFORMS
-// The same as flat inputs from frame/scene.vert (common/lights.glsl).
+// Every forward program is built with FLAT_UNIFORMS (pass_direct.c): the
+// eye, u_add_emission and the exposure come from frame/scene.vert's flat
+// outputs (common/lights.glsl says why).
+#ifndef FLAT_UNIFORMS
+#error frame/forward.frag reads its constants from frame/scene.vert's flat outputs (FLAT_UNIFORMS)
+#endif
 flat in vec4 v_eye_emission; // u_eye, u_add_emission
 flat in float v_exposure;    // u_frame.exposure
-#define u_eye v_eye_emission.xyz
-#define u_add_emission int(v_eye_emission.w)
-#define EXPOSURE v_exposure
-#else
-#define EXPOSURE u_frame.exposure
-#endif
 
 #ifdef OPAQUE_DRAW
 layout(early_fragment_tests) in;
@@ -55,16 +51,16 @@ void main()
     vec3 n = normalize(v_normal);
     // The side from the unnormalised view vector: the programs of diffuse
     // scenes use v for nothing else, and drop its normalisation.
-    vec3 to_eye = u_eye - v_world;
+    vec3 to_eye = v_eye_emission.xyz - v_world;
     bool front = dot(n, to_eye) >= 0.0;
     vec3 v = normalize(to_eye);
     n = front ? n : -n;
     vec3 albedo, f0;
     brdf_surface(base, mr.x, u_pbr.z, albedo, f0);
     vec3 radiance = direct_light(v_world, n, v, albedo, f0, mr.y, gl_FragCoord.xy);
-    if (u_add_emission != 0 && front)
+    if (v_eye_emission.w != 0.0 && front)
         radiance += u_emission;
     o_radiance = vec4(radiance, 1.0);
-    o_display = vec4(srgb_encode(tonemap(radiance, EXPOSURE).rgb),
+    o_display = vec4(srgb_encode(tonemap(radiance, v_exposure).rgb),
                      any(isnan(radiance)) || any(isinf(radiance)) ? 0.0 : 1.0);
 }

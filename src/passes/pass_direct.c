@@ -13,13 +13,17 @@
 #include "shared/gpu_types.h"
 #include "shader.h"
 
+/* In every program of this pass: the light block (and the forward draw's
+ * other constants) as flat inputs (common/lights.glsl). */
+#define FLAT_UNIFORMS_DEFINE "#define FLAT_UNIFORMS\n"
+
 /* The forward program for kind k of material draw with `defines` before:
  * 0 textured (opaque and alpha-masked materials alike, see
  * forward_programs), 1 untextured (gpu_scene.h DrawPrograms). */
 static GLuint forward_program(ProgramCache *pc, int k, const char *defines)
 {
-    static const char *const kinds[2] = {"#define FLAT_UNIFORMS\n#define OPAQUE_DRAW\n",
-                                         "#define FLAT_UNIFORMS\n#define OPAQUE_DRAW\n#define UNTEXTURED\n"};
+    static const char *const kinds[2] = {FLAT_UNIFORMS_DEFINE "#define OPAQUE_DRAW\n",
+                                         FLAT_UNIFORMS_DEFINE "#define OPAQUE_DRAW\n#define UNTEXTURED\n"};
     char all[320];
     snprintf(all, sizeof all, "%s%s", defines, kinds[k]);
     return program_cache_get(pc, &(ShaderProgramDesc){.label = "forward", .vert = "frame/scene.vert",
@@ -28,11 +32,8 @@ static GLuint forward_program(ProgramCache *pc, int k, const char *defines)
 
 bool pass_direct_create(PassDirect *p, ProgramCache *pc, GLuint vao)
 {
-    /* FLAT_UNIFORMS: the light block (and the forward draw's other
-     * constants) as flat inputs (common/lights.glsl), in every program of
-     * this pass. */
     p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert",
-                                                            .frag = "frame/direct.frag", .defines = "#define FLAT_UNIFORMS\n"});
+                                                            .frag = "frame/direct.frag", .defines = FLAT_UNIFORMS_DEFINE});
     for (int k = 0; k < 2; k++)
         p->forward[k] = forward_program(pc, k, "");
     if (!p->program || !p->forward[0] || !p->forward[1])
@@ -171,7 +172,7 @@ static GLuint direct_program(PassDirect *p, const Scene *s, const Light *l)
     if (p->general)
         return p->program;
     char defines[256];
-    variant_defines(p, s, l, "#define FLAT_UNIFORMS\n", defines, sizeof defines);
+    variant_defines(p, s, l, FLAT_UNIFORMS_DEFINE, defines, sizeof defines);
     GLuint prog = program_cache_get(
         p->pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert", .frag = "frame/direct.frag",
                                     .defines = defines});

@@ -87,7 +87,7 @@ static void vpl_buffer_create(VplBuffer *b, uint32_t capacity)
     glNamedBufferStorage(b->vpls, (GLsizeiptr)sizeof(GpuVpl) * (capacity ? capacity : 1), NULL, 0);
     glObjectLabel(GL_BUFFER, b->vpls, -1, "vpls");
     glCreateBuffers(1, &b->counters);
-    glNamedBufferStorage(b->counters, sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT);
+    glNamedBufferStorage(b->counters, 2 * sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT); /* count, seed */
     glObjectLabel(GL_BUFFER, b->counters, -1, "vpl.counters");
 }
 
@@ -470,8 +470,8 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     if (!(d->needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)
         return;
     gpu_timer_begin(t, "vpl_generate");
-    const uint32_t zero = 0;
-    glNamedBufferSubData(ls->vpls.counters, 0, sizeof zero, &zero);
+    const uint32_t count_seed[2] = {0u, d->vpl_seed}; /* shade.comp's SLC loop rehashes ξ with the seed */
+    glNamedBufferSubData(ls->vpls.counters, 0, sizeof count_seed, count_seed);
     light_stage_bind_vpls(ls);
     glProgramUniform1i(ls->vpl_program, LOC_VPL_STRIDE, 1);
     glProgramUniform1ui(ls->vpl_program, LOC_VPL_SEED, d->vpl_seed);

@@ -111,8 +111,9 @@ bool probe_run(ProbeResult *out, int map_size)
         glCreateBuffers(1, &vpls);
         GpuVpl *data = calloc(SAMPLES, sizeof(GpuVpl));
         for (int k = 0; data && k < SAMPLES; k++) {
-            data[k].position_xi[0] = (float)k / SAMPLES;
-            data[k].normal[2] = 1.f;
+            gpu_vpl_set_position(&data[k], (const float[3]){(float)k / SAMPLES, 0.f, 0.f});
+            data[k].surface[3] = 32768u | (32768u << 16); /* octahedral (0, 0): +z */
+            data[k].normal_xi[2] = 1.f;
             data[k].flux[0] = data[k].flux[1] = data[k].flux[2] = 1.f;
         }
         glNamedBufferStorage(vpls, (GLsizeiptr)(sizeof(GpuVpl) * SAMPLES), data, 0);

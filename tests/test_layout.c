@@ -175,11 +175,13 @@ static void surfel_round_trips(void **state)
         float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         if (len < 1e-3f)
             n[0] = 1.f, n[1] = n[2] = 0.f, len = 1.f;
+        float pos[3];
         for (int k = 0; k < 3; k++) {
-            v[i].normal[k] = n[k] / len;
+            v[i].normal_xi[k] = n[k] / len;
             rng = rng * 1664525u + 1013904223u;
-            v[i].position_xi[k] = ((float)(rng >> 8) / 16777216.f - 0.5f) * 1e3f * (float)(i % 7);
+            pos[k] = ((float)(rng >> 8) / 16777216.f - 0.5f) * 1e3f * (float)(i % 7);
         }
+        gpu_vpl_set_position(&v[i], pos);
     }
     GLuint buf;
     glCreateBuffers(1, &buf);
@@ -191,11 +193,11 @@ static void surfel_round_trips(void **state)
     glGetNamedBufferSubData(buf, 0, sizeof back, back);
     double worst = 0.0;
     for (int i = 0; i < N; i++) {
-        assert_memory_equal(back[i].position_xi, v[i].position_xi, 3 * sizeof(float));
-        assert_true(back[i].normal[3] == 1.f);
+        assert_memory_equal(back[i].surface, v[i].surface, 3 * sizeof(float));
+        assert_true(back[i].normal_xi[3] == 1.f);
         double d2 = 0.0; /* angle from the chord: acos is blind near 0 */
         for (int k = 0; k < 3; k++)
-            d2 += ((double)back[i].normal[k] - v[i].normal[k]) * ((double)back[i].normal[k] - v[i].normal[k]);
+            d2 += ((double)back[i].normal_xi[k] - v[i].normal_xi[k]) * ((double)back[i].normal_xi[k] - v[i].normal_xi[k]);
         double angle = 2.0 * asin(sqrt(d2) / 2.0);
         worst = angle > worst ? angle : worst;
     }
@@ -269,24 +271,25 @@ static void rsm_texel_round_trips(void **state)
         const float most = 16384.f * g.rsm_box_min[3]; /* the most a texel receives */
         uint32_t rng = 777u + (uint32_t)kind;
         for (int i = 0; i < N; i++) {
-            float n[3];
+            float n[3], pos[3];
             test_direction(i, &rng, n);
             for (int k = 0; k < 3; k++)
-                v[i].position_xi[k] = bmin[k] + (bmax[k] - bmin[k]) * test_uniform(&rng);
+                pos[k] = bmin[k] + (bmax[k] - bmin[k]) * test_uniform(&rng);
+            gpu_vpl_set_position(&v[i], pos);
             /* the lit side: facing the light (as rsm.frag flips it) */
             float to_light[3], tl = 0.f, dot = 0.f;
             for (int k = 0; k < 3; k++) {
-                to_light[k] = kind == 2 ? -dir[k] : light[k] - v[i].position_xi[k];
+                to_light[k] = kind == 2 ? -dir[k] : light[k] - pos[k];
                 tl += to_light[k] * to_light[k];
             }
             for (int k = 0; k < 3; k++)
                 dot += n[k] * to_light[k];
             for (int k = 0; k < 3; k++)
-                v[i].normal[k] = dot < 0.f ? -n[k] : n[k];
+                v[i].normal_xi[k] = dot < 0.f ? -n[k] : n[k];
             float mag = most * powf(10.f, -6.f * test_uniform(&rng));
             for (int k = 0; k < 3; k++)
                 v[i].flux[k] = mag * (k == (i % 3) ? 1.f : test_uniform(&rng));
-            v[i].position_xi[3] = i == N - 1 ? -1.f : 0.f; /* the last: a cleared texel */
+            v[i].normal_xi[3] = i == N - 1 ? -1.f : 0.f; /* the last: a cleared texel */
         }
         glNamedBufferSubData(buf, 0, sizeof v, v);
         glNamedBufferSubData(ubo, 0, sizeof g, &g);
@@ -298,11 +301,14 @@ static void rsm_texel_round_trips(void **state)
         glGetNamedBufferSubData(buf, 0, sizeof back, back);
         double worst_p = 0, worst_n = 0, worst_f = 0, worst_fmax = 0, worst_a = 0;
         for (int i = 0; i < N - 1; i++) {
-            assert_true(back[i].normal[3] == 1.f);
+            assert_true(back[i].normal_xi[3] == 1.f); /* 2: the record's packed and unpacked normals differ */
             double d2 = 0.0, fmax = 0.0;
+            float pos[3], bpos[3];
+            gpu_vpl_position(&v[i], pos);
+            gpu_vpl_position(&back[i], bpos);
             for (int k = 0; k < 3; k++) {
-                worst_p = fmax_d(worst_p, fabs((double)back[i].position_xi[k] - v[i].position_xi[k]) / extent);
-                d2 += ((double)back[i].normal[k] - v[i].normal[k]) * ((double)back[i].normal[k] - v[i].normal[k]);
+                worst_p = fmax_d(worst_p, fabs((double)bpos[k] - pos[k]) / extent);
+                d2 += ((double)back[i].normal_xi[k] - v[i].normal_xi[k]) * ((double)back[i].normal_xi[k] - v[i].normal_xi[k]);
                 fmax = fmax_d(fmax, v[i].flux[k]);
             }
             worst_n = fmax_d(worst_n, 2.0 * asin(sqrt(d2) / 2.0)); /* the angle from the chord */
@@ -315,11 +321,11 @@ static void rsm_texel_round_trips(void **state)
             /* rsm.frag's former area, from the exact position and normal */
             double d[3], dd = 0, h, cos_s = 0;
             for (int k = 0; k < 3; k++) {
-                d[k] = kind == 2 ? dir[k] : (double)v[i].position_xi[k] - light[k];
+                d[k] = kind == 2 ? dir[k] : (double)pos[k] - light[k];
                 dd += d[k] * d[k];
             }
             for (int k = 0; k < 3; k++)
-                cos_s -= v[i].normal[k] * d[k] / sqrt(dd);
+                cos_s -= v[i].normal_xi[k] * d[k] / sqrt(dd);
             cos_s = fmax_d(cos_s, 0.05);
             double a = (double)g.shadow_info[1] * g.shadow_info[1];
             if (kind == 2) {
@@ -342,7 +348,7 @@ static void rsm_texel_round_trips(void **state)
         assert_true(worst_fmax <= 1.0 / 512.0 + 1e-6);
         assert_true(worst_a < 0.01);
         const GpuVpl *e = &back[N - 1];
-        assert_true(e->normal[3] == 0.f && e->flux[0] == 0.f && e->flux[1] == 0.f && e->flux[2] == 0.f &&
+        assert_true(e->normal_xi[3] == 0.f && e->flux[0] == 0.f && e->flux[1] == 0.f && e->flux[2] == 0.f &&
                     e->flux[3] == 0.f);
     }
     glDeleteBuffers(1, &buf);

@@ -142,7 +142,10 @@ static void open_scene(Scene *s, bool wall, float camera_height)
 static float *render_one_vpl(Renderer *r, const Scene *s, const GiParams *gp, int w, const vec3 p)
 {
     lpv_renderer(r, s, w, w, gp);
-    GpuVpl v = {.position_xi = {p[0], p[1], p[2], 0.5f}, .normal = {0.f, -1.f, 0.f, 0.f}, .flux = {1.f, 1.f, 1.f, 0.f}};
+    GpuVpl v = {.surface = {0u, 0u, 0u, 32768u}, /* octahedral (0, -1, 0) */
+                .flux = {1.f, 1.f, 1.f, 0.f},
+                .normal_xi = {0.f, -1.f, 0.f, 0.5f}};
+    gpu_vpl_set_position(&v, p);
     lpv_set_vpls(r->gi_state, &v, 1);
     renderer_frame(r, &s->camera);
     return read_irradiance(r);

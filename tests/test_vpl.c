@@ -263,10 +263,43 @@ static void near_clamp_bias_is_measurable(void **state)
     scene_free(&s);
 }
 
+static uint32_t vpl_hash(uint32_t x) /* common/vpl_record.glsl's */
+{
+    x ^= x >> 16, x *= 0x7feb352du;
+    x ^= x >> 15, x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+/* Every VPL's stored ξ is the hash of its record and the buffer's seed
+ * (counters[1]) that the SLC loop recomputes instead of loading it, and
+ * the n of them look uniform on (0, 1]: mean and lower-quarter share
+ * within 5σ. */
+static void check_xi(const Renderer *r, const GpuVpl *v, uint32_t n)
+{
+    uint32_t counters[2];
+    glGetNamedBufferSubData(r->lights.vpls.counters, 0, sizeof counters, counters);
+    assert_int_equal(counters[0], n);
+    double sum = 0.0, quarter = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        const uint32_t *w = v[i].surface;
+        uint32_t h = vpl_hash(w[0] ^ vpl_hash(w[1] ^ vpl_hash(w[2] ^ vpl_hash(w[3] ^ counters[1]))));
+        float xi = ((float)(h >> 8) + 1.f) / 16777216.f;
+        assert_true(v[i].normal_xi[3] == xi);
+        assert_true(xi > 0.f && xi <= 1.f);
+        sum += xi;
+        quarter += xi <= 0.25f;
+    }
+    print_message("xi: %u VPLs, seed %u, mean %.4f, share <= 1/4 %.4f\n", n, counters[1], sum / n, quarter / n);
+    assert_true(fabs(sum / n - 0.5) < 5.0 * sqrt(1.0 / 12.0 / n));
+    assert_true(fabs(quarter / n - 0.25) < 5.0 * sqrt(0.25 * 0.75 / n));
+}
+
 /* vpl-all sums every VPL, however many (llvmpipe ends a shader loop after
  * 65535 iterations: the sum runs in chunks): above 65,536 VPLs its
  * irradiance equals a double-precision CPU sum over the VPL buffer on a few
- * pixels, and it reports one evaluation per VPL and pixel. */
+ * pixels, and it reports one evaluation per VPL and pixel; their ξ are
+ * check_xi's. */
 static void vpl_all_sums_every_vpl(void **state)
 {
     (void)state;
@@ -289,6 +322,7 @@ static void vpl_all_sums_every_vpl(void **state)
     assert_non_null(v);
     glGetNamedBufferSubData(r.lights.vpls.vpls, 0, (GLsizeiptr)(sizeof(GpuVpl) * n), v);
     glGetTextureImage(r.irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W8 * H8), irr);
+    check_xi(&r, v, n);
     const int pixels[4][2] = {{8, 2}, {3, 8}, {12, 12}, {8, 14}};
     for (int k = 0; k < 4; k++) {
         int idx = 4 * (pixels[k][1] * W8 + pixels[k][0]);
@@ -299,15 +333,17 @@ static void vpl_all_sums_every_vpl(void **state)
         double e[3] = {0, 0, 0};
         for (uint32_t i = 0; i < n; i++) {
             double d[3], d2 = 0;
+            float vp[3];
+            gpu_vpl_position(&v[i], vp);
             for (int c = 0; c < 3; c++) {
-                d[c] = (double)gp_px.position[c] - v[i].position_xi[c];
+                d[c] = (double)gp_px.position[c] - vp[c];
                 d2 += d[c] * d[c];
             }
             if (d2 < 1e-12)
                 d2 = 1e-12;
             double inv = 1.0 / sqrt(d2), cp = 0, cx = 0;
             for (int c = 0; c < 3; c++) {
-                cp += v[i].normal[c] * d[c] * inv;
+                cp += v[i].normal_xi[c] * d[c] * inv;
                 cx -= gp_px.normal[c] * d[c] * inv;
             }
             double r2 = gp.vpl_disk ? v[i].flux[3] / GLM_PI : 0.0; /* disk VPLs (the default) */

@@ -2,7 +2,9 @@
 // G-buffer's, common/gbuffer.glsl and common/surfel.glsl; the RSM's,
 // common/rsm_texel.glsl).
 //   octahedral unit vectors (Cigolle et al. 2014): oct_encode maps a unit
-//     vector to [-1, 1]², oct_decode maps back; the texels quantize it
+//     vector to [-1, 1]², oct_decode maps back; the texels quantize it;
+//     pack_oct16/unpack_oct16 at 16 bits per coordinate in one uint
+//     (error < 5e-5 rad: the RSM texel's and the VPL's normal)
 //   RGB9E5 (EXT_texture_shared_exponent, GL 4.5 §8.5.2: 9-bit mantissas,
 //     one exponent, bias 15): non-negative colours from 2^-15 (full
 //     precision; down to 2^-24 with fewer bits) to 65408, every channel
@@ -24,6 +26,17 @@ vec3 oct_decode(vec2 e)
     float t = max(-n.z, 0.0);
     n.xy -= vec2(n.x >= 0.0 ? t : -t, n.y >= 0.0 ? t : -t);
     return n * inversesqrt(dot(n, n));
+}
+
+uint pack_oct16(vec3 n)
+{
+    uvec2 o = uvec2(round(clamp(oct_encode(n) * 0.5 + 0.5, 0.0, 1.0) * 65535.0));
+    return o.x | (o.y << 16);
+}
+
+vec3 unpack_oct16(uint o)
+{
+    return oct_decode(vec2(uvec2(o, o >> 16) & 0xffffu) * (2.0 / 65535.0) - 1.0);
 }
 
 const float RGB9E5_MAX = 65408.0; // (2⁹ − 1)/2⁹ · 2¹⁶

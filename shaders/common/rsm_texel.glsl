@@ -53,8 +53,7 @@ RsmTexelFrame rsm_texel_frame()
 uvec4 rsm_texel_pack(RsmTexelFrame f, vec3 position, vec3 normal, vec3 flux)
 {
     uvec3 q = uvec3(clamp(round((position - f.box_min) / f.box_step), vec3(0.0), vec3(RSM_POS_MAX)));
-    uvec2 o = uvec2(round(clamp(oct_encode(normal) * 0.5 + 0.5, 0.0, 1.0) * 65535.0));
-    return uvec4(q.x | (q.y << 21), (q.y >> 11) | (q.z << 10) | 0x80000000u, o.x | (o.y << 16),
+    return uvec4(q.x | (q.y << 21), (q.y >> 11) | (q.z << 10) | 0x80000000u, pack_oct16(normal),
                  pack_rgb9e5(flux / f.flux_unit));
 }
 
@@ -66,11 +65,7 @@ vec3 rsm_texel_position(RsmTexelFrame f, uvec4 t)
     return f.box_min + vec3(q) * f.box_step;
 }
 
-vec3 rsm_texel_normal(uvec4 t)
-{
-    vec2 e = vec2(uvec2(t.z, t.z >> 16) & 0xffffu) * (2.0 / 65535.0) - 1.0;
-    return oct_decode(e);
-}
+vec3 rsm_texel_normal(uvec4 t) { return unpack_oct16(t.z); }
 
 vec3 rsm_texel_flux(RsmTexelFrame f, uvec4 t) { return unpack_rgb9e5(t.w) * f.flux_unit; }
 

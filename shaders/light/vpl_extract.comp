@@ -1,9 +1,11 @@
 // light/vpl_extract.comp — every RSM texel that holds a surface becomes a VPL in
-// SSBO_VPL {position, fixed random ξ ∈ (0,1], normal, flux}; counters[0]
-// counts them. The RSM layers are read through 2D-array views (a 2D RSM is
+// SSBO_VPL (a GpuVpl, common/vpl_record.glsl: its ξ ∈ (0,1] a hash of
+// the record and u_seed, which light_stage.c also leaves in counters[1]);
+// counters[0] counts them. The RSM layers are read through 2D-array views (a 2D RSM is
 // one layer, a cube RSM six).
 #include "shared/gpu_types.h"
 #include "common/rsm_texel.glsl"
+#include "common/vpl_record.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -14,14 +16,6 @@ layout(location = LOC_VPL_SEED) uniform uint u_seed; // seed of the VPLs' random
 layout(std430, binding = SSBO_VPL) writeonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) buffer CounterBlock { uint counters[]; };
 
-uint hash_u32(uint x)
-{
-    x ^= x >> 16; x *= 0x7feb352du;
-    x ^= x >> 15; x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
 void main()
 {
     ivec3 size = textureSize(r_texel, 0);
@@ -30,14 +24,12 @@ void main()
         return;
     vec3 p, n, flux;
     float area;
-    bool valid = rsm_texel_unpack(rsm_texel_frame(), texelFetch(r_texel, id, 0), p, n, flux, area);
+    uvec4 t = texelFetch(r_texel, id, 0);
+    bool valid = rsm_texel_unpack(rsm_texel_frame(), t, p, n, flux, area);
     float k = float(u_stride * u_stride); // a kept texel stands for k
     if (!valid || max(flux.r, max(flux.g, flux.b)) <= 0.0)
         return;
-    uint texel = uint(id.x + size.x * (id.y + size.y * id.z));
-    float xi = (float(hash_u32(texel ^ hash_u32(u_seed + 0x9e3779b9u)) >> 8) + 1.0) / 16777216.0;
+    float xi = vpl_xi_of(uvec4(floatBitsToUint(p), t.z), u_seed);
     uint i = atomicAdd(counters[0], 1u);
-    vpls[i].position_xi = vec4(p, xi);
-    vpls[i].normal = vec4(n, 0.0);
-    vpls[i].flux = vec4(flux * k, area * k);
+    vpls[i] = vpl_make(p, xi, t.z, flux * k, area * k); // t.z: the normal n, packed
 }

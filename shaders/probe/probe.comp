@@ -8,7 +8,8 @@
 // RSM gathers do, with their disk falloff. One evaluation = one sample of
 // one invocation. With SSBO the samples read
 // GpuVpl entries of a storage buffer instead, the same one in every lane,
-// as the VPL shading loops do.
+// as the VPL shading loops do (its surface and flux: two loads,
+// common/vpl_record.glsl).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "common/vpl.glsl"
@@ -19,6 +20,7 @@
 #define RSM_2D
 #endif
 #include "common/rsm_texel.glsl"
+#include "common/vpl_record.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 #ifdef CUBE
@@ -67,7 +69,7 @@ void main()
 #if defined(SSBO)
         // The VPL loops' access: every lane reads the same VPL (a broadcast).
         GpuVpl v = vpls[k];
-        vec3 xp = v.position_xi.xyz + vec3(q * 1e-6, 0.0), np = v.normal.xyz, flux = v.flux.rgb;
+        vec3 xp = vpl_position(v) + vec3(q * 1e-6, 0.0), np = vpl_shading_normal(v), flux = v.flux.rgb;
 #else
 #if FETCHES >= 1
         vec3 xp = FETCH(t_position).xyz;

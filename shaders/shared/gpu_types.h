@@ -22,7 +22,7 @@
 /* Shader storage blocks */
 #define SSBO_PATTERN 0   /* RSM sample pattern: vec4 per sample */
 #define SSBO_VPL 1       /* GpuVpl[] */
-#define SSBO_COUNTERS 2  /* VPL buffer counters: [0] VPL count */
+#define SSBO_COUNTERS 2  /* VPL buffer counters: [0] VPL count, [1] the seed of their ξ */
 #define SSBO_VPL_RANGE 3 /* vec2 per VPL: α, culling range */
 #define SSBO_TILES 4     /* per-tile VPL counts and lists */
 #define SSBO_EVALS 5     /* VPL–pixel evaluations per work group */
@@ -205,11 +205,13 @@
     F(int, list_sets)       /* importance: independently shifted sets; a pixel takes one */ \
     F(float, disk_r2_per_area) /* --vpl-disk: 1/π (samples fall off as 1/(d² + A/π)); 0: points */
 
-/* One virtual point light (std430). */
+/* One virtual point light (std430). The shading loops read surface and flux
+ * only (common/vpl_record.glsl): two loads per VPL, where llvmpipe loads
+ * each per lane (issue 11); culling, ranges and injection read normal_xi. */
 #define GPU_VPL_FIELDS(F, A)                                          \
-    F(vec4, position_xi) /* xyz: position; w: its fixed random ξ in (0,1] */ \
-    F(vec4, normal)      /* xyz: unit normal (lit side) */            \
-    F(vec4, flux)        /* rgb: reflected flux Φ (W); w: area of the surface it stands for (m²) */
+    F(uvec4, surface)  /* xyz: position (m, the floats' bits); w: lit side's normal, pack_oct16 */ \
+    F(vec4, flux)      /* rgb: reflected flux Φ (W); w: area of the surface it stands for (m²) */     \
+    F(vec4, normal_xi) /* xyz: the same unit normal, unpacked; w: its fixed random ξ in (0,1] */
 
 /* Many-VPL shading (std140). */
 #define GPU_VPL_PARAMS_FIELDS(F, A)                                               \
@@ -277,6 +279,7 @@ typedef int32_t GPU_C_int;
 typedef uint32_t GPU_C_uint;
 typedef float GPU_C_vec4[4] __attribute__((aligned(16)));
 typedef int32_t GPU_C_ivec4[4] __attribute__((aligned(16)));
+typedef uint32_t GPU_C_uvec4[4] __attribute__((aligned(16)));
 typedef float GPU_C_mat4[16] __attribute__((aligned(16)));
 #define GPU_MEMBER(t, n) GPU_C_##t n;
 #define GPU_ARRAY(t, n, c) GPU_C_##t n[c];
@@ -310,6 +313,11 @@ static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
 static_assert(sizeof(GpuVctParams) == 3 * 16 + VCT_MAX_LEVELS * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
+
+#include <string.h>
+/* A GpuVpl's position, stored as the floats' bits. */
+static inline void gpu_vpl_position(const GpuVpl *v, float p[3]) { memcpy(p, v->surface, 3 * sizeof(float)); }
+static inline void gpu_vpl_set_position(GpuVpl *v, const float p[3]) { memcpy(v->surface, p, 3 * sizeof(float)); }
 #endif
 
 #endif

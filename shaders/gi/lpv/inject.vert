@@ -9,6 +9,7 @@
 // cell (x, y).
 #include "shared/gpu_types.h"
 #include "gi/lpv/sh.glsl"
+#include "common/vpl_record.glsl"
 
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(location = LOC_LPV_CASCADE) uniform int u_cascade;
@@ -22,13 +23,13 @@ flat out vec4 v_c;
 void main()
 {
     GpuVpl v = vpls[gl_VertexID];
-    vec3 n = v.normal.xyz;
+    vec3 n = vpl_normal(v);
     int k = u_cascade, size = u_lpv.size;
-    vec3 p = v.position_xi.xyz + n * (u_lpv.inject_offset * u_lpv.cascade[k].w);
+    vec3 p = vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[k].w);
     ivec3 c = lpv_cell(k, p);
     v_layer = lpv_inside(c, size) ? c.z : -1;
     if (u_exclude >= 0 &&
-        lpv_inside(lpv_cell(u_exclude, v.position_xi.xyz + n * (u_lpv.inject_offset * u_lpv.cascade[u_exclude].w)), size))
+        lpv_inside(lpv_cell(u_exclude, vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[u_exclude].w)), size))
         v_layer = -1;
     gl_Position = vec4((vec2(c.xy) + 0.5) / float(size) * 2.0 - 1.0, 0.0, 1.0);
     gl_PointSize = 1.0;

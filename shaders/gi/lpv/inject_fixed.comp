@@ -7,6 +7,7 @@
 // one cell. Inputs: SSBO_VPL, SSBO_COUNTERS[0] = VPL count.
 #include "shared/gpu_types.h"
 #include "gi/lpv/sh.glsl"
+#include "common/vpl_record.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -23,13 +24,13 @@ void main()
     if (i >= counters[0])
         return;
     GpuVpl v = vpls[i];
-    vec3 n = v.normal.xyz;
+    vec3 n = vpl_normal(v);
     int k = u_cascade, size = u_lpv.size;
-    ivec3 c = lpv_cell(k, v.position_xi.xyz + n * (u_lpv.inject_offset * u_lpv.cascade[k].w));
+    ivec3 c = lpv_cell(k, vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[k].w));
     if (!lpv_inside(c, size))
         return;
     if (u_exclude >= 0 &&
-        lpv_inside(lpv_cell(u_exclude, v.position_xi.xyz + n * (u_lpv.inject_offset * u_lpv.cascade[u_exclude].w)), size))
+        lpv_inside(lpv_cell(u_exclude, vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[u_exclude].w)), size))
         return;
     vec4 lobe = sh_clamped_cos(n) / LPV_PI * u_scale;
     int base = 12 * (c.x + size * (c.y + size * c.z));

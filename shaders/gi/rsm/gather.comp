@@ -48,7 +48,7 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
     float r2_per_area = u_gi.disk_r2_per_area; // read once (see RsmFrame)
     uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
     for (uint i = u_chunk; i < nv; i++)
-        e += vpl_irradiance_disk(x, n, vpls[i].position_xi.xyz, vpls[i].normal.xyz, vpls[i].flux.rgb,
+        e += vpl_irradiance_disk(x, n, vpl_position(vpls[i]), vpl_shading_normal(vpls[i]), vpls[i].flux.rgb,
                                  vpls[i].flux.w * r2_per_area);
     return e;
 }

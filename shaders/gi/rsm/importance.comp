@@ -13,6 +13,7 @@
 // its samples are stratified and neighbours' are independent.
 #include "shared/gpu_types.h"
 #include "common/rsm_texel.glsl"
+#include "common/vpl_record.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
@@ -130,12 +131,11 @@ void main()
     float lum = texelFetch(u_pyramid, t, 0).r;
     vec3 xp, np, flux;
     float area;
-    bool valid = rsm_texel_unpack(rsm_texel_frame(), texelFetch(r_texel, t, 0), xp, np, flux, area);
+    uvec4 texel = texelFetch(r_texel, t, 0);
+    bool valid = rsm_texel_unpack(rsm_texel_frame(), texel, xp, np, flux, area);
     // Φ_t / p_t with p_t = lum_t / total; empty texels (p = 0) are never
     // chosen unless the whole map is dark, and then carry nothing.
     vec3 w = lum > 0.0 && valid ? flux * (total / lum) : vec3(0.0);
-    samples[i].position_xi = vec4(xp, 0.0);
-    samples[i].normal = vec4(np, 0.0);
-    samples[i].flux = vec4(w, area);
+    samples[i] = vpl_make(xp, 0.0, texel.z, w, area);
 }
 #endif

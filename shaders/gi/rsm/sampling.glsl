@@ -28,6 +28,7 @@ layout(std430, binding = SSBO_SAMPLES) readonly buffer SampleBlock { GpuVpl rsm_
 #define RSM_2D
 #endif
 #include "common/rsm_texel.glsl"
+#include "common/vpl_record.glsl"
 // One RGBA32UI texel per sample: position, normal and flux (the area follows).
 #ifdef RSM_CUBE
 layout(binding = TEX_RSM) uniform usamplerCube rsm_map;
@@ -187,8 +188,9 @@ vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int 
     int global = far_k.y;
     for (int k = 0; k < global; k++) {
         GpuVpl v = rsm_samples[base + uint(far_k.x + k * stride)];
-        vec3 e = vpl_irradiance_disk(x, n, v.position_xi.xyz, v.normal.xyz, v.flux.rgb, v.flux.w * f.r2_per_area);
-        far += rsm_in_disk(f, v.position_xi.xyz) ? vec3(0.0) : e;
+        vec3 xp = vpl_position(v);
+        vec3 e = vpl_irradiance_disk(x, n, xp, vpl_shading_normal(v), v.flux.rgb, v.flux.w * f.r2_per_area);
+        far += rsm_in_disk(f, xp) ? vec3(0.0) : e;
     }
     return near + far / float(global);
 }

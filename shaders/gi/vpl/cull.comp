@@ -7,6 +7,7 @@
 // counts[tiles] (one past the last tile) accumulates overflow.
 #include "shared/gpu_types.h"
 #include "common/gbuffer.glsl"
+#include "common/vpl_record.glsl"
 
 layout(local_size_x = VPL_TILE, local_size_y = VPL_TILE) in;
 
@@ -44,12 +45,12 @@ void main()
     if (bmin.x <= bmax.x) { // the tile holds geometry
         uint n = counters[0];
         for (uint i = lid; i < n; i += uint(VPL_TILE * VPL_TILE)) {
-            vec3 c = vpls[i].position_xi.xyz;
+            vec3 c = vpl_position(vpls[i]);
             float r = ranges[i].y;
             vec3 q = clamp(c, bmin, bmax);
             if (dot(q - c, q - c) > r * r)
                 continue;
-            vec3 nv = vpls[i].normal.xyz;
+            vec3 nv = vpl_normal(vpls[i]);
             vec3 far_corner = mix(bmin, bmax, step(vec3(0.0), nv));
             if (dot(nv, far_corner - c) <= 0.0)
                 continue; // the whole tile lies behind the VPL

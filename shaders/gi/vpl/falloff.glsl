@@ -10,6 +10,8 @@
 // passed into the loops: on llvmpipe a uniform read inside a loop is a
 // per-lane gather under the loop's mask (with the RSM gathers' hoisting:
 // vpl-all -3.4% of a cold 128² frame's shader instructions, callgrind).
+#include "common/vpl_record.glsl"
+
 struct VplFalloff {
     float r2_per_area; // r² = A · this: 1/π with u_vpl.disk, else 0
     float near;        // the near clamp, at least 1e-12
@@ -46,9 +48,9 @@ float vpl_slc_alpha(float num, GpuVpl v)
 // receiver cosine), and the squared distance.
 vec3 vpl_intensity_cos(GpuVpl v, vec3 x, vec3 n, out float d2)
 {
-    vec3 d = x - v.position_xi.xyz;
+    vec3 d = x - vpl_position(v);
     d2 = max(dot(d, d), 1e-12);
     float inv = inversesqrt(d2);
-    float c = max(0.0, dot(v.normal.xyz, d) * inv) * max(0.0, -dot(n, d) * inv);
+    float c = max(0.0, dot(vpl_shading_normal(v), d) * inv) * max(0.0, -dot(n, d) * inv);
     return v.flux.rgb * (c / PI);
 }

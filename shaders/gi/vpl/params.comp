@@ -22,7 +22,7 @@ void main()
     float alpha = vpl_slc_alpha(vpl_slc_num(), vpls[i]);
     // A disk VPL is kept while its falloff 1/(d² + r²) exceeds α·ξ, i.e.
     // within √(1/(α ξ) − r²): then E[kept · max(α, falloff)] = falloff.
-    float r2 = vpl_r2(vpl_falloff_params(), vpls[i]), xi = vpls[i].position_xi.w;
+    float r2 = vpl_r2(vpl_falloff_params(), vpls[i]), xi = vpl_xi(vpls[i]);
     ranges[i] = vec2(alpha, r2 > 0.0 ? sqrt(max(1.0 / (alpha * xi) - r2, 0.0)) : inversesqrt(alpha * xi));
 #else
     ranges[i] = vec2(0.0, u_vpl.clamp_range);

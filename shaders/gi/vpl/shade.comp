@@ -61,7 +61,7 @@ void main()
         float q = u_vpl.keep;
         uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
         for (uint i = u_chunk; i < nv; i++) {
-            if (q < 1.0 && vpls[i].position_xi.w >= q)
+            if (q < 1.0 && vpl_xi(vpls[i]) >= q)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
             e += ic * vpl_falloff(fo, vpls[i], d2);
@@ -81,15 +81,16 @@ void main()
         // clamped range keeps d < R with α = 0.
 #ifdef SLC
         float alpha_num = vpl_slc_num();
+        uint seed = counters[1]; // what the VPLs' ξ were drawn with
 #else
         float range2 = u_vpl.clamp_range * u_vpl.clamp_range;
 #endif
         for (uint k = u_chunk; k < k1; k++) {
             uint i = tiles[ntiles + 1u + tile * cap + k];
-            vec3 d = x - vpls[i].position_xi.xyz;
+            vec3 d = x - vpl_position(vpls[i]);
 #ifdef SLC
             float alpha = vpl_slc_alpha(alpha_num, vpls[i]);
-            if ((dot(d, d) + vpl_r2(fo, vpls[i])) * (alpha * vpls[i].position_xi.w) >= 1.0)
+            if ((dot(d, d) + vpl_r2(fo, vpls[i])) * (alpha * vpl_xi_of(vpls[i].surface, seed)) >= 1.0)
                 continue;
 #else
             const float alpha = 0.0;

@@ -284,9 +284,8 @@ static bool subsets(VplGi *v, const GiFrame *f)
      * the subsets do not depend on the order the GPU appended VPLs in. */
     glGetNamedBufferSubData(ls->vpls.vpls, 0, (GLsizeiptr)(sizeof(GpuVpl) * n), vpls);
     for (uint32_t i = 0; i < n; i++) {
-        memcpy(&xi_bits[i], &vpls[i].position_xi[3], sizeof(uint32_t));
-        uint32_t pb[3];
-        memcpy(pb, vpls[i].position_xi, sizeof pb);
+        memcpy(&xi_bits[i], &vpls[i].normal_xi[3], sizeof(uint32_t));
+        const uint32_t *pb = vpls[i].surface; /* the position's bits */
         items[i].tie = ((uint64_t)pb[0] << 32 | pb[1]) ^ ((uint64_t)pb[2] * 0x9e3779b97f4a7c15ull);
     }
     if (v->method == VPL_METALIGHTS) {

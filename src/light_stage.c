@@ -470,11 +470,10 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     if (!(d->needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)
         return;
     gpu_timer_begin(t, "vpl_generate");
-    const uint32_t count_seed[2] = {0u, d->vpl_seed}; /* shade.comp's SLC loop rehashes ξ with the seed */
+    const uint32_t count_seed[2] = {0u, d->vpl_seed}; /* the seed of their ξ: vpl_extract.comp and shade.comp's SLC loop */
     glNamedBufferSubData(ls->vpls.counters, 0, sizeof count_seed, count_seed);
     light_stage_bind_vpls(ls);
     glProgramUniform1i(ls->vpl_program, LOC_VPL_STRIDE, 1);
-    glProgramUniform1ui(ls->vpl_program, LOC_VPL_SEED, d->vpl_seed);
     glUseProgram(ls->vpl_program);
     for (int i = 0; i < ls->light_count; i++) {
         const RsmMap *m = &ls->rsm[i];

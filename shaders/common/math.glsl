@@ -1,4 +1,7 @@
 // math.glsl — constants and small helpers.
+#ifndef MATH_GLSL
+#define MATH_GLSL
+
 const float PI = 3.14159265358979323846;
 const float TWO_PI = 6.28318530717958647692;
 
@@ -23,3 +26,17 @@ void basis(vec3 n, out vec3 t, out vec3 b)
     t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
     b = vec3(c, s + n.y * n.y * a, -n.y);
 }
+
+// A 32-bit integer hash (Wellons' "lowbias32"; the path tracer's
+// sampler_hash32, src/reference/sampler.h).
+uint hash_u32(uint x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+#endif

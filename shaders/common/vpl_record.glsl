@@ -7,6 +7,7 @@
 #ifndef VPL_RECORD_GLSL
 #define VPL_RECORD_GLSL
 
+#include "common/math.glsl"
 #include "common/packing.glsl"
 
 vec3 vpl_position(GpuVpl v) { return uintBitsToFloat(v.surface.xyz); }
@@ -24,17 +25,9 @@ float vpl_xi(GpuVpl v) { return v.normal_xi.w; }
 // GPU appended them in) and the buffer's seed (counters[1]). The SLC loop
 // recomputes it, integer arithmetic for all lanes at once, rather than load
 // normal_xi per candidate (vpl-slc 256², one thread: 705 -> 584 ms).
-uint vpl_hash(uint x)
-{
-    x ^= x >> 16; x *= 0x7feb352du;
-    x ^= x >> 15; x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
 float vpl_xi_of(uvec4 surface, uint seed)
 {
-    uint h = vpl_hash(surface.x ^ vpl_hash(surface.y ^ vpl_hash(surface.z ^ vpl_hash(surface.w ^ seed))));
+    uint h = hash_u32(surface.x ^ hash_u32(surface.y ^ hash_u32(surface.z ^ hash_u32(surface.w ^ seed))));
     return (float(h >> 8) + 1.0) / 16777216.0; // (0, 1]
 }
 

@@ -1,7 +1,7 @@
 // light/vpl_extract.comp — every RSM texel that holds a surface becomes a VPL in
 // SSBO_VPL (a GpuVpl, common/vpl_record.glsl: its ξ ∈ (0,1] a hash of
-// the record and u_seed, which light_stage.c also leaves in counters[1]);
-// counters[0] counts them. The RSM layers are read through 2D-array views (a 2D RSM is
+// the record and the seed light_stage.c leaves in counters[1], where the
+// SLC loop reads it too); counters[0] counts them. The RSM layers are read through 2D-array views (a 2D RSM is
 // one layer, a cube RSM six).
 #include "shared/gpu_types.h"
 #include "common/rsm_texel.glsl"
@@ -11,7 +11,6 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(binding = TEX_RSM) uniform usampler2DArray r_texel;
 layout(location = LOC_VPL_STRIDE) uniform int u_stride; // keep every stride-th texel per axis (subsampling)
-layout(location = LOC_VPL_SEED) uniform uint u_seed; // seed of the VPLs' random ξ
 
 layout(std430, binding = SSBO_VPL) writeonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) buffer CounterBlock { uint counters[]; };
@@ -29,7 +28,7 @@ void main()
     float k = float(u_stride * u_stride); // a kept texel stands for k
     if (!valid || max(flux.r, max(flux.g, flux.b)) <= 0.0)
         return;
-    float xi = vpl_xi_of(uvec4(floatBitsToUint(p), t.z), u_seed);
+    float xi = vpl_xi_of(uvec4(floatBitsToUint(p), t.z), counters[1]);
     uint i = atomicAdd(counters[0], 1u);
     vpls[i] = vpl_make(p, xi, t.z, flux * k, area * k); // t.z: the normal n, packed
 }

@@ -96,7 +96,6 @@
 #define LOC_RESOLVE_FACTOR 10   /* resolve.frag: int, supersampling factor N */
 #define LOC_COMPOSITE_SPECULAR 10 /* composite.frag: int, add the specular image */
 #define LOC_VPL_STRIDE 10       /* vpl_extract.comp: int, keep every stride-th texel per axis */
-#define LOC_VPL_SEED 11         /* vpl_extract.comp: uint, seed of the VPLs' random ξ */
 #define LOC_AB_MODE 10          /* ui/ab_view.frag: int, 0 render, 1 reference, 2 split, 3 difference */
 #define LOC_AB_SPLIT 11         /* ui/ab_view.frag: float, split position in [0, 1] of the width */
 #define LOC_AB_EXPOSURE 12      /* ui/ab_view.frag: float, the reference's exposure */

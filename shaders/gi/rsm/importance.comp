@@ -12,6 +12,7 @@
 // A pixel's gather takes one whole set (chosen by a hash of the pixel), so
 // its samples are stratified and neighbours' are independent.
 #include "shared/gpu_types.h"
+#include "common/math.glsl"
 #include "common/rsm_texel.glsl"
 #include "common/vpl_record.glsl"
 
@@ -55,16 +56,6 @@ void main()
 layout(binding = TEX_INPUT) uniform sampler2DArray u_pyramid;
 layout(binding = TEX_RSM) uniform usampler2DArray r_texel;
 layout(std430, binding = SSBO_SAMPLES) writeonly buffer SampleBlock { GpuVpl samples[]; };
-
-uint hash_u32(uint x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
 
 float radical_inverse2(uint i)
 {

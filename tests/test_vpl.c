@@ -243,6 +243,88 @@ static void interleaved_covers_odd_sizes(void **state)
     scene_free(&s);
 }
 
+/* The largest relative difference of two images' pixels, against the
+ * brighter of the pixel and a tenth of b's mean. */
+static double max_pixel_rel_diff(const ImageF *a, const ImageF *b)
+{
+    double floor_ = 0.1 * test_image_mean(b), worst = 0.0;
+    for (int i = 0; i < a->width * a->height * 3; i++)
+        worst = fmax(worst, fabs((double)a->rgb[i] - b->rgb[i]) / fmax(fabs((double)b->rgb[i]), floor_));
+    return worst;
+}
+
+/* The lists the loops read are exact: the clamped range with no range
+ * to speak of keeps every VPL that can light a tile (the tile lists, read
+ * four entries at a time, padded), and one 1×1 subset holds every VPL (the
+ * subset-ordered copy): both sum what brute force sums, in another order,
+ * at partial tiles and blocks (45×37). Every listed VPL is then in range
+ * (evaluations = candidates). With 3×1 subsets, a short subset's filler
+ * adds nothing and is not counted: sub-image k (columns x ≡ k mod 3)
+ * evaluates subset k's VPLs at each pixel that shows a surface. */
+static void lists_sum_like_brute_force(void **state)
+{
+    (void)state;
+    enum { OW = 45, OH = 37 };
+    Scene s;
+    GiParams gp;
+    cornell(&s, &gp, 1000);
+    gp.interleave_blur = false;
+    RenderSettings set = test_settings(&s, OW, OH, SHADOW_MODE_HARD);
+    set.gi = GI_VPL_ALL;
+    set.gi_params = gp;
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &set));
+    renderer_frame(&r, &s.camera);
+    RenderStats b = *renderer_collect_stats(&r);
+    ImageF brute, img;
+    assert_true(renderer_read_hdr(&r, &brute));
+    uint64_t shown[3] = {0, 0, 0}; /* pixels with a surface, by column mod 3 */
+    for (int y = 0; y < OH; y++)
+        for (int x = 0; x < OW; x++) {
+            TestGbPixel px;
+            test_gbuffer_pixel(&r.gbuffer, x, y, &px);
+            shown[x % 3] += px.valid;
+        }
+    renderer_destroy(&r);
+    uint32_t n = b.vpl_count;
+    assert_true(b.vpl_evaluations == (uint64_t)n * (shown[0] + shown[1] + shown[2]));
+
+    gp.vpl_range = 1e6f;
+    RenderStats c = test_render_gi(&s, OW, OH, GI_VPL_CLAMPED, &gp, &img);
+    double dc = max_pixel_rel_diff(&img, &brute);
+    print_message("vpl-clamped, range 1e6: %llu evaluations of %llu candidates (brute force %llu), "
+                  "largest pixel difference %.2g\n",
+                  (unsigned long long)c.vpl_evaluations, (unsigned long long)c.vpl_candidates,
+                  (unsigned long long)b.vpl_evaluations, dc);
+    assert_int_equal(c.tile_overflow, 0);
+    assert_true(c.vpl_evaluations == c.vpl_candidates);
+    assert_true(c.vpl_evaluations <= b.vpl_evaluations);
+    assert_true(dc < 2e-5); /* rounding: 2e-6 measured; one entry read twice: 7e-5 */
+    image_free(&img);
+
+    gp.interleave_n = gp.interleave_m = 1;
+    RenderStats one = test_render_gi(&s, OW, OH, GI_VPL_INTERLEAVED, &gp, &img);
+    double d1 = max_pixel_rel_diff(&img, &brute);
+    print_message("vpl-interleaved 1x1: %llu evaluations, largest pixel difference %.2g\n",
+                  (unsigned long long)one.vpl_evaluations, d1);
+    assert_true(one.vpl_evaluations == b.vpl_evaluations);
+    assert_true(d1 < 2e-5);
+    image_free(&img);
+
+    gp.interleave_n = 3;
+    RenderStats three = test_render_gi(&s, OW, OH, GI_VPL_INTERLEAVED, &gp, &img);
+    uint64_t expect = 0;
+    for (uint32_t k = 0; k < 3; k++)
+        expect += (uint64_t)(n + 2 - k) / 3 * shown[k]; /* subset k: VPLs k, k + 3, ... of the n */
+    print_message("vpl-interleaved 3x1, %u VPLs: %llu evaluations, expected %llu\n", n,
+                  (unsigned long long)three.vpl_evaluations, (unsigned long long)expect);
+    assert_true(n % 3 != 0); /* some subset is short */
+    assert_true(three.vpl_evaluations == expect);
+    image_free(&img);
+    image_free(&brute);
+    scene_free(&s);
+}
+
 /* The notes' near clamp 1/max(d², 0.1) changes the result: its bias. */
 static void near_clamp_bias_is_measurable(void **state)
 {
@@ -455,6 +537,7 @@ int main(void)
         cmocka_unit_test(slc_beats_uniform_subsampling),
         cmocka_unit_test(metalights),
         cmocka_unit_test(interleaved_covers_odd_sizes),
+        cmocka_unit_test(lists_sum_like_brute_force),
         cmocka_unit_test(near_clamp_bias_is_measurable),
         cmocka_unit_test(vpl_all_sums_every_vpl),
         cmocka_unit_test(disk_vpls_bound_the_singularity),

@@ -73,6 +73,11 @@
 #define IMG_VCT_SRC 4    /* vct mips: volume level read */
 /* Sizes */
 #define VPL_TILE 16          /* culling tile size in pixels */
+/* SSBO_TILES: counts[ntiles], the overflow count, padding to a multiple of
+ * 4 words, then ntiles lists of tile_capacity (a multiple of 4) indices,
+ * each padded with index 0 to a multiple of 4 entries: the shading loop
+ * reads them as uvec4s, one load per 4 candidates. */
+#define VPL_TILE_LIST_BASE(ntiles) (((ntiles) + 4u) & ~3u)
 #define SHADOW_MAX_SAMPLES 64 /* Poisson disk entries */
 #define LPV_MAX_CASCADES 3   /* nested LPV grids */
 #define VCT_MAX_CONES 16     /* diffuse cones of the largest set */

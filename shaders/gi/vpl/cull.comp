@@ -3,8 +3,10 @@
 // the tile's extent together), then tests every VPL's sphere (centre x_i,
 // radius r_i from vpl_params.comp) against it, and drops VPLs whose plane
 // has the whole box behind it. Survivors go to the tile's list in
-// SSBO_TILES: counts[tiles], then lists of `capacity` indices per tile;
-// counts[tiles] (one past the last tile) accumulates overflow.
+// SSBO_TILES: counts[tiles], then lists of `capacity` indices per tile from
+// VPL_TILE_LIST_BASE, each padded with index 0 to a multiple of 4 entries
+// (shade.comp reads them four at a time); counts[tiles] (one past the last
+// tile) accumulates overflow.
 #include "shared/gpu_types.h"
 #include "common/gbuffer.glsl"
 #include "common/vpl_record.glsl"
@@ -42,6 +44,7 @@ void main()
     uint tile = gl_WorkGroupID.y * uint(u_vpl.tiles_x) + gl_WorkGroupID.x;
     uint ntiles = uint(u_vpl.tiles_x * u_vpl.tiles_y);
     uint cap = u_vpl.tile_capacity;
+    uint list = VPL_TILE_LIST_BASE(ntiles) + tile * cap;
     if (bmin.x <= bmax.x) { // the tile holds geometry
         uint n = counters[0];
         for (uint i = lid; i < n; i += uint(VPL_TILE * VPL_TILE)) {
@@ -56,12 +59,15 @@ void main()
                 continue; // the whole tile lies behind the VPL
             uint k = atomicAdd(s_count, 1u);
             if (k < cap)
-                tiles[ntiles + 1u + tile * cap + k] = i;
+                tiles[list + k] = i;
         }
     }
     barrier();
+    uint c = min(s_count, cap);
+    if (lid < ((c + 3u) & ~3u) - c)
+        tiles[list + c + lid] = 0u;
     if (lid == 0u) {
-        tiles[tile] = min(s_count, cap);
+        tiles[tile] = c;
         if (s_count > cap)
             atomicAdd(tiles[ntiles], s_count - cap);
     }

@@ -9,7 +9,8 @@
 //                     stochastic light culling, unbiased) or 1/d² (clamped
 //                     range, α = 0)
 //   MODE_INTERLEAVED  sub-image k = (x mod n) + n·(y mod m) sums its VPL
-//                     subset (SSBO_SUBSETS, length L each), weighted by K = n·m
+//                     subset (SSBO_SUBSETS: the subsets' VPLs copied in
+//                     their order, length L each), weighted by K = n·m
 // Each dispatch sums one chunk of LOOP_CHUNK entries of the pixel's list and
 // adds to the image and the counters (the first chunk writes them).
 #include "shared/gpu_types.h"
@@ -23,9 +24,36 @@ layout(rgba32f, binding = IMG_OUT) uniform image2D o_irradiance;
 layout(location = LOC_CHUNK) uniform uint u_chunk; // this dispatch sums list entries [u_chunk, u_chunk + LOOP_CHUNK)
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint counters[]; };
-layout(std430, binding = SSBO_TILES) readonly buffer TileBlock { uint tiles[]; };
+layout(std430, binding = SSBO_TILES) readonly buffer TileBlock { uvec4 tiles[]; }; // VPL_TILE_LIST_BASE
 layout(std430, binding = SSBO_EVALS) buffer EvalBlock { uint evals[]; };
-layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { uint subsets[]; };
+layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { GpuVpl subsets[]; }; // K × L, zero flux: none
+
+#if defined(MODE_TILED)
+// One entry i of a tile's list, when `live` (within the list's length): its
+// term if x lies within its range. The range test from the VPL itself
+// rather than a load of params.comp's (α, r) per VPL (a per-lane gather on
+// llvmpipe): SLC keeps a VPL while (d² + r_disk²)·α·ξ < 1, i.e. d < r, with
+// α = 2π·e_max/(E·max(Φ)/π) as params.comp computes it (`limit` is
+// vpl_slc_num()); the clamped range keeps d < R with α = 0 (`limit` is R²).
+void tiled_term(uint i, bool live, vec3 x, vec3 n, VplFalloff fo, float limit, uint seed,
+                inout vec3 e, inout uint count)
+{
+    vec3 d = x - vpl_position(vpls[i]);
+#ifdef SLC
+    float alpha = vpl_slc_alpha(limit, vpls[i]);
+    if (!live || (dot(d, d) + vpl_r2(fo, vpls[i])) * (alpha * vpl_xi_of(vpls[i].surface, seed)) >= 1.0)
+        return;
+#else
+    const float alpha = 0.0;
+    if (!live || dot(d, d) >= limit)
+        return;
+#endif
+    float d2;
+    vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
+    e += ic * max(alpha, vpl_falloff(fo, vpls[i], d2));
+    count++;
+}
+#endif
 
 shared uint s_evals;
 shared uint s_visits;
@@ -71,47 +99,37 @@ void main()
 #elif defined(MODE_TILED)
         uint ntiles = uint(u_vpl.tiles_x * u_vpl.tiles_y);
         uint tile = uint(px.y / VPL_TILE) * uint(u_vpl.tiles_x) + uint(px.x / VPL_TILE);
-        uint cap = u_vpl.tile_capacity, nt = tiles[tile];
+        uint cap = u_vpl.tile_capacity, nt = tiles[tile >> 2u][tile & 3u];
         uint k1 = min(nt, u_chunk + uint(LOOP_CHUNK));
         visits = k1 > u_chunk ? k1 - u_chunk : 0u;
-        // The range test from the VPL itself rather than a load of
-        // params.comp's (α, r) per VPL (a per-lane gather on llvmpipe):
-        // SLC keeps a VPL while (d² + r_disk²)·α·ξ < 1, i.e. d < r, with
-        // α = 2π·e_max/(E·max(Φ)/π) as params.comp computes it; the
-        // clamped range keeps d < R with α = 0.
 #ifdef SLC
-        float alpha_num = vpl_slc_num();
+        float limit = vpl_slc_num();
         uint seed = counters[1]; // what the VPLs' ξ were drawn with
 #else
-        float range2 = u_vpl.clamp_range * u_vpl.clamp_range;
+        float limit = u_vpl.clamp_range * u_vpl.clamp_range;
+        const uint seed = 0u;
 #endif
-        for (uint k = u_chunk; k < k1; k++) {
-            uint i = tiles[ntiles + 1u + tile * cap + k];
-            vec3 d = x - vpl_position(vpls[i]);
-#ifdef SLC
-            float alpha = vpl_slc_alpha(alpha_num, vpls[i]);
-            if ((dot(d, d) + vpl_r2(fo, vpls[i])) * (alpha * vpl_xi_of(vpls[i].surface, seed)) >= 1.0)
-                continue;
-#else
-            const float alpha = 0.0;
-            if (dot(d, d) >= range2)
-                continue;
-#endif
-            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * max(alpha, vpl_falloff(fo, vpls[i], d2));
-            count++;
+        // Four list entries per load (the list and u_chunk are aligned to
+        // 4, the list padded with index 0): on llvmpipe every load in a loop
+        // is per lane, and one per candidate had been a third of SLC's.
+        uint list = (VPL_TILE_LIST_BASE(ntiles) + tile * cap) >> 2u;
+        for (uint k = u_chunk; k < k1; k += 4u) {
+            uvec4 q = tiles[list + (k >> 2u)];
+            tiled_term(q.x, true, x, n, fo, limit, seed, e, count);
+            tiled_term(q.y, k + 1u < k1, x, n, fo, limit, seed, e, count);
+            tiled_term(q.z, k + 2u < k1, x, n, fo, limit, seed, e, count);
+            tiled_term(q.w, k + 3u < k1, x, n, fo, limit, seed, e, count);
         }
 #elif defined(MODE_INTERLEAVED)
         uint k = uint(wg.x % nm.x + nm.x * (wg.y % nm.y)); // = px.x mod n + n·(px.y mod m)
         uint len = u_vpl.subset_len;
         uint j1 = min(len, u_chunk + uint(LOOP_CHUNK));
         for (uint j = k * len + u_chunk; j < k * len + j1; j++) {
-            uint i = subsets[j];
-            if (i == 0xffffffffu)
-                continue;
-            vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * vpl_falloff(fo, vpls[i], d2);
-            count++;
+            // The subset's own copy of its VPLs (vpl.c): two loads, no
+            // index; a short subset's last entry has zero flux and adds 0.
+            vec3 ic = vpl_intensity_cos(subsets[j], x, n, d2);
+            e += ic * vpl_falloff(fo, subsets[j], d2);
+            count += subsets[j].flux.r + subsets[j].flux.g + subsets[j].flux.b > 0.0 ? 1u : 0u;
         }
         e *= float(u_vpl.subset_count);
 #endif

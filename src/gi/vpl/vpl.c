@@ -41,9 +41,10 @@ typedef struct VplGi {
     GLuint ubo;           /* GpuVplParams */
     GLuint gi_ubo;        /* GpuGiParams (the blur's thresholds) */
     GLuint ranges;        /* vec2 per VPL */
-    GLuint tiles;         /* counts[tiles], overflow, lists[tiles × capacity] */
+    GLuint tiles;         /* counts[tiles], overflow, lists[tiles × capacity] (VPL_TILE_LIST_BASE) */
     GLuint evals;         /* uint per shading work group, ×2 */
-    GLuint subsets;       /* K × L VPL indices; also the signatures (vec4 per VPL) */
+    GLuint subsets;       /* K × L VPL records in subset order (GpuVpl, zero flux
+                           * where a subset is short); also the signatures (vec4 per VPL) */
     GiInterleave il;      /* blur (interleaved methods) */
     uint32_t vpl_capacity;
     uint32_t tile_capacity; /* list entries per tile */
@@ -94,13 +95,14 @@ static bool vpl_resize(void *state, int w, int h)
     v->tiles_x = (w + VPL_TILE - 1) / VPL_TILE;
     v->tiles_y = (h + VPL_TILE - 1) / VPL_TILE;
     uint32_t ntiles = (uint32_t)(v->tiles_x * v->tiles_y);
-    v->tile_capacity = LIST_BUDGET / ntiles;
-    if (v->tile_capacity > v->vpl_capacity)
-        v->tile_capacity = v->vpl_capacity;
+    v->tile_capacity = (LIST_BUDGET / ntiles) & ~3u;
+    uint32_t all = (v->vpl_capacity + 3u) & ~3u; /* enough for every VPL */
+    if (v->tile_capacity > all)
+        v->tile_capacity = all;
     shade_groups(v, &v->groups_x, &v->groups_y);
     v->groups = v->groups_x * v->groups_y;
     glCreateBuffers(1, &v->tiles);
-    size_t tile_words = tiled(v) ? ntiles + 1 + (size_t)ntiles * v->tile_capacity : 1;
+    size_t tile_words = tiled(v) ? VPL_TILE_LIST_BASE(ntiles) + (size_t)ntiles * v->tile_capacity : 1;
     glNamedBufferStorage(v->tiles, (GLsizeiptr)(sizeof(uint32_t) * tile_words), NULL, GL_DYNAMIC_STORAGE_BIT);
     glObjectLabel(GL_BUFFER, v->tiles, -1, "vpl.tiles");
     glCreateBuffers(1, &v->evals);
@@ -162,7 +164,7 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
     glCreateBuffers(1, &v->ranges);
     glNamedBufferStorage(v->ranges, (GLsizeiptr)(sizeof(float) * 2 * (tiled(v) ? v->vpl_capacity : 1)), NULL, 0);
     glCreateBuffers(1, &v->subsets);
-    size_t subset_bytes = interleaved(v) ? sizeof(float) * 4 * (size_t)v->vpl_capacity + sizeof(uint32_t) * 256 : 16;
+    size_t subset_bytes = interleaved(v) ? sizeof(GpuVpl) * ((size_t)v->vpl_capacity + 256) : 16; /* K ≤ 256 */
     glNamedBufferStorage(v->subsets, (GLsizeiptr)subset_bytes, NULL, GL_DYNAMIC_STORAGE_BIT);
     if (!ok || !vpl_resize(v, ci->width, ci->height)) {
         vpl_destroy(v);
@@ -273,7 +275,7 @@ static bool subsets(VplGi *v, const GiFrame *f)
     SortItem *items = malloc(sizeof(SortItem) * (n + 1));
     GpuVpl *vpls = malloc(sizeof(GpuVpl) * (n + 1));
     uint32_t *xi_bits = malloc(sizeof(uint32_t) * (n + 1));
-    uint32_t *sub = malloc(sizeof(uint32_t) * ((size_t)K * L + 1));
+    GpuVpl *sub = calloc((size_t)K * L + 1, sizeof(GpuVpl)); /* zero flux: no VPL */
     float(*sig)[4] = v->method == VPL_METALIGHTS ? malloc(sizeof(float) * 4 * (n + 1)) : NULL;
     if (!items || !vpls || !xi_bits || !sub || (v->method == VPL_METALIGHTS && !sig)) {
         log_error("vpl", "out of memory grouping %u VPLs", n);
@@ -315,13 +317,15 @@ static bool subsets(VplGi *v, const GiFrame *f)
         }
     }
     qsort(items, n, sizeof *items, cmp_item);
-    memset(sub, 0xff, sizeof(uint32_t) * (size_t)K * L);
+    /* Each subset's VPLs are copied in its order, so that the shading loop
+     * reads a VPL in two loads with no index in between (on llvmpipe every
+     * load in a loop is per lane). */
     for (uint32_t j = 0; j < n; j++) {
         uint32_t group = j / K, member = j % K;
         uint32_t k = v->method == VPL_METALIGHTS ? (member + group) % K : member;
-        sub[(size_t)k * L + group] = items[j].index;
+        sub[(size_t)k * L + group] = vpls[items[j].index];
     }
-    glNamedBufferSubData(v->subsets, 0, (GLsizeiptr)(sizeof(uint32_t) * (size_t)K * L), sub);
+    glNamedBufferSubData(v->subsets, 0, (GLsizeiptr)(sizeof(GpuVpl) * (size_t)K * L), sub);
     free(items), free(vpls), free(xi_bits), free(sub), free(sig);
     v->subset_len = L;
     v->gpu.subset_len = L;

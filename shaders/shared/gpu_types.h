@@ -73,6 +73,11 @@
 #define IMG_VCT_SRC 4    /* vct mips: volume level read */
 /* Sizes */
 #define VPL_TILE 16          /* culling tile size in pixels */
+/* Importance-sampled RSM gathers: a pixel spends half its N samples on the
+ * paper's disk around its own projection and the rest on one of this many
+ * independently shifted sets of flux-importance samples (a constant: the
+ * gathers pick a pixel's set with a mask, not a division). */
+#define RSM_LIST_SETS 16
 /* SSBO_TILES: counts[ntiles], the overflow count, padding to a multiple of
  * 4 words, then ntiles lists of tile_capacity (a multiple of 4) indices,
  * each padded with index 0 to a multiple of 4 entries: the shading loop
@@ -106,7 +111,6 @@
 #define LOC_AB_EXPOSURE 12      /* ui/ab_view.frag: float, the reference's exposure */
 #define LOC_AB_DIFF_SCALE 13    /* ui/ab_view.frag: float, |difference| shown as full heat */
 #define LOC_AB_REF_DISPLAY 14   /* ui/ab_view.frag: int, 1 if the reference is display-referred (PNG/JPEG) */
-#define LOC_GATHER_EXHAUSTIVE 10 /* rsm gather: int, sum every VPL instead of sampling */
 #define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
 #define LOC_IMPORTANCE_LEVEL 10 /* gi/rsm/importance.comp: int, pyramid level written / top level */
 #define LOC_CHUNK 12            /* rsm gather (exhaustive), vpl shade: uint, first index of this dispatch's chunk */
@@ -138,6 +142,7 @@
 #define SHADOW_HARD 1
 #define SHADOW_PCF 2
 #define SHADOW_PCSS 3
+/* RSM weightings (gi/rsm/gather.comp compiles one in: WEIGHTING) */
 #define RSM_WEIGHT_PAPER 0
 #define RSM_WEIGHT_UNBIASED 1
 #define RSM_WEIGHT_IMPORTANCE 2
@@ -192,7 +197,6 @@
 #define GPU_GI_PARAMS_FIELDS(F, A)                                                  \
     F(float, r_max)         /* sampling radius, RSM widths (cube: face widths) */  \
     F(int, samples)         /* N samples per gather */                             \
-    F(int, weighting)       /* RSM_WEIGHT_*: 0 paper ξ1², 1 unbiased polar, 2 importance */ \
     F(int, rsm_size)        /* RSM resolution */                                   \
     F(float, disk_texels)   /* texels in the sampling disk, K = π (r_max·res)² */   \
     F(int, interp_factor)   /* rsm-interp: low-res = full / factor */              \
@@ -206,7 +210,6 @@
     F(int, sub_height)                                                             \
     F(int, list_size)       /* importance: entries in the sample list (sets × set) */ \
     F(int, list_set)        /* importance: points per set (the far-field samples of a pixel) */ \
-    F(int, list_sets)       /* importance: independently shifted sets; a pixel takes one */ \
     F(float, disk_r2_per_area) /* --vpl-disk: 1/π (samples fall off as 1/(d² + A/π)); 0: points */
 
 /* One virtual point light (std430). The shading loops read surface and flux
@@ -312,7 +315,7 @@ layout(std140, binding = UBO_VCT) uniform VctBlock { GpuVctParams u_vct; };
 static_assert(sizeof(GpuLight) == 14 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
-static_assert(sizeof(GpuGiParams) == 18 * 4, "GpuGiParams: 18 scalars (std140 rounds the block to 80)");
+static_assert(sizeof(GpuGiParams) == 16 * 4, "GpuGiParams: 16 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");

@@ -74,7 +74,6 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
     float r = p->r_max * (float)p->rsm_size;
     u->r_max = p->r_max;
     u->samples = p->samples;
-    u->weighting = (int)p->weighting;
     u->rsm_size = p->rsm_size;
     u->disk_texels = 3.14159265358979f * r * r;
     u->interp_factor = p->interp_factor;
@@ -87,7 +86,6 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
     u->sub_width = (w + p->interleave_n - 1) / p->interleave_n;
     u->sub_height = (h + p->interleave_m - 1) / p->interleave_m;
     u->list_set = rsm_far_samples(p->samples);
-    u->list_sets = RSM_LIST_SETS;
     u->list_size = u->list_set * RSM_LIST_SETS;
     u->disk_r2_per_area = p->vpl_disk ? 1.f / 3.14159265358979f : 0.f;
 }

@@ -110,9 +110,8 @@ extern const GiTechnique gi_vct;
 
 /* Importance-sampled RSM gathers: a pixel spends half its N samples on the
  * paper's disk around its own projection (a Hammersley set of N/2 points
- * after the N of the paper's pattern) and the rest on one of this many
- * independently shifted sets of flux-importance samples. */
-enum { RSM_LIST_SETS = 16 };
+ * after the N of the paper's pattern) and the rest on one of RSM_LIST_SETS
+ * (shared/gpu_types.h) independently shifted sets of flux-importance samples. */
 static inline int rsm_local_samples(int n) { return n / 2 > 0 ? n / 2 : 1; }
 static inline int rsm_far_samples(int n) { return n - rsm_local_samples(n) > 0 ? n - rsm_local_samples(n) : 1; }
 

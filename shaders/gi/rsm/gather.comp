@@ -6,9 +6,13 @@
 //   MODE_INTERLEAVED  the de-interleaved G-buffer (bound at TEX_GB_SURFACE);
 //                     sub-image k uses the disjoint
 //                     sample subset k, k + n·m, k + 2·n·m, ...
-// With u_exhaustive the sum runs over every VPL of SSBO_VPL instead, one
-// dispatch per LOOP_CHUNK of them (the later ones accumulate).
-// u_accumulate adds to the image (one dispatch per light).
+// The weighting is compiled in (WEIGHTING, an RSM_WEIGHT_*); with
+// EXHAUSTIVE the sum runs over every VPL of SSBO_VPL instead, one dispatch
+// per LOOP_CHUNK of them (the later ones accumulate). Compiled, not read
+// from uniforms: llvmpipe runs the code under an `if` whether or not a lane
+// takes it, and the untaken paths' set-up had been two thirds of
+// rsm-interleaved's work per pixel. u_accumulate adds to the image (one
+// dispatch per light).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "common/vpl.glsl"
@@ -23,27 +27,23 @@ layout(std430, binding = SSBO_COUNTERS) readonly buffer CounterBlock { uint coun
 #ifdef MODE_LIST
 layout(std430, binding = SSBO_PIXEL_LIST) readonly buffer PixelList { uint list_count; uint groups_x, groups_y, groups_z; uint list[]; };
 #endif
-layout(location = LOC_GATHER_EXHAUSTIVE) uniform int u_exhaustive;
 layout(location = LOC_GATHER_ACCUMULATE) uniform int u_accumulate;
 layout(location = LOC_CHUNK) uniform uint u_chunk; // exhaustive: this dispatch sums VPLs [u_chunk, u_chunk + LOOP_CHUNK)
 
 // A pixel's set of the importance sample list: a hash, so that neighbours
-// take independent ones.
+// take independent ones (RSM_LIST_SETS is a power of two: a mask).
 uint list_set(ivec2 px)
 {
     uint h = uint(px.x) * 0x8da6b343u ^ uint(px.y) * 0xd8163841u;
     h ^= h >> 15;
     h *= 0x2c1b3c6du;
     h ^= h >> 12;
-    return h % uint(u_gi.list_sets);
+    return h % uint(RSM_LIST_SETS);
 }
 
 vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
 {
-    if (u_exhaustive == 0 && u_gi.weighting == RSM_WEIGHT_IMPORTANCE)
-        return rsm_gather_importance(x, n, list_set(px), first, stride, count);
-    if (u_exhaustive == 0)
-        return rsm_gather(rsm_frame(x), x, n, first, stride, count, u_gi.weighting == RSM_WEIGHT_UNBIASED, u_gi.samples);
+#if defined(EXHAUSTIVE)
     vec3 e = vec3(0.0);
     float r2_per_area = u_gi.disk_r2_per_area; // read once (see RsmFrame)
     uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
@@ -51,6 +51,11 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
         e += vpl_irradiance_disk(x, n, vpl_position(vpls[i]), vpl_shading_normal(vpls[i]), vpls[i].flux.rgb,
                                  vpls[i].flux.w * r2_per_area);
     return e;
+#elif WEIGHTING == RSM_WEIGHT_IMPORTANCE
+    return rsm_gather_importance(x, n, list_set(px), first, stride, count);
+#else
+    return rsm_gather(rsm_frame(x), x, n, first, stride, count, WEIGHTING == RSM_WEIGHT_UNBIASED, u_gi.samples);
+#endif
 }
 
 void store(ivec2 at, vec3 e)
@@ -86,19 +91,19 @@ void main()
 #elif defined(MODE_INTERLEAVED)
     int n = u_gi.interleave_n, m = u_gi.interleave_m;
     ivec2 sub = ivec2(u_gi.sub_width, u_gi.sub_height);
-    ivec2 k2 = gid / sub;
+    ivec2 k2 = div_small(gid, sub);
     if (k2.x >= n || k2.y >= m)
         return;
     // The surface texels are the de-interleaved copies here (gi/interleave.comp).
     ivec2 px = gid, at = gid;
-    if (any(greaterThanEqual((gid % sub) * ivec2(n, m) + k2, ivec2(u_frame.width, u_frame.height))))
+    if (any(greaterThanEqual((gid - k2 * sub) * ivec2(n, m) + k2, ivec2(u_frame.width, u_frame.height))))
         return; // padding texel of a sub-image: no pixel maps here
-    int first = k2.x + n * k2.y, stride = n * m, count = max(N / (n * m), 1);
-    if (u_gi.weighting != RSM_WEIGHT_IMPORTANCE) { // the pattern's subset (importance: its two parts')
-        ivec2 sub = rsm_subset(N, first, stride);
-        first = sub.x;
-        count = sub.y;
-    }
+    int first = k2.x + n * k2.y, stride = n * m, count = max(div_small(N, n * m), 1);
+#if WEIGHTING != RSM_WEIGHT_IMPORTANCE // the pattern's subset (importance: its two parts')
+    ivec2 part = rsm_subset(N, first, stride);
+    first = part.x;
+    count = part.y;
+#endif
 #endif
     vec3 x, nrm;
     if (!gb_surface(px, x, nrm)) {

@@ -3,7 +3,7 @@
 //   MODE_LEVEL0  pyramid level 0: luminance of each RSM texel's flux (the
 //                pyramid is a power-of-two 2D array, texels past the RSM are 0)
 //   MODE_REDUCE  level L from level L−1: the sum of each 2×2 block
-//   MODE_SAMPLE  the sample list: list_sets sets of list_set points, each a
+//   MODE_SAMPLE  the sample list: RSM_LIST_SETS sets of list_set points, each a
 //                Hammersley set with its own toroidal shift, warped down the
 //                pyramid (face by its total, then column and row of each 2×2
 //                block by their sums), which keeps each set stratified in

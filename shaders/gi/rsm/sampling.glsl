@@ -99,8 +99,8 @@ const float GOLDEN = 0.61803398874989485; // (√5 − 1)/2
 // takes point k mod n alone.
 ivec2 rsm_subset(int n, int first, int stride)
 {
-    int f = first % n;
-    return ivec2(f, max((n - f + stride - 1) / stride, 1));
+    int f = first - div_small(first, n) * n;
+    return ivec2(f, max(div_small(n - f + stride - 1, stride), 1));
 }
 
 // Sums E over samples first, first+stride, ... (count of them) of the

@@ -62,9 +62,11 @@ static bool make_gather(RsmGi *g, GatherLayout layout)
 {
     static const char *const layout_def[GATHER_LAYOUTS] = {"#define MODE_FULL\n", "#define MODE_LOWRES\n",
                                                            "#define MODE_LIST\n", "#define MODE_INTERLEAVED\n"};
-    char defs[128];
+    char defs[160];
     for (int c = 0; c < 2; c++) {
-        snprintf(defs, sizeof defs, "%s%s", layout_def[layout], c ? "#define RSM_CUBE\n" : "");
+        /* The weighting and the exhaustive sum are compiled in (gather.comp). */
+        snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s", layout_def[layout], c ? "#define RSM_CUBE\n" : "",
+                 (int)g->params.weighting, g->params.exhaustive ? "#define EXHAUSTIVE\n" : "");
         g->gather[layout][c] = program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_gather", .comp = "gi/rsm/gather.comp", .defines = defs});
         if (!g->gather[layout][c])
             return false;
@@ -256,7 +258,6 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
         light_stage_bind_rsm(ls, i);
         if (importance_on(g))
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
-        glProgramUniform1i(prog, LOC_GATHER_EXHAUSTIVE, exh ? 1 : 0);
         glUseProgram(prog);
         /* Exhaustive: one dispatch per LOOP_CHUNK VPLs (llvmpipe ends a
          * shader loop after 65535 iterations), the later ones adding. */

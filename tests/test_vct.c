@@ -411,6 +411,11 @@ static void cornell_against_reference(void **state)
     assert_true(v_ob < VCT_CORNELL_BOUND);
     assert_true(n_ob > VCT_CORNELL_BOUND); /* the bound means something */
     assert_true(i_ob < n_ob);
+    /* The directional volumes are read (the tracers compile them in with
+     * VCT_ANISO; without, both images are the isotropic trace). */
+    double a_i = metric_relmse(&one, &iso, NULL, NULL);
+    print_message("anisotropic against isotropic: relMSE %.2g\n", a_i);
+    assert_true(a_i > 1e-3);
     assert_true(t_full < v_full);           /* the second bounce helps against the full reference */
     assert_true(t_full < 0.6 * n_full);
     image_free(&one);

@@ -260,7 +260,7 @@
 #define GPU_VCT_PARAMS_FIELDS(F, A)                                                        \
     F(int, size)             /* N voxels per side of a level */                             \
     F(int, levels)           /* mips of a level: log2(N) + 1 */                             \
-    F(int, aniso)            /* 1: sample the six directional volumes above mip 0 */        \
+    F(int, aniso)            /* 1: the six directional volumes are built (tracers: VCT_ANISO) */ \
     F(int, cones)            /* diffuse cones in use */                                     \
     F(float, step)           /* sampling step, in cone diameters */                         \
     F(float, ao_range)       /* occlusion counts up to this distance (m) */                 \

@@ -185,10 +185,10 @@ static bool vct_resize(void *state, int w, int h)
 }
 
 static GLuint program(VctGi *v, const char *label, const char *vert, const char *geom, const char *frag,
-                      const char *comp)
+                      const char *comp, const char *defines)
 {
-    return program_cache_get(v->pc, &(ShaderProgramDesc){
-                                        .label = label, .vert = vert, .geom = geom, .frag = frag, .comp = comp});
+    return program_cache_get(v->pc, &(ShaderProgramDesc){.label = label, .vert = vert, .geom = geom, .frag = frag,
+                                                          .comp = comp, .defines = defines});
 }
 
 /* Bytes of an RGBA16F cube of side n with `levels` mips. */
@@ -232,13 +232,17 @@ static void *vct_create(const GiCreateInfo *ci)
     v->bytes = bytes;
     v->width = ci->width;
     v->height = ci->height;
-    v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom", "gi/vct/voxelize.frag", NULL);
-    v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp");
-    v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp");
-    v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp");
-    v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp");
-    v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp");
-    v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp");
+    /* The cone tracers read the directional volumes only when compiled
+     * with VCT_ANISO (gi/vct/cone.glsl): llvmpipe runs both sides of a
+     * branch on a uniform, fetches included. */
+    const char *cones = p->vct_aniso && n >= 2 ? "#define VCT_ANISO\n" : NULL;
+    v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom", "gi/vct/voxelize.frag", NULL, NULL);
+    v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL);
+    v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL);
+    v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL);
+    v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp", cones);
+    v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp", cones);
+    v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp", NULL);
     v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
     bool ok = v->voxelize && v->resolve && v->inject && v->aniso_prog && v->bounce && v->trace && v->upsample;
     int d = n * clip; /* the levels stacked along z */

@@ -37,6 +37,61 @@ layout(binding = TEX_PROBE_MAP + 2) uniform sampler2D t_flux;
 layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_result;
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 
+// One sample's data as read (the fetch half of a step).
+struct Fetched {
+    vec2 q;
+    uvec4 t;         // PACKED: the RSM texel
+    vec3 xp, np, flux;
+};
+
+Fetched probe_fetch(int k, vec2 uv)
+{
+    Fetched s;
+    float a = float(k) * 2.39996323, r = 0.3 * sqrt((float(k) + 0.5) / float(SAMPLES));
+    s.q = uv + r * vec2(cos(a), sin(a));
+    vec2 q = s.q;
+    s.t = uvec4(0u);
+    s.xp = vec3(q, 0.0);
+    s.np = vec3(0.0, 0.0, 1.0);
+    s.flux = vec3(q, 1.0);
+#ifdef CUBE
+    vec3 d = vec3(q * 2.0 - 1.0, 1.0);
+#define FETCH(t) textureLod(t, d, 0.0)
+#else
+#define FETCH(t) textureLod(t, q, 0.0)
+#endif
+#if defined(PACKED)
+    s.t = FETCH(t_packed);
+#elif defined(SSBO)
+    // The VPL loops' access: every lane reads the same VPL (a broadcast).
+    s.xp = vpl_position(vpls[k]) + vec3(q * 1e-6, 0.0);
+    s.np = vpl_shading_normal(vpls[k]);
+    s.flux = vpls[k].flux.rgb;
+#else
+#if FETCHES >= 1
+    s.xp = FETCH(t_position).xyz;
+#endif
+#if FETCHES >= 2
+    s.np = FETCH(t_normal).xyz;
+#endif
+#if FETCHES >= 3
+    s.flux = FETCH(t_flux).rgb;
+#endif
+#endif
+    return s;
+}
+
+// The evaluation half: the VPL irradiance arithmetic on a fetched sample.
+vec3 probe_eval(Fetched s, vec3 x, vec3 n, RsmTexelFrame f)
+{
+#if defined(PACKED)
+    vec3 xp = rsm_texel_position(f, s.t), np = rsm_texel_normal(s.t);
+    return vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f, s.t), rsm_texel_area(f, xp, np) * (1.0 / PI));
+#else
+    return vpl_irradiance(x, n, s.xp, s.np, s.flux);
+#endif
+}
+
 void main()
 {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
@@ -52,43 +107,12 @@ void main()
     f.ortho = 0.0;
     f.texel_area = 1e-5;
     f.cube = false;
-    for (int k = 0; k < SAMPLES; k++) {
-        float a = float(k) * 2.39996323, r = 0.3 * sqrt((float(k) + 0.5) / float(SAMPLES));
-        vec2 q = uv + r * vec2(cos(a), sin(a));
-#ifdef CUBE
-        vec3 d = vec3(q * 2.0 - 1.0, 1.0);
-#define FETCH(t) textureLod(t, d, 0.0)
-#else
-#define FETCH(t) textureLod(t, q, 0.0)
-#endif
-#if defined(PACKED)
-        uvec4 t = FETCH(t_packed);
-        vec3 xp = rsm_texel_position(f, t), np = rsm_texel_normal(t);
-        e += vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f, t), rsm_texel_area(f, xp, np) * (1.0 / PI));
-#else
-#if defined(SSBO)
-        // The VPL loops' access: every lane reads the same VPL (a broadcast).
-        GpuVpl v = vpls[k];
-        vec3 xp = vpl_position(v) + vec3(q * 1e-6, 0.0), np = vpl_shading_normal(v), flux = v.flux.rgb;
-#else
-#if FETCHES >= 1
-        vec3 xp = FETCH(t_position).xyz;
-#else
-        vec3 xp = vec3(q, 0.0);
-#endif
-#if FETCHES >= 2
-        vec3 np = FETCH(t_normal).xyz;
-#else
-        vec3 np = vec3(0.0, 0.0, 1.0);
-#endif
-#if FETCHES >= 3
-        vec3 flux = FETCH(t_flux).rgb;
-#else
-        vec3 flux = vec3(q, 1.0);
-#endif
-#endif
-        e += vpl_irradiance(x, n, xp, np, flux);
-#endif
+    // Two samples a step, both fetched before either is evaluated, as the
+    // RSM gathers do (gi/rsm/sampling.glsl): the reads of the two overlap.
+    for (int k = 0; k < SAMPLES; k += 2) {
+        Fetched a = probe_fetch(k, uv), b = probe_fetch(k + 1, uv);
+        e += probe_eval(a, x, n, f);
+        e += probe_eval(b, x, n, f);
     }
     imageStore(o_result, px, vec4(e, 1.0));
 }

@@ -103,9 +103,43 @@ ivec2 rsm_subset(int n, int first, int stride)
     return ivec2(f, max(div_small(n - f + stride - 1, stride), 1));
 }
 
+// The texel at map coordinates q of frame f, and its Jacobian weight.
+uvec4 rsm_fetch(RsmFrame f, vec2 q, out float jac)
+{
+#ifdef RSM_CUBE
+    // Texels per plane area where D meets its own face, relative to the
+    // face of x: (|D·a| / |D·major(D)|)³ with D·a = 1, i.e. m⁻³ for
+    // m = max(1, |q.x|, |q.y|) (D's components along a, r, u are 1, q).
+    float m = max(1.0, max(abs(q.x), abs(q.y)));
+    jac = 1.0 / (m * m * m);
+    return textureLod(rsm_map, f.a + q.x * f.r + q.y * f.u, 0.0);
+#else
+    // A sample off the map is empty space: it reads nothing (the border
+    // texel is weighted 0) but, with the paper's weights, still counts in
+    // the average.
+    bool inside = all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, vec2(1.0)));
+    jac = inside ? 1.0 : 0.0;
+    return textureLod(rsm_map, q, 0.0);
+#endif
+}
+
+// Irradiance at x (normal n) from RSM texel t. An empty texel unpacks to
+// flux 0 and a finite area: it adds 0.
+vec3 rsm_texel_irradiance(RsmFrame f, uvec4 t, vec3 x, vec3 n)
+{
+    vec3 xp = rsm_texel_position(f.texel, t), np = rsm_texel_normal(t);
+    return vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f.texel, t), rsm_texel_area(f.texel, xp, np) * f.r2_per_area);
+}
+
 // Sums E over samples first, first+stride, ... (count of them) of the
 // n_pattern-sample pattern, with the paper's weights or (unbiased) those of
-// the polar pdf.
+// the polar pdf. Two samples a step, both texels fetched before either is
+// evaluated, so that their reads overlap: a gather's reads miss the
+// caches when neighbouring lanes' disks lie apart (sparse gathers, large
+// maps), and on llvmpipe each fetch is a call that waits on its loads
+// (256², one thread: rsm-interleaved 29 -> 26 ms, rsm-interp's low-res
+// gather 22 -> 19 ms, rsm 310 -> 244 ms). An odd count's last step
+// fetches one sample past the subset and weighs it 0.
 vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bool unbiased, int n_pattern)
 {
     float K = u_gi.disk_texels;
@@ -116,34 +150,20 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
     float inv_n = 1.0 / float(n_pattern);
     float a0 = TWO_PI * fract(float(first) * GOLDEN), da = TWO_PI * fract(float(stride) * GOLDEN);
     vec2 sc = vec2(sin(a0), cos(a0)), rot = vec2(sin(da), cos(da));
-    for (int k = 0; k < count; k++) {
-        float xi1 = (float(first + k * stride) + 0.5) * inv_n;
-        vec4 smp = vec4(xi1 * sc, xi1, 0.0);
+    for (int k = 0; k < count; k += 2) {
+        float xa = (float(first + k * stride) + 0.5) * inv_n;
+        vec2 qa = f.st + f.scale * (xa * sc);
         sc = vec2(sc.x * rot.y + sc.y * rot.x, sc.y * rot.y - sc.x * rot.x);
-        vec2 q = f.st + f.scale * smp.xy;
-#ifdef RSM_CUBE
-        vec3 D = f.a + q.x * f.r + q.y * f.u;
-        uvec4 t = textureLod(rsm_map, D, 0.0);
-        // Texels per plane area where D meets its own face, relative to the
-        // face of x: (|D·a| / |D·major(D)|)³ with D·a = 1, i.e. m⁻³ for
-        // m = max(1, |q.x|, |q.y|) (D's components along a, r, u are 1, q).
-        float m = max(1.0, max(abs(q.x), abs(q.y)));
-        float jac = 1.0 / (m * m * m);
-#else
-        // A sample off the map is empty space: it reads nothing (the
-        // border texel is weighted 0) but, with the paper's weights, still
-        // counts in the average.
-        bool inside = all(greaterThanEqual(q, vec2(0.0))) && all(lessThanEqual(q, vec2(1.0)));
-        uvec4 t = textureLod(rsm_map, q, 0.0);
-        float jac = inside ? 1.0 : 0.0;
-#endif
-        // An empty texel unpacks to flux 0 and a finite area: it adds 0.
-        vec3 xp = rsm_texel_position(f.texel, t), np = rsm_texel_normal(t);
-        vec3 e = vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f.texel, t),
-                                     rsm_texel_area(f.texel, xp, np) * f.r2_per_area);
-        float w = unbiased ? 2.0 * smp.z : smp.z * smp.z;
-        sum += e * (w * jac);
-        wsum += smp.z * smp.z;
+        float xb = (float(first + (k + 1) * stride) + 0.5) * inv_n;
+        vec2 qb = f.st + f.scale * (xb * sc);
+        sc = vec2(sc.x * rot.y + sc.y * rot.x, sc.y * rot.y - sc.x * rot.x);
+        float ja, jb;
+        uvec4 ta = rsm_fetch(f, qa, ja), tb = rsm_fetch(f, qb, jb);
+        float live = k + 1 < count ? 1.0 : 0.0;
+        sum += rsm_texel_irradiance(f, ta, x, n) * ((unbiased ? 2.0 * xa : xa * xa) * ja);
+        wsum += xa * xa;
+        sum += rsm_texel_irradiance(f, tb, x, n) * ((unbiased ? 2.0 * xb : xb * xb) * jb * live);
+        wsum += xb * xb * live;
     }
     if (unbiased)
         return sum * (K / float(max(count, 1)));

@@ -109,6 +109,9 @@ void main()
     f.cube = false;
     // Two samples a step, both fetched before either is evaluated, as the
     // RSM gathers do (gi/rsm/sampling.glsl): the reads of the two overlap.
+#if SAMPLES % 2 != 0
+#error "probe.comp takes samples in pairs: SAMPLES must be even"
+#endif
     for (int k = 0; k < SAMPLES; k += 2) {
         Fetched a = probe_fetch(k, uv), b = probe_fetch(k + 1, uv);
         e += probe_eval(a, x, n, f);

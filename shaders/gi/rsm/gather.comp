@@ -14,6 +14,9 @@
 // rsm-interleaved's work per pixel. u_accumulate adds to the image (one
 // dispatch per light).
 #include "shared/gpu_types.h"
+#ifndef WEIGHTING
+#error "gi/rsm/gather.comp needs WEIGHTING (an RSM_WEIGHT_*), as src/gi/rsm/rsm.c defines it"
+#endif
 #include "common/math.glsl"
 #include "common/vpl.glsl"
 #include "gi/rsm/sampling.glsl"

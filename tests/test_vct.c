@@ -482,6 +482,158 @@ static void closed_box(void **state)
     scene_free(&s);
 }
 
+/* ---- Directional volumes -------------------------------------------------- */
+
+/* Level 0 of each directional volume is aniso.comp's front-to-back
+ * composite of the isotropic level 0: for every voxel, axis and sign the
+ * GPU's value equals the same sum on the CPU (within RGBA16F rounding), at
+ * a power-of-two N, at one that is not (N = 24: the slabs are padded to
+ * 16 voxels deep) and in each level of a clipmap. The two signs differ
+ * where a block holds surfaces of two colours along the axis. */
+static void check_directional(int n, int levels)
+{
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = n;
+    gp.vct_levels = levels;
+    gp.vct_aniso = true;
+    Renderer r;
+    vct_renderer(&r, &s, 16, 16, &gp);
+    renderer_frame(&r, &s.camera);
+    size_t n3 = (size_t)n * n * n, m = (size_t)n / 2, m3 = m * m * m;
+    float *iso = malloc(sizeof(float) * 4 * n3 * (size_t)levels), *dir = malloc(sizeof(float) * 4 * m3);
+    assert_non_null(iso);
+    assert_non_null(dir);
+    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_RADIANCE, iso));
+    int compared = 0, bad = 0, sided = 0;
+    double worst = 0;
+    for (int k = 0; k < levels; k++)
+        for (int axis = 0; axis < 3; axis++) {
+            float *plus = malloc(sizeof(float) * 4 * m3);
+            assert_non_null(plus);
+            for (int neg = 0; neg < 2; neg++) {
+                float *out = neg ? dir : plus;
+                assert_true(vct_read_directional(r.gi_state, axis, neg, k, out));
+                for (int z = 0; z < (int)m; z++)
+                    for (int y = 0; y < (int)m; y++)
+                        for (int x = 0; x < (int)m; x++) {
+                            int o[3] = {x, y, z}, ua = axis == 0 ? 1 : 0, wa = axis == 2 ? 1 : 2;
+                            double want[4] = {0, 0, 0, 0};
+                            for (int i = 0; i < 2; i++)
+                                for (int j = 0; j < 2; j++) {
+                                    int c0[3] = {2 * o[0], 2 * o[1], 2 * o[2]};
+                                    c0[ua] += i;
+                                    c0[wa] += j;
+                                    int c1[3] = {c0[0], c0[1], c0[2]};
+                                    c1[axis] += 1;
+                                    const int *fc = neg ? c1 : c0, *bc = neg ? c0 : c1;
+                                    const float *f = iso + 4 * (((size_t)(k * n + fc[2]) * n + fc[1]) * n + fc[0]);
+                                    const float *b = iso + 4 * (((size_t)(k * n + bc[2]) * n + bc[1]) * n + bc[0]);
+                                    for (int c = 0; c < 4; c++)
+                                        want[c] += 0.25 * (f[c] + (1.0 - f[3]) * b[c]);
+                                }
+                            const float *got = out + 4 * (((size_t)z * m + y) * m + x);
+                            for (int c = 0; c < 4; c++) {
+                                double e = fabs(got[c] - want[c]);
+                                worst = fmax(worst, e / fmax(fabs(want[c]), 1e-3));
+                                bad += e > 2e-3 * fabs(want[c]) + 1e-6;
+                            }
+                            compared++;
+                            if (neg) {
+                                const float *p = plus + 4 * (((size_t)z * m + y) * m + x);
+                                double d = fabs(p[0] - got[0]) + fabs(p[1] - got[1]) + fabs(p[2] - got[2]);
+                                sided += d > 0.1 * (p[0] + p[1] + p[2] + got[0] + got[1] + got[2]) && d > 1e-4;
+                            }
+                        }
+            }
+            free(plus);
+        }
+    print_message("directional level 0, N = %d, %d level(s): %d voxels compared, %d channels off, worst %.2g "
+                  "relative; %d voxels whose two sides differ by > 10%%\n",
+                  n, levels, compared, bad, worst, sided);
+    assert_int_equal(bad, 0);
+    assert_true(sided > 10);
+    free(iso);
+    free(dir);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
+static void directional_volumes_composite(void **state)
+{
+    (void)state;
+    check_directional(32, 1);
+    check_directional(24, 1);
+    check_directional(16, 2);
+}
+
+/* A cone reads the side of the directional volumes it faces: a wall of
+ * two layers in neighbouring voxels, red facing -x, green facing +x, each lit
+ * from its side, stands on a white floor. The floor left of it sees red,
+ * right of it green; the isotropic mips blend the two layers into one
+ * colour, so only the directional volumes give the left floor's (R - G)
+ * and the right floor's (G - R) a clear sign. Reading the far side (the
+ * signs swapped) turns both negative. */
+static void cones_see_the_facing_side(void **state)
+{
+    (void)state;
+    enum { W = 48 };
+    Scene s;
+    scene_init(&s);
+    int white = scene_add_material(&s, "white", (vec3){0.8f, 0.8f, 0.8f});
+    int red = scene_add_material(&s, "red", (vec3){0.9f, 0.05f, 0.05f});
+    int green = scene_add_material(&s, "green", (vec3){0.05f, 0.9f, 0.05f});
+    /* The grid: 32 voxels of 2/30 m from x = -16/15 m (gi_grid_around over
+     * the floor's 2 m), so voxels 17 and 18 centre on x = 0.1 and 0.1667:
+     * one block of mip 2, two of mip 1. */
+    float xr = 0.1f, xg = 0.1f + 2.f / 30.f;
+    scene_add_quad(&s, white, (vec3){-1.f, -0.5f, -1.f}, (vec3){-1.f, -0.5f, 1.f}, (vec3){1.f, -0.5f, 1.f},
+                   (vec3){1.f, -0.5f, -1.f});
+    scene_add_quad(&s, red, (vec3){xr, -0.5f, -0.6f}, (vec3){xr, 0.5f, -0.6f}, (vec3){xr, 0.5f, 0.6f},
+                   (vec3){xr, -0.5f, 0.6f});
+    scene_add_quad(&s, green, (vec3){xg, -0.5f, 0.6f}, (vec3){xg, 0.5f, 0.6f}, (vec3){xg, 0.5f, -0.6f},
+                   (vec3){xg, -0.5f, -0.6f});
+    Light left = {.type = LIGHT_POINT, .position = {-0.4f, 0.3f, 0.f}, .color = {1.f, 1.f, 1.f}};
+    Light right = {.type = LIGHT_POINT, .position = {0.6f, 0.3f, 0.f}, .color = {1.f, 1.f, 1.f}};
+    scene_add_light(&s, &left);
+    scene_add_light(&s, &right);
+    glm_vec3_copy((vec3){0.f, 2.f, 0.01f}, s.camera.position);
+    glm_vec3_copy((vec3){0.f, -1.f, 0.f}, s.camera.forward);
+    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.up);
+    s.camera.fov_y = glm_rad(60.f);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 32;
+    double side[2][2]; /* [aniso][left/right]: mean (R − G) left, (G − R) right, over the floor's outer thirds */
+    for (int a = 0; a < 2; a++) {
+        gp.vct_aniso = a == 1;
+        ImageF img;
+        test_render_gi(&s, W, W, GI_VCT, &gp, &img);
+        for (int half = 0; half < 2; half++) {
+            double sum = 0;
+            int count = 0;
+            for (int y = W / 4; y < 3 * W / 4; y++)
+                for (int x = half ? 2 * W / 3 : 0; x < (half ? W : W / 3); x++) {
+                    const float *p = img.rgb + 3 * ((size_t)y * W + x);
+                    sum += half ? p[1] - p[0] : p[0] - p[1];
+                    count++;
+                }
+            side[a][half] = sum / count;
+        }
+        image_free(&img);
+    }
+    print_message("floor left of the wall (R - G) isotropic %.5f, directional %.5f; right (G - R) %.5f, %.5f\n",
+                  side[0][0], side[1][0], side[0][1], side[1][1]);
+    /* Measured: isotropic -0.00001 and 0.00015 (the mips blend the layers
+     * to yellow), directional 0.0034 and 0.0199; with the signs swapped
+     * -0.0034 and -0.0194. */
+    assert_true(side[1][0] > side[0][0] + 0.001);
+    assert_true(side[1][1] > side[0][1] + 0.005);
+    scene_free(&s);
+}
+
 /* ---- The specular cone ---------------------------------------------------- */
 
 /* With --vct-f0 > 0 every surface's cone takes F0 and roughness from the
@@ -702,7 +854,8 @@ static void out_ao_cli(void **state)
 /* The GPU memory (MiB) the volumes and low-resolution images take for
  * these settings: RGBA16F (8 bytes) albedo and normal volumes of N³ per
  * clipmap level, radiance with its mip chain (two with a second bounce),
- * with --vct-aniso six directional volumes of (N/2)³ and their chains, and
+ * with --vct-aniso six directional volumes of (N/2)³ and their chains (three
+ * textures of both signs; N a power of two, as here: no padding), and
  * two RGBA32F images of ⌈w/s⌉ × ⌈h/s⌉ at --vct-trace-scale s > 1. */
 static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, int h, int scale)
 {
@@ -843,6 +996,8 @@ int main(void)
         cmocka_unit_test(alpha_masked_texels_are_skipped),
         cmocka_unit_test(clipmap_follows_the_camera),
         cmocka_unit_test(cornell_against_reference),
+        cmocka_unit_test(directional_volumes_composite),
+        cmocka_unit_test(cones_see_the_facing_side),
         cmocka_unit_test(closed_box),
         cmocka_unit_test(specular_cone),
         cmocka_unit_test(glossy_cornell),

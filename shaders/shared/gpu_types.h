@@ -62,7 +62,7 @@
 #define TEX_VCT_ALBEDO 14   /* vct: voxel albedo (rgb) and opacity (a), N³ */
 #define TEX_VCT_NORMAL 15   /* vct: voxel normal (xyz, sign-canonical: two-sided) */
 #define TEX_VCT_RADIANCE 16 /* vct: premultiplied outgoing radiance (rgb) and opacity (a), N³ with mips */
-#define TEX_VCT_ANISO 17    /* vct: six directional volumes (+x −x +y −y +z −z), (N/2)³ with mips, 17..22 */
+#define TEX_VCT_ANISO 17    /* vct: directional volumes of x, y, z (each both signs, GpuVctParams), 17..19 */
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
@@ -123,7 +123,7 @@
 #define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2) */
 #define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
 #define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
-#define LOC_VCT_AXIS 10         /* vct mips: int, anisotropic direction 0..5 (+x −x +y −y +z −z); -1: isotropic */
+#define LOC_VCT_AXIS 10         /* vct mips: int, the directional volumes' axis 0..2 (x y z) */
 #define LOC_VCT_FIRST 11        /* vct mips: int, 1 when reading the isotropic level 0 (first anisotropic level) */
 #define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
@@ -255,12 +255,16 @@
 /* Voxel cone tracing (std140). Level k of the clipmap (k = 0 finest; one
  * level: the volume over the scene bounds) has N³ voxels, voxel (i,j,k')
  * spanning level[k].xyz + [i, i+1)·level[k].w; the levels are stacked
- * along z in one N × N × N·L texture (and the anisotropic volumes, which
- * start at mip 1, in one N/2 × N/2 × N/2·L texture each). */
+ * along z in one N × N × N·L texture. The directional volumes start at mip
+ * 1: one N/2 × N/2 × 2·S·L texture per axis, slab 2k + s (S deep) holding
+ * level k seen along the axis (s = 0) or against it (s = 1), its N/2
+ * voxels at the front of the slab; S is N/2 rounded up so that every mip
+ * halves it exactly (S = N/2 for a power-of-two N). One texture for both
+ * signs lets a cone read the side it faces in one fetch per axis. */
 #define GPU_VCT_PARAMS_FIELDS(F, A)                                                        \
     F(int, size)             /* N voxels per side of a level */                             \
     F(int, levels)           /* mips of a level: log2(N) + 1 */                             \
-    F(int, aniso)            /* 1: the six directional volumes are built (tracers: VCT_ANISO) */ \
+    F(int, aniso)            /* 1: the directional volumes are built (tracers: VCT_ANISO) */ \
     F(int, cones)            /* diffuse cones in use */                                     \
     F(float, step)           /* sampling step, in cone diameters */                         \
     F(float, ao_range)       /* occlusion counts up to this distance (m) */                 \
@@ -269,6 +273,7 @@
     F(float, f0)             /* > 0: F0 of every surface (tests); 0: the G-buffer's */       \
     F(float, max_distance)   /* cones stop after this distance (m) */                       \
     F(int, clip_levels)      /* L levels (1: one volume over the bounds) */                 \
+    F(int, aniso_slab)       /* S: a directional slab's depth at its mip 0 (texels) */      \
     A(vec4, level, VCT_MAX_LEVELS) /* xyz: min corner of level k (m); w: its voxel size (m) */ \
     A(vec4, cone, VCT_MAX_CONES) /* xyz: unit direction in the normal's frame (z = normal); w: weight ∫cosθ dω of its cell */ \
     A(vec4, cone_aperture, VCT_MAX_CONES) /* x: tan of the half-angle */

@@ -12,7 +12,8 @@
  *                 ρ/π · E · V, V from the light's shadow map
  *   vct_mips      the isotropic mip chain (box filter of premultiplied
  *                 radiance and opacity), and with --vct-aniso the six
- *                 directional volumes by front-to-back compositing
+ *                 directional volumes by front-to-back compositing (one
+ *                 texture per axis holding both signs: GpuVctParams)
  *   vct_bounce    (--vct-bounces 2) every voxel gathers with the diffuse
  *                 cones and adds ρ/π · E; its mips are rebuilt
  *   vct_trace     per pixel (with --vct-trace-scale s > 1: per s×s block,
@@ -47,7 +48,7 @@
 #include "targets.h"
 #include "util.h"
 
-enum { ANISO_DIRS = 6 };
+enum { ANISO_AXES = 3 }; /* directional volumes: one texture per axis, both signs */
 
 typedef struct VctGi {
     GiParams params;
@@ -59,7 +60,7 @@ typedef struct VctGi {
     float coarsest;          /* clipmap: side of the coarsest level (m); 0 before the first frame */
     GLuint albedo, normal;   /* RGBA16F N×N×N·L, one level */
     GLuint radiance[2];      /* RGBA16F N×N×N·L with mips: direct; direct + bounce (--vct-bounces 2) */
-    GLuint aniso[ANISO_DIRS];/* RGBA16F N/2×N/2×N/2·L with mips (--vct-aniso) */
+    GLuint aniso[ANISO_AXES];/* RGBA16F N/2 × N/2 × 2·S·L with mips (--vct-aniso; GpuVctParams) */
     GLuint fbo;              /* attachment-less N×N, for the voxelization */
     GLuint ubo;              /* GpuVctParams */
     GLuint voxelize, resolve, inject, aniso_prog, bounce, trace, upsample; /* programs */
@@ -149,7 +150,7 @@ static void vct_destroy(void *state)
     gl_texture3d_destroy(&v->normal);
     for (int i = 0; i < 2; i++)
         gl_texture3d_destroy(&v->radiance[i]);
-    for (int i = 0; i < ANISO_DIRS; i++)
+    for (int i = 0; i < ANISO_AXES; i++)
         gl_texture3d_destroy(&v->aniso[i]);
     gl_fbo_destroy(&v->fbo);
     glDeleteBuffers(1, &v->ubo);
@@ -191,6 +192,27 @@ static GLuint program(VctGi *v, const char *label, const char *vert, const char 
                                                           .comp = comp, .defines = defines});
 }
 
+/* The depth S of a directional slab (GpuVctParams.aniso_slab): N/2
+ * rounded up to a multiple of 2^(levels − 2), so that each of the
+ * directional chain's levels − 1 mips halves it exactly and the slabs stay
+ * apart (S = N/2 when N is a power of two). */
+static int aniso_slab(int n, int levels)
+{
+    int half = n / 2 > 0 ? n / 2 : 1, m = levels > 2 ? 1 << (levels - 2) : 1;
+    return (half + m - 1) / m * m;
+}
+
+/* Bytes of an RGBA16F box w × h × d with `levels` mips. */
+static uint64_t box_bytes(int w, int h, int d, int levels)
+{
+    uint64_t b = 0;
+    for (int l = 0; l < levels; l++) {
+        uint64_t x = (uint64_t)(w >> l > 0 ? w >> l : 1), y = (uint64_t)(h >> l > 0 ? h >> l : 1);
+        b += x * y * (uint64_t)(d >> l > 0 ? d >> l : 1) * 8u;
+    }
+    return b;
+}
+
 /* Bytes of an RGBA16F cube of side n with `levels` mips. */
 static uint64_t volume_bytes(int n, int levels)
 {
@@ -211,9 +233,9 @@ static void *vct_create(const GiCreateInfo *ci)
         return NULL;
     }
     int levels = gl_mip_levels(n, n, n);
-    uint64_t bytes = (uint64_t)clip * (2 * volume_bytes(n, 1) +
-                                       (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * volume_bytes(n, levels) +
-                                       (p->vct_aniso ? ANISO_DIRS * volume_bytes(n / 2 > 0 ? n / 2 : 1, levels - 1) : 0));
+    int half = n / 2 > 0 ? n / 2 : 1, slab = aniso_slab(n, levels);
+    uint64_t bytes = (uint64_t)clip * (2 * volume_bytes(n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * volume_bytes(n, levels)) +
+                     (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
     uint64_t peak = bytes + (uint64_t)clip * n * n * n * 32u; /* the voxelization's sums, while it runs */
     char what[64];
     snprintf(what, sizeof what, "--vct-size %d with --vct-levels %d", n, clip);
@@ -251,8 +273,8 @@ static void *vct_create(const GiCreateInfo *ci)
          (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance"));
     if (ok && p->vct_bounces > 1)
         ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance2"));
-    for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_DIRS; i++)
-        ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, n / 2, n / 2, d / 2, levels - 1, TEX_FILTER_LINEAR,
+    for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_AXES; i++)
+        ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
     ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
     if (!ok) {
@@ -273,6 +295,7 @@ static void *vct_create(const GiCreateInfo *ci)
     u->size = n;
     u->levels = levels;
     u->aniso = p->vct_aniso && v->aniso[0] ? 1 : 0;
+    u->aniso_slab = slab;
     float tan_half[VCT_MAX_CONES] = {0};
     u->cones = cone_set(p->vct_cones, u->cone, tan_half);
     for (int i = 0; i < u->cones; i++)
@@ -399,16 +422,20 @@ static void build_mips(VctGi *v, GLuint tex)
     if (!v->gpu.aniso)
         return;
     glUseProgram(v->aniso_prog);
-    for (int d = 0; d < ANISO_DIRS; d++) {
-        glProgramUniform1i(v->aniso_prog, LOC_VCT_AXIS, d);
+    for (int a = 0; a < ANISO_AXES; a++) {
+        glProgramUniform1i(v->aniso_prog, LOC_VCT_AXIS, a);
         for (int l = 0; l < v->levels - 1; l++) {
+            glProgramUniform1i(v->aniso_prog, LOC_VCT_FIRST, l == 0);
             if (l == 0)
                 gl_texture3d_bind_image(IMG_VCT_SRC, tex, 0, GL_READ_ONLY, GL_RGBA16F);
             else
-                gl_texture3d_bind_image(IMG_VCT_SRC, v->aniso[d], l - 1, GL_READ_ONLY, GL_RGBA16F);
-            gl_texture3d_bind_image(IMG_VCT_DST, v->aniso[d], l, GL_WRITE_ONLY, GL_RGBA16F);
-            int s = (v->n / 2) >> l;
-            dispatch_volume(s > 0 ? s : 1, v->clip);
+                gl_texture3d_bind_image(IMG_VCT_SRC, v->aniso[a], l - 1, GL_READ_ONLY, GL_RGBA16F);
+            gl_texture3d_bind_image(IMG_VCT_DST, v->aniso[a], l, GL_WRITE_ONLY, GL_RGBA16F);
+            int s = (v->n / 2) >> l, depth = (v->gpu.aniso_slab >> l) * 2 * v->clip; /* both signs, every level */
+            s = s > 0 ? s : 1;
+            glDispatchCompute((GLuint)(s + 3) / 4, (GLuint)(s + 3) / 4, (GLuint)(depth + 3) / 4);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                            GL_TEXTURE_UPDATE_BARRIER_BIT);
         }
     }
 }
@@ -416,8 +443,8 @@ static void build_mips(VctGi *v, GLuint tex)
 static void bind_volumes(const VctGi *v, GLuint radiance)
 {
     glBindTextureUnit(TEX_VCT_RADIANCE, radiance);
-    for (int d = 0; d < ANISO_DIRS; d++)
-        glBindTextureUnit(TEX_VCT_ANISO + d, v->gpu.aniso ? v->aniso[d] : radiance);
+    for (int a = 0; a < ANISO_AXES; a++)
+        glBindTextureUnit(TEX_VCT_ANISO + a, v->gpu.aniso ? v->aniso[a] : radiance);
 }
 
 static void vct_run(void *state, const GiFrame *f)
@@ -528,6 +555,18 @@ bool vct_read_volume(void *state, VctVolume which, float *out)
     size_t n3 = (size_t)v->n * v->n * v->n * (size_t)v->clip;
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out);
+    return true;
+}
+
+bool vct_read_directional(void *state, int axis, bool negative, int k, float *out)
+{
+    VctGi *v = state;
+    if (!v->gpu.aniso || axis < 0 || axis >= ANISO_AXES || k < 0 || k >= v->clip)
+        return false;
+    int m = v->n / 2, slab = 2 * k + (negative ? 1 : 0);
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glGetTextureSubImage(v->aniso[axis], 0, 0, 0, slab * v->gpu.aniso_slab, m, m, m, GL_RGBA, GL_FLOAT,
+                         (GLsizei)((size_t)m * m * m * 4 * sizeof(float)), out);
     return true;
 }
 

@@ -21,5 +21,10 @@ void vct_level(const void *state, int k, float origin[3], float *voxel);
  * `out` holds 4·N³·L floats (L clipmap levels stacked along z). Waits for
  * the GPU. */
 bool vct_read_volume(void *state, VctVolume which, float *out);
+/* Reads level 0 of the directional volume of `axis` (0..2: x y z) seen
+ * along it (negative false) or against it, of clipmap level k:
+ * out[((z·M + y)·M + x)·4 + c] for M = N/2, 4·M³ floats. False if the
+ * directional volumes are not built (--vct-aniso off). Waits for the GPU. */
+bool vct_read_directional(void *state, int axis, bool negative, int k, float *out);
 
 #endif

@@ -36,6 +36,7 @@
 #include "gi/lpv/lpv.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -182,7 +183,11 @@ static void *lpv_create(const GiCreateInfo *ci)
     l->geom_gbuf = program(l, "lpv_geometry_gbuffer", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
                            "gi/lpv/accumulate.frag", NULL, "#define GBUFFER\n");
     l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", NULL);
-    l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", NULL);
+    /* The cascade count is compiled in: with it known, every cascade's
+     * fetches name their samplers (gi/lpv/lookup.comp). */
+    char cascades_def[48];
+    snprintf(cascades_def, sizeof cascades_def, "#define LPV_CASCADES %d\n", l->cascades);
+    l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", cascades_def);
     ok = l->inject && l->geom_rsm && l->geom_gbuf && l->propagate && l->lookup;
     if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
         l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);

@@ -7,6 +7,12 @@
 //               normal and position agree (thresholds of the interpolation)
 #include "shared/gpu_types.h"
 #include "common/gbuffer.glsl"
+// The n × m pattern, compiled in (src/gi/interleave.c): llvmpipe divides
+// by a value it cannot see lane by lane, and runs a window of a constant
+// size unrolled.
+#ifndef INTERLEAVE_N
+#error "gi/interleave.comp needs INTERLEAVE_N and INTERLEAVE_M (src/gi/interleave.c)"
+#endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -22,7 +28,7 @@ void main()
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(px, ivec2(u_frame.width, u_frame.height))))
         return;
-    int n = u_gi.interleave_n, m = u_gi.interleave_m;
+    const int n = INTERLEAVE_N, m = INTERLEAVE_M;
     ivec2 sub = ivec2(u_gi.sub_width, u_gi.sub_height);
     ivec2 di = (px % ivec2(n, m)) * sub + px / ivec2(n, m);
 #if defined(MODE_SPLIT)

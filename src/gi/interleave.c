@@ -1,6 +1,7 @@
 /* interleave.c — de-interleaving, reassembly and the geometry-aware blur. */
 #include "gi/interleave.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "gi/gi.h"
@@ -18,14 +19,20 @@ bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int w
     g->sub_h = (h + m - 1) / m;
     g->di_w = g->sub_w * n;
     g->di_h = g->sub_h * m;
-    g->blur = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_blur", .comp = "gi/interleave.comp", .defines = "#define MODE_BLUR\n"});
+    /* The pattern is compiled in (gi/interleave.comp): constant divisors
+     * and a blur window of a constant size. */
+    char defs[3][96];
+    static const char *const mode[3] = {"MODE_BLUR", "MODE_SPLIT", "MODE_MERGE"};
+    for (int k = 0; k < 3; k++)
+        snprintf(defs[k], sizeof defs[k], "#define %s\n#define INTERLEAVE_N %d\n#define INTERLEAVE_M %d\n", mode[k], n, m);
+    g->blur = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_blur", .comp = "gi/interleave.comp", .defines = defs[0]});
     g->merged = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.merged");
     if (!g->blur)
         return false;
     if (!deinterleave)
         return true;
-    g->split = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_split", .comp = "gi/interleave.comp", .defines = "#define MODE_SPLIT\n"});
-    g->merge = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_merge", .comp = "gi/interleave.comp", .defines = "#define MODE_MERGE\n"});
+    g->split = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_split", .comp = "gi/interleave.comp", .defines = defs[1]});
+    g->merge = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_merge", .comp = "gi/interleave.comp", .defines = defs[2]});
     g->di_surface = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32UI, g->di_w, g->di_h, "gi.di_surface");
     g->di_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_irradiance");
     return g->split && g->merge;

@@ -72,7 +72,7 @@ void main()
     // row then reads one VPL per step, the same in every lane, where
     // neighbouring pixels' different subsets made every read a per-lane
     // gather; each pixel sums what it summed before, in the same order.
-    ivec2 nm = ivec2(u_vpl.interleave_n, u_vpl.interleave_m);
+    const ivec2 nm = ivec2(INTERLEAVE_N, INTERLEAVE_M); // compiled in (vpl.c): constant divisors
     ivec2 wg = ivec2(gl_WorkGroupID.xy);
     ivec2 px = (wg / nm) * 8 * nm + ivec2(gl_LocalInvocationID.xy) * nm + wg % nm;
 #else

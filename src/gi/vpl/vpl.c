@@ -18,6 +18,7 @@
  * Inputs: G-buffer, VPL buffer. Output: irradiance. Owns: the range, tile, evaluation and subset buffers, the blur (interleaved).
  * Shaders: shaders/gi/vpl/. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -154,7 +155,10 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
     } else if (method == VPL_ALL) {
         ok = (v->shade = cached(v, "vpl_shade_all", "gi/vpl/shade.comp", "#define MODE_ALL\n")) != 0;
     } else {
-        v->shade = cached(v, "vpl_shade_interleaved", "gi/vpl/shade.comp", "#define MODE_INTERLEAVED\n");
+        char defs[96]; /* the pattern compiled in: constant divisors */
+        snprintf(defs, sizeof defs, "#define MODE_INTERLEAVED\n#define INTERLEAVE_N %d\n#define INTERLEAVE_M %d\n",
+                 v->params.interleave_n, v->params.interleave_m);
+        v->shade = cached(v, "vpl_shade_interleaved", "gi/vpl/shade.comp", defs);
         if (method == VPL_METALIGHTS)
             v->signature = cached(v, "metalight_signature", "gi/vpl/metalight_signature.comp", NULL);
         ok = v->shade && (method != VPL_METALIGHTS || v->signature);

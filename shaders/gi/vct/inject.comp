@@ -43,8 +43,8 @@ void main()
         float voxel;
         vec3 x = vct_voxel_centre(v, voxel);
         vec3 n = texelFetch(u_normal, v, 0).xyz;
-        vec3 to_light = int(u_light.position_type.w) == LIGHT_DIRECTIONAL ? -u_light.direction_width.xyz
-                                                                           : normalize(u_light.position_type.xyz - x);
+        vec3 to_light = light_type(u_light) == LIGHT_DIRECTIONAL ? -u_light.direction_width.xyz
+                                                                  : normalize(u_light.position_type.xyz - x);
         if (dot(n, to_light) < 0.0)
             n = -n;
         vec3 dir;

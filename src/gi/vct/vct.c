@@ -399,9 +399,20 @@ static bool voxelize(VctGi *v, const GiFrame *f)
     return true;
 }
 
+/* The injection program for one light type (LIGHT_FIXED_TYPE: the other
+ * types' code and map kind drop out; llvmpipe runs both sides of a branch,
+ * so each shadow tap read a cube and a 2D map), built on first use; the
+ * general one if it does not build. */
+static GLuint inject_program(VctGi *v, int type)
+{
+    char defs[48];
+    snprintf(defs, sizeof defs, "#define LIGHT_FIXED_TYPE %d\n", type);
+    GLuint p = program(v, "vct_inject_fixed_type", NULL, NULL, NULL, "gi/vct/inject.comp", defs);
+    return p ? p : v->inject;
+}
+
 static void inject(VctGi *v, const GiFrame *f)
 {
-    glUseProgram(v->inject);
     glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
     glBindTextureUnit(TEX_VCT_NORMAL, v->normal);
     gl_texture3d_bind_image(IMG_VCT_DST, v->radiance[0], 0, GL_READ_WRITE, GL_RGBA16F);
@@ -409,8 +420,10 @@ static void inject(VctGi *v, const GiFrame *f)
     if (lights == 0)
         glClearTexImage(v->radiance[0], 0, GL_RGBA, GL_FLOAT, NULL);
     for (int i = 0; i < lights; i++) {
+        GLuint prog = inject_program(v, (int)f->scene->lights[i].type);
+        glUseProgram(prog);
         light_stage_bind_shadow(f->lights, i);
-        glProgramUniform1i(v->inject, LOC_VCT_ACCUMULATE, i > 0);
+        glProgramUniform1i(prog, LOC_VCT_ACCUMULATE, i > 0);
         dispatch_volume(v->n, v->clip);
     }
 }

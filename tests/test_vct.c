@@ -228,6 +228,62 @@ static void injection_matches_lambert(void **state)
     scene_free(&s);
 }
 
+/* The injection runs over the list of opaque voxels (resolve.comp) when
+ * it is short enough, and the empty voxels hold the clear's 0: after the
+ * clipmap moves (a revoxelization), every voxel's radiance opacity equals
+ * its albedo opacity, where stale radiance would remain in voxels the
+ * floor no longer fills. */
+static void injection_covers_the_opaque_voxels(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_init(&s);
+    int white = scene_add_material(&s, "white", (vec3){0.8f, 0.8f, 0.8f});
+    test_add_square(&s, white, (vec3){0.f, 0.f, 0.f}, 0.5f);
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.3f, -1.f, 0.1f}, .color = {2.f, 3.f, 4.f}};
+    scene_add_light(&s, &sun);
+    glm_vec3_copy((vec3){0.f, 0.3f, 0.01f}, s.camera.position);
+    glm_vec3_copy((vec3){0.f, -1.f, 0.f}, s.camera.forward);
+    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.up);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 16;
+    gp.vct_levels = 2;
+    Renderer r;
+    vct_renderer(&r, &s, 16, 16, &gp);
+    Camera cam = s.camera;
+    renderer_frame(&r, &cam);
+    float o[3], vox;
+    vct_level(r.gi_state, 0, o, &vox);
+    cam.position[0] += 3.f * vox;
+    renderer_frame(&r, &cam);
+    assert_int_equal(renderer_collect_stats(&r)->voxelizations, 2);
+    bool listed = false;
+    unsigned opaque = vct_opaque_voxels(r.gi_state, &listed);
+    size_t n3 = 16u * 16u * 16u * 2u;
+    float *albedo = malloc(sizeof(float) * 4 * n3), *radiance = malloc(sizeof(float) * 4 * n3);
+    assert_non_null(albedo);
+    assert_non_null(radiance);
+    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, albedo));
+    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_RADIANCE, radiance));
+    unsigned filled = 0, mismatched = 0;
+    for (size_t i = 0; i < n3; i++) {
+        filled += albedo[4 * i + 3] > 0.f;
+        mismatched += fabsf(radiance[4 * i + 3] - albedo[4 * i + 3]) > 1e-3f;
+    }
+    print_message("injection after the clipmap moved: %u opaque voxels (%s), %u filled, %u whose radiance "
+                  "opacity differs\n",
+                  opaque, listed ? "listed" : "every voxel", filled, mismatched);
+    assert_true(listed);
+    assert_int_equal(opaque, filled);
+    assert_true(filled > 20);
+    assert_int_equal(mismatched, 0);
+    free(albedo);
+    free(radiance);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 /* ---- Voxelized once ---------------------------------------------------- */
 
 static void voxelizes_once(void **state)
@@ -856,7 +912,8 @@ static void out_ao_cli(void **state)
  * clipmap level, radiance with its mip chain (two with a second bounce),
  * with --vct-aniso six directional volumes of (N/2)³ and their chains (three
  * textures of both signs; N a power of two, as here: no padding), and
- * two RGBA32F images of ⌈w/s⌉ × ⌈h/s⌉ at --vct-trace-scale s > 1. */
+ * two RGBA32F images of ⌈w/s⌉ × ⌈h/s⌉ at --vct-trace-scale s > 1, and the
+ * opaque-voxel list (a count, an indirect dispatch and N³·L/8 entries). */
 static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, int h, int scale)
 {
     double chain = 0, half_chain = 0;
@@ -866,7 +923,8 @@ static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, 
         half_chain += (double)k * k * k;
     double voxels = levels * (2.0 * n * n * n + bounces * chain + (aniso ? 6 * half_chain : 0));
     double low = scale > 1 ? 2.0 * 16 * ((w + scale - 1) / scale) * ((h + scale - 1) / scale) : 0;
-    return (8 * voxels + low) / (1024.0 * 1024.0);
+    double opaque = 4.0 * (4 + levels * n * n * n / VCT_OPAQUE_SHARE); /* the opaque-voxel list */
+    return (8 * voxels + low + opaque) / (1024.0 * 1024.0);
 }
 
 /* The row of pass `name` in the --timings table: its GPU and wall ms and
@@ -992,6 +1050,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(voxelization_is_watertight),
         cmocka_unit_test(injection_matches_lambert),
+        cmocka_unit_test(injection_covers_the_opaque_voxels),
         cmocka_unit_test(voxelizes_once),
         cmocka_unit_test(alpha_masked_texels_are_skipped),
         cmocka_unit_test(clipmap_follows_the_camera),

@@ -31,6 +31,7 @@
 #define SSBO_SAMPLES 8   /* RSM importance sampling: GpuVpl[list_size] with flux Φ/p */
 #define SSBO_LPV_FIXED 9  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
 #define SSBO_VCT_VOXELS 10 /* vct voxelization: uint[8 · N³] fixed-point albedo, normal, count sums per voxel */
+#define SSBO_VCT_OPAQUE 11 /* vct: the opaque voxels: count, indirect dispatch (x, y, z), packed coordinates */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -114,6 +115,11 @@
 #define LOC_GATHER_ACCUMULATE 11 /* rsm gather: int, add to the image (lights after the first) */
 #define LOC_IMPORTANCE_LEVEL 10 /* gi/rsm/importance.comp: int, pyramid level written / top level */
 #define LOC_CHUNK 12            /* rsm gather (exhaustive), vpl shade: uint, first index of this dispatch's chunk */
+
+/* The opaque-voxel list holds up to 1/VCT_OPAQUE_SHARE of the voxels (a
+ * surface fills a few percent of a fine grid); fuller volumes inject over
+ * every voxel instead. */
+#define VCT_OPAQUE_SHARE 8
 
 /* Sums over VPLs run as one dispatch per LOOP_CHUNK of them, each adding to
  * the image: llvmpipe ends any one shader loop after 65535 iterations

@@ -5,6 +5,10 @@
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = SSBO_VCT_VOXELS) readonly buffer Voxels { uint voxels[]; };
+// The opaque voxels, appended (x | y << 8 | z << 16) with the indirect
+// dispatch of the injection over them (64 a group); past the list's
+// capacity only the count grows (vct.c then injects over every voxel).
+layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
 layout(binding = IMG_VCT_DST, rgba16f) writeonly uniform image3D u_albedo;
 layout(binding = IMG_VCT_DST2, rgba16f) writeonly uniform image3D u_normal;
 
@@ -28,4 +32,10 @@ void main()
     n = dot(n, n) > 0.0 ? normalize(n) : vec3(0.0, 1.0, 0.0);
     imageStore(u_albedo, v, vec4(albedo, 1.0));
     imageStore(u_normal, v, vec4(n, 0.0));
+    uint slot = atomicAdd(opaque_count, 1u);
+    if (slot < uint(opaque.length())) {
+        opaque[slot] = uint(v.x) | (uint(v.y) << 8) | (uint(v.z) << 16);
+        if (slot % 64u == 0u)
+            atomicMax(groups_x, slot / 64u + 1u);
+    }
 }

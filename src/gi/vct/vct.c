@@ -62,6 +62,9 @@ typedef struct VctGi {
     GLuint radiance[2];      /* RGBA16F N×N×N·L with mips: direct; direct + bounce (--vct-bounces 2) */
     GLuint aniso[ANISO_AXES];/* RGBA16F N/2 × N/2 × 2·S·L with mips (--vct-aniso; GpuVctParams) */
     GLuint fbo;              /* attachment-less N×N, for the voxelization */
+    GLuint opaque;           /* SSBO: the opaque voxels (resolve.comp), count + indirect dispatch first */
+    uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
+    uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
     GLuint ubo;              /* GpuVctParams */
     GLuint voxelize, resolve, inject, aniso_prog, bounce, trace, upsample; /* programs */
     int scale;               /* --vct-trace-scale */
@@ -153,6 +156,7 @@ static void vct_destroy(void *state)
     for (int i = 0; i < ANISO_AXES; i++)
         gl_texture3d_destroy(&v->aniso[i]);
     gl_fbo_destroy(&v->fbo);
+    glDeleteBuffers(1, &v->opaque);
     glDeleteBuffers(1, &v->ubo);
     glDeleteTextures(1, &v->low_irradiance);
     glDeleteTextures(1, &v->low_specular);
@@ -236,6 +240,8 @@ static void *vct_create(const GiCreateInfo *ci)
     int half = n / 2 > 0 ? n / 2 : 1, slab = aniso_slab(n, levels);
     uint64_t bytes = (uint64_t)clip * (2 * volume_bytes(n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * volume_bytes(n, levels)) +
                      (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
+    uint32_t opaque_capacity = (uint32_t)((uint64_t)clip * n * n * n / VCT_OPAQUE_SHARE);
+    bytes += 4u * (4u + (uint64_t)opaque_capacity);
     uint64_t peak = bytes + (uint64_t)clip * n * n * n * 32u; /* the voxelization's sums, while it runs */
     char what[64];
     snprintf(what, sizeof what, "--vct-size %d with --vct-levels %d", n, clip);
@@ -252,6 +258,7 @@ static void *vct_create(const GiCreateInfo *ci)
     v->clip = clip;
     v->levels = levels;
     v->bytes = bytes;
+    v->opaque_capacity = opaque_capacity;
     v->width = ci->width;
     v->height = ci->height;
     /* The cone tracers read the directional volumes only when compiled
@@ -277,6 +284,11 @@ static void *vct_create(const GiCreateInfo *ci)
         ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
     ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
+    if (ok) {
+        glCreateBuffers(1, &v->opaque);
+        glNamedBufferStorage(v->opaque, (GLsizeiptr)(4u * (4u + (uint64_t)opaque_capacity)), NULL, GL_DYNAMIC_STORAGE_BIT);
+        glObjectLabel(GL_BUFFER, v->opaque, -1, "vct.opaque");
+    }
     if (!ok) {
         log_error("vct", "could not make the %d^3 voxel volumes", n);
         vct_destroy(v);
@@ -391,9 +403,13 @@ static bool voxelize(VctGi *v, const GiFrame *f)
     glUseProgram(v->resolve);
     gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    const uint32_t empty[4] = {0, 0, 1, 1}; /* no voxels; an indirect dispatch of 0 × 1 × 1 */
+    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
     dispatch_volume(v->n, v->clip);
     glDeleteBuffers(1, &sums);
     glFinish();
+    glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
     v->voxelize_ms = 1e3 * (util_seconds() - t0);
     v->voxelizations++;
     return true;
@@ -401,12 +417,13 @@ static bool voxelize(VctGi *v, const GiFrame *f)
 
 /* The injection program for one light type (LIGHT_FIXED_TYPE: the other
  * types' code and map kind drop out; llvmpipe runs both sides of a branch,
- * so each shadow tap read a cube and a 2D map), built on first use; the
- * general one if it does not build. */
-static GLuint inject_program(VctGi *v, int type)
+ * so each shadow tap read a cube and a 2D map), over the opaque-voxel list
+ * or every voxel, built on first use; the general one (every voxel) if it
+ * does not build. */
+static GLuint inject_program(VctGi *v, int type, bool list)
 {
-    char defs[48];
-    snprintf(defs, sizeof defs, "#define LIGHT_FIXED_TYPE %d\n", type);
+    char defs[64];
+    snprintf(defs, sizeof defs, "#define LIGHT_FIXED_TYPE %d\n%s", type, list ? "#define OPAQUE_LIST\n" : "");
     GLuint p = program(v, "vct_inject_fixed_type", NULL, NULL, NULL, "gi/vct/inject.comp", defs);
     return p ? p : v->inject;
 }
@@ -417,14 +434,25 @@ static void inject(VctGi *v, const GiFrame *f)
     glBindTextureUnit(TEX_VCT_NORMAL, v->normal);
     gl_texture3d_bind_image(IMG_VCT_DST, v->radiance[0], 0, GL_READ_WRITE, GL_RGBA16F);
     int lights = f->lights->light_count;
-    if (lights == 0)
+    /* Over the opaque voxels alone when they fit the list; the empty ones
+     * then hold the clear's 0. */
+    bool list = v->opaque_count <= v->opaque_capacity;
+    if (lights == 0 || list)
         glClearTexImage(v->radiance[0], 0, GL_RGBA, GL_FLOAT, NULL);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
     for (int i = 0; i < lights; i++) {
-        GLuint prog = inject_program(v, (int)f->scene->lights[i].type);
+        GLuint prog = inject_program(v, (int)f->scene->lights[i].type, list);
         glUseProgram(prog);
         light_stage_bind_shadow(f->lights, i);
         glProgramUniform1i(prog, LOC_VCT_ACCUMULATE, i > 0);
-        dispatch_volume(v->n, v->clip);
+        if (prog != v->inject && list) {
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
+            glDispatchComputeIndirect(sizeof(uint32_t));
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+        } else {
+            dispatch_volume(v->n, v->clip);
+        }
     }
 }
 
@@ -569,6 +597,13 @@ bool vct_read_volume(void *state, VctVolume which, float *out)
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out);
     return true;
+}
+
+unsigned vct_opaque_voxels(const void *state, bool *listed)
+{
+    const VctGi *v = state;
+    *listed = v->opaque_count <= v->opaque_capacity;
+    return v->opaque_count;
 }
 
 bool vct_read_directional(void *state, int axis, bool negative, int k, float *out)

@@ -26,5 +26,8 @@ bool vct_read_volume(void *state, VctVolume which, float *out);
  * out[((z·M + y)·M + x)·4 + c] for M = N/2, 4·M³ floats. False if the
  * directional volumes are not built (--vct-aniso off). Waits for the GPU. */
 bool vct_read_directional(void *state, int axis, bool negative, int k, float *out);
+/* Opaque voxels of the last voxelization, and whether the injection ran
+ * over their list (true) or over every voxel (the list was too short). */
+unsigned vct_opaque_voxels(const void *state, bool *listed);
 
 #endif

@@ -228,19 +228,19 @@ static void injection_matches_lambert(void **state)
     scene_free(&s);
 }
 
-/* The injection runs over the list of opaque voxels (resolve.comp) when
- * it is short enough, and the empty voxels hold the clear's 0: after the
- * clipmap moves (a revoxelization), every voxel's radiance opacity equals
- * its albedo opacity, where stale radiance would remain in voxels the
- * floor no longer fills. */
-static void injection_covers_the_opaque_voxels(void **state)
+/* A 0.5 m floor and a wall on it under a sun, with a two-level clipmap of
+ * 16³: the frame after the clipmap moved (a revoxelization), with
+ * `bounces` bounces; its radiance and albedo levels (4·16³·2 floats each,
+ * caller frees), and whether the opaque voxels were listed. */
+static void moved_clipmap_volumes(int bounces, float **albedo, float **radiance, bool *listed, unsigned *opaque)
 {
-    (void)state;
     Scene s;
     scene_init(&s);
     int white = scene_add_material(&s, "white", (vec3){0.8f, 0.8f, 0.8f});
     test_add_square(&s, white, (vec3){0.f, 0.f, 0.f}, 0.5f);
-    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.3f, -1.f, 0.1f}, .color = {2.f, 3.f, 4.f}};
+    scene_add_quad(&s, white, (vec3){0.1f, 0.f, -0.2f}, (vec3){0.1f, 0.3f, -0.2f}, (vec3){0.1f, 0.3f, 0.2f},
+                   (vec3){0.1f, 0.f, 0.2f});
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.5f, -1.f, 0.1f}, .color = {2.f, 3.f, 4.f}};
     scene_add_light(&s, &sun);
     glm_vec3_copy((vec3){0.f, 0.3f, 0.01f}, s.camera.position);
     glm_vec3_copy((vec3){0.f, -1.f, 0.f}, s.camera.forward);
@@ -249,6 +249,7 @@ static void injection_covers_the_opaque_voxels(void **state)
     GiParams gp = s.gi;
     gp.vct_size = 16;
     gp.vct_levels = 2;
+    gp.vct_bounces = bounces;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     Camera cam = s.camera;
@@ -258,30 +259,61 @@ static void injection_covers_the_opaque_voxels(void **state)
     cam.position[0] += 3.f * vox;
     renderer_frame(&r, &cam);
     assert_int_equal(renderer_collect_stats(&r)->voxelizations, 2);
-    bool listed = false;
-    unsigned opaque = vct_opaque_voxels(r.gi_state, &listed);
+    *opaque = vct_opaque_voxels(r.gi_state, listed);
     size_t n3 = 16u * 16u * 16u * 2u;
-    float *albedo = malloc(sizeof(float) * 4 * n3), *radiance = malloc(sizeof(float) * 4 * n3);
-    assert_non_null(albedo);
-    assert_non_null(radiance);
-    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, albedo));
-    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_RADIANCE, radiance));
-    unsigned filled = 0, mismatched = 0;
-    for (size_t i = 0; i < n3; i++) {
-        filled += albedo[4 * i + 3] > 0.f;
-        mismatched += fabsf(radiance[4 * i + 3] - albedo[4 * i + 3]) > 1e-3f;
-    }
-    print_message("injection after the clipmap moved: %u opaque voxels (%s), %u filled, %u whose radiance "
-                  "opacity differs\n",
-                  opaque, listed ? "listed" : "every voxel", filled, mismatched);
-    assert_true(listed);
-    assert_int_equal(opaque, filled);
-    assert_true(filled > 20);
-    assert_int_equal(mismatched, 0);
-    free(albedo);
-    free(radiance);
+    *albedo = malloc(sizeof(float) * 4 * n3);
+    *radiance = malloc(sizeof(float) * 4 * n3);
+    assert_non_null(*albedo);
+    assert_non_null(*radiance);
+    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, *albedo));
+    assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_RADIANCE, *radiance));
     renderer_destroy(&r);
     scene_free(&s);
+}
+
+/* The injection and the second bounce run over the list of opaque voxels
+ * (resolve.comp) when it is short enough; the empty voxels hold the
+ * clear's 0 (injection) or the copied direct radiance (bounce). After the
+ * clipmap moves, every voxel's radiance opacity equals its albedo
+ * opacity, where stale radiance would remain in voxels the scene no longer
+ * fills; the bounce adds light to the opaque voxels (the wall and the
+ * floor light each other) and nothing to the empty ones. */
+static void injection_covers_the_opaque_voxels(void **state)
+{
+    (void)state;
+    size_t n3 = 16u * 16u * 16u * 2u;
+    float *albedo, *direct, *albedo2, *bounced;
+    bool listed, listed2;
+    unsigned opaque, opaque2;
+    moved_clipmap_volumes(1, &albedo, &direct, &listed, &opaque);
+    moved_clipmap_volumes(2, &albedo2, &bounced, &listed2, &opaque2);
+    unsigned filled = 0, mismatched = 0, mismatched2 = 0, brighter = 0, changed_empty = 0;
+    for (size_t i = 0; i < n3; i++) {
+        bool full = albedo[4 * i + 3] > 0.f;
+        filled += full;
+        mismatched += fabsf(direct[4 * i + 3] - albedo[4 * i + 3]) > 1e-3f;
+        mismatched2 += fabsf(bounced[4 * i + 3] - albedo2[4 * i + 3]) > 1e-3f;
+        double d = bounced[4 * i] + bounced[4 * i + 1] + bounced[4 * i + 2] -
+                   (direct[4 * i] + direct[4 * i + 1] + direct[4 * i + 2]);
+        brighter += full && d > 1e-4;
+        changed_empty += !full && d != 0.0;
+    }
+    print_message("after the clipmap moved: %u opaque voxels (%s), %u filled; radiance opacity differs in %u "
+                  "(direct) and %u (2 bounces); the bounce brightens %u opaque voxels and changes %u empty ones\n",
+                  opaque, listed && listed2 ? "listed" : "not all listed", filled, mismatched, mismatched2, brighter,
+                  changed_empty);
+    assert_true(listed && listed2);
+    assert_int_equal(opaque, filled);
+    assert_int_equal(opaque2, filled);
+    assert_true(filled > 20);
+    assert_int_equal(mismatched, 0);
+    assert_int_equal(mismatched2, 0);
+    assert_true(brighter > filled / 4);
+    assert_int_equal(changed_empty, 0);
+    free(albedo);
+    free(direct);
+    free(albedo2);
+    free(bounced);
 }
 
 /* ---- Voxelized once ---------------------------------------------------- */

@@ -67,6 +67,7 @@ typedef struct VctGi {
     uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
     GLuint ubo;              /* GpuVctParams */
     GLuint voxelize, resolve, inject, aniso_prog, bounce, trace, upsample; /* programs */
+    GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
     int scale;               /* --vct-trace-scale */
     GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
     GpuVctParams gpu;        /* as uploaded */
@@ -270,6 +271,11 @@ static void *vct_create(const GiCreateInfo *ci)
     v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL);
     v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL);
     v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp", cones);
+    if (p->vct_bounces > 1) {
+        char defs[64];
+        snprintf(defs, sizeof defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
+        v->bounce_list = program(v, "vct_bounce_list", NULL, NULL, NULL, "gi/vct/bounce.comp", defs);
+    }
     v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp", cones);
     v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp", NULL);
     v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
@@ -517,12 +523,26 @@ static void vct_run(void *state, const GiFrame *f)
     GLuint radiance = v->params.vct_bounces > 1 ? v->radiance[1] : v->radiance[0];
     if (build && v->params.vct_bounces > 1) {
         gpu_timer_begin(t, "vct_bounce");
-        glUseProgram(v->bounce);
+        /* Over the opaque voxels alone when they fit the list (as the
+         * injection): the empty ones keep the direct radiance, copied. */
+        bool list = v->bounce_list && v->opaque_count <= v->opaque_capacity;
+        glUseProgram(list ? v->bounce_list : v->bounce);
         bind_volumes(v, v->radiance[0]);
         glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
         glBindTextureUnit(TEX_VCT_NORMAL, v->normal);
         gl_texture3d_bind_image(IMG_VCT_DST, v->radiance[1], 0, GL_WRITE_ONLY, GL_RGBA16F);
-        dispatch_volume(v->n, v->clip);
+        if (list) {
+            glCopyImageSubData(v->radiance[0], GL_TEXTURE_3D, 0, 0, 0, 0, v->radiance[1], GL_TEXTURE_3D, 0, 0, 0, 0,
+                               v->n, v->n, v->n * v->clip);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
+            glDispatchComputeIndirect(sizeof(uint32_t));
+            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                            GL_TEXTURE_UPDATE_BARRIER_BIT);
+        } else {
+            dispatch_volume(v->n, v->clip);
+        }
         gpu_timer_end(t);
         gpu_timer_begin(t, "vct_mips");
         build_mips(v, v->radiance[1]);

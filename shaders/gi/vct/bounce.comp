@@ -8,12 +8,11 @@
 #include "gi/vct/cone.glsl"
 
 #ifdef OPAQUE_LIST
-// One invocation per listed opaque voxel (resolve.comp), dispatched
-// indirectly; vct.c copies the direct radiance for the empty ones. In a
-// 4×4×4 group a wall across x had left 7 of 8 lanes of a SIMD row idle
-// while the eighth marched its 12 cones.
+// One invocation per listed opaque voxel (gi/vct/volume.glsl); vct.c
+// copies the direct radiance for the empty ones. In a 4×4×4 group a wall
+// across x had left 7 of 8 lanes of a SIMD row idle while the eighth
+// marched its 12 cones.
 layout(local_size_x = 64) in;
-layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
 #else
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
@@ -23,17 +22,9 @@ layout(binding = IMG_VCT_DST, rgba16f) writeonly uniform image3D u_dst;
 
 void main()
 {
-#ifdef OPAQUE_LIST
-    uint index = gl_GlobalInvocationID.x;
-    if (index >= opaque_count)
+    ivec3 v;
+    if (!vct_voxel_here(v))
         return;
-    uint code = opaque[index];
-    ivec3 v = ivec3(code & 0xffu, (code >> 8) & 0xffu, code >> 16);
-#else
-    ivec3 v = ivec3(gl_GlobalInvocationID);
-    if (any(greaterThanEqual(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels))))
-        return;
-#endif
     vec4 direct = texelFetch(u_radiance, v, 0);
     vec4 a = texelFetch(u_albedo, v, 0);
     if (a.a <= 0.0) {

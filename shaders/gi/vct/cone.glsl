@@ -16,13 +16,13 @@ layout(binding = TEX_VCT_ANISO + 1) uniform sampler3D u_aniso_y;
 layout(binding = TEX_VCT_ANISO + 2) uniform sampler3D u_aniso_z;
 
 // Texture coordinates of `local` (0..1 within level k) in the stack of
-// `levels` slabs, z kept half a texel of mip `mip` (of a level of side n)
+// `levels` slabs, z kept half a texel of mip `mip` (of a level of side N)
 // inside the slab, so that filtering never reads a neighbouring level.
-vec3 vct_stack_uvw(vec3 local, int k, float mip, int n)
+vec3 vct_stack_uvw(vec3 local, int k, float mip)
 {
     if (u_vct.clip_levels == 1)
         return local;
-    float h = 0.5 / float(max(n >> int(ceil(mip)), 1));
+    float h = 0.5 / float(max(u_vct.size >> int(ceil(mip)), 1));
     return vec3(local.xy, (float(k) + clamp(local.z, h, 1.0 - h)) / float(u_vct.clip_levels));
 }
 
@@ -55,10 +55,10 @@ vec4 vct_sample(int k, vec3 local, float mip, vec3 d)
     vec4 a = w.x * textureLod(u_aniso_x, vct_aniso_uvw(local, k, d.x < 0.0, lod), lod) +
              w.y * textureLod(u_aniso_y, vct_aniso_uvw(local, k, d.y < 0.0, lod), lod) +
              w.z * textureLod(u_aniso_z, vct_aniso_uvw(local, k, d.z < 0.0, lod), lod);
-    vec4 r0 = textureLod(u_radiance, vct_stack_uvw(local, k, 0.0, u_vct.size), 0.0);
+    vec4 r0 = textureLod(u_radiance, vct_stack_uvw(local, k, 0.0), 0.0);
     return mip < 1.0 ? mix(r0, a, mip) : a;
 #else
-    return textureLod(u_radiance, vct_stack_uvw(local, k, mip, u_vct.size), mip);
+    return textureLod(u_radiance, vct_stack_uvw(local, k, mip), mip);
 #endif
 }
 

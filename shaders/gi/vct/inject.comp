@@ -13,11 +13,10 @@
 #include "gi/vct/volume.glsl"
 
 #ifdef OPAQUE_LIST
-// One invocation per listed opaque voxel (resolve.comp), dispatched
-// indirectly: an empty voxel would cost its shadow taps all the same (llvmpipe
-// runs the code under a branch whether or not a lane takes it).
+// One invocation per listed opaque voxel (gi/vct/volume.glsl): an empty
+// voxel would cost its shadow taps all the same (llvmpipe runs the code
+// under a branch whether or not a lane takes it).
 layout(local_size_x = 64) in;
-layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
 #else
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
@@ -42,17 +41,9 @@ float visibility(vec3 x, vec3 n, float voxel)
 
 void main()
 {
-#ifdef OPAQUE_LIST
-    uint index = gl_GlobalInvocationID.x;
-    if (index >= opaque_count)
+    ivec3 v;
+    if (!vct_voxel_here(v))
         return;
-    uint code = opaque[index];
-    ivec3 v = ivec3(code & 0xffu, (code >> 8) & 0xffu, code >> 16);
-#else
-    ivec3 v = ivec3(gl_GlobalInvocationID);
-    if (any(greaterThanEqual(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels))))
-        return;
-#endif
     vec4 a = texelFetch(u_albedo, v, 0);
     vec3 l = vec3(0.0);
     if (a.a > 0.0) {

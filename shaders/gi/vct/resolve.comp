@@ -2,10 +2,11 @@
 // volumes: albedo = Σ albedo / count with opacity 1 where any fragment
 // landed, normal = the normalized sum (sign-canonical, see voxelize.frag).
 #include "shared/gpu_types.h"
+#include "gi/vct/volume.glsl"
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 layout(std430, binding = SSBO_VCT_VOXELS) readonly buffer Voxels { uint voxels[]; };
-// The opaque voxels, appended (x | y << 8 | z << 16) with the indirect
+// The opaque voxels, appended (vct_voxel_code) with the indirect
 // dispatch of the injection over them (64 a group); past the list's
 // capacity only the count grows (vct.c then injects over every voxel).
 layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
@@ -16,10 +17,10 @@ const float FIXED = 4096.0;
 
 void main()
 {
-    ivec3 v = ivec3(gl_GlobalInvocationID);
-    int size = u_vct.size;
-    if (any(greaterThanEqual(v, ivec3(size, size, size * u_vct.clip_levels))))
+    ivec3 v;
+    if (!vct_voxel_here(v))
         return;
+    int size = u_vct.size;
     uint i = 8u * uint((v.z * size + v.y) * size + v.x);
     uint count = voxels[i + 6u];
     if (count == 0u) {
@@ -34,7 +35,7 @@ void main()
     imageStore(u_normal, v, vec4(n, 0.0));
     uint slot = atomicAdd(opaque_count, 1u);
     if (slot < uint(opaque.length())) {
-        opaque[slot] = uint(v.x) | (uint(v.y) << 8) | (uint(v.z) << 16);
+        opaque[slot] = vct_voxel_code(v);
         if (slot % 64u == 0u)
             atomicMax(groups_x, slot / 64u + 1u);
     }

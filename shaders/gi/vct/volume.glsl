@@ -1,5 +1,33 @@
 // gi/vct/volume.glsl — where the clipmap's voxels are: level k = v.z / N of
 // the stacked volume (one level: the volume over the scene bounds).
+// Passes over the voxels run either over every stacked voxel (4×4×4
+// groups) or, with OPAQUE_LIST, over the opaque-voxel list resolve.comp
+// appends (64 entries a group, dispatched indirectly): vct_voxel_here.
+
+// A stacked voxel as one list entry, and back (N ≤ 256: x, y in 8 bits,
+// z = level·N + z' in 16).
+uint vct_voxel_code(ivec3 v) { return uint(v.x) | (uint(v.y) << 8) | (uint(v.z) << 16); }
+ivec3 vct_voxel_of(uint code) { return ivec3(code & 0xffu, (code >> 8) & 0xffu, code >> 16); }
+
+#ifdef OPAQUE_LIST
+layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
+#endif
+
+// The voxel this invocation handles; false past the list or the volume.
+bool vct_voxel_here(out ivec3 v)
+{
+#ifdef OPAQUE_LIST
+    uint index = gl_GlobalInvocationID.x;
+    v = ivec3(0);
+    if (index >= opaque_count)
+        return false;
+    v = vct_voxel_of(opaque[index]);
+    return true;
+#else
+    v = ivec3(gl_GlobalInvocationID);
+    return all(lessThan(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels)));
+#endif
+}
 
 // World centre of stacked voxel v and its level's voxel size.
 vec3 vct_voxel_centre(ivec3 v, out float voxel)

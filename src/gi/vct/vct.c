@@ -421,6 +421,21 @@ static bool voxelize(VctGi *v, const GiFrame *f)
     return true;
 }
 
+/* Whether the last voxelization's opaque voxels fit their list, so that
+ * the injection and the bounce run over it rather than every voxel. */
+static bool opaque_listed(const VctGi *v) { return v->opaque_count <= v->opaque_capacity; }
+
+/* One invocation per listed opaque voxel (gi/vct/volume.glsl, OPAQUE_LIST). */
+static void dispatch_opaque(const VctGi *v)
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
+    glDispatchComputeIndirect(sizeof(uint32_t));
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
 /* The injection program for one light type (LIGHT_FIXED_TYPE: the other
  * types' code and map kind drop out; llvmpipe runs both sides of a branch,
  * so each shadow tap read a cube and a 2D map), over the opaque-voxel list
@@ -442,23 +457,18 @@ static void inject(VctGi *v, const GiFrame *f)
     int lights = f->lights->light_count;
     /* Over the opaque voxels alone when they fit the list; the empty ones
      * then hold the clear's 0. */
-    bool list = v->opaque_count <= v->opaque_capacity;
+    bool list = opaque_listed(v);
     if (lights == 0 || list)
         glClearTexImage(v->radiance[0], 0, GL_RGBA, GL_FLOAT, NULL);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
     for (int i = 0; i < lights; i++) {
         GLuint prog = inject_program(v, (int)f->scene->lights[i].type, list);
         glUseProgram(prog);
         light_stage_bind_shadow(f->lights, i);
         glProgramUniform1i(prog, LOC_VCT_ACCUMULATE, i > 0);
-        if (prog != v->inject && list) {
-            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
-            glDispatchComputeIndirect(sizeof(uint32_t));
-            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-        } else {
+        if (prog != v->inject && list)
+            dispatch_opaque(v);
+        else
             dispatch_volume(v->n, v->clip);
-        }
     }
 }
 
@@ -525,7 +535,7 @@ static void vct_run(void *state, const GiFrame *f)
         gpu_timer_begin(t, "vct_bounce");
         /* Over the opaque voxels alone when they fit the list (as the
          * injection): the empty ones keep the direct radiance, copied. */
-        bool list = v->bounce_list && v->opaque_count <= v->opaque_capacity;
+        bool list = v->bounce_list && opaque_listed(v);
         glUseProgram(list ? v->bounce_list : v->bounce);
         bind_volumes(v, v->radiance[0]);
         glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
@@ -534,12 +544,7 @@ static void vct_run(void *state, const GiFrame *f)
         if (list) {
             glCopyImageSubData(v->radiance[0], GL_TEXTURE_3D, 0, 0, 0, 0, v->radiance[1], GL_TEXTURE_3D, 0, 0, 0, 0,
                                v->n, v->n, v->n * v->clip);
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
-            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
-            glDispatchComputeIndirect(sizeof(uint32_t));
-            glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
-                            GL_TEXTURE_UPDATE_BARRIER_BIT);
+            dispatch_opaque(v);
         } else {
             dispatch_volume(v->n, v->clip);
         }
@@ -622,7 +627,7 @@ bool vct_read_volume(void *state, VctVolume which, float *out)
 unsigned vct_opaque_voxels(const void *state, bool *listed)
 {
     const VctGi *v = state;
-    *listed = v->opaque_count <= v->opaque_capacity;
+    *listed = opaque_listed(v);
     return v->opaque_count;
 }
 

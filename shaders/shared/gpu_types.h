@@ -238,8 +238,6 @@
     F(uint, subset_len)     /* L VPLs per subset */                              \
     F(int, tiles_x)         /* culling tile counts */                            \
     F(int, tiles_y)                                                              \
-    F(int, interleave_n)    /* interleaving pattern n × m */                     \
-    F(int, interleave_m)                                                         \
     F(int, signature_w)     /* metalight signature grid */                       \
     F(int, signature_h)                                                          \
     F(int, disk)            /* 1: VPLs fall off as disks of their area, 1/(d² + A/π) */
@@ -328,7 +326,7 @@ static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuS
 static_assert(sizeof(GpuFrame) == 2 * 16, "GpuFrame: std140 size");
 static_assert(sizeof(GpuGiParams) == 16 * 4, "GpuGiParams: 16 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
-static_assert(sizeof(GpuVplParams) == 15 * 4, "GpuVplParams: 15 scalars (std140 rounds the block to 64)");
+static_assert(sizeof(GpuVplParams) == 13 * 4, "GpuVplParams: 13 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
 static_assert(sizeof(GpuVctParams) == 3 * 16 + VCT_MAX_LEVELS * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
 

@@ -8,6 +8,11 @@
 #include "shader.h"
 #include "shared/gpu_types.h"
 
+void gi_interleave_defines(char *out, size_t size, const char *mode, int n, int m)
+{
+    snprintf(out, size, "%s\n#define INTERLEAVE_N %d\n#define INTERLEAVE_M %d\n", mode, n, m);
+}
+
 bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int w, int h, bool deinterleave)
 {
     memset(g, 0, sizeof *g);
@@ -22,9 +27,9 @@ bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int w
     /* The pattern is compiled in (gi/interleave.comp): constant divisors
      * and a blur window of a constant size. */
     char defs[3][96];
-    static const char *const mode[3] = {"MODE_BLUR", "MODE_SPLIT", "MODE_MERGE"};
+    static const char *const mode[3] = {"#define MODE_BLUR", "#define MODE_SPLIT", "#define MODE_MERGE"};
     for (int k = 0; k < 3; k++)
-        snprintf(defs[k], sizeof defs[k], "#define %s\n#define INTERLEAVE_N %d\n#define INTERLEAVE_M %d\n", mode[k], n, m);
+        gi_interleave_defines(defs[k], sizeof defs[k], mode[k], n, m);
     g->blur = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_blur", .comp = "gi/interleave.comp", .defines = defs[0]});
     g->merged = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.merged");
     if (!g->blur)

@@ -14,6 +14,7 @@
 
 #include <epoxy/gl.h>
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "shader.h"
 #include "targets.h"
@@ -28,6 +29,12 @@ typedef struct GiInterleave {
     GLuint di_irradiance;          /* de-interleaved result */
     GLuint merged;                 /* reassembled (or shaded), before the blur */
 } GiInterleave;
+
+/* The n × m pattern as shader defines (INTERLEAVE_N, INTERLEAVE_M) after
+ * the line `mode` (e.g. "#define MODE_BLUR"): programs that divide by the
+ * pattern take it compiled in (llvmpipe divides by a value it cannot see
+ * lane by lane). */
+void gi_interleave_defines(char *out, size_t size, const char *mode, int n, int m);
 
 /* Programs come from `pc`. */
 bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int width, int height, bool deinterleave);

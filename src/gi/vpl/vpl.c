@@ -156,8 +156,8 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
         ok = (v->shade = cached(v, "vpl_shade_all", "gi/vpl/shade.comp", "#define MODE_ALL\n")) != 0;
     } else {
         char defs[96]; /* the pattern compiled in: constant divisors */
-        snprintf(defs, sizeof defs, "#define MODE_INTERLEAVED\n#define INTERLEAVE_N %d\n#define INTERLEAVE_M %d\n",
-                 v->params.interleave_n, v->params.interleave_m);
+        gi_interleave_defines(defs, sizeof defs, "#define MODE_INTERLEAVED", v->params.interleave_n,
+                              v->params.interleave_m);
         v->shade = cached(v, "vpl_shade_interleaved", "gi/vpl/shade.comp", defs);
         if (method == VPL_METALIGHTS)
             v->signature = cached(v, "metalight_signature", "gi/vpl/metalight_signature.comp", NULL);
@@ -193,8 +193,6 @@ static void upload_params(VplGi *v, float exposure, float range)
     u.subset_len = v->subset_len;
     u.tiles_x = v->tiles_x;
     u.tiles_y = v->tiles_y;
-    u.interleave_n = gp->interleave_n;
-    u.interleave_m = gp->interleave_m;
     u.signature_w = 16;
     u.signature_h = 16;
     u.disk = gp->vpl_disk ? 1 : 0;

@@ -247,13 +247,13 @@
  * (GV cell (i,j,k) is centred on LPV corner (i,j,k), N+1 per side). */
 #define GPU_LPV_PARAMS_FIELDS(F, A)                                                   \
     F(int, size)            /* N cells per side */                                  \
-    F(int, cascades)        /* K grids in use */                                    \
     F(int, occlusion)       /* 1: attenuate propagation by the geometry volume */   \
     F(float, inject_offset) /* VPLs move this many cells along their normal */      \
     F(int, vpl_count_max)   /* entries the injection may read (capacity) */        \
     F(float, blend)         /* cascade blend band, fraction of a cascade's extent */ \
-    F(float, pad0)                                                                   \
+    F(float, pad0)          /* (the cascade count is compiled in: LPV_CASCADES) */  \
     F(float, pad1)                                                                   \
+    F(float, pad2)                                                                   \
     A(vec4, cascade, LPV_MAX_CASCADES) /* xyz: grid origin (min corner, m); w: cell size (m) */
 
 /* Voxel cone tracing (std140). Level k of the clipmap (k = 0 finest; one

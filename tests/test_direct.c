@@ -187,9 +187,7 @@ static void forward_masked_materials(void **state)
     for (int i = 0; i < s.material_count; i++)
         masked += s.materials[i].alpha_mask;
     assert_int_equal(masked, 1);
-    glm_vec3_copy((vec3){0, 4, 0}, s.camera.position);
-    glm_vec3_copy((vec3){0, -1, 0}, s.camera.forward);
-    glm_vec3_copy((vec3){0, 0, -1}, s.camera.up);
+    test_camera_down(&s.camera, (vec3){0.f, 4.f, 0.f});
     s.camera.fov_y = glm_rad(40.f);
     Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0, -1, 0}, .color = {2, 2, 2}};
     free(s.lights);

@@ -112,9 +112,7 @@ static void plane_under_point_light(void **state)
     test_add_square(&s, m, (vec3){0, 0, 0}, 4.f);
     Light l = {.type = LIGHT_POINT, .position = {0.3f, 1.1f, -0.2f}, .color = {2.f, 1.f, 3.f}};
     scene_add_light(&s, &l);
-    glm_vec3_copy((vec3){0, 2.5f, 0}, s.camera.position);
-    glm_vec3_copy((vec3){0, -1, 0}, s.camera.forward);
-    glm_vec3_copy((vec3){0, 0, -1}, s.camera.up);
+    test_camera_down(&s.camera, (vec3){0.f, 2.5f, 0.f});
     s.camera.fov_y = glm_rad(60.f);
     scene_finalize(&s);
     PtSettings set;

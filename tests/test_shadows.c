@@ -375,9 +375,7 @@ static void off_the_map_is_lit(void **state)
     scene_add_quad(&s, floor, (vec3){-3, 0, -0.5f}, (vec3){-3, 0, 0.5f}, (vec3){3, 0, 0.5f}, (vec3){3, 0, -0.5f});
     Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0, -1, 0}, .color = {1, 1, 1}, .size = glm_rad(0.5f)};
     scene_add_light(&s, &sun);
-    glm_vec3_copy((vec3){0, 10.f, 0}, s.camera.position);
-    glm_vec3_copy((vec3){0, -1, 0}, s.camera.forward);
-    glm_vec3_copy((vec3){0, 0, -1}, s.camera.up);
+    test_camera_down(&s.camera, (vec3){0.f, 10.f, 0.f});
     s.camera.fov_y = glm_rad(40.f);
     s.shadow.map_size = 16;
     scene_finalize(&s);

@@ -334,6 +334,13 @@ void test_project(const Scene *s, int w, int h, const vec3 p, int *x, int *y)
     *y = (int)fy;
 }
 
+void test_camera_down(Camera *c, const vec3 position)
+{
+    glm_vec3_copy((float *)position, c->position);
+    glm_vec3_copy((vec3){0.f, -1.f, 0.f}, c->forward);
+    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, c->up);
+}
+
 void test_add_square(Scene *s, int material, const vec3 c, float a)
 {
     float h = 0.5f * a;

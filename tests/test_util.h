@@ -96,5 +96,7 @@ double test_mean(const ImageF *img, int cx, int cy, int r, int c);
 void test_project(const Scene *s, int w, int h, const vec3 p, int *x, int *y);
 /* Adds a flat square (normal +y) of side `a` centred on c, at height c[1]. */
 void test_add_square(Scene *s, int material, const vec3 c, float a);
+/* Points camera c straight down (-y) from `position`, image up along -z. */
+void test_camera_down(Camera *c, const vec3 position);
 
 #endif

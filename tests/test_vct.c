@@ -199,9 +199,7 @@ static void injection_matches_lambert(void **state)
     float th = glm_rad(35.f);
     Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {sinf(th), -cosf(th), 0.f}, .color = {2.f, 3.f, 4.f}};
     scene_add_light(&s, &sun);
-    glm_vec3_copy((vec3){0.f, 3.f, 0.01f}, s.camera.position);
-    glm_vec3_copy((vec3){0.f, -1.f, 0.f}, s.camera.forward);
-    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.up);
+    test_camera_down(&s.camera, (vec3){0.f, 3.f, 0.01f});
     scene_finalize(&s);
     GiParams gp = s.gi;
     gp.vct_size = 32;
@@ -242,9 +240,7 @@ static void moved_clipmap_volumes(int bounces, float **albedo, float **radiance,
                    (vec3){0.1f, 0.f, 0.2f});
     Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.5f, -1.f, 0.1f}, .color = {2.f, 3.f, 4.f}};
     scene_add_light(&s, &sun);
-    glm_vec3_copy((vec3){0.f, 0.3f, 0.01f}, s.camera.position);
-    glm_vec3_copy((vec3){0.f, -1.f, 0.f}, s.camera.forward);
-    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.up);
+    test_camera_down(&s.camera, (vec3){0.f, 0.3f, 0.01f});
     scene_finalize(&s);
     GiParams gp = s.gi;
     gp.vct_size = 16;
@@ -687,9 +683,7 @@ static void cones_see_the_facing_side(void **state)
     Light right = {.type = LIGHT_POINT, .position = {0.6f, 0.3f, 0.f}, .color = {1.f, 1.f, 1.f}};
     scene_add_light(&s, &left);
     scene_add_light(&s, &right);
-    glm_vec3_copy((vec3){0.f, 2.f, 0.01f}, s.camera.position);
-    glm_vec3_copy((vec3){0.f, -1.f, 0.f}, s.camera.forward);
-    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.up);
+    test_camera_down(&s.camera, (vec3){0.f, 2.f, 0.01f});
     s.camera.fov_y = glm_rad(60.f);
     scene_finalize(&s);
     GiParams gp = s.gi;

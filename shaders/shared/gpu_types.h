@@ -32,6 +32,7 @@
 #define SSBO_LPV_FIXED 9  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
 #define SSBO_VCT_VOXELS 10 /* vct voxelization: uint[8 · N³] fixed-point albedo, normal, count sums per voxel */
 #define SSBO_VCT_OPAQUE 11 /* vct: the opaque voxels: count, indirect dispatch (x, y, z), packed coordinates */
+#define SSBO_LPV_FACES 12 /* lpv propagation with occlusion: float[32 · N³], each cell's 30 faces' Δω·(1 − B)/π */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */

@@ -13,8 +13,9 @@
  *                  (normal tensor; see shaders/gi/lpv/geometry.vert)
  *   lpv_propagate  `iterations` face-based gathering steps from the 6
  *                  neighbours through 5 faces each, attenuated by the
- *                  geometry volume, ping-pong, summed into the accumulated
- *                  volume
+ *                  geometry volume (each face's factor computed once per
+ *                  build into a buffer), ping-pong, summed into the
+ *                  accumulated volume
  *   lpv_lookup     trilinear, half a cell along the normal, cosine lobe →
  *                  irradiance E into GiFrame.irradiance
  * Grids: one of N³ cells fitted to the scene bounds (a cell of margin on
@@ -31,7 +32,7 @@
  * irradiance. Owns: its 3D textures (per cascade and set: injected,
  * accumulated; per cascade: geometry; shared: the ping-pong pair), their
  * layered framebuffers, a UBO, an indirect draw buffer, the fixed-point
- * buffers of compute injection; programs come from the renderer's cache.
+ * buffers of compute injection, the face factors; programs come from the renderer's cache.
  * Shaders: shaders/gi/lpv/. */
 #include "gi/lpv/lpv.h"
 
@@ -74,6 +75,8 @@ typedef struct LpvGi {
     GLuint geom_fixed_rsm, geom_fixed_gbuf, geom_resolve;
     GLuint fixed;           /* --lpv-inject compute: int[12·N³] fixed-point SH sums */
     GLuint gv_fixed;        /* --lpv-inject compute: int[6·(N+1)³] fixed-point tensor sums */
+    GLuint faces;           /* --lpv-occlusion on: vec4[8·N³], the propagation's face factors (propagate.comp) */
+    GLuint propagate_faces; /* program filling `faces` from a cascade's geometry volume */
     float scene_power;      /* bound on the light the RSMs can reflect (W), for the fixed-point scale */
     float test_power;       /* the same for lpv_set_vpls' VPLs */
     GLuint ubo;             /* GpuLpvParams */
@@ -137,8 +140,8 @@ static void lpv_destroy(void *state)
         gl_texture3d_destroy(&l->pp[0][i]);
         gl_texture3d_destroy(&l->pp[1][i]);
     }
-    GLuint b[5] = {l->ubo, l->indirect, l->test_vpls, l->fixed, l->gv_fixed};
-    glDeleteBuffers(5, b);
+    GLuint b[6] = {l->ubo, l->indirect, l->test_vpls, l->fixed, l->gv_fixed, l->faces};
+    glDeleteBuffers(6, b);
     glDeleteVertexArrays(1, &l->vao);
     free(l);
 }
@@ -182,7 +185,18 @@ static void *lpv_create(const GiCreateInfo *ci)
                           NULL, NULL);
     l->geom_gbuf = program(l, "lpv_geometry_gbuffer", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
                            "gi/lpv/accumulate.frag", NULL, "#define GBUFFER\n");
-    l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", NULL);
+    /* Occlusion is compiled in: the faces' factors are then read from
+     * `faces`, else they are constants (llvmpipe runs a branch's both arms). */
+    const char *occlusion = l->params.lpv_occlusion ? "#define OCCLUSION\n" : NULL;
+    l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", occlusion);
+    if (l->params.lpv_occlusion) {
+        l->propagate_faces = program(l, "lpv_propagate_faces", NULL, NULL, NULL, "gi/lpv/propagate.comp",
+                                     "#define OCCLUSION\n#define MODE_FACES\n");
+        ok = ok && l->propagate_faces;
+        glCreateBuffers(1, &l->faces);
+        glNamedBufferStorage(l->faces, (GLsizeiptr)(sizeof(float) * 32 * (size_t)l->n * l->n * l->n), NULL, 0);
+        glObjectLabel(GL_BUFFER, l->faces, -1, "lpv.faces");
+    }
     /* The cascade count is compiled in: with it known, every cascade's
      * fetches name their samplers (gi/lpv/lookup.comp). */
     char cascades_def[48];
@@ -435,8 +449,6 @@ static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
                            n, n);
         glBindImageTexture(IMG_LPV_SUM + i, c->sum[set][i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
     }
-    glBindTextureUnit(TEX_LPV_GV0, c->gv[0]);
-    glBindTextureUnit(TEX_LPV_GV1, c->gv[1]);
     int cur = 0;
     for (int it = 0; it < l->iterations; it++) {
         for (int i = 0; i < 3; i++) {
@@ -449,12 +461,24 @@ static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
     }
 }
 
+/* Each cascade: with occlusion, its faces' factors from its geometry
+ * volume (once: every step and set reads them), then its sets. */
 static void propagate(LpvGi *l)
 {
-    glUseProgram(l->propagate);
-    for (int k = 0; k < l->cascades; k++)
+    GLuint groups = (GLuint)(l->n + 7) / 8;
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_LPV_FACES, l->faces);
+    for (int k = 0; k < l->cascades; k++) {
+        if (l->params.lpv_occlusion) {
+            glBindTextureUnit(TEX_LPV_GV0, l->c[k].gv[0]);
+            glBindTextureUnit(TEX_LPV_GV1, l->c[k].gv[1]);
+            glUseProgram(l->propagate_faces);
+            glDispatchCompute(groups, groups, (GLuint)l->n);
+            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+        glUseProgram(l->propagate);
         for (int set = 0; set < (k > 0 ? SETS : 1); set++)
             propagate_set(l, &l->c[k], set);
+    }
 }
 
 static void lookup(LpvGi *l, const GiFrame *f)
@@ -570,6 +594,19 @@ bool lpv_read_volume(void *state, int cascade, LpvVolume which, float *out)
         GLuint tex = which == LPV_VOLUME_INJECTED ? l->c[cascade].inject[SET_ALL][i] : l->c[cascade].sum[SET_ALL][i];
         glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out + (size_t)i * n3 * 4);
     }
+    return true;
+}
+
+bool lpv_read_geometry(void *state, int cascade, float *out)
+{
+    LpvGi *l = state;
+    if (cascade < 0 || cascade >= l->cascades)
+        return false;
+    size_t g3 = (size_t)(l->n + 1) * (size_t)(l->n + 1) * (size_t)(l->n + 1);
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    for (int t = 0; t < 2; t++)
+        glGetTextureImage(l->c[cascade].gv[t], 0, GL_RGBA, GL_FLOAT, (GLsizei)(g3 * 4 * sizeof(float)),
+                          out + (size_t)t * g3 * 4);
     return true;
 }
 

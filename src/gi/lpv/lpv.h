@@ -1,7 +1,7 @@
 /* lpv.h — hooks into a running `--gi lpv` technique (its state is the
  * renderer's gi_state while GI_LPV is selected), for tests and tools: inject
- * a given VPL list instead of the light stage's, read a grid back, and
- * where its cells lie. Not used by the frame. */
+ * a given VPL list instead of the light stage's, read a grid or the
+ * geometry volume back, and where its cells lie. Not used by the frame. */
 #ifndef RTGI_GI_LPV_H
 #define RTGI_GI_LPV_H
 
@@ -25,5 +25,10 @@ void lpv_grid(const void *state, int cascade, float origin[3], float *cell);
  * channel c = 0..2, the SH vec4(c00, c1x, c1y, c1z) of that cell's
  * intensity (W/sr). `out` holds 3·N³·4 floats. Waits for the GPU. */
 bool lpv_read_volume(void *state, int cascade, LpvVolume which, float *out);
+/* Reads cascade k's geometry volume, (N+1)³ texels at the cells' corners:
+ * out[(((t·(N+1) + z)·(N+1) + y)·(N+1) + x)·4 + i] with t = 0 for the
+ * normal tensor's xx yy zz (i = 0..2), t = 1 for xy xz yz. `out` holds
+ * 8·(N+1)³ floats. Waits for the GPU. */
+bool lpv_read_geometry(void *state, int cascade, float *out);
 
 #endif

@@ -70,9 +70,10 @@
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
 #define IMG_LPV_DST 2    /* lpv propagation: 3 SH volumes written (R, G, B), 2..4 */
 #define IMG_LPV_SUM 5    /* lpv propagation: 3 accumulated SH volumes (R, G, B), 5..7 */
-#define IMG_VCT_DST 2    /* vct: volume level written (resolve, injection, mips, bounce) */
-#define IMG_VCT_DST2 3   /* vct: second volume written (resolve: normals) */
+#define IMG_VCT_DST 2    /* vct: volume level written (resolve, injection, mips (first directional level: x), bounce) */
+#define IMG_VCT_DST2 3   /* vct: second volume written (resolve: normals; the first directional level: y) */
 #define IMG_VCT_SRC 4    /* vct mips: volume level read */
+#define IMG_VCT_DST3 5   /* vct mips: third volume written (the first directional level: z) */
 /* Sizes */
 #define VPL_TILE 16          /* culling tile size in pixels */
 /* Importance-sampled RSM gathers: a pixel spends half its N samples on the
@@ -131,7 +132,6 @@
 #define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
 #define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
 #define LOC_VCT_AXIS 10         /* vct mips: int, the directional volumes' axis 0..2 (x y z) */
-#define LOC_VCT_FIRST 11        /* vct mips: int, 1 when reading the isotropic level 0 (first anisotropic level) */
 #define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
 #define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */

@@ -66,7 +66,7 @@ typedef struct VctGi {
     uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
     uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
     GLuint ubo;              /* GpuVctParams */
-    GLuint voxelize, resolve, inject, aniso_prog, bounce, trace, upsample; /* programs */
+    GLuint voxelize, resolve, inject, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
     GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
     int scale;               /* --vct-trace-scale */
     GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
@@ -270,6 +270,7 @@ static void *vct_create(const GiCreateInfo *ci)
     v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL);
     v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL);
     v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL);
+    v->aniso_first = program(v, "vct_aniso_first", NULL, NULL, NULL, "gi/vct/aniso.comp", "#define MODE_FIRST\n");
     v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp", cones);
     if (p->vct_bounces > 1) {
         char defs[64];
@@ -279,7 +280,8 @@ static void *vct_create(const GiCreateInfo *ci)
     v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp", cones);
     v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp", NULL);
     v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
-    bool ok = v->voxelize && v->resolve && v->inject && v->aniso_prog && v->bounce && v->trace && v->upsample;
+    bool ok = v->voxelize && v->resolve && v->inject && v->aniso_prog && v->aniso_first && v->bounce && v->trace &&
+              v->upsample;
     int d = n * clip; /* the levels stacked along z */
     ok = ok && (v->albedo = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.albedo")) &&
          (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
@@ -478,17 +480,23 @@ static void build_mips(VctGi *v, GLuint tex)
     gl_texture_generate_mips(tex);
     if (!v->gpu.aniso)
         return;
+    /* The first level of every axis and sign in one pass (each reads the
+     * same 2×2×2 blocks of the isotropic level 0), then each axis's chain. */
+    glUseProgram(v->aniso_first);
+    gl_texture3d_bind_image(IMG_VCT_SRC, tex, 0, GL_READ_ONLY, GL_RGBA16F);
+    const GLuint units[ANISO_AXES] = {IMG_VCT_DST, IMG_VCT_DST2, IMG_VCT_DST3};
+    for (int a = 0; a < ANISO_AXES; a++)
+        gl_texture3d_bind_image(units[a], v->aniso[a], 0, GL_WRITE_ONLY, GL_RGBA16F);
+    int half = v->n / 2 > 0 ? v->n / 2 : 1, slabs = v->gpu.aniso_slab * v->clip; /* one sign */
+    glDispatchCompute((GLuint)(half + 3) / 4, (GLuint)(half + 3) / 4, (GLuint)(slabs + 3) / 4);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glUseProgram(v->aniso_prog);
     for (int a = 0; a < ANISO_AXES; a++) {
         glProgramUniform1i(v->aniso_prog, LOC_VCT_AXIS, a);
-        for (int l = 0; l < v->levels - 1; l++) {
-            glProgramUniform1i(v->aniso_prog, LOC_VCT_FIRST, l == 0);
-            if (l == 0)
-                gl_texture3d_bind_image(IMG_VCT_SRC, tex, 0, GL_READ_ONLY, GL_RGBA16F);
-            else
-                gl_texture3d_bind_image(IMG_VCT_SRC, v->aniso[a], l - 1, GL_READ_ONLY, GL_RGBA16F);
+        for (int l = 1; l < v->levels - 1; l++) {
+            gl_texture3d_bind_image(IMG_VCT_SRC, v->aniso[a], l - 1, GL_READ_ONLY, GL_RGBA16F);
             gl_texture3d_bind_image(IMG_VCT_DST, v->aniso[a], l, GL_WRITE_ONLY, GL_RGBA16F);
-            int s = (v->n / 2) >> l, depth = (v->gpu.aniso_slab >> l) * 2 * v->clip; /* both signs, every level */
+            int s = half >> l, depth = (v->gpu.aniso_slab >> l) * 2 * v->clip; /* both signs, every level */
             s = s > 0 ? s : 1;
             glDispatchCompute((GLuint)(s + 3) / 4, (GLuint)(s + 3) / 4, (GLuint)(depth + 3) / 4);
             glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |

@@ -195,13 +195,13 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
                                          .frag = "light/shadow_depth.frag", .defines = shadow_defs[ortho][masked]});
     ls->shadow_program = ls->shadow_programs[0][0] && ls->shadow_programs[0][1] && ls->shadow_programs[1][0] &&
                          ls->shadow_programs[1][1];
-    ls->rsm_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm", .vert = "frame/scene.vert", .frag = "light/rsm.frag", .defines = NULL});
+    ls->rsm_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm", .vert = "frame/scene.vert", .frag = "light/rsm.frag", .defines = "#define FLAT_UNIFORMS\n"});
     ls->rsm_program_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm_opaque", .vert = "frame/scene.vert",
-                                                                        .frag = "light/rsm.frag", .defines = "#define OPAQUE_DRAW\n"});
+                                                                        .frag = "light/rsm.frag", .defines = "#define FLAT_UNIFORMS\n#define OPAQUE_DRAW\n"});
     ls->vpl_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "vpl_extract", .comp = "light/vpl_extract.comp", .defines = NULL});
     ls->rsm_program_untextured = program_cache_get(
         pc, &(ShaderProgramDesc){.label = "rsm_untextured", .vert = "frame/scene.vert", .frag = "light/rsm.frag",
-                                 .defines = "#define OPAQUE_DRAW\n#define UNTEXTURED\n"});
+                                 .defines = "#define FLAT_UNIFORMS\n#define OPAQUE_DRAW\n#define UNTEXTURED\n"});
     if (!ls->shadow_program || !ls->rsm_program || !ls->rsm_program_opaque || !ls->rsm_program_untextured ||
         !ls->vpl_program)
         return false;

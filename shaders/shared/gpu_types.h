@@ -101,8 +101,8 @@
 #define LOC_EYE 5               /* vec3: camera or light position (for facing) */
 #define LOC_MATERIAL_PBR 6      /* vec4: metallic, roughness, specular weight, 1 if it has a metallicRoughness texture */
 /* Per-program uniforms (each program's own locations, from 10 up). */
-#define LOC_RSM_FACE_AXIS 10    /* rsm.frag: vec3 unit axis of the face / spot */
-#define LOC_RSM_TEXEL_AREA 11   /* rsm.frag: float texel area on the projection plane */
+#define LOC_RSM_FACE_AXIS 12    /* rsm.frag: vec3 unit axis of the face / spot (past scene.vert's FLAT_UNIFORMS locations) */
+#define LOC_RSM_TEXEL_AREA 13   /* rsm.frag: float texel area on the projection plane */
 #define LOC_DIRECT_EMISSION 10  /* direct.frag: int, first light of the frame: add emitted radiance, unblended */
 #define LOC_DIRECT_AREA_LIGHT 11 /* direct.frag: int, AREA_LIGHT_EXACT or AREA_LIGHT_POINT */
 #define LOC_TONEMAP_EXPOSURE 10 /* tonemap.frag: float */

@@ -248,7 +248,7 @@
  * (GV cell (i,j,k) is centred on LPV corner (i,j,k), N+1 per side). */
 #define GPU_LPV_PARAMS_FIELDS(F, A)                                                   \
     F(int, size)            /* N cells per side */                                  \
-    F(int, occlusion)       /* 1: attenuate propagation by the geometry volume */   \
+    F(int, pad3)            /* (occlusion is compiled in: OCCLUSION, propagate.comp) */ \
     F(float, inject_offset) /* VPLs move this many cells along their normal */      \
     F(int, vpl_count_max)   /* entries the injection may read (capacity) */        \
     F(float, blend)         /* cascade blend band, fraction of a cascade's extent */ \

@@ -25,8 +25,9 @@ layout(binding = TEX_LPV_SRC + 1) uniform sampler3D s_g;
 layout(binding = TEX_LPV_SRC + 2) uniform sampler3D s_b;
 layout(binding = TEX_LPV_GV0) uniform sampler3D s_gv0;
 layout(binding = TEX_LPV_GV1) uniform sampler3D s_gv1;
-// 30 floats per cell (8 vec4, the last two floats unused): neighbour d's
-// face f at 5d + f, neighbours +x, −x, +y, −y, +z, −z.
+// 8 vec4 per cell (30 floats used): vec4 d holds neighbour d's faces 0–3,
+// vec4s 6 and 7 the six neighbours' face 4; neighbours d = +x, −x, +y, −y,
+// +z, −z.
 layout(std430, binding = SSBO_LPV_FACES) buffer FaceBlock { vec4 faces[]; };
 layout(binding = IMG_LPV_DST + 0, rgba32f) uniform writeonly image3D d_r;
 layout(binding = IMG_LPV_DST + 1, rgba32f) uniform writeonly image3D d_g;
@@ -115,38 +116,31 @@ void main()
     uint at = 8u * uint(c.x + n * (c.y + n * c.z));
     // Neighbours +x, −x, +y, −y, +z, −z with their side axes.
 #ifdef MODE_FACES
-    vec4 f[6];
-    float f4[6];
-    neighbour_faces(c, n, ivec3(1, 0, 0), Y, Z, f[0], f4[0]);
-    neighbour_faces(c, n, ivec3(-1, 0, 0), Y, Z, f[1], f4[1]);
-    neighbour_faces(c, n, ivec3(0, 1, 0), Z, X, f[2], f4[2]);
-    neighbour_faces(c, n, ivec3(0, -1, 0), Z, X, f[3], f4[3]);
-    neighbour_faces(c, n, ivec3(0, 0, 1), X, Y, f[4], f4[4]);
-    neighbour_faces(c, n, ivec3(0, 0, -1), X, Y, f[5], f4[5]);
-    faces[at + 0u] = f[0];
-    faces[at + 1u] = vec4(f4[0], f[1].xyz);
-    faces[at + 2u] = vec4(f[1].w, f4[1], f[2].xy);
-    faces[at + 3u] = vec4(f[2].zw, f4[2], f[3].x);
-    faces[at + 4u] = vec4(f[3].yzw, f4[3]);
-    faces[at + 5u] = f[4];
-    faces[at + 6u] = vec4(f4[4], f[5].xyz);
-    faces[at + 7u] = vec4(f[5].w, f4[5], 0.0, 0.0);
+    vec4 f4a, f4b; // the neighbours' face 4: +x −x +y −y, +z −z
+    neighbour_faces(c, n, ivec3(1, 0, 0), Y, Z, faces[at + 0u], f4a.x);
+    neighbour_faces(c, n, ivec3(-1, 0, 0), Y, Z, faces[at + 1u], f4a.y);
+    neighbour_faces(c, n, ivec3(0, 1, 0), Z, X, faces[at + 2u], f4a.z);
+    neighbour_faces(c, n, ivec3(0, -1, 0), Z, X, faces[at + 3u], f4a.w);
+    neighbour_faces(c, n, ivec3(0, 0, 1), X, Y, faces[at + 4u], f4b.x);
+    neighbour_faces(c, n, ivec3(0, 0, -1), X, Y, faces[at + 5u], f4b.y);
+    faces[at + 6u] = f4a;
+    faces[at + 7u] = vec4(f4b.xy, 0.0, 0.0);
 #else
 #ifdef OCCLUSION
-    vec4 t0 = faces[at + 0u], t1 = faces[at + 1u], t2 = faces[at + 2u], t3 = faces[at + 3u];
-    vec4 t4 = faces[at + 4u], t5 = faces[at + 5u], t6 = faces[at + 6u], t7 = faces[at + 7u];
+    vec4 t[6] = vec4[6](faces[at + 0u], faces[at + 1u], faces[at + 2u], faces[at + 3u], faces[at + 4u], faces[at + 5u]);
+    vec4 f4a = faces[at + 6u], f4b = faces[at + 7u];
 #else
     float far = face_factor(vec3(0.0), vec3(0.0), X, LPV_FAR_DW), side = face_factor(vec3(0.0), vec3(0.0), X, LPV_SIDE_DW);
-    vec4 t0 = vec4(far, side, side, side), t1 = vec4(side, far, side, side), t2 = vec4(side, side, far, side);
-    vec4 t3 = vec4(side, side, side, far), t4 = vec4(side, side, side, side), t5 = t0, t6 = t1, t7 = t2;
+    vec4 t0 = vec4(far, side, side, side), f4a = vec4(side), f4b = vec4(side);
+    vec4 t[6] = vec4[6](t0, t0, t0, t0, t0, t0);
 #endif
     vec4 r = vec4(0.0), g = vec4(0.0), b = vec4(0.0);
-    neighbour(c, n, ivec3(1, 0, 0), Y, Z, t0, t1.x, r, g, b);
-    neighbour(c, n, ivec3(-1, 0, 0), Y, Z, vec4(t1.yzw, t2.x), t2.y, r, g, b);
-    neighbour(c, n, ivec3(0, 1, 0), Z, X, vec4(t2.zw, t3.xy), t3.z, r, g, b);
-    neighbour(c, n, ivec3(0, -1, 0), Z, X, vec4(t3.w, t4.xyz), t4.w, r, g, b);
-    neighbour(c, n, ivec3(0, 0, 1), X, Y, t5, t6.x, r, g, b);
-    neighbour(c, n, ivec3(0, 0, -1), X, Y, vec4(t6.yzw, t7.x), t7.y, r, g, b);
+    neighbour(c, n, ivec3(1, 0, 0), Y, Z, t[0], f4a.x, r, g, b);
+    neighbour(c, n, ivec3(-1, 0, 0), Y, Z, t[1], f4a.y, r, g, b);
+    neighbour(c, n, ivec3(0, 1, 0), Z, X, t[2], f4a.z, r, g, b);
+    neighbour(c, n, ivec3(0, -1, 0), Z, X, t[3], f4a.w, r, g, b);
+    neighbour(c, n, ivec3(0, 0, 1), X, Y, t[4], f4b.x, r, g, b);
+    neighbour(c, n, ivec3(0, 0, -1), X, Y, t[5], f4b.y, r, g, b);
     imageStore(d_r, c, r);
     imageStore(d_g, c, g);
     imageStore(d_b, c, b);

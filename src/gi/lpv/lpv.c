@@ -266,7 +266,6 @@ static void place_grids(LpvGi *l, const Camera *cam)
     GpuLpvParams *u = &l->gpu;
     memset(u, 0, sizeof *u);
     u->size = l->n;
-    u->occlusion = l->params.lpv_occlusion ? 1 : 0;
     u->inject_offset = l->params.lpv_offset;
     u->blend = 0.1f;
     if (l->cascades == 1) {

@@ -197,13 +197,19 @@ static GLuint program(VctGi *v, const char *label, const char *vert, const char 
                                                           .comp = comp, .defines = defines});
 }
 
+/* The directional volumes' side: N/2, at least 1. */
+static int aniso_side(int n)
+{
+    return n / 2 > 0 ? n / 2 : 1;
+}
+
 /* The depth S of a directional slab (GpuVctParams.aniso_slab): N/2
  * rounded up to a multiple of 2^(levels − 2), so that each of the
  * directional chain's levels − 1 mips halves it exactly and the slabs stay
  * apart (S = N/2 when N is a power of two). */
 static int aniso_slab(int n, int levels)
 {
-    int half = n / 2 > 0 ? n / 2 : 1, m = levels > 2 ? 1 << (levels - 2) : 1;
+    int half = aniso_side(n), m = levels > 2 ? 1 << (levels - 2) : 1;
     return (half + m - 1) / m * m;
 }
 
@@ -238,7 +244,7 @@ static void *vct_create(const GiCreateInfo *ci)
         return NULL;
     }
     int levels = gl_mip_levels(n, n, n);
-    int half = n / 2 > 0 ? n / 2 : 1, slab = aniso_slab(n, levels);
+    int half = aniso_side(n), slab = aniso_slab(n, levels);
     uint64_t bytes = (uint64_t)clip * (2 * volume_bytes(n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * volume_bytes(n, levels)) +
                      (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
     uint32_t opaque_capacity = (uint32_t)((uint64_t)clip * n * n * n / VCT_OPAQUE_SHARE);
@@ -487,7 +493,7 @@ static void build_mips(VctGi *v, GLuint tex)
     const GLuint units[ANISO_AXES] = {IMG_VCT_DST, IMG_VCT_DST2, IMG_VCT_DST3};
     for (int a = 0; a < ANISO_AXES; a++)
         gl_texture3d_bind_image(units[a], v->aniso[a], 0, GL_WRITE_ONLY, GL_RGBA16F);
-    int half = v->n / 2 > 0 ? v->n / 2 : 1, slabs = v->gpu.aniso_slab * v->clip; /* one sign */
+    int half = aniso_side(v->n), slabs = v->gpu.aniso_slab * v->clip; /* one sign */
     glDispatchCompute((GLuint)(half + 3) / 4, (GLuint)(half + 3) / 4, (GLuint)(slabs + 3) / 4);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     glUseProgram(v->aniso_prog);

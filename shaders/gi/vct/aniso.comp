@@ -55,8 +55,8 @@ void main()
 #ifdef MODE_FIRST
     // o.z runs over the levels' slabs of one sign: level k, depth z in it.
     ivec3 size = imageSize(u_dst);
-    int depth = div_small(size.z, 2 * u_vct.clip_levels); // a slab's depth at this level
-    if (any(greaterThanEqual(o, ivec3(size.xy, depth * u_vct.clip_levels))))
+    int depth = div_small(size.z, 2 * VCT_CLIP_LEVELS); // a slab's depth at this level
+    if (any(greaterThanEqual(o, ivec3(size.xy, depth * VCT_CLIP_LEVELS))))
         return;
     int k = div_small(o.z, depth), z = o.z - k * depth;
     ivec3 pos = ivec3(o.xy, 2 * k * depth + z), neg = pos + ivec3(0, 0, depth);
@@ -78,7 +78,7 @@ void main()
         return;
     // A slab's depth at this level, and o's slab (div_small: llvmpipe
     // divides integer vectors lane by lane).
-    int depth = div_small(size.z, 2 * u_vct.clip_levels);
+    int depth = div_small(size.z, 2 * VCT_CLIP_LEVELS);
     int slab = div_small(o.z, depth), z = o.z - slab * depth;
     bool negative = (slab & 1) == 1;
     // The children: the same slab of the level below. The axis is a

@@ -28,7 +28,7 @@ void vct_shade(ivec2 px, out vec4 irradiance, out vec4 specular)
         return;
     }
     int k = vct_level_at(x, 0.0);
-    float voxel = u_vct.level[k < 0 ? u_vct.clip_levels - 1 : k].w;
+    float voxel = u_vct.level[k < 0 ? VCT_CLIP_LEVELS - 1 : k].w;
     vec3 p = x + n * (2.5 * voxel);
     float visibility;
     vec3 e = vct_irradiance(p, n, voxel, visibility);

@@ -35,7 +35,7 @@ void main()
         return;
     }
     int k = vct_level_at(x, 0.0);
-    float voxel = u_vct.level[k < 0 ? u_vct.clip_levels - 1 : k].w;
+    float voxel = u_vct.level[k < 0 ? VCT_CLIP_LEVELS - 1 : k].w;
     ivec2 low = (size + u_scale - 1) / u_scale;
     vec2 u = vec2(px - u_scale / 2) / float(u_scale); // traced pixel s sits at full-resolution pixel s·scale + scale/2
     ivec2 i0 = ivec2(floor(u));

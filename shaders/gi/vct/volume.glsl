@@ -1,5 +1,12 @@
 // gi/vct/volume.glsl — where the clipmap's voxels are: level k = v.z / N of
 // the stacked volume (one level: the volume over the scene bounds).
+// VCT_CLIP_LEVELS, the level count, is compiled into every VCT program
+// (src/gi/vct/vct.c): loops over the levels unroll with constant indices,
+// and with one level the level lookups fold away (llvmpipe reads a uniform
+// indexed by a loop counter lane by lane).
+#ifndef VCT_CLIP_LEVELS
+#error "gi/vct/volume.glsl needs VCT_CLIP_LEVELS (src/gi/vct/vct.c defines it)"
+#endif
 // Passes over the voxels run either over every stacked voxel (4×4×4
 // groups) or, with OPAQUE_LIST, over the opaque-voxel list resolve.comp
 // appends (64 entries a group, dispatched indirectly): vct_voxel_here.
@@ -25,7 +32,7 @@ bool vct_voxel_here(out ivec3 v)
     return true;
 #else
     v = ivec3(gl_GlobalInvocationID);
-    return all(lessThan(v, ivec3(u_vct.size, u_vct.size, u_vct.size * u_vct.clip_levels)));
+    return all(lessThan(v, ivec3(u_vct.size, u_vct.size, u_vct.size * VCT_CLIP_LEVELS)));
 #endif
 }
 
@@ -40,7 +47,7 @@ vec3 vct_voxel_centre(ivec3 v, out float voxel)
 // The finest level holding p at least `margin` (m) inside; -1 if none.
 int vct_level_at(vec3 p, float margin)
 {
-    for (int k = 0; k < u_vct.clip_levels; k++) {
+    for (int k = 0; k < VCT_CLIP_LEVELS; k++) {
         vec3 lo = u_vct.level[k].xyz + margin;
         vec3 hi = u_vct.level[k].xyz + u_vct.level[k].w * float(u_vct.size) - margin;
         if (all(greaterThanEqual(p, lo)) && all(lessThanEqual(p, hi)))

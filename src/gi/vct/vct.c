@@ -35,6 +35,7 @@
 #include "gi/vct/vct.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -190,11 +191,17 @@ static bool vct_resize(void *state, int w, int h)
     return make_low_images(v);
 }
 
+/* Every VCT program has the clipmap's level count compiled in
+ * (VCT_CLIP_LEVELS, gi/vct/volume.glsl): with one level the cone steps'
+ * level lookups fold away, and the steps below mip 1 are a loop of their
+ * own (gi/vct/cone.glsl). */
 static GLuint program(VctGi *v, const char *label, const char *vert, const char *geom, const char *frag,
                       const char *comp, const char *defines)
 {
+    char all[256];
+    snprintf(all, sizeof all, "#define VCT_CLIP_LEVELS %d\n%s", v->clip, defines ? defines : "");
     return program_cache_get(v->pc, &(ShaderProgramDesc){.label = label, .vert = vert, .geom = geom, .frag = frag,
-                                                          .comp = comp, .defines = defines});
+                                                          .comp = comp, .defines = all});
 }
 
 /* The directional volumes' side: N/2, at least 1. */

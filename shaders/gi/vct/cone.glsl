@@ -78,6 +78,9 @@ vec4 vct_sample(VctCone c, int k, vec3 local, float mip, const bool below1)
 #endif
 }
 
+// The diameter of cone c at c.t, at least level 0's voxel.
+float vct_cone_diameter(VctCone c) { return max(c.v0, 2.0 * c.t * c.tan_half); }
+
 // One step of cone c: the sample at c.t composited behind what c holds;
 // false where the cone ends instead (it left the volume, or its diameter
 // passed the coarsest mip). `below1` as for vct_sample.
@@ -95,7 +98,7 @@ vec4 vct_sample(VctCone c, int k, vec3 local, float mip, const bool below1)
 bool vct_cone_step(inout VctCone c, const bool below1)
 {
     const int last = VCT_CLIP_LEVELS - 1;
-    float diameter = max(c.v0, 2.0 * c.t * c.tan_half);
+    float diameter = vct_cone_diameter(c);
     float lift = diameter - c.t * dot(c.d, c.n);
     vec3 q = c.p + c.d * c.t + c.n * max(lift, 0.0);
     int k = vct_level_at(q, last > 0 ? diameter : 0.0);
@@ -155,7 +158,7 @@ vec4 vct_cone(vec3 p, vec3 d, vec3 n, float tan_half, float t0, out float occlus
     // 0 (3 fetches a step after them instead of 4; Cornell 256², one
     // thread, with the uniforms read once and level 0 constant: vct_trace
     // 88 -> 66 ms).
-    for (; i < 4096 && c.a < 0.99 && c.t < max_distance && max(c.v0, 2.0 * c.t * tan_half) < 2.0 * c.v0; i++)
+    for (; i < 4096 && c.a < 0.99 && c.t < max_distance && vct_cone_diameter(c) < 2.0 * c.v0; i++)
         if (!vct_cone_step(c, true)) {
             live = false;
             break;

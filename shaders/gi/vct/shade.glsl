@@ -27,8 +27,7 @@ void vct_shade(ivec2 px, out vec4 irradiance, out vec4 specular)
         specular = vec4(0.0);
         return;
     }
-    int k = vct_level_at(x, 0.0);
-    float voxel = u_vct.level[k < 0 ? VCT_CLIP_LEVELS - 1 : k].w;
+    float voxel = vct_voxel_at(x);
     vec3 p = x + n * (2.5 * voxel);
     float visibility;
     vec3 e = vct_irradiance(p, n, voxel, visibility);

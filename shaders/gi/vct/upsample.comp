@@ -34,8 +34,7 @@ void main()
         imageStore(u_out_specular, px, vec4(0.0));
         return;
     }
-    int k = vct_level_at(x, 0.0);
-    float voxel = u_vct.level[k < 0 ? VCT_CLIP_LEVELS - 1 : k].w;
+    float voxel = vct_voxel_at(x);
     ivec2 low = (size + u_scale - 1) / u_scale;
     vec2 u = vec2(px - u_scale / 2) / float(u_scale); // traced pixel s sits at full-resolution pixel s·scale + scale/2
     ivec2 i0 = ivec2(floor(u));

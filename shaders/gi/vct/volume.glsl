@@ -55,3 +55,11 @@ int vct_level_at(vec3 p, float margin)
     }
     return -1;
 }
+
+// The voxel size (m) of the finest level holding p, or of the coarsest where
+// none does.
+float vct_voxel_at(vec3 p)
+{
+    int k = vct_level_at(p, 0.0);
+    return u_vct.level[k < 0 ? VCT_CLIP_LEVELS - 1 : k].w;
+}

@@ -142,8 +142,10 @@ int cmd_render(int argc, char **argv)
     Renderer r;
     if (renderer_create(&r, &scene, &rs)) {
         int frames = 1;
-        /* warm-up + timed + one + steady frames with --timings */
-        FrameClock clock = {0, o.timings ? o.warmup + 2 * o.frames + 1 : 1, -1.0, log_progress_seconds(RENDER_SLOW_S)};
+        /* warm-up + timed + one + steady frames with --timings (and one +
+         * the reads-only twin's with --probe) */
+        int timed = o.warmup + 2 * o.frames + 1 + (o.probe ? o.frames + 1 : 0);
+        FrameClock clock = {0, o.timings ? timed : 1, -1.0, log_progress_seconds(RENDER_SLOW_S)};
         announce_estimate(&rs, &scene, &clock);
         double t0 = util_seconds();
         if (o.timings) { /* untimed warm-up frames, then the timed ones */
@@ -216,6 +218,15 @@ int cmd_render(int argc, char **argv)
                     for (int f = 0; f < frames; f++)
                         frame(&r, &scene.camera, &clock);
                     render_options_print_steady(&r, 1e3 * (t1 - t0) / frames, 1e3 * (util_seconds() - s0) / frames);
+                }
+                RenderSettings twin = steady;
+                twin.gi_params.gather_reads_only = true;
+                if (render_options_reads_twin(&rs) && renderer_apply(&r, &twin)) {
+                    frame(&r, &scene.camera, &clock);
+                    gpu_timer_reset(&r.timer);
+                    for (int f = 0; f < frames; f++)
+                        frame(&r, &scene.camera, &clock);
+                    render_options_print_reads_twin(&r);
                 }
             }
         }

@@ -70,6 +70,8 @@ static const char *const k_shading_names[] = {"auto", "forward", "deferred", NUL
 
 /* --probe of the options last turned into settings (read by the timings report). */
 static const char *s_probe_path;
+/* The gather's rate in the timings report, for the reads-only twin's fraction. */
+static double s_gather_rate;
 
 void render_options_init(RenderOptions *o, bool view)
 {
@@ -297,7 +299,7 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
  * gathers the kernel that reads what they read, one packed texel per
  * sample. `--probe run` measures on maps of the gather's RSM size: the
  * rate of a fetch depends on the size of the map it reads. */
-static void print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
+static double gather_rate(const Renderer *r, const RenderStats *st)
 {
     static const char *const passes[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
                                          "rsm_gather_interleaved", "vpl_shade", NULL};
@@ -306,9 +308,15 @@ static void print_gather_efficiency(const Renderer *r, const RenderStats *st, co
         double m = gpu_timer_min_ms(&r->timer, passes[i], r->timer.sync);
         ms += m > 0 ? m : 0;
     }
-    if (st->gather_evaluations == 0 || ms <= 0)
+    return st->gather_evaluations == 0 || ms <= 0 ? 0 : (double)st->gather_evaluations / (ms * 1e-3);
+}
+
+static void print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
+{
+    double rate = gather_rate(r, st);
+    if (rate <= 0)
         return;
-    double rate = (double)st->gather_evaluations / (ms * 1e-3);
+    s_gather_rate = rate;
     printf("gather_evaluations: %llu\n", (unsigned long long)st->gather_evaluations);
     printf("gather_evals_per_s: %.4g\n", rate);
     ProbeResult pr;
@@ -358,6 +366,20 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
     if (rs->gi == GI_VCT)
         printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
     print_gather_efficiency(r, st, s_probe_path);
+}
+
+bool render_options_reads_twin(const RenderSettings *rs)
+{
+    return s_probe_path && s_gather_rate > 0 && (rs->gi == GI_RSM || rs->gi == GI_RSM_INTERP || rs->gi == GI_RSM_INTERLEAVED);
+}
+
+void render_options_print_reads_twin(Renderer *r)
+{
+    double rate = gather_rate(r, renderer_collect_stats(r));
+    if (rate <= 0)
+        return;
+    printf("gather_reads_only_evals_per_s: %.4g\n", rate);
+    printf("gather_fraction_of_reads_only: %.3f\n", s_gather_rate / rate);
 }
 
 void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms)

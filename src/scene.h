@@ -151,6 +151,10 @@ typedef struct GiParams {
     bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
     float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
     float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
+    /* Diagnostic, no scene key: the RSM gathers' twin for `render --timings
+     * --probe run`, which reads every sample and evaluates none (the image
+     * is meaningless); its rate is the limit of the gather's own reads. */
+    bool gather_reads_only;
 } GiParams;
 
 

@@ -1,6 +1,7 @@
 /* test_probe.c — `rtgi probe`: every kernel runs and reports a positive
  * rate, the JSON result round-trips, and
- * `--timings --probe run` states a gather's fraction of its bound;
+ * `--timings --probe run` states a gather's fraction of its bound and of
+ * its reads-only twin;
  * `--json -` writes the JSON alone on stdout. */
 #include <math.h>
 #include <stdlib.h>
@@ -74,6 +75,46 @@ static void timings_state_the_fraction(void **state)
     assert_null(strstr(text, "steady_rsm_ms"));
 }
 
+/* With --probe, an RSM gather's reads-only twin (GiParams.gather_reads_only)
+ * runs after the report in every layout, map kind and weighting: its rate
+ * is positive and the gather's fraction of it printed; VPL techniques have
+ * no twin (their bound is the storage-buffer kernel's). */
+static void reads_only_twin_runs(void **state)
+{
+    (void)state;
+    static const char *const cases[] = {
+        "--gi rsm",
+        "--gi rsm-interp --rsm-weighting paper",
+        "--gi rsm-interleaved --rsm-weighting unbiased",
+        "--gi rsm-interleaved",
+        "--gi rsm --rsm-exhaustive",
+        "--gi rsm-interp --scene " RTGI_SOURCE_DIR "/scenes/parity/rsm_spot.json",
+        "--gi vpl-all",
+        NULL,
+    };
+    for (int i = 0; cases[i]; i++) {
+        char cmd[1600], text[8192];
+        snprintf(cmd, sizeof cmd,
+                 "%s render --size 32x32 %s --rsm-samples 64 --timings --frames 1 --probe run --out %s/twin.pfm --quiet",
+                 RTGI_BINARY, cases[i], RTGI_TEST_TMP);
+        FILE *p = popen(cmd, "r");
+        assert_non_null(p);
+        size_t len = fread(text, 1, sizeof text - 1, p);
+        text[len] = 0;
+        assert_int_equal(pclose(p), 0);
+        const char *rate = strstr(text, "gather_reads_only_evals_per_s: ");
+        print_message("%s: %s", cases[i], rate ? rate : "no twin\n");
+        if (strstr(cases[i], "vpl-all")) {
+            assert_null(rate);
+            continue;
+        }
+        assert_non_null(rate);
+        double v = strtod(rate + strlen("gather_reads_only_evals_per_s: "), NULL);
+        assert_true(isfinite(v) && v > 0);
+        assert_non_null(strstr(text, "gather_fraction_of_reads_only: "));
+    }
+}
+
 /* `rtgi probe --json -`: the JSON alone on stdout (it parses as the
  * result), the text lines on stderr. */
 static void json_to_stdout(void **state)
@@ -114,6 +155,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(probe_measures_and_round_trips),
         cmocka_unit_test(timings_state_the_fraction),
+        cmocka_unit_test(reads_only_twin_runs),
         cmocka_unit_test(json_to_stdout),
         cmocka_unit_test(map_size_is_checked),
     };

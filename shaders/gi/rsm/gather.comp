@@ -12,7 +12,8 @@
 // from uniforms: llvmpipe runs the code under an `if` whether or not a lane
 // takes it, and the untaken paths' set-up had been two thirds of
 // rsm-interleaved's work per pixel. u_accumulate adds to the image (one
-// dispatch per light).
+// dispatch per light). READS_ONLY: the twin of `--probe run` that reads
+// the samples and evaluates nothing (gi/rsm/sampling.glsl).
 #include "shared/gpu_types.h"
 #ifndef WEIGHTING
 #error "gi/rsm/gather.comp needs WEIGHTING (an RSM_WEIGHT_*), as src/gi/rsm/rsm.c defines it"
@@ -51,8 +52,12 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
     float r2_per_area = u_gi.disk_r2_per_area; // read once (see RsmFrame)
     uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
     for (uint i = u_chunk; i < nv; i++)
+#ifdef READS_ONLY
+        e += rsm_reads_fold(vpls[i].surface) + rsm_reads_fold(floatBitsToUint(vpls[i].flux));
+#else
         e += vpl_irradiance_disk(x, n, vpl_position(vpls[i]), vpl_shading_normal(vpls[i]), vpls[i].flux.rgb,
                                  vpls[i].flux.w * r2_per_area);
+#endif
     return e;
 #elif WEIGHTING == RSM_WEIGHT_IMPORTANCE
     return rsm_gather_importance(x, n, list_set(px), first, stride, count);

@@ -123,12 +123,24 @@ uvec4 rsm_fetch(RsmFrame f, vec2 q, out float jac)
 #endif
 }
 
+#ifdef READS_ONLY
+// `render --timings --probe run`'s twin of a gather (src/gi/rsm/rsm.c): the
+// same samples read in the same order, every bit of them kept, and no
+// arithmetic on them; the rate of its reads is the limit of the gather's
+// own access pattern. The image it makes is meaningless.
+vec3 rsm_reads_fold(uvec4 t) { return vec3(float(t.x ^ t.y ^ t.z ^ t.w) * 1e-15); }
+#endif
+
 // Irradiance at x (normal n) from RSM texel t. An empty texel unpacks to
 // flux 0 and a finite area: it adds 0.
 vec3 rsm_texel_irradiance(RsmFrame f, uvec4 t, vec3 x, vec3 n)
 {
+#ifdef READS_ONLY
+    return rsm_reads_fold(t);
+#else
     vec3 xp = rsm_texel_position(f.texel, t), np = rsm_texel_normal(t);
     return vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f.texel, t), rsm_texel_area(f.texel, xp, np) * f.r2_per_area);
+#endif
 }
 
 // Sums E over samples first, first+stride, ... (count of them) of the
@@ -208,9 +220,13 @@ vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int 
     int global = far_k.y;
     for (int k = 0; k < global; k++) {
         GpuVpl v = rsm_samples[base + uint(far_k.x + k * stride)];
+#ifdef READS_ONLY
+        far += rsm_reads_fold(v.surface) + rsm_reads_fold(floatBitsToUint(v.flux));
+#else
         vec3 xp = vpl_position(v);
         vec3 e = vpl_irradiance_disk(x, n, xp, vpl_shading_normal(v), v.flux.rgb, v.flux.w * f.r2_per_area);
         far += rsm_in_disk(f, xp) ? vec3(0.0) : e;
+#endif
     }
     return near + far / float(global);
 }

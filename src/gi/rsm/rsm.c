@@ -62,11 +62,12 @@ static bool make_gather(RsmGi *g, GatherLayout layout)
 {
     static const char *const layout_def[GATHER_LAYOUTS] = {"#define MODE_FULL\n", "#define MODE_LOWRES\n",
                                                            "#define MODE_LIST\n", "#define MODE_INTERLEAVED\n"};
-    char defs[160];
+    char defs[192];
     for (int c = 0; c < 2; c++) {
         /* The weighting and the exhaustive sum are compiled in (gather.comp). */
-        snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s", layout_def[layout], c ? "#define RSM_CUBE\n" : "",
-                 (int)g->params.weighting, g->params.exhaustive ? "#define EXHAUSTIVE\n" : "");
+        snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s%s", layout_def[layout], c ? "#define RSM_CUBE\n" : "",
+                 (int)g->params.weighting, g->params.exhaustive ? "#define EXHAUSTIVE\n" : "",
+                 g->params.gather_reads_only ? "#define READS_ONLY\n" : "");
         g->gather[layout][c] = program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_gather", .comp = "gi/rsm/gather.comp", .defines = defs});
         if (!g->gather[layout][c])
             return false;

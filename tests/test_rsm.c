@@ -216,6 +216,80 @@ static void interleaved_blur_reduces_error(void **state)
     scene_free(&s);
 }
 
+/* The fraction of pixels whose blurred indirect light (radiance less the
+ * direct-only render) is the plain mean of the unblurred one over the
+ * blur's n×m window (clipped at the image's edges), within 1e-4 of the
+ * window's largest value: the blur where every neighbour is accepted. */
+static double blur_is_window_mean(const ImageF *blur, const ImageF *raw, const ImageF *direct, int n, int m)
+{
+    int w = raw->width, h = raw->height, match = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            bool ok = true;
+            for (int c = 0; c < 3; c++) {
+                double sum = 0, top = 0;
+                int count = 0;
+                for (int dy = -m / 2; dy < m - m / 2; dy++)
+                    for (int dx = -n / 2; dx < n - n / 2; dx++) {
+                        int qx = x + dx, qy = y - dy; /* the shader's y runs up, the image's rows down */
+                        if (qx < 0 || qy < 0 || qx >= w || qy >= h)
+                            continue;
+                        size_t i = 3 * ((size_t)qy * w + qx) + c;
+                        double v = (double)raw->rgb[i] - direct->rgb[i];
+                        sum += v;
+                        top = fmax(top, fabs(v));
+                        count++;
+                    }
+                size_t i = 3 * ((size_t)y * w + x) + c;
+                double got = (double)blur->rgb[i] - direct->rgb[i];
+                ok = ok && fabs(got - sum / count) <= 1e-4 * top + 1e-7;
+            }
+            match += ok;
+        }
+    return (double)match / (w * h);
+}
+
+/* The geometry-aware blur of the interleaved techniques: rsm-interleaved
+ * merges its sub-images and blurs them in one pass, vpl-interleaved blurs
+ * its image in place (gi/interleave.comp). Wherever the window lies on
+ * one flat wall, a blurred pixel is the mean of the unblurred pixels in
+ * its window: most of the Cornell box's pixels. Unblurred pixels (each its
+ * own sample subset) rarely are (the check can fail), nor would a blur
+ * that read the sub-images at the wrong places. Odd sizes and a 3×2
+ * pattern leave padding in the sub-images. */
+static void interleaved_blur_is_the_window_mean(void **state)
+{
+    (void)state;
+    enum { W = 101, H = 77 };
+    Scene s;
+    cornell_point(&s);
+    static const GiMode modes[] = {GI_RSM_INTERLEAVED, GI_VPL_INTERLEAVED};
+    static const int pattern[][2] = {{4, 4}, {3, 2}};
+    for (int k = 0; k < 2; k++)
+        for (int p = 0; p < 2; p++) {
+            GiParams gp = s.gi;
+            gp.interleave_n = pattern[p][0];
+            gp.interleave_m = pattern[p][1];
+            gp.interp_dist = 0.2f; /* at this size neighbours lie ~1% of the view distance apart */
+            ImageF blur, raw, direct;
+            test_render_gi(&s, W, H, modes[k], &gp, &blur);
+            gp.interleave_blur = false;
+            test_render_gi(&s, W, H, modes[k], &gp, &raw);
+            gp.scale = 0.f;
+            test_render_gi(&s, W, H, modes[k], &gp, &direct);
+            double fb = blur_is_window_mean(&blur, &raw, &direct, gp.interleave_n, gp.interleave_m);
+            double fr = blur_is_window_mean(&raw, &raw, &direct, gp.interleave_n, gp.interleave_m);
+            print_message("%s %dx%d: window mean at %.3f of the pixels blurred, %.3f unblurred\n",
+                          k ? "vpl-interleaved" : "rsm-interleaved", gp.interleave_n, gp.interleave_m, fb, fr);
+            assert_true(fb > 0.5);
+            assert_true(fr < 0.5 * fb);
+            image_free(&blur);
+            image_free(&raw);
+            image_free(&direct);
+        }
+    scene_free(&s);
+}
+
 /* Interleaved sampling deals each sample pattern (and each importance
  * list set) to the n·m sub-images so that together they take every point
  * once (rsm_subset, gi/rsm/sampling.glsl), whatever N: more samples buy
@@ -323,6 +397,7 @@ int main(void)
         cmocka_unit_test(colour_bleeding),
         cmocka_unit_test(sampled_and_interpolated),
         cmocka_unit_test(interleaved_blur_reduces_error),
+        cmocka_unit_test(interleaved_blur_is_the_window_mean),
         cmocka_unit_test(interleaved_subsets_partition_the_pattern),
         cmocka_unit_test(metal_surfaces_bounce_nothing),
         cmocka_unit_test(bad_gi_parameters),

@@ -26,21 +26,22 @@ bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int w
     g->di_h = g->sub_h * m;
     /* The pattern is compiled in (gi/interleave.comp): constant divisors
      * and a blur window of a constant size. */
-    char defs[3][96];
-    static const char *const mode[3] = {"#define MODE_BLUR", "#define MODE_SPLIT", "#define MODE_MERGE"};
-    for (int k = 0; k < 3; k++)
+    char defs[4][128];
+    static const char *const mode[4] = {"#define MODE_BLUR", "#define MODE_SPLIT", "#define MODE_MERGE",
+                                        "#define MODE_BLUR\n#define DEINTERLEAVED_INPUT"};
+    for (int k = 0; k < 4; k++)
         gi_interleave_defines(defs[k], sizeof defs[k], mode[k], n, m);
     g->blur = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_blur", .comp = "gi/interleave.comp", .defines = defs[0]});
-    g->merged = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.merged");
     if (!g->blur)
         return false;
-    if (!deinterleave)
-        return true;
+    if (!deinterleave) /* shaded in place, then blurred from a copy */
+        return (g->merged = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, w, h, "gi.merged")) != 0;
     g->split = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_split", .comp = "gi/interleave.comp", .defines = defs[1]});
     g->merge = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_merge", .comp = "gi/interleave.comp", .defines = defs[2]});
+    g->merge_blur = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_merge_blur", .comp = "gi/interleave.comp", .defines = defs[3]});
     g->di_surface = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32UI, g->di_w, g->di_h, "gi.di_surface");
     g->di_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_irradiance");
-    return g->split && g->merge;
+    return g->split && g->merge && g->merge_blur;
 }
 
 void gi_interleave_destroy(GiInterleave *g)
@@ -62,12 +63,14 @@ void gi_interleave_split(GiInterleave *g, const GBuffer *gb)
 
 void gi_interleave_merge(GiInterleave *g, const GBuffer *gb, bool blur, GLuint out)
 {
-    glBindTextureUnit(TEX_INPUT, g->di_irradiance);
-    glBindImageTexture(IMG_OUT, blur ? g->merged : out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-    glUseProgram(g->merge);
-    gi_dispatch_pixels(g->width, g->height);
+    /* With the blur, one pass: it reads each neighbour's sub-image texel
+     * (gi/interleave.comp, DEINTERLEAVED_INPUT). */
     if (blur)
-        gi_interleave_blur(g, gb, g->merged, out);
+        glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
+    glBindTextureUnit(TEX_INPUT, g->di_irradiance);
+    glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+    glUseProgram(blur ? g->merge_blur : g->merge);
+    gi_dispatch_pixels(g->width, g->height);
 }
 
 void gi_interleave_blur(GiInterleave *g, const GBuffer *gb, GLuint in, GLuint out)

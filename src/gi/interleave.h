@@ -3,12 +3,13 @@
  * VPL techniques:
  *   split  G-buffer → n×m de-interleaved sub-images (pixel (x, y) goes to
  *          sub-image (x mod n, y mod m) at (x / n, y / m))
- *   merge  the shaded sub-images back to the interleaved layout
+ *   merge  the shaded sub-images back to the interleaved layout (with
+ *          the blur: both in one pass)
  *   blur   geometry-aware blur over the n×m window: neighbours whose normal
  *          and position agree (the interpolation's thresholds, GpuGiParams)
  * Reads UBO_GI (interleave_n/m, sub size, thresholds) and UBO_FRAME.
  * Owns: the de-interleaved textures (when made with
- * `deinterleave`) and the pre-blur image. Shader: shaders/gi/interleave.comp. */
+ * `deinterleave`) or the pre-blur image (without). Shader: shaders/gi/interleave.comp. */
 #ifndef RTGI_GI_INTERLEAVE_H
 #define RTGI_GI_INTERLEAVE_H
 
@@ -21,13 +22,14 @@
 
 typedef struct GiInterleave {
     GLuint split, merge, blur;     /* programs from the cache (split/merge only with de-interleaving) */
+    GLuint merge_blur;             /* merge and blur in one pass (with de-interleaving) */
     int n, m;                      /* pattern */
     int width, height;             /* full resolution */
     int sub_w, sub_h;              /* sub-image size */
     int di_w, di_h;                /* de-interleaved layout: n·sub_w × m·sub_h */
     GLuint di_surface;             /* de-interleaved G-buffer surface texels (RGBA32UI) */
     GLuint di_irradiance;          /* de-interleaved result */
-    GLuint merged;                 /* reassembled (or shaded), before the blur */
+    GLuint merged;                 /* without de-interleaving: shaded, before the blur */
 } GiInterleave;
 
 /* The n × m pattern as shader defines (INTERLEAVE_N, INTERLEAVE_M) after
@@ -40,7 +42,7 @@ void gi_interleave_defines(char *out, size_t size, const char *mode, int n, int 
 bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int width, int height, bool deinterleave);
 void gi_interleave_destroy(GiInterleave *g);
 void gi_interleave_split(GiInterleave *g, const GBuffer *gb);
-/* Reassembles di_irradiance into `out`; with `blur`, through `merged` and the blur. */
+/* Reassembles di_irradiance into `out`; with `blur`, blurred in the same pass. */
 void gi_interleave_merge(GiInterleave *g, const GBuffer *gb, bool blur, GLuint out);
 /* Geometry-aware blur of `in` into `out` (in ≠ out). */
 void gi_interleave_blur(GiInterleave *g, const GBuffer *gb, GLuint in, GLuint out);

@@ -51,6 +51,23 @@ static void frame(Renderer *r, const Camera *cam, FrameClock *c)
                      s * (c->total - c->done));
 }
 
+/* Applies `rs` to r, draws one untimed frame (it builds what the settings
+ * changed), then `frames` timed ones on a reset timer; their mean wall time
+ * (ms) in *ms. False if the settings do not apply. */
+static bool timed_frames(Renderer *r, const RenderSettings *rs, const Camera *cam, FrameClock *c, int frames,
+                         double *ms)
+{
+    if (!renderer_apply(r, rs))
+        return false;
+    frame(r, cam, c);
+    gpu_timer_reset(&r->timer);
+    double t0 = util_seconds();
+    for (int f = 0; f < frames; f++)
+        frame(r, cam, c);
+    *ms = 1e3 * (util_seconds() - t0) / frames;
+    return true;
+}
+
 /* One line before the first frame when the cost model (src/gi/cost.c, at
  * the default device rate: the window's estimate before it has measured
  * anything) puts a frame's gather over the clock's threshold. */
@@ -205,29 +222,20 @@ int cmd_render(int argc, char **argv)
             log_info("render", "wrote %s (%dx%d, %s, %s)", o.out, rs.width, rs.height, scene.source,
                      gl_context_renderer(gl));
             if (o.timings) {
-                render_options_print_timings(&r, gl_context_renderer(gl), 1e3 * (t1 - t0) / frames);
+                double cold_ms = 1e3 * (t1 - t0) / frames, ms;
+                double gather = render_options_print_timings(&r, gl_context_renderer(gl), cold_ms);
                 /* The frames above draw every light product (cold frames);
                  * steady frames keep them, as the window does while the
-                 * lights stand still. */
+                 * lights stand still (the untimed first one draws them). */
                 RenderSettings steady = rs;
                 steady.cache = true;
-                if (renderer_apply(&r, &steady)) {
-                    frame(&r, &scene.camera, &clock); /* draws the products once */
-                    gpu_timer_reset(&r.timer);
-                    double s0 = util_seconds();
-                    for (int f = 0; f < frames; f++)
-                        frame(&r, &scene.camera, &clock);
-                    render_options_print_steady(&r, 1e3 * (t1 - t0) / frames, 1e3 * (util_seconds() - s0) / frames);
-                }
+                if (timed_frames(&r, &steady, &scene.camera, &clock, frames, &ms))
+                    render_options_print_steady(&r, cold_ms, ms);
                 RenderSettings twin = steady;
                 twin.gi_params.gather_reads_only = true;
-                if (render_options_reads_twin(&rs) && renderer_apply(&r, &twin)) {
-                    frame(&r, &scene.camera, &clock);
-                    gpu_timer_reset(&r.timer);
-                    for (int f = 0; f < frames; f++)
-                        frame(&r, &scene.camera, &clock);
-                    render_options_print_reads_twin(&r);
-                }
+                if (render_options_reads_twin(&rs, gather) &&
+                    timed_frames(&r, &twin, &scene.camera, &clock, frames, &ms))
+                    render_options_print_reads_twin(&r, gather);
             }
         }
     }

@@ -70,8 +70,6 @@ static const char *const k_shading_names[] = {"auto", "forward", "deferred", NUL
 
 /* --probe of the options last turned into settings (read by the timings report). */
 static const char *s_probe_path;
-/* The gather's rate in the timings report, for the reads-only twin's fraction. */
-static double s_gather_rate;
 
 void render_options_init(RenderOptions *o, bool view)
 {
@@ -311,19 +309,18 @@ static double gather_rate(const Renderer *r, const RenderStats *st)
     return st->gather_evaluations == 0 || ms <= 0 ? 0 : (double)st->gather_evaluations / (ms * 1e-3);
 }
 
-static void print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
+static double print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
 {
     double rate = gather_rate(r, st);
     if (rate <= 0)
-        return;
-    s_gather_rate = rate;
+        return 0;
     printf("gather_evaluations: %llu\n", (unsigned long long)st->gather_evaluations);
     printf("gather_evals_per_s: %.4g\n", rate);
     ProbeResult pr;
     bool have = probe_path && (!strcmp(probe_path, "run") ? probe_run(&pr, st->gather_vpl ? 0 : st->gather_map_size)
                                                           : probe_read_json(probe_path, &pr));
     if (!have)
-        return;
+        return rate;
     const char *map = st->gather_cube ? "cube" : "2d", *list = st->gather_from_list > 0 ? " + ssbo_vpl" : "";
     double bound = probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list, false);
     if (!st->gather_vpl)
@@ -338,16 +335,17 @@ static void print_gather_efficiency(const Renderer *r, const RenderStats *st, co
         printf("gather_texel_bound: %.4g (%s_texel%s)\n", texel, map, list);
         printf("gather_fraction_of_texel_bound: %.3f\n", rate / texel);
     }
+    return rate;
 }
 
-void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)
+double render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)
 {
     const RenderSettings *rs = &r->settings;
     printf("renderer: %s\n", gl_renderer);
     gpu_timer_print(&r->timer, stdout);
     printf("frame_wall_ms: %.3f\n", frame_ms);
     if (rs->gi == GI_NONE)
-        return;
+        return 0;
     const RenderStats *st = renderer_collect_stats(r);
     double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs); /* shaded pixels */
     printf("gathered_pixels: %u\n", st->gathered_pixels);
@@ -365,21 +363,21 @@ void render_options_print_timings(Renderer *r, const char *gl_renderer, double f
         printf("gi_memory_mib: %.3f\n", (double)st->gpu_bytes / (1024.0 * 1024.0));
     if (rs->gi == GI_VCT)
         printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
-    print_gather_efficiency(r, st, s_probe_path);
+    return print_gather_efficiency(r, st, s_probe_path);
 }
 
-bool render_options_reads_twin(const RenderSettings *rs)
+bool render_options_reads_twin(const RenderSettings *rs, double gather_evals_per_s)
 {
-    return s_probe_path && s_gather_rate > 0 && (rs->gi == GI_RSM || rs->gi == GI_RSM_INTERP || rs->gi == GI_RSM_INTERLEAVED);
+    return s_probe_path && gather_evals_per_s > 0 && (rs->gi == GI_RSM || rs->gi == GI_RSM_INTERP || rs->gi == GI_RSM_INTERLEAVED);
 }
 
-void render_options_print_reads_twin(Renderer *r)
+void render_options_print_reads_twin(Renderer *r, double gather_evals_per_s)
 {
     double rate = gather_rate(r, renderer_collect_stats(r));
     if (rate <= 0)
         return;
     printf("gather_reads_only_evals_per_s: %.4g\n", rate);
-    printf("gather_fraction_of_reads_only: %.3f\n", s_gather_rate / rate);
+    printf("gather_fraction_of_reads_only: %.3f\n", gather_evals_per_s / rate);
 }
 
 void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms)

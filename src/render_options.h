@@ -61,16 +61,17 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
  * that keep the light products (r's timer holds only steady frames). */
 void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms);
 /* Whether the report measures the RSM gather's reads-only twin (with
- * --probe, after the timings report gave the gather's rate): the same
- * passes with GiParams.gather_reads_only, which read every sample and
+ * --probe, when the timings report gave the gather's evaluations/s): the
+ * same passes with GiParams.gather_reads_only, which read every sample and
  * evaluate none. */
-bool render_options_reads_twin(const RenderSettings *rs);
+bool render_options_reads_twin(const RenderSettings *rs, double gather_evals_per_s);
 /* Prints the twin's evaluations/s (r runs it: its timer holds only the
  * twin's frames) and the gather's fraction of it: how near the gather is
  * to the limit of its own reads on this device. */
-void render_options_print_reads_twin(Renderer *r);
+void render_options_print_reads_twin(Renderer *r, double gather_evals_per_s);
 /* Prints the --timings report (per-pass times, GI counters, the gather's
- * evaluations/s and, with `probe`, its fraction of the probe's bound). */
-void render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms);
+ * evaluations/s and, with `probe`, its fraction of the probe's bound).
+ * Returns the gather's evaluations/s, 0 without a gather. */
+double render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms);
 
 #endif

@@ -82,36 +82,39 @@ static void timings_state_the_fraction(void **state)
 static void reads_only_twin_runs(void **state)
 {
     (void)state;
-    static const char *const cases[] = {
-        "--gi rsm",
-        "--gi rsm-interp --rsm-weighting paper",
-        "--gi rsm-interleaved --rsm-weighting unbiased",
-        "--gi rsm-interleaved",
-        "--gi rsm --rsm-exhaustive",
-        "--gi rsm-interp --scene " RTGI_SOURCE_DIR "/scenes/parity/rsm_spot.json",
-        "--gi vpl-all",
-        NULL,
+    static const struct {
+        const char *args[4]; /* after the common ones, NULL-terminated */
+        bool twin;
+    } cases[] = {
+        {{"--gi", "rsm"}, true},
+        {{"--gi", "rsm-interp", "--rsm-weighting", "paper"}, true},
+        {{"--gi", "rsm-interleaved", "--rsm-weighting", "unbiased"}, true},
+        {{"--gi", "rsm-interleaved"}, true},
+        {{"--gi", "rsm", "--rsm-exhaustive"}, true},
+        {{"--gi", "rsm-interp", "--scene", RTGI_SOURCE_DIR "/scenes/parity/rsm_spot.json"}, true},
+        {{"--gi", "vpl-all"}, false},
     };
-    for (int i = 0; cases[i]; i++) {
-        char cmd[1600], text[8192];
-        snprintf(cmd, sizeof cmd,
-                 "%s render --size 32x32 %s --rsm-samples 64 --timings --frames 1 --probe run --out %s/twin.pfm --quiet",
-                 RTGI_BINARY, cases[i], RTGI_TEST_TMP);
-        FILE *p = popen(cmd, "r");
-        assert_non_null(p);
-        size_t len = fread(text, 1, sizeof text - 1, p);
-        text[len] = 0;
-        assert_int_equal(pclose(p), 0);
+    char out[512];
+    snprintf(out, sizeof out, "%s/twin.pfm", RTGI_TEST_TMP);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const char *const *a = cases[i].args;
+        char *text = NULL;
+        int rc = test_run_cli_out(&text, NULL, "render", "--size", "32x32", "--rsm-samples", "64", "--timings",
+                                  "--frames", "1", "--probe", "run", "--out", out, "--quiet", a[0], a[1], a[2], a[3],
+                                  NULL);
+        assert_int_equal(rc, 0);
+        assert_non_null(text);
         const char *rate = strstr(text, "gather_reads_only_evals_per_s: ");
-        print_message("%s: %s", cases[i], rate ? rate : "no twin\n");
-        if (strstr(cases[i], "vpl-all")) {
+        print_message("%s %s: %s", a[0], a[1], rate ? rate : "no twin\n");
+        if (!cases[i].twin) {
             assert_null(rate);
-            continue;
+        } else {
+            assert_non_null(rate);
+            double v = strtod(rate + strlen("gather_reads_only_evals_per_s: "), NULL);
+            assert_true(isfinite(v) && v > 0);
+            assert_non_null(strstr(text, "gather_fraction_of_reads_only: "));
         }
-        assert_non_null(rate);
-        double v = strtod(rate + strlen("gather_reads_only_evals_per_s: "), NULL);
-        assert_true(isfinite(v) && v > 0);
-        assert_non_null(strstr(text, "gather_fraction_of_reads_only: "));
+        free(text);
     }
 }
 

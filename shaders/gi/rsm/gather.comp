@@ -53,7 +53,7 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
     uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
     for (uint i = u_chunk; i < nv; i++)
 #ifdef READS_ONLY
-        e += rsm_reads_fold(vpls[i].surface) + rsm_reads_fold(floatBitsToUint(vpls[i].flux));
+        e += rsm_reads_fold_vpl(vpls[i].surface, vpls[i].flux);
 #else
         e += vpl_irradiance_disk(x, n, vpl_position(vpls[i]), vpl_shading_normal(vpls[i]), vpls[i].flux.rgb,
                                  vpls[i].flux.w * r2_per_area);

@@ -129,6 +129,8 @@ uvec4 rsm_fetch(RsmFrame f, vec2 q, out float jac)
 // arithmetic on them; the rate of its reads is the limit of the gather's
 // own access pattern. The image it makes is meaningless.
 vec3 rsm_reads_fold(uvec4 t) { return vec3(float(t.x ^ t.y ^ t.z ^ t.w) * 1e-15); }
+// A VPL record as the loops read it: its surface and its flux.
+vec3 rsm_reads_fold_vpl(uvec4 surface, vec4 flux) { return rsm_reads_fold(surface) + rsm_reads_fold(floatBitsToUint(flux)); }
 #endif
 
 // Irradiance at x (normal n) from RSM texel t. An empty texel unpacks to
@@ -152,6 +154,16 @@ vec3 rsm_texel_irradiance(RsmFrame f, uvec4 t, vec3 x, vec3 n)
 // (256², one thread: rsm-interleaved 29 -> 26 ms, rsm-interp's low-res
 // gather 22 -> 19 ms, rsm 310 -> 244 ms). An odd count's last step
 // fetches one sample past the subset and weighs it 0.
+// Pattern point i's ξ1 (inv_n = 1/n) and its map coordinates in frame f at
+// the angle (sin, cos) sc, which then turns by rot to the next point's.
+float rsm_pattern_point(RsmFrame f, int i, float inv_n, inout vec2 sc, vec2 rot, out vec2 q)
+{
+    float xi1 = (float(i) + 0.5) * inv_n;
+    q = f.st + f.scale * (xi1 * sc);
+    sc = vec2(sc.x * rot.y + sc.y * rot.x, sc.y * rot.y - sc.x * rot.x);
+    return xi1;
+}
+
 vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bool unbiased, int n_pattern)
 {
     float K = u_gi.disk_texels;
@@ -163,12 +175,9 @@ vec3 rsm_gather(RsmFrame f, vec3 x, vec3 n, int first, int stride, int count, bo
     float a0 = TWO_PI * fract(float(first) * GOLDEN), da = TWO_PI * fract(float(stride) * GOLDEN);
     vec2 sc = vec2(sin(a0), cos(a0)), rot = vec2(sin(da), cos(da));
     for (int k = 0; k < count; k += 2) {
-        float xa = (float(first + k * stride) + 0.5) * inv_n;
-        vec2 qa = f.st + f.scale * (xa * sc);
-        sc = vec2(sc.x * rot.y + sc.y * rot.x, sc.y * rot.y - sc.x * rot.x);
-        float xb = (float(first + (k + 1) * stride) + 0.5) * inv_n;
-        vec2 qb = f.st + f.scale * (xb * sc);
-        sc = vec2(sc.x * rot.y + sc.y * rot.x, sc.y * rot.y - sc.x * rot.x);
+        vec2 qa, qb;
+        float xa = rsm_pattern_point(f, first + k * stride, inv_n, sc, rot, qa);
+        float xb = rsm_pattern_point(f, first + (k + 1) * stride, inv_n, sc, rot, qb);
         float ja, jb;
         uvec4 ta = rsm_fetch(f, qa, ja), tb = rsm_fetch(f, qb, jb);
         float live = k + 1 < count ? 1.0 : 0.0;
@@ -221,7 +230,7 @@ vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int 
     for (int k = 0; k < global; k++) {
         GpuVpl v = rsm_samples[base + uint(far_k.x + k * stride)];
 #ifdef READS_ONLY
-        far += rsm_reads_fold(v.surface) + rsm_reads_fold(floatBitsToUint(v.flux));
+        far += rsm_reads_fold_vpl(v.surface, v.flux);
 #else
         vec3 xp = vpl_position(v);
         vec3 e = vpl_irradiance_disk(x, n, xp, vpl_shading_normal(v), v.flux.rgb, v.flux.w * f.r2_per_area);

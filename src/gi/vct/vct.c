@@ -231,17 +231,6 @@ static uint64_t box_bytes(int w, int h, int d, int levels)
     return b;
 }
 
-/* Bytes of an RGBA16F cube of side n with `levels` mips. */
-static uint64_t volume_bytes(int n, int levels)
-{
-    uint64_t b = 0;
-    for (int l = 0; l < levels; l++) {
-        uint64_t s = (uint64_t)(n >> l > 0 ? n >> l : 1);
-        b += s * s * s * 8u;
-    }
-    return b;
-}
-
 static void *vct_create(const GiCreateInfo *ci)
 {
     const GiParams *p = ci->params;
@@ -252,7 +241,7 @@ static void *vct_create(const GiCreateInfo *ci)
     }
     int levels = gl_mip_levels(n, n, n);
     int half = aniso_side(n), slab = aniso_slab(n, levels);
-    uint64_t bytes = (uint64_t)clip * (2 * volume_bytes(n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * volume_bytes(n, levels)) +
+    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * box_bytes(n, n, n, levels)) +
                      (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
     uint32_t opaque_capacity = (uint32_t)((uint64_t)clip * n * n * n / VCT_OPAQUE_SHARE);
     bytes += 4u * (4u + (uint64_t)opaque_capacity);
@@ -378,14 +367,17 @@ static void place_levels(VctGi *v, const Camera *cam)
 
 /* ---- Passes -------------------------------------------------------------------- */
 
-/* A 4×4×4-group compute pass over an n × n × n·layers volume. */
-static void dispatch_volume(int n, int layers)
+/* A 4×4×4-group compute pass over a side × side × depth box. */
+static void dispatch_box(int side, int depth)
 {
-    GLuint g = (GLuint)(n + 3) / 4;
-    glDispatchCompute(g, g, (GLuint)(n * layers + 3) / 4);
+    GLuint g = (GLuint)(side + 3) / 4;
+    glDispatchCompute(g, g, (GLuint)(depth + 3) / 4);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
+
+/* The same over the n × n × n·layers stacked volume. */
+static void dispatch_volume(int n, int layers) { dispatch_box(n, n * layers); }
 
 /* Rasterizes the scene into fixed-point sums, resolves them into the
  * albedo and normal volumes, frees the sums. */
@@ -501,8 +493,7 @@ static void build_mips(VctGi *v, GLuint tex)
     for (int a = 0; a < ANISO_AXES; a++)
         gl_texture3d_bind_image(units[a], v->aniso[a], 0, GL_WRITE_ONLY, GL_RGBA16F);
     int half = aniso_side(v->n), slabs = v->gpu.aniso_slab * v->clip; /* one sign */
-    glDispatchCompute((GLuint)(half + 3) / 4, (GLuint)(half + 3) / 4, (GLuint)(slabs + 3) / 4);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    dispatch_box(half, slabs);
     glUseProgram(v->aniso_prog);
     for (int a = 0; a < ANISO_AXES; a++) {
         glProgramUniform1i(v->aniso_prog, LOC_VCT_AXIS, a);
@@ -510,10 +501,7 @@ static void build_mips(VctGi *v, GLuint tex)
             gl_texture3d_bind_image(IMG_VCT_SRC, v->aniso[a], l - 1, GL_READ_ONLY, GL_RGBA16F);
             gl_texture3d_bind_image(IMG_VCT_DST, v->aniso[a], l, GL_WRITE_ONLY, GL_RGBA16F);
             int s = half >> l, depth = (v->gpu.aniso_slab >> l) * 2 * v->clip; /* both signs, every level */
-            s = s > 0 ? s : 1;
-            glDispatchCompute((GLuint)(s + 3) / 4, (GLuint)(s + 3) / 4, (GLuint)(depth + 3) / 4);
-            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
-                            GL_TEXTURE_UPDATE_BARRIER_BIT);
+            dispatch_box(s > 0 ? s : 1, depth);
         }
     }
 }

@@ -46,8 +46,9 @@ typedef struct RsmGi {
     /* Importance weighting, per light: */
     int lights;
     GLuint importance[3];             /* level 0, reduce, sample programs */
-    GLuint *pyramid;                  /* R32F 2D array, power-of-two, full mip chain: flux luminance sums */
-    int *pyramid_levels;
+    GLuint *pyramid;                  /* R32F 2D array: flux luminance sums, level L >= 1 of a power-of-two
+                                         pyramid at mip L - 1 (level 0 is the RSM itself, gi/rsm/importance.comp) */
+    int *pyramid_levels;              /* levels, counting level 0 */
     GLuint *samples;                  /* SSBO: GpuVpl[list_size], flux Φ/p */
     uint64_t *built_from;             /* RsmMap.version each pyramid and list were built from (0: none) */
     int importance_builds;            /* how many times one was built */
@@ -127,7 +128,7 @@ static void importance_destroy(RsmGi *g)
 /* A flux pyramid and a sample list for each light's RSM. */
 static bool importance_create(RsmGi *g, const LightStage *ls)
 {
-    static const char *const defs[3] = {"#define MODE_LEVEL0\n", "#define MODE_REDUCE\n", "#define MODE_SAMPLE\n"};
+    static const char *const defs[3] = {"#define MODE_BLOCKS\n", "#define MODE_REDUCE\n", "#define MODE_SAMPLE\n"};
     for (int k = 0; k < 3; k++) {
         g->importance[k] = program_cache_get(
             g->pc, &(ShaderProgramDesc){.label = "rsm_importance", .comp = "gi/rsm/importance.comp", .defines = defs[k]});
@@ -146,14 +147,14 @@ static bool importance_create(RsmGi *g, const LightStage *ls)
     size_t list = (size_t)rsm_far_samples(g->params.samples) * RSM_LIST_SETS;
     for (int i = 0; i < g->lights; i++) {
         const RsmMap *m = &ls->rsm[i];
-        int p = 1, levels = 1;
+        int p = 4, levels = 3; /* the blocks pass writes levels 1 and 2 (RSM sizes are at least 4) */
         while (p < m->size) {
             p *= 2;
             levels++;
         }
         g->pyramid_levels[i] = levels;
         glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &g->pyramid[i]);
-        glTextureStorage3D(g->pyramid[i], levels, GL_R32F, p, p, m->cube ? 6 : 1);
+        glTextureStorage3D(g->pyramid[i], levels - 1, GL_R32F, p / 2, p / 2, m->cube ? 6 : 1);
         glTextureParameteri(g->pyramid[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
         glTextureParameteri(g->pyramid[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glObjectLabel(GL_TEXTURE, g->pyramid[i], -1, "rsm.importance_pyramid");
@@ -171,15 +172,17 @@ static void importance_run(RsmGi *g, const LightStage *ls, int i)
     int layers = m->cube ? 6 : 1, top = g->pyramid_levels[i] - 1;
     int p = 1 << top;
     light_stage_bind_rsm_layers(ls, i);
+    /* Levels 1 and 2 (mips 0 and 1) straight from the RSM, then the rest. */
     glBindImageTexture(IMG_OUT, g->pyramid[i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(IMG_OUT2, g->pyramid[i], 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
     glUseProgram(g->importance[0]);
-    glDispatchCompute((GLuint)(p + 7) / 8, (GLuint)(p + 7) / 8, (GLuint)layers);
+    glDispatchCompute((GLuint)(p / 4 + 7) / 8, (GLuint)(p / 4 + 7) / 8, (GLuint)layers);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindTextureUnit(TEX_INPUT, g->pyramid[i]);
     glUseProgram(g->importance[1]);
-    for (int l = 1; l <= top; l++) {
+    for (int l = 3; l <= top; l++) {
         int s = p >> l;
-        glBindImageTexture(IMG_OUT, g->pyramid[i], l, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
+        glBindImageTexture(IMG_OUT, g->pyramid[i], l - 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
         glProgramUniform1i(g->importance[1], LOC_IMPORTANCE_LEVEL, l);
         glDispatchCompute((GLuint)(s + 7) / 8, (GLuint)(s + 7) / 8, (GLuint)layers);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);

@@ -65,17 +65,13 @@ static bool rsm_map_create(RsmMap *m, bool cube, int size)
     m->cube = cube;
     m->texel = gl_texture_make(target, GL_RGBA32UI, size, size, "rsm.texel");
     m->depth = gl_texture_make(target, GL_DEPTH_COMPONENT32F, size, size, "rsm.depth");
-    glGenTextures(1, &m->view); /* views need names that were never bound */
-    glTextureView(m->view, GL_TEXTURE_2D_ARRAY, m->texel, GL_RGBA32UI, 0, 1, 0, cube ? 6 : 1);
-    glTextureParameteri(m->view, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(m->view, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     return fbo_make(&m->fbo, &m->texel, 1, m->depth, cube, "rsm");
 }
 
 static void rsm_map_destroy(RsmMap *m)
 {
-    GLuint t[3] = {m->texel, m->depth, m->view};
-    glDeleteTextures(3, t);
+    GLuint t[2] = {m->texel, m->depth};
+    glDeleteTextures(2, t);
     glDeleteFramebuffers(1, &m->fbo);
     *m = (RsmMap){0};
 }
@@ -198,12 +194,14 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     ls->rsm_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm", .vert = "frame/scene.vert", .frag = "light/rsm.frag", .defines = "#define FLAT_UNIFORMS\n"});
     ls->rsm_program_opaque = program_cache_get(pc, &(ShaderProgramDesc){.label = "rsm_opaque", .vert = "frame/scene.vert",
                                                                         .frag = "light/rsm.frag", .defines = "#define FLAT_UNIFORMS\n#define OPAQUE_DRAW\n"});
-    ls->vpl_program = program_cache_get(pc, &(ShaderProgramDesc){.label = "vpl_extract", .comp = "light/vpl_extract.comp", .defines = NULL});
+    for (int cube = 0; cube < 2; cube++)
+        ls->vpl_program[cube] = program_cache_get(pc, &(ShaderProgramDesc){.label = "vpl_extract", .comp = "light/vpl_extract.comp",
+                                                                            .defines = light_stage_rsm_kind(cube)});
     ls->rsm_program_untextured = program_cache_get(
         pc, &(ShaderProgramDesc){.label = "rsm_untextured", .vert = "frame/scene.vert", .frag = "light/rsm.frag",
                                  .defines = "#define FLAT_UNIFORMS\n#define OPAQUE_DRAW\n#define UNTEXTURED\n"});
     if (!ls->shadow_program || !ls->rsm_program || !ls->rsm_program_opaque || !ls->rsm_program_untextured ||
-        !ls->vpl_program)
+        !ls->vpl_program[0] || !ls->vpl_program[1])
         return false;
     GLint align = 256;
     glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
@@ -473,10 +471,11 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     const uint32_t count_seed[2] = {0u, d->vpl_seed}; /* the seed of their ξ: vpl_extract.comp and shade.comp's SLC loop */
     glNamedBufferSubData(ls->vpls.counters, 0, sizeof count_seed, count_seed);
     light_stage_bind_vpls(ls);
-    glProgramUniform1i(ls->vpl_program, LOC_VPL_STRIDE, 1);
-    glUseProgram(ls->vpl_program);
     for (int i = 0; i < ls->light_count; i++) {
         const RsmMap *m = &ls->rsm[i];
+        GLuint prog = ls->vpl_program[m->cube];
+        glProgramUniform1i(prog, LOC_VPL_STRIDE, 1);
+        glUseProgram(prog);
         light_stage_bind_rsm_layers(ls, i);
         GLuint n = (GLuint)m->size;
         glDispatchCompute((n + 7) / 8, (n + 7) / 8, m->cube ? 6 : 1);
@@ -521,8 +520,10 @@ void light_stage_bind_rsm(const LightStage *ls, int i)
 void light_stage_bind_rsm_layers(const LightStage *ls, int i)
 {
     bind_slot(ls, i, SLOT_RSM);
-    glBindTextureUnit(TEX_RSM, ls->rsm[i].view);
+    glBindImageTexture(IMG_RSM, ls->rsm[i].texel, 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32UI);
 }
+
+const char *light_stage_rsm_kind(bool cube) { return cube ? "#define RSM_CUBE\n" : "#define RSM_2D\n"; }
 
 void light_stage_bind_vpls(const LightStage *ls)
 {

@@ -50,7 +50,6 @@ typedef struct RsmMap {
     GLuint texel;      /* RGBA32UI: position, normal of the lit side and flux, packed
                           (shaders/common/rsm_texel.glsl); 0 where no surface */
     GLuint depth;      /* DEPTH32F */
-    GLuint view;       /* 2D-array view of texel (compute passes) */
     GLuint fbo;
     ShadowFrame frame; /* projection of the last frame */
     uint64_t key;      /* what it was last drawn for (0: never) */
@@ -91,7 +90,8 @@ typedef struct LightStage {
     int clusters_culled;  /* clusters those faces skipped (outside their frustum), in all */
     GLuint shadow_programs[2][2]; /* [directional][alpha-masked], from the program cache */
     GLuint shadow_program;        /* nonzero when all four built */
-    GLuint rsm_program, vpl_program; /* from the program cache */
+    GLuint rsm_program;              /* from the program cache */
+    GLuint vpl_program[2];           /* [cube]: VPL extraction, per kind of map (light_stage_rsm_kind) */
     GLuint rsm_program_opaque;       /* rsm_program for opaque materials: early depth */
     GLuint rsm_program_untextured;   /* the same for opaque materials without textures */
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
@@ -138,9 +138,14 @@ void light_stage_bind_rsm(const LightStage *ls, int i);
  * angle on the projection plane): RGB9E5 keeps its 9 bits from 2^-15 to
  * 65408 units, i.e. from 1.9e-9·M to 4·M (albedo up to 4). */
 void light_stage_rsm_texel_frame(const vec3 bounds_min, const vec3 bounds_max, GpuLight *g);
-/* light_stage_bind_rsm with the RSM as a 2D array (one layer, or six for
- * a cube) at TEX_RSM, for compute passes that walk its texels. */
+/* Binds light i's RSM block to UBO_LIGHT and the RSM as a read-only image
+ * at IMG_RSM (layered: a cube's six faces), for passes that walk its texels
+ * (shaders/common/rsm_layers.glsl); their programs are built per kind of
+ * map with light_stage_rsm_kind. */
 void light_stage_bind_rsm_layers(const LightStage *ls, int i);
+/* The define that builds a program reading RSMs of one kind: RSM_CUBE
+ * (point and quad lights) or RSM_2D (spot and directional). */
+const char *light_stage_rsm_kind(bool cube);
 /* Binds the VPL buffer to SSBO_VPL and SSBO_COUNTERS. */
 void light_stage_bind_vpls(const LightStage *ls);
 /* The VPL count of the last extraction (waits for the GPU). */

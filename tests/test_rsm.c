@@ -370,6 +370,143 @@ static void metal_surfaces_bounce_nothing(void **state)
     }
 }
 
+/* The passes that walk an RSM texel by texel (the importance pyramid, VPL
+ * extraction, the LPV geometry volume) are built per kind of map
+ * (common/rsm_layers.glsl) and each light must get its own kind's. A point
+ * light (cube RSM) and a spot light (2D RSM) in one scene: the VPLs of both
+ * are those of each alone, and since every technique here is linear in
+ * the lights, the image of both is the sum of each alone's (to rounding;
+ * LPV's fixed-point injection scales with the scene's power). The bound is
+ * checked against what dropping either light's indirect light would give. */
+static void two_lights(Scene *s, bool point, bool spot)
+{
+    assert_true(scene_load(s, "cornell"));
+    Light l = s->lights[0];
+    l.type = LIGHT_POINT;
+    l.size = 0.f;
+    l.position[1] -= 0.1f;
+    Light sp = l;
+    sp.type = LIGHT_SPOT;
+    glm_vec3_copy((vec3){0.15f, 0.5f, 0.3f}, sp.position);
+    glm_vec3_copy((vec3){0.25f, -1.f, 0.1f}, sp.direction);
+    glm_vec3_normalize(sp.direction);
+    glm_vec3_scale(sp.color, 0.7f, sp.color);
+    sp.spot_inner = 0.5f;
+    sp.spot_outer = 0.8f;
+    s->light_count = 0;
+    if (point)
+        s->lights[s->light_count++] = l;
+    if (spot) {
+        Light *more = realloc(s->lights, 2 * sizeof *more);
+        assert_non_null(more);
+        s->lights = more;
+        s->lights[s->light_count++] = sp;
+    }
+    s->gi.rsm_size = 32;
+    s->gi.vpl_count = 0; /* the RSM's size decides the VPLs, not a budget shared by the lights */
+    s->gi.samples = 64;
+}
+
+/* a + b − c (c: what both count, the emitters seen without lights) */
+static void add_images(const ImageF *a, const ImageF *b, const ImageF *c, ImageF *sum)
+{
+    assert_true(image_alloc(sum, a->width, a->height));
+    for (size_t i = 0; i < (size_t)a->width * a->height * 3; i++)
+        sum->rgb[i] = a->rgb[i] + b->rgb[i] - c->rgb[i];
+}
+
+static void maps_of_both_kinds_in_one_scene(void **state)
+{
+    (void)state;
+    enum { W = 32, H = 32 };
+    Scene both, point, spot, dark;
+    two_lights(&both, true, true);
+    two_lights(&point, true, false);
+    two_lights(&spot, false, true);
+    two_lights(&dark, false, false); /* the ceiling's emitter alone, which every image shows */
+    ImageF none_p, none_s, emit;
+    test_render_gi(&dark, W, H, GI_NONE, NULL, &emit);
+    test_render_gi(&point, W, H, GI_NONE, NULL, &none_p);
+    test_render_gi(&spot, W, H, GI_NONE, NULL, &none_s);
+    const GiMode modes[] = {GI_NONE, GI_RSM, GI_VPL_ALL, GI_LPV};
+    const double tol[] = {1e-8, 1e-8, 1e-8, 1e-7};
+    for (int m = 0; m < 4; m++) {
+        ImageF b, p, sp, sum, drop_p, drop_s;
+        GiParams gp = both.gi;
+        gp.lpv_occlusion = false; /* its geometry volume takes every light's surfels: not linear in the lights */
+        RenderStats sb = test_render_gi(&both, W, H, modes[m], &gp, &b);
+        RenderStats spt = test_render_gi(&point, W, H, modes[m], &gp, &p);
+        RenderStats sst = test_render_gi(&spot, W, H, modes[m], &gp, &sp);
+        add_images(&p, &sp, &emit, &sum);
+        add_images(&none_p, &sp, &emit, &drop_p); /* the point light's indirect light dropped */
+        add_images(&p, &none_s, &emit, &drop_s);  /* the spot light's */
+        double e = metric_relmse(&b, &sum, NULL, NULL), ep = metric_relmse(&drop_p, &sum, NULL, NULL);
+        double es = metric_relmse(&drop_s, &sum, NULL, NULL);
+        print_message("gi %d: relMSE of both lights against the sum of each %.3g (bound %.0e); dropping the point's "
+                      "indirect %.3g, the spot's %.3g; VPLs %u = %u + %u\n",
+                      (int)modes[m], e, tol[m], ep, es, sb.vpl_count, spt.vpl_count, sst.vpl_count);
+        assert_true(e < tol[m]);
+        if (modes[m] != GI_NONE)
+            assert_true(ep > 100 * tol[m] && es > 100 * tol[m]);
+        if (modes[m] == GI_VPL_ALL || modes[m] == GI_LPV)
+            assert_true(spt.vpl_count > 0 && sst.vpl_count > 0 && sb.vpl_count == spt.vpl_count + sst.vpl_count);
+        image_free(&b);
+        image_free(&p);
+        image_free(&sp);
+        image_free(&sum);
+        image_free(&drop_p);
+        image_free(&drop_s);
+    }
+    /* Every layer read: the VPLs of both lights are the texels of both maps
+     * that hold a surface and some flux, counted on the CPU (a cube read as
+     * one layer gave 1024 of the point light's 5299). */
+    RenderSettings rs = test_settings(&both, W, H, SHADOW_MODE_HARD);
+    rs.gi = GI_VPL_ALL;
+    rs.gi_params = both.gi;
+    Renderer r;
+    assert_true(renderer_create(&r, &both, &rs));
+    renderer_frame(&r, &both.camera);
+    uint32_t texels = 0;
+    for (int i = 0; i < both.light_count; i++) {
+        const RsmMap *m = &r.lights.rsm[i];
+        size_t n = (size_t)m->size * m->size * (m->cube ? 6 : 1);
+        uint32_t *t = malloc(16 * n);
+        assert_non_null(t);
+        glGetTextureImage(m->texel, 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, (GLsizei)(16 * n), t);
+        for (size_t k = 0; k < n; k++) /* y's bit 31: a surface; w: RGB9E5 flux, nonzero mantissas */
+            texels += (t[4 * k + 1] & 0x80000000u) && (t[4 * k + 3] & 0x7ffffffu);
+        free(t);
+    }
+    uint32_t vpls = renderer_collect_stats(&r)->vpl_count;
+    print_message("VPLs of both lights %u, texels with a surface and flux %u\n", vpls, texels);
+    assert_true(texels > 0 && vpls == texels);
+    renderer_destroy(&r);
+    /* LPV's geometry volume, read from each kind of map: occlusion changes
+     * the image of either light alone (by 0.0024 for the point light when
+     * one face of its cube was read). */
+    for (int k = 0; k < 2; k++) {
+        Scene *one = k ? &spot : &point;
+        GiParams gp = one->gi;
+        ImageF on, off;
+        gp.lpv_occlusion = true;
+        test_render_gi(one, W, H, GI_LPV, &gp, &on);
+        gp.lpv_occlusion = false;
+        test_render_gi(one, W, H, GI_LPV, &gp, &off);
+        double e = metric_relmse(&on, &off, NULL, NULL);
+        print_message("lpv, %s light alone: relMSE between occlusion on and off %.3g\n", k ? "spot" : "point", e);
+        assert_true(e > 0.01);
+        image_free(&on);
+        image_free(&off);
+    }
+    image_free(&none_p);
+    image_free(&none_s);
+    image_free(&emit);
+    scene_free(&dark);
+    scene_free(&both);
+    scene_free(&point);
+    scene_free(&spot);
+}
+
 static void bad_gi_parameters(void **state)
 {
     (void)state;
@@ -400,6 +537,7 @@ int main(void)
         cmocka_unit_test(interleaved_blur_is_the_window_mean),
         cmocka_unit_test(interleaved_subsets_partition_the_pattern),
         cmocka_unit_test(metal_surfaces_bounce_nothing),
+        cmocka_unit_test(maps_of_both_kinds_in_one_scene),
         cmocka_unit_test(bad_gi_parameters),
     };
     return cmocka_run_group_tests_name("rsm", tests, test_gl_setup, test_gl_teardown);

@@ -70,6 +70,7 @@
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
 #define IMG_LPV_DST 2    /* lpv propagation: 3 SH volumes written (R, G, B), 2..4 */
 #define IMG_LPV_SUM 5    /* lpv propagation: 3 accumulated SH volumes (R, G, B), 5..7 */
+#define IMG_RSM 7        /* an RSM read texel by texel (common/rsm_layers.glsl); never beside lpv propagation */
 #define IMG_VCT_DST 2    /* vct: volume level written (resolve, injection, mips (first directional level: x), bounce) */
 #define IMG_VCT_DST2 3   /* vct: second volume written (resolve: normals; the first directional level: y) */
 #define IMG_VCT_SRC 4    /* vct mips: volume level read */

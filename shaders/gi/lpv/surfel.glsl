@@ -1,5 +1,5 @@
-// gi/lpv/surfel.glsl — a texel of an RSM (2D array: one layer, or six for
-// a cube) or, with GBUFFER defined, a pixel of the camera's G-buffer as a
+// gi/lpv/surfel.glsl — a texel of an RSM (common/rsm_layers.glsl: one
+// layer, or six for a cube) or, with GBUFFER defined, a pixel of the camera's G-buffer as a
 // surfel for the geometry volume: position, normal and area, the area from
 // the positions of its neighbouring texels (the nearer of the two on each
 // axis, so depth discontinuities do not count; a square of the one side
@@ -25,14 +25,14 @@ vec4 surfel_position(ivec3 q)
 }
 vec3 surfel_normal(ivec3 q) { return surfel_unpack_normal(texelFetch(s_surfel, q.xy, 0)); }
 #else
-layout(binding = TEX_RSM) uniform usampler2DArray s_texel;
-ivec3 surfel_size() { return textureSize(s_texel, 0); }
+#include "common/rsm_layers.glsl"
+ivec3 surfel_size() { return rsm_layers_size(); }
 vec4 surfel_position(ivec3 q)
 {
-    uvec4 t = texelFetch(s_texel, q, 0);
+    uvec4 t = rsm_layer_texel(q);
     return vec4(rsm_texel_position(rsm_texel_frame(), t), rsm_texel_valid(t) ? 1.0 : 0.0);
 }
-vec3 surfel_normal(ivec3 q) { return rsm_texel_normal(texelFetch(s_texel, q, 0)); }
+vec3 surfel_normal(ivec3 q) { return rsm_texel_normal(rsm_layer_texel(q)); }
 #endif
 
 // The shorter valid difference to the neighbours along `axis`; zero if none.

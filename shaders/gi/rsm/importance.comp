@@ -22,12 +22,11 @@
 #include "common/math.glsl"
 #include "common/rsm_texel.glsl"
 #include "common/vpl_record.glsl"
+#include "common/rsm_layers.glsl"
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(location = LOC_IMPORTANCE_LEVEL) uniform int u_level; // level written (REDUCE), top level (SAMPLE)
-
-layout(binding = TEX_RSM) uniform usampler2DArray r_texel;
 
 // Level 0 at texel t of a map of rsm texels a side: the luminance of the
 // texel's flux, 0 past the map (the fetch is clamped and its value dropped:
@@ -35,7 +34,7 @@ layout(binding = TEX_RSM) uniform usampler2DArray r_texel;
 float level0(RsmTexelFrame f, ivec3 t, int rsm)
 {
     bool inside = t.x < rsm && t.y < rsm;
-    vec3 flux = rsm_texel_flux(f, texelFetch(r_texel, ivec3(min(t.xy, ivec2(rsm - 1)), t.z), 0));
+    vec3 flux = rsm_texel_flux(f, rsm_layer_texel(ivec3(min(t.xy, ivec2(rsm - 1)), t.z)));
     return inside ? dot(flux, vec3(0.2126, 0.7152, 0.0722)) : 0.0;
 }
 
@@ -52,7 +51,7 @@ void main()
     if (id.x >= size.x || id.y >= size.y || id.z >= size.z)
         return;
     RsmTexelFrame f = rsm_texel_frame();
-    int rsm = textureSize(r_texel, 0).x;
+    int rsm = rsm_layers_size().x;
     ivec2 o = id.xy * 4;
     float s[4];
     for (int b = 0; b < 4; b++) { // the 2×2 blocks (0,0), (1,0), (0,1), (1,1) of level 1
@@ -151,14 +150,14 @@ void main()
     }
     p *= 2;
     RsmTexelFrame tf = rsm_texel_frame();
-    int rsm = textureSize(r_texel, 0).x;
+    int rsm = rsm_layers_size().x;
     descend(level0(tf, ivec3(p, face), rsm), level0(tf, ivec3(p + ivec2(1, 0), face), rsm),
             level0(tf, ivec3(p + ivec2(0, 1), face), rsm), level0(tf, ivec3(p + 1, face), rsm), p, u);
     ivec3 t = ivec3(min(p, ivec2(rsm - 1)), face); // past the map only when every texel is dark
     float lum = level0(tf, t, rsm);
     vec3 xp, np, flux;
     float area;
-    uvec4 texel = texelFetch(r_texel, t, 0);
+    uvec4 texel = rsm_layer_texel(t);
     bool valid = rsm_texel_unpack(tf, texel, xp, np, flux, area);
     // Φ_t / p_t with p_t = lum_t / total; empty texels (p = 0) are never
     // chosen unless the whole map is dark, and then carry nothing.

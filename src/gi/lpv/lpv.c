@@ -70,9 +70,9 @@ typedef struct LpvGi {
     vec3 bmin, bmax;        /* scene bounds */
     LpvCascade c[LPV_MAX_CASCADES];
     GLuint pp[2][3];        /* ping-pong propagation volumes, shared by the cascades */
-    GLuint inject, geom_rsm, geom_gbuf, propagate, lookup; /* programs */
+    GLuint inject, geom_rsm[2], geom_gbuf, propagate, lookup; /* programs (geom_rsm: [cube], light_stage_rsm_kind) */
     GLuint inject_fixed, inject_resolve; /* programs of --lpv-inject compute */
-    GLuint geom_fixed_rsm, geom_fixed_gbuf, geom_resolve;
+    GLuint geom_fixed_rsm[2], geom_fixed_gbuf, geom_resolve; /* geom_fixed_rsm: [cube] */
     GLuint fixed;           /* --lpv-inject compute: int[12·N³] fixed-point SH sums */
     GLuint gv_fixed;        /* --lpv-inject compute: int[6·(N+1)³] fixed-point tensor sums */
     GLuint faces;           /* --lpv-occlusion on: vec4[8·N³], the propagation's face factors (propagate.comp) */
@@ -181,8 +181,9 @@ static void *lpv_create(const GiCreateInfo *ci)
     bool ok = true;
     l->inject = program(l, "lpv_inject", "gi/lpv/inject.vert", "gi/lpv/layer.geom", "gi/lpv/accumulate.frag", NULL,
                         NULL);
-    l->geom_rsm = program(l, "lpv_geometry", "gi/lpv/geometry.vert", "gi/lpv/layer.geom", "gi/lpv/accumulate.frag",
-                          NULL, NULL);
+    for (int cube = 0; cube < 2; cube++)
+        l->geom_rsm[cube] = program(l, "lpv_geometry", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
+                                    "gi/lpv/accumulate.frag", NULL, light_stage_rsm_kind(cube));
     l->geom_gbuf = program(l, "lpv_geometry_gbuffer", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
                            "gi/lpv/accumulate.frag", NULL, "#define GBUFFER\n");
     /* Occlusion is compiled in: the faces' factors are then read from
@@ -202,15 +203,18 @@ static void *lpv_create(const GiCreateInfo *ci)
     char cascades_def[48];
     snprintf(cascades_def, sizeof cascades_def, "#define LPV_CASCADES %d\n", l->cascades);
     l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", cascades_def);
-    ok = l->inject && l->geom_rsm && l->geom_gbuf && l->propagate && l->lookup;
+    ok = l->inject && l->geom_rsm[0] && l->geom_rsm[1] && l->geom_gbuf && l->propagate && l->lookup;
     if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
         l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
         l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
-        l->geom_fixed_rsm = program(l, "lpv_geometry_fixed", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp", NULL);
+        for (int cube = 0; cube < 2; cube++)
+            l->geom_fixed_rsm[cube] = program(l, "lpv_geometry_fixed", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
+                                              light_stage_rsm_kind(cube));
         l->geom_fixed_gbuf = program(l, "lpv_geometry_fixed_gbuffer", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
                                      "#define GBUFFER\n");
         l->geom_resolve = program(l, "lpv_geometry_resolve", NULL, NULL, NULL, "gi/lpv/geometry_resolve.comp", NULL);
-        ok = l->inject_fixed && l->inject_resolve && l->geom_fixed_rsm && l->geom_fixed_gbuf && l->geom_resolve;
+        ok = l->inject_fixed && l->inject_resolve && l->geom_fixed_rsm[0] && l->geom_fixed_rsm[1] && l->geom_fixed_gbuf &&
+             l->geom_resolve;
         size_t n3 = (size_t)l->n * l->n * l->n, g3 = (size_t)(l->n + 1) * (l->n + 1) * (l->n + 1);
         glCreateBuffers(1, &l->fixed);
         glNamedBufferStorage(l->fixed, (GLsizeiptr)(sizeof(int32_t) * 12 * n3), NULL, GL_DYNAMIC_STORAGE_BIT);
@@ -373,22 +377,23 @@ static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
         LpvCascade *c = &l->c[k];
         float cell = l->gpu.cascade[k][3];
         glClearNamedBufferData(l->gv_fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
-        GLuint progs[2] = {l->geom_fixed_rsm, l->params.lpv_gbuffer_occlusion ? l->geom_fixed_gbuf : 0};
-        for (int pi = 0; pi < 2 && progs[pi]; pi++) {
+        GLuint progs[3] = {l->geom_fixed_rsm[0], l->geom_fixed_rsm[1],
+                           l->params.lpv_gbuffer_occlusion ? l->geom_fixed_gbuf : 0};
+        for (int pi = 0; pi < 3 && progs[pi]; pi++) {
             glProgramUniform1i(progs[pi], LOC_LPV_CASCADE, k);
             glProgramUniform1f(progs[pi], LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
             glProgramUniform1f(progs[pi], LOC_LPV_FIXED_SCALE, scale);
-            glUseProgram(progs[pi]);
-            if (pi == 0) {
-                for (int i = 0; i < ls->light_count; i++) {
-                    const RsmMap *m = &ls->rsm[i];
-                    light_stage_bind_rsm_layers(ls, i);
-                    glDispatchCompute((GLuint)(m->size + 7) / 8, (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
-                }
-            } else {
-                glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
-                glDispatchCompute((GLuint)(f->gbuffer->width + 7) / 8, (GLuint)(f->gbuffer->height + 7) / 8, 1);
-            }
+        }
+        for (int i = 0; i < ls->light_count; i++) { /* the RSMs, each with its kind's program */
+            const RsmMap *m = &ls->rsm[i];
+            glUseProgram(progs[m->cube]);
+            light_stage_bind_rsm_layers(ls, i);
+            glDispatchCompute((GLuint)(m->size + 7) / 8, (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
+        }
+        if (progs[2]) { /* and the G-buffer */
+            glUseProgram(progs[2]);
+            glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
+            glDispatchCompute((GLuint)(f->gbuffer->width + 7) / 8, (GLuint)(f->gbuffer->height + 7) / 8, 1);
         }
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         glProgramUniform1f(l->geom_resolve, LOC_LPV_FIXED_SCALE, scale);
@@ -417,11 +422,13 @@ static void inject_geometry(LpvGi *l, const GiFrame *f)
             continue;
         glBindFramebuffer(GL_FRAMEBUFFER, c->fbo_gv);
         /* A surfel larger than 4 cell faces is a depth discontinuity. */
-        glProgramUniform1i(l->geom_rsm, LOC_LPV_CASCADE, k);
-        glProgramUniform1f(l->geom_rsm, LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
-        glUseProgram(l->geom_rsm);
+        for (int cube = 0; cube < 2; cube++) {
+            glProgramUniform1i(l->geom_rsm[cube], LOC_LPV_CASCADE, k);
+            glProgramUniform1f(l->geom_rsm[cube], LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
+        }
         for (int i = 0; i < ls->light_count; i++) {
             const RsmMap *m = &ls->rsm[i];
+            glUseProgram(l->geom_rsm[m->cube]);
             light_stage_bind_rsm_layers(ls, i);
             glDrawArrays(GL_POINTS, 0, m->size * m->size * (m->cube ? 6 : 1));
         }

@@ -45,7 +45,7 @@ typedef struct RsmGi {
     GpuGiParams gpu;                  /* as uploaded for the current size (low-res size, ...) */
     /* Importance weighting, per light: */
     int lights;
-    GLuint importance[3];             /* level 0, reduce, sample programs */
+    GLuint importance[3][2];          /* blocks, reduce, sample programs [cube] (reduce: the same for both) */
     GLuint *pyramid;                  /* R32F 2D array: flux luminance sums, level L >= 1 of a power-of-two
                                          pyramid at mip L - 1 (level 0 is the RSM itself, gi/rsm/importance.comp) */
     int *pyramid_levels;              /* levels, counting level 0 */
@@ -128,13 +128,16 @@ static void importance_destroy(RsmGi *g)
 /* A flux pyramid and a sample list for each light's RSM. */
 static bool importance_create(RsmGi *g, const LightStage *ls)
 {
-    static const char *const defs[3] = {"#define MODE_BLOCKS\n", "#define MODE_REDUCE\n", "#define MODE_SAMPLE\n"};
-    for (int k = 0; k < 3; k++) {
-        g->importance[k] = program_cache_get(
-            g->pc, &(ShaderProgramDesc){.label = "rsm_importance", .comp = "gi/rsm/importance.comp", .defines = defs[k]});
-        if (!g->importance[k])
-            return false;
-    }
+    static const char *const modes[3] = {"#define MODE_BLOCKS\n", "#define MODE_REDUCE\n", "#define MODE_SAMPLE\n"};
+    for (int k = 0; k < 3; k++)
+        for (int cube = 0; cube < 2; cube++) {
+            char defs[64];
+            snprintf(defs, sizeof defs, "%s%s", modes[k], k == 1 ? "" : light_stage_rsm_kind(cube));
+            g->importance[k][cube] = program_cache_get(
+                g->pc, &(ShaderProgramDesc){.label = "rsm_importance", .comp = "gi/rsm/importance.comp", .defines = defs});
+            if (!g->importance[k][cube])
+                return false;
+        }
     g->lights = ls->light_count;
     g->pyramid = calloc((size_t)g->lights + 1, sizeof(GLuint));
     g->samples = calloc((size_t)g->lights + 1, sizeof(GLuint));
@@ -175,21 +178,21 @@ static void importance_run(RsmGi *g, const LightStage *ls, int i)
     /* Levels 1 and 2 (mips 0 and 1) straight from the RSM, then the rest. */
     glBindImageTexture(IMG_OUT, g->pyramid[i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
     glBindImageTexture(IMG_OUT2, g->pyramid[i], 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
-    glUseProgram(g->importance[0]);
+    glUseProgram(g->importance[0][m->cube]);
     glDispatchCompute((GLuint)(p / 4 + 7) / 8, (GLuint)(p / 4 + 7) / 8, (GLuint)layers);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindTextureUnit(TEX_INPUT, g->pyramid[i]);
-    glUseProgram(g->importance[1]);
+    glUseProgram(g->importance[1][0]);
     for (int l = 3; l <= top; l++) {
         int s = p >> l;
         glBindImageTexture(IMG_OUT, g->pyramid[i], l - 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
-        glProgramUniform1i(g->importance[1], LOC_IMPORTANCE_LEVEL, l);
+        glProgramUniform1i(g->importance[1][0], LOC_IMPORTANCE_LEVEL, l);
         glDispatchCompute((GLuint)(s + 7) / 8, (GLuint)(s + 7) / 8, (GLuint)layers);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
-    glProgramUniform1i(g->importance[2], LOC_IMPORTANCE_LEVEL, top);
-    glUseProgram(g->importance[2]);
+    glProgramUniform1i(g->importance[2][m->cube], LOC_IMPORTANCE_LEVEL, top);
+    glUseProgram(g->importance[2][m->cube]);
     GLuint n = (GLuint)(rsm_far_samples(g->params.samples) * RSM_LIST_SETS);
     glDispatchCompute((n + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

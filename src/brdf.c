@@ -1,6 +1,7 @@
 /* brdf.c — see brdf.h; shaders/common/brdf.glsl is the same code. */
 #include "brdf.h"
 
+#include "image.h" /* luminance */
 #include "util.h"
 
 #include <math.h>
@@ -236,11 +237,6 @@ float brdf_spec_pdf(const vec3 wo, const vec3 wi, float alpha)
     if (oh <= 0.f)
         return 0.f;
     return brdf_vndf_pdf(wo, h, alpha) / (4.f * oh);
-}
-
-static float luminance(const vec3 c)
-{
-    return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
 }
 
 float brdf_spec_prob(const BrdfSurface *s, float n_dot_v)

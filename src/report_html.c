@@ -335,7 +335,7 @@ double report_display_exposure(const ImageF *ref, const uint8_t *mask)
         if (mask && !mask[i])
             continue;
         const float *c = ref->rgb + 3 * i;
-        float y = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+        float y = luminance(c);
         y = isfinite(y) && y > 0.f ? y : 0.f;
         l[n++] = y;
         log_sum += log(1e-4 + y);

@@ -35,7 +35,7 @@ float level0(RsmTexelFrame f, ivec3 t, int rsm)
 {
     bool inside = t.x < rsm && t.y < rsm;
     vec3 flux = rsm_texel_flux(f, rsm_layer_texel(ivec3(min(t.xy, ivec2(rsm - 1)), t.z)));
-    return inside ? dot(flux, vec3(0.2126, 0.7152, 0.0722)) : 0.0;
+    return inside ? luminance(flux) : 0.0;
 }
 
 // A 2×2 block's sum, in the one order every level uses.
@@ -153,7 +153,7 @@ void main()
     int rsm = rsm_layers_size().x;
     descend(level0(tf, ivec3(p, face), rsm), level0(tf, ivec3(p + ivec2(1, 0), face), rsm),
             level0(tf, ivec3(p + ivec2(0, 1), face), rsm), level0(tf, ivec3(p + 1, face), rsm), p, u);
-    ivec3 t = ivec3(min(p, ivec2(rsm - 1)), face); // past the map only when every texel is dark
+    ivec3 t = ivec3(min(p, ivec2(rsm - 1)), face); // past the map only in a dark face: every texel's lum is 0
     float lum = level0(tf, t, rsm);
     vec3 xp, np, flux;
     float area;

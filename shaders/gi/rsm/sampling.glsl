@@ -24,7 +24,7 @@
 
 layout(std430, binding = SSBO_SAMPLES) readonly buffer SampleBlock { GpuVpl rsm_samples[]; };
 
-#ifndef RSM_CUBE
+#if !defined(RSM_CUBE) && !defined(RSM_2D)
 #define RSM_2D
 #endif
 #include "common/rsm_texel.glsl"

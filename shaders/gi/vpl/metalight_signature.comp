@@ -33,7 +33,7 @@ void main()
                 continue;
             float d2;
             vec3 ic = vpl_intensity_cos(vpls[i], p, n, d2);
-            float c = dot(ic * vpl_falloff(fo, vpls[i], d2), vec3(0.2126, 0.7152, 0.0722));
+            float c = luminance(ic * vpl_falloff(fo, vpls[i], d2));
             mean_uv += c * uv;
             total += c;
         }

@@ -45,7 +45,9 @@ typedef struct RsmGi {
     GpuGiParams gpu;                  /* as uploaded for the current size (low-res size, ...) */
     /* Importance weighting, per light: */
     int lights;
-    GLuint importance[3][2];          /* blocks, reduce, sample programs [cube] (reduce: the same for both) */
+    GLuint importance_blocks[2];      /* importance.comp's programs: levels 1-2 from the RSM [cube], */
+    GLuint importance_reduce;         /* the levels above, */
+    GLuint importance_sample[2];      /* the sample list [cube] */
     GLuint *pyramid;                  /* R32F 2D array: flux luminance sums, level L >= 1 of a power-of-two
                                          pyramid at mip L - 1 (level 0 is the RSM itself, gi/rsm/importance.comp) */
     int *pyramid_levels;              /* levels, counting level 0 */
@@ -66,7 +68,7 @@ static bool make_gather(RsmGi *g, GatherLayout layout)
     char defs[192];
     for (int c = 0; c < 2; c++) {
         /* The weighting and the exhaustive sum are compiled in (gather.comp). */
-        snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s%s", layout_def[layout], c ? "#define RSM_CUBE\n" : "",
+        snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s%s", layout_def[layout], light_stage_rsm_kind(c),
                  (int)g->params.weighting, g->params.exhaustive ? "#define EXHAUSTIVE\n" : "",
                  g->params.gather_reads_only ? "#define READS_ONLY\n" : "");
         g->gather[layout][c] = program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_gather", .comp = "gi/rsm/gather.comp", .defines = defs});
@@ -125,19 +127,24 @@ static void importance_destroy(RsmGi *g)
     g->built_from = NULL;
 }
 
+static GLuint importance_program(RsmGi *g, const char *mode, const char *kind)
+{
+    char defs[64];
+    snprintf(defs, sizeof defs, "%s%s", mode, kind);
+    return program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_importance", .comp = "gi/rsm/importance.comp", .defines = defs});
+}
+
 /* A flux pyramid and a sample list for each light's RSM. */
 static bool importance_create(RsmGi *g, const LightStage *ls)
 {
-    static const char *const modes[3] = {"#define MODE_BLOCKS\n", "#define MODE_REDUCE\n", "#define MODE_SAMPLE\n"};
-    for (int k = 0; k < 3; k++)
-        for (int cube = 0; cube < 2; cube++) {
-            char defs[64];
-            snprintf(defs, sizeof defs, "%s%s", modes[k], k == 1 ? "" : light_stage_rsm_kind(cube));
-            g->importance[k][cube] = program_cache_get(
-                g->pc, &(ShaderProgramDesc){.label = "rsm_importance", .comp = "gi/rsm/importance.comp", .defines = defs});
-            if (!g->importance[k][cube])
-                return false;
-        }
+    g->importance_reduce = importance_program(g, "#define MODE_REDUCE\n", "");
+    for (int cube = 0; cube < 2; cube++) {
+        g->importance_blocks[cube] = importance_program(g, "#define MODE_BLOCKS\n", light_stage_rsm_kind(cube));
+        g->importance_sample[cube] = importance_program(g, "#define MODE_SAMPLE\n", light_stage_rsm_kind(cube));
+    }
+    if (!g->importance_reduce || !g->importance_blocks[0] || !g->importance_blocks[1] || !g->importance_sample[0] ||
+        !g->importance_sample[1])
+        return false;
     g->lights = ls->light_count;
     g->pyramid = calloc((size_t)g->lights + 1, sizeof(GLuint));
     g->samples = calloc((size_t)g->lights + 1, sizeof(GLuint));
@@ -178,21 +185,21 @@ static void importance_run(RsmGi *g, const LightStage *ls, int i)
     /* Levels 1 and 2 (mips 0 and 1) straight from the RSM, then the rest. */
     glBindImageTexture(IMG_OUT, g->pyramid[i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
     glBindImageTexture(IMG_OUT2, g->pyramid[i], 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
-    glUseProgram(g->importance[0][m->cube]);
+    glUseProgram(g->importance_blocks[m->cube]);
     glDispatchCompute((GLuint)(p / 4 + 7) / 8, (GLuint)(p / 4 + 7) / 8, (GLuint)layers);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindTextureUnit(TEX_INPUT, g->pyramid[i]);
-    glUseProgram(g->importance[1][0]);
+    glUseProgram(g->importance_reduce);
     for (int l = 3; l <= top; l++) {
         int s = p >> l;
         glBindImageTexture(IMG_OUT, g->pyramid[i], l - 1, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
-        glProgramUniform1i(g->importance[1][0], LOC_IMPORTANCE_LEVEL, l);
+        glProgramUniform1i(g->importance_reduce, LOC_IMPORTANCE_LEVEL, l);
         glDispatchCompute((GLuint)(s + 7) / 8, (GLuint)(s + 7) / 8, (GLuint)layers);
         glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
-    glProgramUniform1i(g->importance[2][m->cube], LOC_IMPORTANCE_LEVEL, top);
-    glUseProgram(g->importance[2][m->cube]);
+    glProgramUniform1i(g->importance_sample[m->cube], LOC_IMPORTANCE_LEVEL, top);
+    glUseProgram(g->importance_sample[m->cube]);
     GLuint n = (GLuint)(rsm_far_samples(g->params.samples) * RSM_LIST_SETS);
     glDispatchCompute((n + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

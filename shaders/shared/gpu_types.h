@@ -33,6 +33,7 @@
 #define SSBO_VCT_VOXELS 10 /* vct voxelization: uint[8 · N³] fixed-point albedo, normal, count sums per voxel */
 #define SSBO_VCT_OPAQUE 11 /* vct: the opaque voxels: count, indirect dispatch (x, y, z), packed coordinates */
 #define SSBO_LPV_FACES 12 /* lpv propagation with occlusion: float[32 · N³], each cell's 30 faces' Δω·(1 − B)/π */
+#define SSBO_STATS 13     /* gi/count_surfaces.comp: [0] the count (stats read back on request) */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -137,6 +138,7 @@
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
 #define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */
 #define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
+#define LOC_COUNT_STEP 10       /* gi/count_surfaces.comp: int, the lattice's step */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile

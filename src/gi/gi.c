@@ -113,3 +113,24 @@ const GiTechnique gi_none = {
     .summary = "direct light only",
     .needs = none_needs,
 };
+
+uint32_t gi_count_surfaces(const GiFrame *f, ProgramCache *pc, int step)
+{
+    GLuint prog = program_cache_get(pc, &(ShaderProgramDesc){.label = "count_surfaces", .comp = "gi/count_surfaces.comp"});
+    if (!prog || !f->gbuffer || step < 1)
+        return 0;
+    uint32_t count = 0;
+    GLuint buf;
+    glCreateBuffers(1, &buf);
+    glNamedBufferStorage(buf, sizeof count, &count, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_STATS, buf);
+    glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
+    glProgramUniform1i(prog, LOC_COUNT_STEP, step);
+    glUseProgram(prog);
+    int lw = (f->gbuffer->width + step - 1) / step, lh = (f->gbuffer->height + step - 1) / step;
+    glDispatchCompute((GLuint)(lw + 63) / 64, (GLuint)(lh + 7) / 8, 1);
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(buf, 0, sizeof count, &count);
+    glDeleteBuffers(1, &buf);
+    return count;
+}

@@ -124,6 +124,13 @@ GLuint gi_ubo_make(GLsizeiptr size, const char *label);
 /* Dispatches a compute pass over w×h pixels in 8×8 groups and makes its
  * image and storage writes visible to what follows. */
 void gi_dispatch_pixels(int w, int h);
+/* How many of the pixels a per-pixel pass visits hold a surface: those at
+ * min(g·step + step/2, size − 1) on the lattice of `step` (1: every pixel;
+ * rsm-interp's low-res gather and vct's traced lattice: their factor) of
+ * f's G-buffer (gi/count_surfaces.comp). Background pixels gather nothing,
+ * so GiStats counts only these. Reads the count back (stats time, not a
+ * frame's pass); 0 if its program could not be built. */
+uint32_t gi_count_surfaces(const GiFrame *f, ProgramCache *pc, int step);
 /* Gather evaluations/s (one RSM sample or one VPL at one pixel) assumed
  * for estimates before a device has been measured; the window then uses
  * the rate it measures. llvmpipe on this project's shared 2-core machine,

@@ -557,7 +557,7 @@ static void lpv_stats(void *state, const GiFrame *f, GiStats *st)
 {
     LpvGi *l = state;
     st->vpl_count = l->test_vpls ? (uint32_t)l->test_count : light_stage_vpl_count(f->lights);
-    st->gathered_pixels = (uint32_t)(l->width * l->height);
+    st->gathered_pixels = gi_count_surfaces(f, l->pc, 1);
     st->volume_builds = l->builds;
 }
 

@@ -368,12 +368,12 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     RsmGi *g = state;
     st->vpl_count = g->params.exhaustive ? light_stage_vpl_count(f->lights) : 0;
     if (g->variant == RSM_INTERP) {
-        st->lowres_gathers = (uint32_t)(g->gpu.low_width * g->gpu.low_height);
+        st->lowres_gathers = gi_count_surfaces(f, g->pc, g->params.interp_factor);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glGetNamedBufferSubData(g->list, 0, sizeof st->full_gathers, &st->full_gathers);
         st->gathered_pixels = st->lowres_gathers + st->full_gathers;
     } else {
-        st->gathered_pixels = (uint32_t)(g->width * g->height);
+        st->gathered_pixels = gi_count_surfaces(f, g->pc, 1); /* interleaved: each pixel once, padding none */
     }
     uint64_t per_pixel = g->params.exhaustive ? st->vpl_count : (uint64_t)g->params.samples;
     if (g->variant == RSM_INTERLEAVED && !g->params.exhaustive)

@@ -592,9 +592,8 @@ static void vct_run(void *state, const GiFrame *f)
 
 static void vct_stats(void *state, const GiFrame *f, GiStats *st)
 {
-    (void)f;
     VctGi *v = state;
-    st->gathered_pixels = (uint32_t)(v->width * v->height);
+    st->gathered_pixels = gi_count_surfaces(f, v->pc, v->scale);
     int lw = (v->width + v->scale - 1) / v->scale, lh = (v->height + v->scale - 1) / v->scale;
     st->gpu_bytes = v->bytes + (v->scale > 1 ? 2u * 16u * (uint64_t)lw * (uint64_t)lh : 0u);
     st->voxelizations = v->voxelizations;

@@ -382,7 +382,7 @@ static void vpl_stats(void *state, const GiFrame *f, GiStats *st)
 {
     VplGi *v = state;
     st->vpl_count = light_stage_vpl_count(f->lights);
-    st->gathered_pixels = (uint32_t)(v->width * v->height);
+    st->gathered_pixels = gi_count_surfaces(f, v->pc, 1);
     uint32_t *e = malloc(sizeof(uint32_t) * 2 * (size_t)v->groups);
     if (e) {
         glGetNamedBufferSubData(v->evals, 0, (GLsizeiptr)(sizeof(uint32_t) * 2 * (size_t)v->groups), e);

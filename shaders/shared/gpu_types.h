@@ -59,7 +59,6 @@
 #define TEX_SHADOW_COMPARE_CUBE 35
 #define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
 #define TEX_LPV_GV1 15   /* lpv: geometry volume, normal tensor xy xz yz */
-#define TEX_LPV_SRC 16   /* lpv propagation: 3 SH volumes (R, G, B) a step reads, 16..18 */
 #define TEX_LPV_SUM 16   /* lpv lookup: accumulated SH of every VPL in cascade k: 16 + 3k + channel (16..24) */
 #define TEX_LPV_OUTER 25 /* lpv lookup: same, only VPLs outside cascade k-1: 25 + 3(k-1) + channel (25..30) */
 #define TEX_VCT_ALBEDO 14   /* vct: voxel albedo (rgb) and opacity (a), N³ */
@@ -69,7 +68,9 @@
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
-#define IMG_LPV_DST 2    /* lpv propagation: 3 SH volumes written (R, G, B), 2..4 */
+#define IMG_LPV_STEP_SRC 0 /* lpv propagation: the last step's SH light, R, G, B side by side in x (3N × N × N) */
+#define IMG_LPV_STEP_DST 1 /* lpv propagation: this step's, the same layout */
+#define IMG_LPV_DST 2    /* lpv injection and geometry resolves: the volumes written (R, G, B), 2..4 */
 #define IMG_LPV_SUM 5    /* lpv propagation: 3 accumulated SH volumes (R, G, B), 5..7 */
 #define IMG_RSM 7        /* an RSM read texel by texel (common/rsm_layers.glsl); never beside lpv propagation */
 #define IMG_VCT_DST 2    /* vct: volume level written (resolve, injection, mips (first directional level: x), bounce) */

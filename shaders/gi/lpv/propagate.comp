@@ -8,8 +8,8 @@
 // centre), attenuated by the geometry volume at the shared face
 // (1 − B(ω_f), `occlusion`), is re-emitted from this cell's centre as a
 // clamped-cosine lobe Φ_f/π · max(0, n_f·ω) around the face's normal.
-// Reads TEX_LPV_SRC+c (the last step's light); writes IMG_LPV_DST+c and
-// adds to IMG_LPV_SUM+c (each cell is one invocation's).
+// Reads IMG_LPV_STEP_SRC (the last step's light); writes IMG_LPV_STEP_DST
+// and adds to IMG_LPV_SUM+c (each cell is one invocation's).
 // With OCCLUSION (--lpv-occlusion on) the faces' attenuated solid angles
 // Δω_f·(1 − B(ω_f))/π come from SSBO_LPV_FACES, 30 per cell, which
 // MODE_FACES fills once per build from the geometry volume (TEX_LPV_GV0/1):
@@ -20,18 +20,19 @@
 
 layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
-layout(binding = TEX_LPV_SRC + 0) uniform sampler3D s_r;
-layout(binding = TEX_LPV_SRC + 1) uniform sampler3D s_g;
-layout(binding = TEX_LPV_SRC + 2) uniform sampler3D s_b;
 layout(binding = TEX_LPV_GV0) uniform sampler3D s_gv0;
 layout(binding = TEX_LPV_GV1) uniform sampler3D s_gv1;
 // 8 vec4 per cell (30 floats used): vec4 d holds neighbour d's faces 0–3,
 // vec4s 6 and 7 the six neighbours' face 4; neighbours d = +x, −x, +y, −y,
 // +z, −z.
 layout(std430, binding = SSBO_LPV_FACES) buffer FaceBlock { vec4 faces[]; };
-layout(binding = IMG_LPV_DST + 0, rgba32f) uniform writeonly image3D d_r;
-layout(binding = IMG_LPV_DST + 1, rgba32f) uniform writeonly image3D d_g;
-layout(binding = IMG_LPV_DST + 2, rgba32f) uniform writeonly image3D d_b;
+// The last step's light and this step's, R, G, B side by side in x
+// (3N × N × N), read as an image: on llvmpipe a texelFetch is a call per
+// fetch, an image load inline (18 per cell: the cold lpv_propagate,
+// Cornell 32³ × 32 steps, one thread, 139 -> 114 ms). One image each way,
+// so that the pass binds 5 images (GL 4.5 guarantees 8 per shader).
+layout(binding = IMG_LPV_STEP_SRC, rgba32f) uniform readonly image3D s_light;
+layout(binding = IMG_LPV_STEP_DST, rgba32f) uniform writeonly image3D d_light;
 layout(binding = IMG_LPV_SUM + 0, rgba32f) uniform image3D a_r;
 layout(binding = IMG_LPV_SUM + 1, rgba32f) uniform image3D a_g;
 layout(binding = IMG_LPV_SUM + 2, rgba32f) uniform image3D a_b;
@@ -96,7 +97,8 @@ void neighbour(ivec3 c, int n, ivec3 e, vec3 a1, vec3 a2, vec4 f0123, float f4, 
     ivec3 src = c - e;
     float live = lpv_inside(src, n) ? 1.0 : 0.0;
     ivec3 at = clamp(src, ivec3(0), ivec3(n - 1));
-    vec4 sr = texelFetch(s_r, at, 0) * live, sg = texelFetch(s_g, at, 0) * live, sb = texelFetch(s_b, at, 0) * live;
+    ivec3 gx = ivec3(n, 0, 0);
+    vec4 sr = imageLoad(s_light, at) * live, sg = imageLoad(s_light, at + gx) * live, sb = imageLoad(s_light, at + 2 * gx) * live;
     vec3 d = vec3(e);
     face(sr, sg, sb, d, d, f0123.x, r, g, b);
     face(sr, sg, sb, LPV_K * d + LPV_H * a1, a1, f0123.y, r, g, b);
@@ -141,9 +143,9 @@ void main()
     neighbour(c, n, ivec3(0, -1, 0), Z, X, t[3], f4a.w, r, g, b);
     neighbour(c, n, ivec3(0, 0, 1), X, Y, t[4], f4b.x, r, g, b);
     neighbour(c, n, ivec3(0, 0, -1), X, Y, t[5], f4b.y, r, g, b);
-    imageStore(d_r, c, r);
-    imageStore(d_g, c, g);
-    imageStore(d_b, c, b);
+    imageStore(d_light, c, r);
+    imageStore(d_light, c + ivec3(n, 0, 0), g);
+    imageStore(d_light, c + ivec3(2 * n, 0, 0), b);
     imageStore(a_r, c, imageLoad(a_r, c) + r);
     imageStore(a_g, c, imageLoad(a_g, c) + g);
     imageStore(a_b, c, imageLoad(a_b, c) + b);

@@ -69,7 +69,7 @@ typedef struct LpvGi {
     int iterations;
     vec3 bmin, bmax;        /* scene bounds */
     LpvCascade c[LPV_MAX_CASCADES];
-    GLuint pp[2][3];        /* ping-pong propagation volumes, shared by the cascades */
+    GLuint pp[2];           /* ping-pong propagation volumes (3N × N × N: R, G, B side by side), shared by the cascades */
     GLuint inject, geom_rsm[2], geom_gbuf, propagate, lookup; /* programs (geom_rsm: [cube], light_stage_rsm_kind) */
     GLuint inject_fixed, inject_resolve; /* programs of --lpv-inject compute */
     GLuint geom_fixed_rsm[2], geom_fixed_gbuf, geom_resolve; /* geom_fixed_rsm: [cube] */
@@ -136,10 +136,8 @@ static void lpv_destroy(void *state)
         gl_texture3d_destroy(&c->gv[1]);
         gl_fbo_destroy(&c->fbo_gv);
     }
-    for (int i = 0; i < 3; i++) {
-        gl_texture3d_destroy(&l->pp[0][i]);
-        gl_texture3d_destroy(&l->pp[1][i]);
-    }
+    gl_texture3d_destroy(&l->pp[0]);
+    gl_texture3d_destroy(&l->pp[1]);
     GLuint b[6] = {l->ubo, l->indirect, l->test_vpls, l->fixed, l->gv_fixed, l->faces};
     glDeleteBuffers(6, b);
     glDeleteVertexArrays(1, &l->vao);
@@ -248,8 +246,8 @@ static void *lpv_create(const GiCreateInfo *ci)
             ok = (c->gv[i] = volume(GL_RGBA32F, n + 1, "lpv.geometry")) != 0;
         ok = ok && (c->fbo_gv = layered_fbo(c->gv, 2, "lpv.geometry"));
     }
-    for (int i = 0; ok && i < 3; i++)
-        ok = (l->pp[0][i] = volume(GL_RGBA32F, n, "lpv.propagate")) && (l->pp[1][i] = volume(GL_RGBA32F, n, "lpv.propagate"));
+    for (int i = 0; ok && i < 2; i++)
+        ok = (l->pp[i] = gl_texture3d_make(GL_RGBA32F, 3 * n, n, n, 1, TEX_FILTER_NEAREST, "lpv.propagate")) != 0;
     l->ubo = gi_ubo_make(sizeof(GpuLpvParams), "lpv.params");
     const GLuint cmd[4] = {0, 1, 0, 0};
     glCreateBuffers(1, &l->indirect);
@@ -449,7 +447,7 @@ static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
     int n = l->n;
     GLuint groups = (GLuint)(n + 7) / 8; /* propagate.comp: 8×8×1 per group */
     for (int i = 0; i < 3; i++) {
-        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0][i], GL_TEXTURE_3D, 0, 0, 0, 0, n, n,
+        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0], GL_TEXTURE_3D, 0, i * n, 0, 0, n, n,
                            n);
         glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, c->sum[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, n,
                            n, n);
@@ -457,10 +455,8 @@ static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
     }
     int cur = 0;
     for (int it = 0; it < l->iterations; it++) {
-        for (int i = 0; i < 3; i++) {
-            glBindTextureUnit(TEX_LPV_SRC + i, l->pp[cur][i]);
-            glBindImageTexture(IMG_LPV_DST + i, l->pp[1 - cur][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        }
+        glBindImageTexture(IMG_LPV_STEP_SRC, l->pp[cur], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+        glBindImageTexture(IMG_LPV_STEP_DST, l->pp[1 - cur], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
         glDispatchCompute(groups, groups, (GLuint)n);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         cur = 1 - cur;

@@ -32,7 +32,6 @@
 #define SSBO_LPV_FIXED 9  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
 #define SSBO_VCT_VOXELS 10 /* vct voxelization: uint[8 · N³] fixed-point albedo, normal, count sums per voxel */
 #define SSBO_VCT_OPAQUE 11 /* vct: the opaque voxels: count, indirect dispatch (x, y, z), packed coordinates */
-#define SSBO_LPV_FACES 12 /* lpv propagation with occlusion: float[32 · N³], each cell's 30 faces' Δω·(1 − B)/π */
 #define SSBO_STATS 13     /* gi/count_surfaces.comp: [0] the count (stats read back on request) */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
@@ -70,6 +69,7 @@
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
 #define IMG_LPV_STEP_SRC 0 /* lpv propagation: the last step's SH light, R, G, B side by side in x (3N × N × N) */
 #define IMG_LPV_STEP_DST 1 /* lpv propagation: this step's, the same layout */
+#define IMG_LPV_FACES 2  /* lpv propagation with occlusion: vec4[8] per cell side by side in x (8N × N × N), the faces' factors */
 #define IMG_LPV_DST 2    /* lpv injection and geometry resolves: the volumes written (R, G, B), 2..4 */
 #define IMG_LPV_SUM 5    /* lpv propagation: 3 accumulated SH volumes (R, G, B), 5..7 */
 #define IMG_RSM 7        /* an RSM read texel by texel (common/rsm_layers.glsl); never beside lpv propagation */

@@ -11,7 +11,7 @@
 // Reads IMG_LPV_STEP_SRC (the last step's light); writes IMG_LPV_STEP_DST
 // and adds to IMG_LPV_SUM+c (each cell is one invocation's).
 // With OCCLUSION (--lpv-occlusion on) the faces' attenuated solid angles
-// Δω_f·(1 − B(ω_f))/π come from SSBO_LPV_FACES, 30 per cell, which
+// Δω_f·(1 − B(ω_f))/π come from IMG_LPV_FACES, 30 per cell, which
 // MODE_FACES fills once per build from the geometry volume (TEX_LPV_GV0/1):
 // the geometry does not change between steps, and its 12 trilinear fetches
 // per cell had been 60% of a step (Cornell 32³, llvmpipe).
@@ -22,10 +22,12 @@ layout(local_size_x = 8, local_size_y = 8, local_size_z = 1) in;
 
 layout(binding = TEX_LPV_GV0) uniform sampler3D s_gv0;
 layout(binding = TEX_LPV_GV1) uniform sampler3D s_gv1;
-// 8 vec4 per cell (30 floats used): vec4 d holds neighbour d's faces 0–3,
-// vec4s 6 and 7 the six neighbours' face 4; neighbours d = +x, −x, +y, −y,
-// +z, −z.
-layout(std430, binding = SSBO_LPV_FACES) buffer FaceBlock { vec4 faces[]; };
+// 8 texels per cell, side by side in x (8N × N × N; 30 floats used): texel
+// d holds neighbour d's faces 0–3, texels 6 and 7 the six neighbours' face
+// 4; neighbours d = +x, −x, +y, −y, +z, −z. An image rather than a storage
+// buffer: llvmpipe loads it inline (cold lpv_propagate 107 -> 95 ms).
+layout(binding = IMG_LPV_FACES, rgba32f) uniform image3D faces;
+ivec3 face_texel(ivec3 c, int k) { return ivec3(8 * c.x + k, c.y, c.z); }
 // The last step's light and this step's, R, G, B side by side in x
 // (3N × N × N), read as an image: on llvmpipe a texelFetch is a call per
 // fetch, an image load inline (18 per cell: the cold lpv_propagate,
@@ -115,22 +117,30 @@ void main()
     if (!lpv_inside(c, n))
         return;
     const vec3 X = vec3(1.0, 0.0, 0.0), Y = vec3(0.0, 1.0, 0.0), Z = vec3(0.0, 0.0, 1.0);
-    uint at = 8u * uint(c.x + n * (c.y + n * c.z));
     // Neighbours +x, −x, +y, −y, +z, −z with their side axes.
 #ifdef MODE_FACES
     vec4 f4a, f4b; // the neighbours' face 4: +x −x +y −y, +z −z
-    neighbour_faces(c, n, ivec3(1, 0, 0), Y, Z, faces[at + 0u], f4a.x);
-    neighbour_faces(c, n, ivec3(-1, 0, 0), Y, Z, faces[at + 1u], f4a.y);
-    neighbour_faces(c, n, ivec3(0, 1, 0), Z, X, faces[at + 2u], f4a.z);
-    neighbour_faces(c, n, ivec3(0, -1, 0), Z, X, faces[at + 3u], f4a.w);
-    neighbour_faces(c, n, ivec3(0, 0, 1), X, Y, faces[at + 4u], f4b.x);
-    neighbour_faces(c, n, ivec3(0, 0, -1), X, Y, faces[at + 5u], f4b.y);
-    faces[at + 6u] = f4a;
-    faces[at + 7u] = vec4(f4b.xy, 0.0, 0.0);
+    vec4 fk0, fk1, fk2, fk3, fk4, fk5;
+    neighbour_faces(c, n, ivec3(1, 0, 0), Y, Z, fk0, f4a.x);
+    neighbour_faces(c, n, ivec3(-1, 0, 0), Y, Z, fk1, f4a.y);
+    neighbour_faces(c, n, ivec3(0, 1, 0), Z, X, fk2, f4a.z);
+    neighbour_faces(c, n, ivec3(0, -1, 0), Z, X, fk3, f4a.w);
+    neighbour_faces(c, n, ivec3(0, 0, 1), X, Y, fk4, f4b.x);
+    neighbour_faces(c, n, ivec3(0, 0, -1), X, Y, fk5, f4b.y);
+    imageStore(faces, face_texel(c, 0), fk0);
+    imageStore(faces, face_texel(c, 1), fk1);
+    imageStore(faces, face_texel(c, 2), fk2);
+    imageStore(faces, face_texel(c, 3), fk3);
+    imageStore(faces, face_texel(c, 4), fk4);
+    imageStore(faces, face_texel(c, 5), fk5);
+    imageStore(faces, face_texel(c, 6), f4a);
+    imageStore(faces, face_texel(c, 7), vec4(f4b.xy, 0.0, 0.0));
 #else
 #ifdef OCCLUSION
-    vec4 t[6] = vec4[6](faces[at + 0u], faces[at + 1u], faces[at + 2u], faces[at + 3u], faces[at + 4u], faces[at + 5u]);
-    vec4 f4a = faces[at + 6u], f4b = faces[at + 7u];
+    vec4 t[6] = vec4[6](imageLoad(faces, face_texel(c, 0)), imageLoad(faces, face_texel(c, 1)),
+                        imageLoad(faces, face_texel(c, 2)), imageLoad(faces, face_texel(c, 3)),
+                        imageLoad(faces, face_texel(c, 4)), imageLoad(faces, face_texel(c, 5)));
+    vec4 f4a = imageLoad(faces, face_texel(c, 6)), f4b = imageLoad(faces, face_texel(c, 7));
 #else
     float far = face_factor(vec3(0.0), vec3(0.0), X, LPV_FAR_DW), side = face_factor(vec3(0.0), vec3(0.0), X, LPV_SIDE_DW);
     vec4 t0 = vec4(far, side, side, side), f4a = vec4(side), f4b = vec4(side);

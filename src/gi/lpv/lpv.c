@@ -75,7 +75,7 @@ typedef struct LpvGi {
     GLuint geom_fixed_rsm[2], geom_fixed_gbuf, geom_resolve; /* geom_fixed_rsm: [cube] */
     GLuint fixed;           /* --lpv-inject compute: int[12·N³] fixed-point SH sums */
     GLuint gv_fixed;        /* --lpv-inject compute: int[6·(N+1)³] fixed-point tensor sums */
-    GLuint faces;           /* --lpv-occlusion on: vec4[8·N³], the propagation's face factors (propagate.comp) */
+    GLuint faces;           /* --lpv-occlusion on: RGBA32F 8N × N × N, the propagation's face factors (propagate.comp) */
     GLuint propagate_faces; /* program filling `faces` from a cascade's geometry volume */
     float scene_power;      /* bound on the light the RSMs can reflect (W), for the fixed-point scale */
     float test_power;       /* the same for lpv_set_vpls' VPLs */
@@ -138,8 +138,9 @@ static void lpv_destroy(void *state)
     }
     gl_texture3d_destroy(&l->pp[0]);
     gl_texture3d_destroy(&l->pp[1]);
-    GLuint b[6] = {l->ubo, l->indirect, l->test_vpls, l->fixed, l->gv_fixed, l->faces};
-    glDeleteBuffers(6, b);
+    GLuint b[5] = {l->ubo, l->indirect, l->test_vpls, l->fixed, l->gv_fixed};
+    glDeleteBuffers(5, b);
+    gl_texture3d_destroy(&l->faces);
     glDeleteVertexArrays(1, &l->vao);
     free(l);
 }
@@ -192,9 +193,7 @@ static void *lpv_create(const GiCreateInfo *ci)
         l->propagate_faces = program(l, "lpv_propagate_faces", NULL, NULL, NULL, "gi/lpv/propagate.comp",
                                      "#define OCCLUSION\n#define MODE_FACES\n");
         ok = ok && l->propagate_faces;
-        glCreateBuffers(1, &l->faces);
-        glNamedBufferStorage(l->faces, (GLsizeiptr)(sizeof(float) * 32 * (size_t)l->n * l->n * l->n), NULL, 0);
-        glObjectLabel(GL_BUFFER, l->faces, -1, "lpv.faces");
+        ok = ok && (l->faces = gl_texture3d_make(GL_RGBA32F, 8 * l->n, l->n, l->n, 1, TEX_FILTER_NEAREST, "lpv.faces")) != 0;
     }
     /* The cascade count is compiled in: with it known, every cascade's
      * fetches name their samplers (gi/lpv/lookup.comp). */
@@ -468,14 +467,15 @@ static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
 static void propagate(LpvGi *l)
 {
     GLuint groups = (GLuint)(l->n + 7) / 8;
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_LPV_FACES, l->faces);
+    if (l->faces)
+        glBindImageTexture(IMG_LPV_FACES, l->faces, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
     for (int k = 0; k < l->cascades; k++) {
         if (l->params.lpv_occlusion) {
             glBindTextureUnit(TEX_LPV_GV0, l->c[k].gv[0]);
             glBindTextureUnit(TEX_LPV_GV1, l->c[k].gv[1]);
             glUseProgram(l->propagate_faces);
             glDispatchCompute(groups, groups, (GLuint)l->n);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+            glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
         }
         glUseProgram(l->propagate);
         for (int set = 0; set < (k > 0 ? SETS : 1); set++)

@@ -317,7 +317,7 @@ static void inject_light_fixed(LpvGi *l, const GiFrame *f)
             glProgramUniform1i(l->inject_fixed, LOC_LPV_CASCADE, k);
             glProgramUniform1i(l->inject_fixed, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
             glUseProgram(l->inject_fixed);
-            glDispatchCompute((capacity + 63) / 64, 1, 1);
+            glDispatchCompute((capacity + 64 * LPV_INJECT_RUN - 1) / (64 * LPV_INJECT_RUN), 1, 1);
             glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
             for (int i = 0; i < 3; i++)
                 glBindImageTexture(IMG_LPV_DST + i, c->inject[set][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);

@@ -91,6 +91,7 @@
 #define VPL_TILE_LIST_BASE(ntiles) (((ntiles) + 4u) & ~3u)
 #define SHADOW_MAX_SAMPLES 64 /* Poisson disk entries */
 #define LPV_MAX_CASCADES 3   /* nested LPV grids */
+#define LPV_GEOMETRY_RUN 32  /* lpv compute geometry: texels of a row per invocation (gi/lpv/geometry_fixed.comp) */
 #define LPV_INJECT_RUN 32     /* lpv compute injection: consecutive VPLs per invocation (gi/lpv/inject_fixed.comp) */
 #define VCT_MAX_CONES 16     /* diffuse cones of the largest set */
 #define VCT_MAX_LEVELS 4     /* clipmap levels */

@@ -361,6 +361,13 @@ static void inject_light(LpvGi *l, const GiFrame *f)
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
 }
 
+/* geometry_fixed.comp's work groups across a row of `width` texels: 8
+ * invocations of LPV_GEOMETRY_RUN texels each. */
+static GLuint run_groups(int width)
+{
+    return (GLuint)((width + LPV_GEOMETRY_RUN - 1) / LPV_GEOMETRY_RUN + 7) / 8;
+}
+
 /* --lpv-inject compute: the surfels' tensors in fixed point (2^20 units
  * per 1: a cell's entries stay far below 2^11, where blocking long
  * saturated at 1), then a resolve into the two textures. */
@@ -385,12 +392,12 @@ static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
             const RsmMap *m = &ls->rsm[i];
             glUseProgram(progs[m->cube]);
             light_stage_bind_rsm_layers(ls, i);
-            glDispatchCompute((GLuint)(m->size + 7) / 8, (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
+            glDispatchCompute(run_groups(m->size), (GLuint)(m->size + 7) / 8, m->cube ? 6 : 1);
         }
         if (progs[2]) { /* and the G-buffer */
             glUseProgram(progs[2]);
             glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
-            glDispatchCompute((GLuint)(f->gbuffer->width + 7) / 8, (GLuint)(f->gbuffer->height + 7) / 8, 1);
+            glDispatchCompute(run_groups(f->gbuffer->width), (GLuint)(f->gbuffer->height + 7) / 8, 1);
         }
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         glProgramUniform1f(l->geom_resolve, LOC_LPV_FIXED_SCALE, scale);

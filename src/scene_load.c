@@ -290,6 +290,58 @@ static bool mesh_check_ply(const char *path)
     return true;
 }
 
+/* Binary glTF (magic "glTF", whatever the file's name): the header's total
+ * length and every chunk's length must fit in the file. assimp 5.2 takes
+ * them on trust and allocates what they say before it reads (found by
+ * fuzz_mesh: a 512-byte GLB whose JSON chunk claimed 4 GiB held 4.2 GB of
+ * memory for 12 s before the import failed). Version 1's header carries
+ * one content length instead of chunks. */
+static bool mesh_check_glb(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        log_error("scene", "%s: cannot open mesh file", path);
+        return false;
+    }
+    uint8_t h[20];
+    size_t n = fread(h, 1, sizeof h, f);
+    fseek(f, 0, SEEK_END);
+    double file_size = (double)ftell(f);
+    const char *why = NULL;
+    if (n < 4 || memcmp(h, "glTF", 4) != 0) {
+        fclose(f);
+        return true; /* not binary glTF */
+    }
+#define U32(b) ((uint32_t)(b)[0] | (uint32_t)(b)[1] << 8 | (uint32_t)(b)[2] << 16 | (uint32_t)(b)[3] << 24)
+    uint32_t version = n >= 12 ? U32(h + 4) : 0, length = n >= 12 ? U32(h + 8) : 0;
+    if (n < 12)
+        why = "shorter than its 12-byte header";
+    else if (version != 1 && version != 2)
+        why = "unknown version (not 1 or 2)";
+    else if ((double)length > file_size)
+        why = "its header's length is more than the file holds";
+    else if (version == 1 && (n < 20 || 20.0 + U32(h + 12) > file_size))
+        why = "its content length is more than the file holds";
+    for (double at = 12; !why && version == 2 && at + 8 <= (double)length; ) {
+        uint8_t c[8];
+        if (fseek(f, (long)at, SEEK_SET) != 0 || fread(c, 1, sizeof c, f) != sizeof c) {
+            why = "cannot read a chunk header";
+            break;
+        }
+        double chunk = U32(c);
+        if (at + 8 + chunk > (double)length)
+            why = "a chunk's length is more than the file holds";
+        at += 8 + chunk;
+    }
+#undef U32
+    fclose(f);
+    if (why) {
+        log_error("scene", "%s: malformed binary glTF: %s", path, why);
+        return false;
+    }
+    return true;
+}
+
 /* Checks an imported, unprocessed scene for what ValidateDataStructure
  * lets through and the post-processing steps assert on: faces without
  * indices, indices out of range, and primitive-type flags that disagree
@@ -330,7 +382,7 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
     /* assimp would block on a FIFO and read a directory as garbage. */
     if (!util_check_input("scene", "mesh file", path, MESH_MAX_BYTES, NULL))
         return false;
-    if (!mesh_check_ply(path))
+    if (!mesh_check_ply(path) || !mesh_check_glb(path))
         return false;
     /* Import and validate first, check what assimp's own checks miss, then
      * post-process: its steps assert (abort) on inconsistent meshes. */

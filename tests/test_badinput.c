@@ -294,6 +294,17 @@ static const Case k_cases[] = {
                                                "\nvt 1 1\nf 1 2 3 4\nf 5 6 7 8\nf 1/1/1 5/2uchar int vertex_indices\nend_hea\x9c\x9a\x8d\xf5\x00\x00"
                                                "\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00")}},
      {"render", "--scene", "@m.ply", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "m.ply: malformed PLY file"},
+    /* A binary glTF's lengths taken on trust cost assimp 4.2 GB and 12 s
+     * before it failed (found by fuzz_mesh): a chunk, then the header,
+     * claiming more than the file holds. */
+    {"glb_chunk_past_end", {{"m.glb", K_TEXT, BIN("glTF\x02\0\0\0\x2f\0\0\0\0\xff\xff\xff" "JSON"
+                                                 "{\"asset\":{\"version\":\"2.0\"}}")}},
+     {"render", "--scene", "@m.glb", "--size", "8x8", "--out", "@out/r.pfm"}, 1,
+     "m.glb: malformed binary glTF: a chunk's length"},
+    {"glb_header_past_end", {{"m.glb", K_TEXT, BIN("glTF\x02\0\0\0\xf0\xff\xff\xff\x1b\0\0\0" "JSON"
+                                                  "{\"asset\":{\"version\":\"2.0\"}}")}},
+     {"reference", "--scene", "@m.glb", "--size", "8x8", "--spp", "1", "--out", "@out/r.pfm"}, 1,
+     "m.glb: malformed binary glTF: its header's length"},
     {"obj_garbage", {{"m.obj", K_TEXT, "garbage here\nmore\n"}},
      {"render", "--scene", "@m.obj", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "m.obj: cannot import mesh"},
     {"obj_nan_vertex", {{"m.obj", K_TEXT, "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}},
@@ -746,13 +757,47 @@ static void nearest_and_keys(void **state)
     cJSON_Delete(unk);
 }
 
+/* A well-formed binary glTF passes mesh_check_glb: one triangle, its
+ * JSON and BIN chunks padded to 4 bytes as the format asks. */
+static void valid_glb_loads(void **state)
+{
+    (void)state;
+    static const char js[] = "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],"
+                             "\"nodes\":[{\"mesh\":0}],\"meshes\":[{\"primitives\":[{\"attributes\":"
+                             "{\"POSITION\":0}}]}],\"buffers\":[{\"byteLength\":36}],\"bufferViews\":"
+                             "[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+                             "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+                             "\"max\":[1,1,0]}]}";
+    const float tri[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    uint32_t jlen = (uint32_t)((sizeof js - 1 + 3) / 4 * 4), total = 12 + 8 + jlen + 8 + 36;
+    uint8_t glb[1024] = {0};
+    assert_true(total <= sizeof glb);
+    uint32_t head[5] = {0x46546c67u, 2, total, jlen, 0x4e4f534au}; /* "glTF", 2, length; JSON chunk */
+    memcpy(glb, head, sizeof head);
+    memset(glb + 20, ' ', jlen);
+    memcpy(glb + 20, js, sizeof js - 1);
+    uint32_t bin[2] = {36, 0x004e4942u}; /* BIN chunk */
+    memcpy(glb + 20 + jlen, bin, sizeof bin);
+    memcpy(glb + 28 + jlen, tri, sizeof tri);
+    char path[800];
+    snprintf(path, sizeof path, "%s/valid.glb", g_root);
+    write_bytes(path, glb, total);
+    Scene s;
+    scene_init(&s);
+    mat4 id = GLM_MAT4_IDENTITY_INIT;
+    assert_true(scene_load_mesh(&s, path, id));
+    assert_int_equal(s.index_count, 3);
+    scene_free(&s);
+    unlink(path);
+}
+
 int main(void)
 {
     snprintf(g_root, sizeof g_root, "%s/badinput", RTGI_TEST_TMP);
     remove_tree(g_root);
     mkdir(g_root, 0700);
     enum { N = sizeof k_cases / sizeof k_cases[0] };
-    struct CMUnitTest tests[N + 5];
+    struct CMUnitTest tests[N + 6];
     for (int i = 0; i < N; i++)
         tests[i] = (struct CMUnitTest){k_cases[i].name, bad_input_case, NULL, NULL, (void *)&k_cases[i]};
     tests[N + 0] = (struct CMUnitTest)cmocka_unit_test(lenient_unknown_key_is_warning);
@@ -760,7 +805,8 @@ int main(void)
     tests[N + 2] = (struct CMUnitTest)cmocka_unit_test(writers_refuse_nonfinite);
     tests[N + 3] = (struct CMUnitTest)cmocka_unit_test(atomic_abort_leaves_nothing);
     tests[N + 4] = (struct CMUnitTest)cmocka_unit_test(nearest_and_keys);
-    int failed = _cmocka_run_group_tests("badinput", tests, N + 5, NULL, NULL);
+    tests[N + 5] = (struct CMUnitTest)cmocka_unit_test(valid_glb_loads);
+    int failed = _cmocka_run_group_tests("badinput", tests, N + 6, NULL, NULL);
     if (!failed)
         remove_tree(g_root);
     return failed;

@@ -1,8 +1,9 @@
 // gi/lpv/geometry_fixed.comp — geometry-volume injection by compute (the
 // default `--lpv-inject compute`): a surfel per texel (surfel.glsl), runs
-// of them per invocation (below), its normal tensor A/s² · n nᵀ added with integer atomics in fixed point
-// (LOC_LPV_FIXED_SCALE units per 1) to SSBO_LPV_FIXED[6·cell + j], j = xx,
-// yy, zz, xy, xz, yz; geometry_resolve.comp writes the two textures.
+// of them per invocation (below), its normal tensor A/s² · n nᵀ added with
+// integer atomics in fixed point (LOC_LPV_FIXED_SCALE units per 1) to
+// SSBO_LPV_FIXED[6·cell + j], j = xx, yy, zz, xy, xz, yz;
+// geometry_resolve.comp writes the two textures.
 #include "shared/gpu_types.h"
 #include "gi/lpv/sh.glsl"
 #include "gi/lpv/surfel.glsl"

@@ -47,20 +47,13 @@ uvec4 surfel_load(ivec3 q, ivec3 size)
 // on one axis that hold a surface (w = 1); zero if neither does.
 vec3 surfel_tangent_of(vec3 p, vec4 a, vec4 b)
 {
+    vec4 side[2] = vec4[2](a, b);
     vec3 best = vec3(0.0);
     float best_len = 1e30;
-    if (a.w != 0.0) {
-        vec3 d = a.xyz - p;
+    for (int s = 0; s < 2; s++) {
+        vec3 d = side[s].xyz - p;
         float l = dot(d, d);
-        if (l < best_len) {
-            best_len = l;
-            best = d;
-        }
-    }
-    if (b.w != 0.0) {
-        vec3 d = b.xyz - p;
-        float l = dot(d, d);
-        if (l < best_len) {
+        if (side[s].w != 0.0 && l < best_len) {
             best_len = l;
             best = d;
         }

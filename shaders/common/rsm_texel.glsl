@@ -19,6 +19,7 @@
 #ifndef RSM_TEXEL_GLSL
 #define RSM_TEXEL_GLSL
 
+#include "common/math.glsl"
 #include "common/packing.glsl"
 
 const float RSM_POS_MAX = 2097151.0; // 2²¹ − 1
@@ -69,8 +70,11 @@ vec3 rsm_texel_normal(uvec4 t) { return unpack_oct16(t.z); }
 
 vec3 rsm_texel_flux(RsmTexelFrame f, uvec4 t) { return unpack_rgb9e5(t.w) * f.flux_unit; }
 
-// The surface area texel (p, n) stands for (see the top).
-float rsm_texel_area(RsmTexelFrame f, vec3 p, vec3 n)
+// The surface area texel (p, n) stands for (see the top), as a fraction:
+// a·h³ over its denominator. A sum that divides by the area anyway folds
+// the denominator into its own division (gi/rsm/sampling.glsl) rather than
+// paying for two.
+vec2 rsm_texel_area_fraction(RsmTexelFrame f, vec3 p, vec3 n)
 {
     vec3 d = mix(p - f.light, f.axis, f.ortho), a = abs(d);
 #if defined(RSM_CUBE)
@@ -80,7 +84,29 @@ float rsm_texel_area(RsmTexelFrame f, vec3 p, vec3 n)
 #else
     float h = f.cube ? max(a.x, max(a.y, a.z)) : abs(dot(d, f.axis));
 #endif
-    return f.texel_area * h * h * h / max(max(-dot(n, d), 0.05 * length(d)), 1e-30);
+    return vec2(f.texel_area * h * h * h, max(max(-dot(n, d), 0.05 * length(d)), 1e-30));
+}
+
+float rsm_texel_area(RsmTexelFrame f, vec3 p, vec3 n)
+{
+    vec2 a = rsm_texel_area_fraction(f, p, n);
+    return a.x / a.y;
+}
+
+// Irradiance at x (normal n) from texel t, as vpl_irradiance_disk
+// (common/vpl.glsl) with the disk's r² = area·r2_per_area, its two
+// divisions made one: with the area a/b, E = Φ·cos·cos·b / (π d² (d² b +
+// a·r2_per_area)). rsm 256², one thread, medians of 5 alternated runs:
+// gather 242 -> 229 ms; images equal to rounding (relMSE 5e-17). An empty
+// texel unpacks to flux 0 and a finite area: it adds 0.
+vec3 rsm_texel_irradiance_at(RsmTexelFrame f, uvec4 t, vec3 x, vec3 n, float r2_per_area)
+{
+    vec3 xp = rsm_texel_position(f, t), np = rsm_texel_normal(t);
+    vec2 area = rsm_texel_area_fraction(f, xp, np);
+    vec3 d = x - xp;
+    float d2 = max(dot(d, d), 1e-12);
+    return rsm_texel_flux(f, t) *
+           (max(0.0, dot(np, d)) * max(0.0, -dot(n, d)) * area.y / (PI * d2 * (d2 * area.y + area.x * r2_per_area)));
 }
 
 // Everything at once; false where the texel holds no surface (then flux and

@@ -85,8 +85,7 @@ Fetched probe_fetch(int k, vec2 uv)
 vec3 probe_eval(Fetched s, vec3 x, vec3 n, RsmTexelFrame f)
 {
 #if defined(PACKED)
-    vec3 xp = rsm_texel_position(f, s.t), np = rsm_texel_normal(s.t);
-    return vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f, s.t), rsm_texel_area(f, xp, np) * (1.0 / PI));
+    return rsm_texel_irradiance_at(f, s.t, x, n, 1.0 / PI);
 #else
     return vpl_irradiance(x, n, s.xp, s.np, s.flux);
 #endif

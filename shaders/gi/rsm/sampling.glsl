@@ -140,8 +140,7 @@ vec3 rsm_texel_irradiance(RsmFrame f, uvec4 t, vec3 x, vec3 n)
 #ifdef READS_ONLY
     return rsm_reads_fold(t);
 #else
-    vec3 xp = rsm_texel_position(f.texel, t), np = rsm_texel_normal(t);
-    return vpl_irradiance_disk(x, n, xp, np, rsm_texel_flux(f.texel, t), rsm_texel_area(f.texel, xp, np) * f.r2_per_area);
+    return rsm_texel_irradiance_at(f.texel, t, x, n, f.r2_per_area);
 #endif
 }
 

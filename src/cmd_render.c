@@ -134,6 +134,10 @@ int cmd_render(int argc, char **argv)
     int rc = render_options_parse(&o, argc, argv, cmd_render_help);
     if (rc != 0)
         return rc < 0 ? 0 : rc;
+    if (o.timings && o.frames < 1) { /* the window's --frames 0 (run until closed) means nothing here */
+        cli_error(NULL, "--frames 0 with --timings: there is no frame to time (at least 1)");
+        return 2;
+    }
 
     Scene scene;
     if (!render_options_load_scene(&o, &scene))

@@ -76,6 +76,9 @@ static void unknown_option_and_technique(void **state)
     test_expect_cli_error(rc, err, 2, "--exposure", "needs a value");
     rc = test_run_cli(&err, "render", "--pcf-samples", "0", NULL);
     test_expect_cli_error(rc, err, 2, "--pcf-samples", "out of range");
+    /* no frame to time: the means would be inf */
+    rc = test_run_cli(&err, "render", "--frames", "0", "--timings", NULL);
+    test_expect_cli_error(rc, err, 2, "--frames 0", "no frame to time");
 }
 
 static void zero_or_huge_size(void **state)

@@ -71,9 +71,8 @@ vec3 rsm_texel_normal(uvec4 t) { return unpack_oct16(t.z); }
 vec3 rsm_texel_flux(RsmTexelFrame f, uvec4 t) { return unpack_rgb9e5(t.w) * f.flux_unit; }
 
 // The surface area texel (p, n) stands for (see the top), as a fraction:
-// a·h³ over its denominator. A sum that divides by the area anyway folds
-// the denominator into its own division (gi/rsm/sampling.glsl) rather than
-// paying for two.
+// a·h³ over its denominator, so that rsm_texel_irradiance_at (below) can
+// fold the denominator into its own division rather than pay for two.
 vec2 rsm_texel_area_fraction(RsmTexelFrame f, vec3 p, vec3 n)
 {
     vec3 d = mix(p - f.light, f.axis, f.ortho), a = abs(d);

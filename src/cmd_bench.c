@@ -244,18 +244,6 @@ static bool parse_gi_item(const char *item, BenchEntry *e)
     return true;
 }
 
-static double masked_mean(const ImageF *img, const uint8_t *mask)
-{
-    double s = 0;
-    size_t n = 0, np = (size_t)img->width * img->height;
-    for (size_t i = 0; i < np; i++)
-        if (!mask || mask[i]) {
-            s += luminance(img->rgb + 3 * i);
-            n++;
-        }
-    return n ? s / n : 0;
-}
-
 static cJSON *json_num(double v)
 {
     return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
@@ -583,7 +571,6 @@ int cmd_bench(int argc, char **argv)
     double display_exposure = report_display_exposure(&ref, mask);
     if (!(display_exposure > 0))
         display_exposure = metric_exposure;
-    double ref_mean = masked_mean(&ref, mask);
     char p[1400];
     snprintf(p, sizeof p, "%s/reference.exr", images_dir);
     if (!image_write_exr(p, &ref, false, NULL, 0))
@@ -620,7 +607,7 @@ int cmd_bench(int argc, char **argv)
         e->relmse = metric_relmse(&e->img, &ref, mask, NULL);
         e->ssim = metric_ssim(&e->img, &ref, metric_exposure, mask, NULL);
         e->flip = metric_flip(&e->img, &ref, metric_exposure, FLIP_DEFAULT_PPD, mask, e->flip_map);
-        e->mean_ratio = ref_mean > 0 ? masked_mean(&e->img, mask) / ref_mean : NAN;
+        e->mean_ratio = metric_mean_ratio(&e->img, &ref, mask, NULL);
         if (metric_alloc_failures())
             goto done;
         for (size_t k = 0; k < np; k++) /* the masked pixels show as zero error */

@@ -33,7 +33,9 @@ void cmd_compare_help(void)
            "  --allow-nonfinite  compare images with NaN/Inf pixels (an error otherwise)\n"
            "  --quiet | --verbose   errors only on stderr | debug lines too\n"
            "  --                 ends the options: what follows are the two images\n"
-           "Prints one 'metric: value' line per metric.\n");
+           "Prints one 'metric: value' line per metric; with --metric all also\n"
+           "'mean_ratio: X' (TEST's mean luminance over REFERENCE's, on the counted pixels)\n"
+           "and 'mean_ratio_rgb: R G B' (per channel): a scale error shows there, noise averages out.\n");
 }
 
 static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all", NULL};
@@ -41,7 +43,7 @@ static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all",
 /* The results as one JSON object; strings escaped, non-finite numbers as
  * null. To stdout for "-", else atomically to the file. */
 static bool write_json(const char *json, const char *const files[2], const ImageF *t, const double val[4],
-                       const bool want[4], int block, const double block_val[2])
+                       const bool want[4], int block, const double block_val[2], const double ratio[4])
 {
     AtomicFile af = {0};
     FILE *f = stdout;
@@ -72,6 +74,15 @@ static bool write_json(const char *json, const char *const files[2], const Image
                 else
                     fprintf(f, ", \"%s_block\": null", k_metrics[k]);
             }
+    }
+    /* ratio: luminance, then r, g, b */
+    fputs(", \"mean_ratio\": ", f);
+    for (int c = 0; c < 4; c++) {
+        if (isfinite(ratio[c]))
+            fprintf(f, "%.8g", ratio[c]);
+        else
+            fputs("null", f);
+        fputs(c == 0 ? ", \"mean_ratio_rgb\": [" : c < 3 ? ", " : "]", f);
     }
     fputs("}\n", f);
     if (f == stdout) {
@@ -224,6 +235,8 @@ int cmd_compare(int argc, char **argv)
     for (int k = 0; k < 4; k++)
         if (want[k])
             fprintf(txt, "%s: %.6g\n", k_metrics[k], val[k]);
+    double ratio[4];
+    ratio[0] = metric_mean_ratio(&t, &r, mask, ratio + 1);
     /* The same over block averages: what survives them is bias. */
     double block_val[2] = {NAN, NAN};
     if (block > 1 && (want[0] || want[1])) {
@@ -243,6 +256,10 @@ int cmd_compare(int argc, char **argv)
         if (!ok)
             goto done;
     }
+    if (metric == 4) { /* after the older lines, which scripts may read by position */
+        fprintf(txt, "mean_ratio: %.6g\n", ratio[0]);
+        fprintf(txt, "mean_ratio_rgb: %.6g %.6g %.6g\n", ratio[1], ratio[2], ratio[3]);
+    }
     if (map) {
         if (map_metric == 0) { /* normalise RMSE by its maximum */
             float mx = 0;
@@ -257,7 +274,7 @@ int cmd_compare(int argc, char **argv)
         if (!metric_write_heatmap(heatmap, map, t.width, t.height))
             goto done;
     }
-    if (json && !write_json(json, files, &t, val, want, block > 1 ? block : 0, block_val)) {
+    if (json && !write_json(json, files, &t, val, want, block > 1 ? block : 0, block_val, ratio)) {
         if (heatmap)
             remove(heatmap); /* all outputs or none */
         goto done;

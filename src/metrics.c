@@ -421,6 +421,26 @@ int metric_write_heatmap(const char *path, const float *map, int w, int h)
     return ok;
 }
 
+double metric_mean_ratio(const ImageF *test, const ImageF *ref, const uint8_t *mask, double rgb[3])
+{
+    double st[4] = {0}, sr[4] = {0};
+    size_t np = (size_t)test->width * test->height;
+    for (size_t i = 0; i < np; i++) {
+        if (mask && !mask[i])
+            continue;
+        const float *t = test->rgb + 3 * i, *r = ref->rgb + 3 * i;
+        for (int c = 0; c < 3; c++) {
+            st[c] += t[c];
+            sr[c] += r[c];
+        }
+        st[3] += luminance(t);
+        sr[3] += luminance(r);
+    }
+    for (int c = 0; rgb && c < 3; c++)
+        rgb[c] = sr[c] > 0 ? st[c] / sr[c] : NAN;
+    return sr[3] > 0 ? st[3] / sr[3] : NAN;
+}
+
 bool metric_block_average(const ImageF *img, const uint8_t *mask, int block, ImageF *out, uint8_t **out_mask)
 {
     int bw = (img->width + block - 1) / block, bh = (img->height + block - 1) / block;

@@ -28,6 +28,12 @@ double metric_relmse(const ImageF *test, const ImageF *ref, const uint8_t *mask,
 double metric_ssim(const ImageF *test, const ImageF *ref, float exposure, const uint8_t *mask, float *map);
 double metric_flip(const ImageF *test, const ImageF *ref, float exposure, float ppd, const uint8_t *mask, float *map);
 
+/* Mean of `test` over mean of `ref` on the pixels `mask` selects (NULL:
+ * all): of luminance as the result, per channel in rgb (may be NULL). A
+ * ratio whose reference mean is 0 is NaN. Energy agreement: noise averages
+ * out of it, a scale error (a lost factor π, a missing bounce) does not. */
+double metric_mean_ratio(const ImageF *test, const ImageF *ref, const uint8_t *mask, double rgb[3]);
+
 /* Averages `img` over block×block pixel blocks (the pixels `mask` selects;
  * NULL: all) into `out` (ceil(w/block) × ceil(h/block)); `*out_mask`
  * (caller frees) marks the blocks that held any selected pixel. Comparing

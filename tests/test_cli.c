@@ -256,6 +256,9 @@ static void compare_json_and_mask(void **state)
     assert_float_equal(cJSON_GetObjectItem(j, "rmse")->valuedouble, sqrt(0.02), 1e-6);
     assert_float_equal(cJSON_GetObjectItem(j, "relmse")->valuedouble, 0.04, 1e-6);
     assert_true(cJSON_IsNumber(cJSON_GetObjectItem(j, "ssim")) && cJSON_IsNumber(cJSON_GetObjectItem(j, "flip")));
+    /* mean ratio: 0.5 over the reference's mean (0.5 + 0.7)/2 = 0.6 */
+    assert_float_equal(cJSON_GetObjectItem(j, "mean_ratio")->valuedouble, 0.5 / 0.6, 1e-6);
+    assert_float_equal(cJSON_GetArrayItem(cJSON_GetObjectItem(j, "mean_ratio_rgb"), 2)->valuedouble, 0.5 / 0.6, 1e-6);
     cJSON_Delete(j);
     assert_int_equal(test_run_cli(NULL, "compare", a, b, "--mask", mask, "--metric", "rmse", "--json", json, NULL), 0);
     text = util_read_file(json, NULL);
@@ -264,6 +267,7 @@ static void compare_json_and_mask(void **state)
     assert_non_null(j);
     assert_float_equal(cJSON_GetObjectItem(j, "rmse")->valuedouble, 0.0, 0);
     assert_null(cJSON_GetObjectItem(j, "ssim")); /* only the metric asked for */
+    assert_float_equal(cJSON_GetObjectItem(j, "mean_ratio")->valuedouble, 1.0, 1e-6); /* the masked half agrees */
     cJSON_Delete(j);
     image_free(&ia);
     image_free(&ib);

@@ -58,6 +58,31 @@ static void relmse_known_pair(void **state)
     image_free(&r);
 }
 
+/* Means: test (2, 1, 0.5) over reference (1, 1, 1) on a 2×2 image whose
+ * pixel 1 the mask leaves out (it holds a 100 that would otherwise move
+ * every ratio): per channel 2, 1, 0.5; luminance 0.2126·2 + 0.7152 +
+ * 0.0722·0.5 over 1. A reference of mean 0 gives NaN. */
+static void mean_ratio_known_pair(void **state)
+{
+    (void)state;
+    ImageF t, r;
+    fill(&t, 2, 2, 2.f, 1.f, 0.5f);
+    fill(&r, 2, 2, 1.f, 1.f, 1.f);
+    t.rgb[3] = t.rgb[4] = t.rgb[5] = 100.f;
+    uint8_t mask[4] = {1, 0, 1, 1};
+    double rgb[3];
+    assert_float_equal(metric_mean_ratio(&t, &r, mask, rgb), 0.2126 * 2 + 0.7152 + 0.0722 * 0.5, 1e-6);
+    assert_float_equal(rgb[0], 2.0, 1e-7);
+    assert_float_equal(rgb[1], 1.0, 1e-7);
+    assert_float_equal(rgb[2], 0.5, 1e-7);
+    assert_true(metric_mean_ratio(&t, &r, NULL, NULL) > 20.0); /* the 100 counts without the mask */
+    image_free(&r);
+    fill(&r, 2, 2, 0.f, 0.f, 0.f);
+    assert_true(isnan(metric_mean_ratio(&t, &r, NULL, rgb)) && isnan(rgb[1]));
+    image_free(&t);
+    image_free(&r);
+}
+
 /* Uniform greys whose display values are 0.2 and 0.4: no variance, so
  * SSIM = (2·0.2·0.4 + C1)/(0.2² + 0.4² + C1) = 0.8000999. */
 static void ssim_known_pair(void **state)
@@ -125,7 +150,7 @@ static void flip_sees_edges(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(identical_images), cmocka_unit_test(rmse_known_pair), cmocka_unit_test(relmse_known_pair),
+        cmocka_unit_test(identical_images), cmocka_unit_test(rmse_known_pair), cmocka_unit_test(relmse_known_pair), cmocka_unit_test(mean_ratio_known_pair),
         cmocka_unit_test(ssim_known_pair),  cmocka_unit_test(flip_known_pairs), cmocka_unit_test(flip_sees_edges),
     };
     return cmocka_run_group_tests_name("metrics", tests, NULL, NULL);

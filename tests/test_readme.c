@@ -5,7 +5,8 @@
  * README's documented rewriting rule ("README commands"): render, reference,
  * view and bench get --size 32x32; reference and bench --spp 2; view and
  * bench --frames 1. rtgi view runs under a virtual X server (Xvfb, started
- * once: test_x_display). Skipped, saying why: scripts/setup.sh and make
+ * once: test_x_display); scripts/crosscheck-cycles.sh at 16x16 and 4 spp
+ * where Blender is installed. Skipped, saying why: scripts/setup.sh and make
  * (they install and build), Sponza when ../shared has no Sponza. */
 #include <errno.h>
 #include <stdio.h>
@@ -111,7 +112,12 @@ static void readme_commands_work(void **state)
             why = "installs and builds (this suite is that build)";
         else if (strstr(shown, "sponza") && !sponza)
             why = "../shared/assets/sponza is absent";
-        else if (strcmp(argv[0], "build/rtgi") != 0)
+        else if (!strcmp(argv[0], "scripts/crosscheck-cycles.sh") && system("command -v blender >/dev/null 2>&1") != 0)
+            why = "Blender is not installed (an optional tool: apt install blender)";
+        else if (!strcmp(argv[0], "scripts/crosscheck-cycles.sh") && argc == 4) {
+            argv[2] = "16x16"; /* the rewriting rule: seconds, not minutes */
+            argv[3] = "4";
+        } else if (strcmp(argv[0], "build/rtgi") != 0)
             fail_msg("README command '%s': the test knows no rule for it (add one to tests/test_readme.c)", shown);
         if (why) {
             print_message("SKIP %s  (%s)\n", shown, why);

@@ -7,7 +7,8 @@
  * bench --frames 1. rtgi view runs under a virtual X server (Xvfb, started
  * once: test_x_display); scripts/crosscheck-cycles.sh at 16x16 and 4 spp
  * where Blender is installed. Skipped, saying why: scripts/setup.sh and make
- * (they install and build), Sponza when ../shared has no Sponza. */
+ * (they install and build), Sponza when ../shared has no Sponza, the Cycles
+ * cross-check without Blender or the Cornell box facts. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -83,6 +84,7 @@ static void readme_commands_work(void **state)
         sh(cmd);
     }
     bool sponza = stat(SCRATCH "/shared/assets/sponza/Sponza.gltf", &st) == 0;
+    bool cornell_facts = stat(SCRATCH "/shared/assets/cornell/cornell_box_facts.json", &st) == 0;
 
     char *text = util_read_file(RTGI_SOURCE_DIR "/README.md", NULL);
     assert_non_null(text);
@@ -114,6 +116,8 @@ static void readme_commands_work(void **state)
             why = "../shared/assets/sponza is absent";
         else if (!strcmp(argv[0], "scripts/crosscheck-cycles.sh") && system("command -v blender >/dev/null 2>&1") != 0)
             why = "Blender is not installed (an optional tool: apt install blender)";
+        else if (!strcmp(argv[0], "scripts/crosscheck-cycles.sh") && !cornell_facts)
+            why = "../shared/assets/cornell/cornell_box_facts.json is absent";
         else if (!strcmp(argv[0], "scripts/crosscheck-cycles.sh") && argc == 4) {
             argv[2] = "16x16"; /* the rewriting rule: seconds, not minutes */
             argv[3] = "4";

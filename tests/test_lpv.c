@@ -11,7 +11,6 @@
 #include "gi/lpv/lpv.h"
 #include "metrics.h"
 #include "reference/pathtracer.h"
-#include "camera.h"
 
 #define LPV_CORNELL_BOUND 0.031 /* relMSE; see cornell_against_reference */
 #define SH_NORM 3.5449077018 /* ∫ Y00 dω / Y00² = 2√π: flux of an SH intensity = c00 · 2√π */
@@ -363,11 +362,8 @@ static void one_vpl_inverse_square(void **state)
         double lpv_power = 0, exact_power = 0;
         for (int y = 0; y < W; y++)
             for (int x = 0; x < W; x++) {
-                vec3 d, q;
-                camera_ray(&s.camera, W, W, x + 0.5f, y + 0.5f, d);
-                float t = -s.camera.position[1] / d[1];
-                for (int k = 0; k < 3; k++)
-                    q[k] = s.camera.position[k] + t * d[k];
+                vec3 q;
+                test_pixel_plane_point(&s, W, W, x, y, q);
                 if (fabsf(q[0]) > 1.f || fabsf(q[2]) > 1.f)
                     continue;
                 lpv_power += e[4 * ((size_t)(W - 1 - y) * W + (size_t)x) + 1];

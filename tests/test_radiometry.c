@@ -6,7 +6,6 @@
 #include <math.h>
 
 #include "test_util.h"
-#include "camera.h"
 
 static const float k_rho = 0.5f;
 enum { W = 128, H = 128 };
@@ -23,15 +22,6 @@ static void plane_scene(Scene *s)
     s->camera.fov_y = glm_rad(50.f);
 }
 
-/* World point on y = 0 seen through the centre of pixel (x, y). */
-static void pixel_point(const Scene *s, int x, int y, vec3 p)
-{
-    vec3 d;
-    camera_ray(&s->camera, W, H, x + 0.5f, y + 0.5f, d);
-    float t = -s->camera.position[1] / d[1];
-    for (int i = 0; i < 3; i++)
-        p[i] = s->camera.position[i] + t * d[i];
-}
 
 static void expect_pixel(const ImageF *img, int x, int y, const float *expected)
 {
@@ -75,7 +65,7 @@ static void check_local_light(const Scene *s, const Light *l, const ImageF *img)
     for (int y = 8; y < H; y += 24)
         for (int x = 8; x < W; x += 24) {
             vec3 p, to_l, dir, inten;
-            pixel_point(s, x, y, p);
+            test_pixel_plane_point(s, W, H, x, y, p);
             glm_vec3_sub((float *)l->position, p, to_l);
             float d = glm_vec3_norm(to_l);
             glm_vec3_scale(to_l, -1.f / d, dir);

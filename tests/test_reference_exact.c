@@ -11,7 +11,6 @@
 #include "test_util.h"
 #include "reference/pathtracer.h"
 #include "reference/sampler.h"
-#include "camera.h"
 #include "util.h"
 
 /* Mean over every pixel and channel, and its standard error from the
@@ -196,14 +195,10 @@ static void plane_under_quad_light(void **state)
     int n = 0;
     for (int y = 0; y < 24; y++)
         for (int x = 0; x < 24; x++) {
-            vec3 d;
-            camera_ray(&s.camera, 24, 24, x + 0.5f, y + 0.5f, d);
-            if (d[1] >= 0)
-                continue;
-            float t = -s.camera.position[1] / d[1];
-            double px = s.camera.position[0] + t * d[0], pz = s.camera.position[2] + t * d[2];
-            if (fabs(px) > 3.9 || fabs(pz) > 3.9)
-                continue; /* past the plane's edge */
+            vec3 q;
+            if (!test_pixel_plane_point(&s, 24, 24, x, y, q) || fabsf(q[0]) > 3.9f || fabsf(q[2]) > 3.9f)
+                continue; /* the sky, or past the plane's edge */
+            double px = q[0], pz = q[2];
             double e = rect_e(centre[0] - su / 2 - px, centre[0] + su / 2 - px, centre[2] - sv / 2 - pz,
                               centre[2] + sv / 2 - pz, hgt);
             for (int c = 0; c < 3; c++) {

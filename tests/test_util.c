@@ -74,13 +74,20 @@ void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *
     test_reference_ex(s, w, h, mode, spp, false, out); /* the rasterizer shades pixel centres */
 }
 
-float test_plane_radiance(const Scene *s, int w, int h, int x, int y, const Light *l, float albedo, vec3 want)
+bool test_pixel_plane_point(const Scene *s, int w, int h, int x, int y, vec3 p)
 {
-    vec3 d, p, to_l;
+    vec3 d;
     camera_ray(&s->camera, w, h, (float)x + 0.5f, (float)y + 0.5f, d);
     float t = -s->camera.position[1] / d[1];
     for (int i = 0; i < 3; i++)
         p[i] = s->camera.position[i] + t * d[i];
+    return d[1] < 0 && s->camera.position[1] > 0;
+}
+
+float test_plane_radiance(const Scene *s, int w, int h, int x, int y, const Light *l, float albedo, vec3 want)
+{
+    vec3 p, to_l;
+    test_pixel_plane_point(s, w, h, x, y, p);
     glm_vec3_sub((float *)l->position, p, to_l);
     float dist2 = glm_vec3_norm2(to_l), cos_t = to_l[1] / sqrtf(dist2);
     for (int c = 0; c < 3; c++)

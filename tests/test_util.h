@@ -35,6 +35,10 @@ void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *
 /* The same with samples spread over each pixel (`jitter`: a box filter,
  * what supersampling approximates) or at its centre. */
 void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out);
+/* The point of the plane y = 0 that the ray through the centre of pixel
+ * (x, y) of a w×h image of `s`'s camera meets, into p; false (p then
+ * behind the camera or at infinity) where the ray does not go down to it. */
+bool test_pixel_plane_point(const Scene *s, int w, int h, int x, int y, vec3 p);
 /* Pixel (x, y) of a w×h image of `s`'s camera sees the plane y = 0, lit by
  * the point-like light `l`, with albedo `albedo`: writes the analytic
  * radiance albedo/π · I cosθ / d² into `want` and returns the light's height

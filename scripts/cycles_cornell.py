@@ -51,12 +51,16 @@ def parse_args():
     return a, w, h
 
 
-def diffuse(name, albedo):
+def node_material(name):
+    """A material with an empty node tree but its output node."""
     m = bpy.data.materials.new(name)
     m.use_nodes = True
-    nt = m.node_tree
-    nt.nodes.clear()
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    m.node_tree.nodes.clear()
+    return m, m.node_tree, m.node_tree.nodes.new("ShaderNodeOutputMaterial")
+
+
+def diffuse(name, albedo):
+    m, nt, out = node_material(name)
     d = nt.nodes.new("ShaderNodeBsdfDiffuse")
     d.inputs["Color"].default_value = (*albedo, 1.0)
     d.inputs["Roughness"].default_value = 0.0  # Lambert, not Oren-Nayar
@@ -65,12 +69,8 @@ def diffuse(name, albedo):
 
 
 def one_sided_emitter(name, radiance):
-    m = bpy.data.materials.new(name)
-    m.use_nodes = True
-    nt = m.node_tree
-    nt.nodes.clear()
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    peak = max(radiance)
+    m, nt, out = node_material(name)
+    peak = max(max(radiance), 1e-30)  # colour in [0, 1], strength the rest (a black light stays black)
     front = nt.nodes.new("ShaderNodeEmission")
     front.inputs["Color"].default_value = (*(c / peak for c in radiance), 1.0)
     front.inputs["Strength"].default_value = peak

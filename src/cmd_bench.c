@@ -59,6 +59,8 @@ void cmd_bench_help(void)
            "  --spp N            reference samples per pixel (default: 256)\n"
            "  --ref-mode MODE    full|direct|one-bounce|one-bounce-novis|indirect (default: full)\n"
            "  --frames N         timed frames per technique after one warm-up frame (default: 3)\n"
+           "  --ssaa N           render every technique N x N supersampled, box-filtered to\n"
+           "                     WxH (default: 1, off), as `rtgi render --ssaa`\n"
            "  --exposure E       exposure of FLIP and SSIM (default: the scene's)\n"
            "  --cache DIR        reference cache (default: out/ref-cache)\n"
            "  --threads T        reference threads (default: all cores)\n"
@@ -366,8 +368,12 @@ static double num(const cJSON *o, const char *key)
 static void print_markdown(const cJSON *doc)
 {
     const cJSON *ref = cJSON_GetObjectItem(doc, "reference");
-    printf("%s, %dx%d, reference %s %d spp, %s, %s\n\n", cJSON_GetObjectItem(doc, "scene")->valuestring,
-           (int)num(doc, "width"), (int)num(doc, "height"), cJSON_GetObjectItem(ref, "mode")->valuestring,
+    int ssaa = (int)num(doc, "ssaa");
+    char aa[32] = "";
+    if (ssaa > 1)
+        snprintf(aa, sizeof aa, ", ssaa %d", ssaa);
+    printf("%s, %dx%d%s, reference %s %d spp, %s, %s\n\n", cJSON_GetObjectItem(doc, "scene")->valuestring,
+           (int)num(doc, "width"), (int)num(doc, "height"), aa, cJSON_GetObjectItem(ref, "mode")->valuestring,
            (int)num(ref, "spp"), cJSON_GetObjectItem(doc, "gl_renderer")->valuestring,
            cJSON_GetObjectItem(doc, "commit")->valuestring);
     printf("| technique | GPU ms per pass | GPU ms | ms/frame | VPLs | evaluations/pixel | RMSE | relMSE | FLIP | "
@@ -403,13 +409,13 @@ static bool write_text(const char *dir, const char *name, const char *text)
     return util_atomic_commit(&af, "bench");
 }
 
-static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--threads", NULL};
+static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--ssaa", "--threads", NULL};
 
 int cmd_bench(int argc, char **argv)
 {
     const char *out = NULL, *scene_name = "cornell", *gi_list = k_default_gi, *shadow_list = "pcss";
     const char *cache = "out/ref-cache";
-    int width = 256, height = 256, frames = 3;
+    int width = 256, height = 256, frames = 3, ssaa = 1;
     float exposure = -1.f;
     bool markdown = false;
     PtSettings ps;
@@ -463,6 +469,10 @@ int cmd_bench(int argc, char **argv)
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1000, &frames))
                 return 2;
+        } else if (!strcmp(opt, "--ssaa")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 8, &ssaa))
+                return 2;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
@@ -500,6 +510,8 @@ int cmd_bench(int argc, char **argv)
         cli_error(NULL, "--out DIR is required");
         return 2;
     }
+    if (!render_options_ssaa_fits(width, height, ssaa))
+        return 2;
 
     /* The entries: every shadow × every GI item. */
     static BenchEntry entries[BENCH_MAX_ENTRIES];
@@ -587,6 +599,7 @@ int cmd_bench(int argc, char **argv)
         render_options_init(&o, false);
         o.width = width;
         o.height = height;
+        o.ssaa = ssaa;
         o.shadow = e->shadow;
         o.gi = e->gi;
         o.timings = true;
@@ -642,6 +655,7 @@ int cmd_bench(int argc, char **argv)
             cJSON_AddNumberToObject(doc, "width", width);
             cJSON_AddNumberToObject(doc, "height", height);
             cJSON_AddNumberToObject(doc, "frames", frames);
+            cJSON_AddNumberToObject(doc, "ssaa", ssaa);
             cJSON *rj = cJSON_AddObjectToObject(doc, "reference");
             cJSON_AddStringToObject(rj, "mode", pt_mode_names[ps.mode]);
             cJSON_AddNumberToObject(rj, "spp", ps.spp);

@@ -16,6 +16,15 @@
 
 #define MAX_IMAGE_SIZE 16384
 
+bool render_options_ssaa_fits(int width, int height, int ssaa)
+{
+    if ((long)width * ssaa <= MAX_IMAGE_SIZE && (long)height * ssaa <= MAX_IMAGE_SIZE)
+        return true;
+    cli_error(NULL, "--ssaa %d: %dx%d supersampled is larger than %d per side", ssaa, width * ssaa, height * ssaa,
+              MAX_IMAGE_SIZE);
+    return false;
+}
+
 void render_options_help(void)
 {
     printf(
@@ -248,12 +257,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
     }
     if (cli_failed(&a))
         return 2;
-    if (o->width * o->ssaa > MAX_IMAGE_SIZE || o->height * o->ssaa > MAX_IMAGE_SIZE) {
-        cli_error(NULL, "--ssaa %d: %dx%d supersampled is larger than %d per side", o->ssaa, o->width * o->ssaa,
-                  o->height * o->ssaa, MAX_IMAGE_SIZE);
-        return 2;
-    }
-    return 0;
+    return render_options_ssaa_fits(o->width, o->height, o->ssaa) ? 0 : 2;
 }
 
 bool render_options_load_scene(const RenderOptions *o, Scene *scene)

@@ -74,4 +74,8 @@ void render_options_print_reads_twin(Renderer *r, double gather_evals_per_s);
  * Returns the gather's evaluations/s, 0 without a gather. */
 double render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms);
 
+/* Whether WxH supersampled N×N stays within the largest image per side;
+ * logs the error (naming --ssaa) if not. */
+bool render_options_ssaa_fits(int width, int height, int ssaa);
+
 #endif

@@ -89,7 +89,7 @@ static const char k_app[] =
     "  /* Meta. */\n"
     "  var meta = document.getElementById('meta');\n"
     "  meta.innerHTML = '';\n"
-    "  [['scene', B.scene], ['size', B.width + '×' + B.height], ['reference', B.reference.mode + ', ' + B.reference.spp + ' spp'],\n"
+    "  [['scene', B.scene], ['size', B.width + '×' + B.height + (B.ssaa > 1 ? ' (SSAA ' + B.ssaa + '×' + B.ssaa + ')' : '')], ['reference', B.reference.mode + ', ' + B.reference.spp + ' spp'],\n"
     "   ['commit', B.commit], ['date', B.date], ['device', B.device], ['GL renderer', B.gl_renderer],\n"
     "   ['frames', B.frames], ['FLIP/SSIM exposure', B.metric_exposure]].forEach(function (kv) {\n"
     "    meta.appendChild(el('b', {}, kv[0] + ': ')); meta.appendChild(document.createTextNode(kv[1] + '  · '));\n"

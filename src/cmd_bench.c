@@ -47,7 +47,8 @@ void cmd_bench_help(void)
 {
     printf("usage: rtgi bench --out DIR [options]\n"
            "Renders each technique with per-pass timings, compares it with a cached path-traced\n"
-           "reference (emitters masked out) and writes DIR/bench.json and DIR/report.html.\n"
+           "reference (emitters masked out) and writes DIR/bench.json, DIR/report.html, and\n"
+           "DIR/bench.csv and DIR/bench_passes.csv (a row per technique, per technique and pass).\n"
            "  --out DIR          output directory (required); images go to DIR/images/\n"
            "  --scene S          cornell|FILE.json|FILE.gltf|FILE.obj (default: cornell)\n"
            "  --size WxH         image size (default: 256x256)\n"
@@ -409,6 +410,80 @@ static bool write_text(const char *dir, const char *name, const char *text)
     return util_atomic_commit(&af, "bench");
 }
 
+/* CSV (RFC 4180): every text field quoted, its quotes doubled; numbers as
+ * %.9g, empty where bench.json has null. */
+static void csv_text(StrBuf *b, const char *s, bool last)
+{
+    strbuf_append(b, "\"", 1);
+    for (const char *p = s ? s : ""; *p; p++) {
+        if (*p == '"')
+            strbuf_append(b, "\"\"", 2);
+        else
+            strbuf_append(b, p, 1);
+    }
+    strbuf_append(b, last ? "\"\r\n" : "\",", last ? 3 : 2);
+}
+
+static void csv_number(StrBuf *b, const cJSON *v, bool last)
+{
+    if (cJSON_IsNumber(v))
+        strbuf_printf(b, "%.9g", v->valuedouble);
+    strbuf_append(b, last ? "\r\n" : ",", last ? 2 : 1);
+}
+
+static const char *json_text(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, key);
+    return cJSON_IsString(v) ? v->valuestring : "";
+}
+
+/* bench.csv: one row per technique, the run's facts repeated on each so
+ * that runs concatenate; bench_passes.csv: one row per technique and pass. */
+static bool write_csv(const char *dir, const cJSON *doc)
+{
+    static const char *const stats[] = {"vpl_count", "vpl_evaluations_per_pixel", "gather_evaluations_per_pixel",
+                                         "gi_memory_mib"};
+    static const char *const metrics[] = {"rmse", "relmse", "ssim", "flip", "mean_ratio"};
+    const cJSON *ref = cJSON_GetObjectItem(doc, "reference"), *e;
+    StrBuf t = {0}, p = {0};
+    strbuf_printf(&t, "commit,scene,width,height,ssaa,reference_mode,reference_spp,gl_renderer,id,label,shadow,gi,"
+                      "overrides,gpu_ms,frame_ms,%s,%s,%s,%s,%s,%s,%s,%s,%s\r\n",
+                  stats[0], stats[1], stats[2], stats[3], metrics[0], metrics[1], metrics[2], metrics[3], metrics[4]);
+    strbuf_printf(&p, "id,label,pass,gpu_ms,wall_ms\r\n");
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(doc, "techniques")) {
+        csv_text(&t, json_text(doc, "commit"), false);
+        csv_text(&t, json_text(doc, "scene"), false);
+        csv_number(&t, cJSON_GetObjectItem(doc, "width"), false);
+        csv_number(&t, cJSON_GetObjectItem(doc, "height"), false);
+        csv_number(&t, cJSON_GetObjectItem(doc, "ssaa"), false);
+        csv_text(&t, json_text(ref, "mode"), false);
+        csv_number(&t, cJSON_GetObjectItem(ref, "spp"), false);
+        csv_text(&t, json_text(doc, "gl_renderer"), false);
+        static const char *const texts[] = {"id", "label", "shadow", "gi", "overrides"};
+        for (int i = 0; i < 5; i++)
+            csv_text(&t, json_text(e, texts[i]), false);
+        csv_number(&t, cJSON_GetObjectItem(e, "gpu_ms"), false);
+        csv_number(&t, cJSON_GetObjectItem(e, "frame_ms"), false);
+        const cJSON *st = cJSON_GetObjectItem(e, "stats"), *m = cJSON_GetObjectItem(e, "metrics"), *pass;
+        for (int i = 0; i < 4; i++)
+            csv_number(&t, cJSON_GetObjectItem(st, stats[i]), false);
+        for (int i = 0; i < 5; i++)
+            csv_number(&t, cJSON_GetObjectItem(m, metrics[i]), i == 4);
+        cJSON_ArrayForEach(pass, cJSON_GetObjectItem(e, "passes")) {
+            csv_text(&p, json_text(e, "id"), false);
+            csv_text(&p, json_text(e, "label"), false);
+            csv_text(&p, json_text(pass, "name"), false);
+            csv_number(&p, cJSON_GetObjectItem(pass, "gpu_ms"), false);
+            csv_number(&p, cJSON_GetObjectItem(pass, "wall_ms"), true);
+        }
+    }
+    bool ok = !t.failed && !p.failed && write_text(dir, "bench.csv", t.data) &&
+              write_text(dir, "bench_passes.csv", p.data);
+    free(t.data);
+    free(p.data);
+    return ok;
+}
+
 static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--ssaa", "--threads", NULL};
 
 int cmd_bench(int argc, char **argv)
@@ -675,7 +750,7 @@ int cmd_bench(int argc, char **argv)
         cJSON_AddItemToArray(cJSON_GetObjectItem(doc, "techniques"), entry_json(e, &r));
     }
     text = cJSON_Print(doc);
-    if (!text || !write_text(out, "bench.json", text))
+    if (!text || !write_text(out, "bench.json", text) || !write_csv(out, doc))
         goto done;
     {
         ReportImage imgs[BENCH_MAX_ENTRIES + 1];
@@ -689,7 +764,7 @@ int cmd_bench(int argc, char **argv)
     if (markdown)
         print_markdown(doc);
     rc = 0;
-    log_info("bench", "wrote %s/bench.json and %s/report.html (%d techniques)", out, out, n);
+    log_info("bench", "wrote %s/bench.json, %s/report.html and %s/bench.csv (%d techniques)", out, out, out, n);
 done:
     if (created)
         renderer_destroy(&r);

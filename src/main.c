@@ -22,7 +22,7 @@ static void usage(FILE *f)
             "  compare     error metrics between two images, PFM, EXR or PNG (RMSE, relMSE, SSIM, FLIP)\n"
             "  probe       this device's throughput on gather-shaped work (evaluations/s)\n"
             "  bench       time and measure a list of techniques against the reference:\n"
-            "              DIR/bench.json and a self-contained DIR/report.html\n"
+            "              DIR/bench.json, DIR/bench.csv and a self-contained DIR/report.html\n"
             "run 'rtgi <command> --help' for a command's options, 'rtgi --version' for the version;\n"
             "options take their value as '--opt value' or '--opt=value'\n"
             "every command also takes --quiet (errors only on stderr), --verbose (debug lines)\n"

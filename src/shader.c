@@ -160,7 +160,7 @@ static GLuint compile_stage(const char *label, GLenum stage, const char *path, c
     FileTable files = {0};
     StrBuf src = {0};
     strbuf_printf(&src, "#version 450 core\n%s", defines ? defines : "");
-    if (!expand(path, &files, &src, 0)) {
+    if (!expand(path, &files, &src, 0) || src.failed) {
         free(src.data);
         file_table_free(&files);
         return 0;

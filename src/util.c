@@ -201,11 +201,18 @@ double util_seconds(void)
 
 void strbuf_append(StrBuf *b, const char *s, size_t n)
 {
+    if (b->failed)
+        return;
     if (b->len + n + 1 > b->cap) {
         size_t cap = b->cap ? b->cap : 256;
         while (cap < b->len + n + 1)
             cap *= 2;
-        b->data = realloc(b->data, cap);
+        void *p = b->data;
+        if (!util_realloc("util", "a text buffer", &p, cap, 1)) {
+            b->failed = true;
+            return;
+        }
+        b->data = p;
         b->cap = cap;
     }
     memcpy(b->data + b->len, s, n);
@@ -215,16 +222,24 @@ void strbuf_append(StrBuf *b, const char *s, size_t n)
 
 void strbuf_printf(StrBuf *b, const char *fmt, ...)
 {
+    if (b->failed)
+        return;
     char tmp[1024];
     va_list ap;
     va_start(ap, fmt);
     int n = vsnprintf(tmp, sizeof tmp, fmt, ap);
     va_end(ap);
+    if (n < 0)
+        return;
     if (n < (int)sizeof tmp) {
         strbuf_append(b, tmp, (size_t)n);
         return;
     }
-    char *big = malloc((size_t)n + 1);
+    char *big = util_malloc("util", "a text buffer", (size_t)n + 1, 1);
+    if (!big) {
+        b->failed = true;
+        return;
+    }
     va_start(ap, fmt);
     vsnprintf(big, (size_t)n + 1, fmt, ap);
     va_end(ap);

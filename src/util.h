@@ -90,11 +90,14 @@ uint64_t util_hash_bytes(uint64_t h, const void *p, size_t n);
 /* Monotonic wall-clock seconds. */
 double util_seconds(void);
 
-/* Growable string buffer; zero-initialise, free .data when done. */
+/* Growable string buffer; zero-initialise, free .data when done. If memory
+ * runs out, .failed is set (and logged once) and later appends do nothing:
+ * check it before using .data. */
 typedef struct StrBuf {
-    char *data; /* NUL-terminated, owned */
-    size_t len; /* bytes used, excluding NUL */
-    size_t cap; /* bytes allocated */
+    char *data;  /* NUL-terminated, owned; NULL until the first append */
+    size_t len;  /* bytes used, excluding NUL */
+    size_t cap;  /* bytes allocated */
+    bool failed; /* an allocation failed: .data holds what came before */
 } StrBuf;
 void strbuf_append(StrBuf *b, const char *s, size_t n);
 void strbuf_printf(StrBuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

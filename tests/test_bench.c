@@ -144,6 +144,98 @@ static void schema(void **state)
         assert_true(ratio[i] > ratio[0] + 0.1 && ratio[i] < 1.1);
 }
 
+/* One CSV record's fields (RFC 4180 quoting), from *p to its CRLF; *p moves
+ * past it. Returns the field count (at most cap). */
+static int csv_record(char **p, char fields[][256], int cap)
+{
+    int n = 0;
+    char *s = *p;
+    while (*s && n < cap) {
+        size_t k = 0;
+        if (*s == '"') {
+            for (s++; *s && !(*s == '"' && s[1] != '"'); s++) {
+                if (*s == '"')
+                    s++; /* a doubled quote */
+                if (k < 255)
+                    fields[n][k++] = *s;
+            }
+            if (*s == '"')
+                s++;
+        } else {
+            for (; *s && *s != ',' && *s != '\r'; s++)
+                if (k < 255)
+                    fields[n][k++] = *s;
+        }
+        fields[n++][k] = 0;
+        if (*s == ',') {
+            s++;
+            continue;
+        }
+        break;
+    }
+    assert_true(s[0] == '\r' && s[1] == '\n');
+    *p = s + 2;
+    return n;
+}
+
+static int csv_column(char fields[][256], int n, const char *name)
+{
+    for (int i = 0; i < n; i++)
+        if (!strcmp(fields[i], name))
+            return i;
+    fail_msg("bench.csv: no column %s", name);
+    return -1;
+}
+
+/* bench.csv holds bench.json's techniques, a row each, and bench_passes.csv
+ * their passes. */
+static void csv_matches_json(void **state)
+{
+    (void)state;
+    const cJSON *t = field(g_doc, "techniques", 'a');
+    size_t n = 0;
+    char *text = util_read_file(DIR "/bench.csv", &n), *p = text;
+    assert_non_null(text);
+    static char head[32][256], row[32][256];
+    int cols = csv_record(&p, head, 32);
+    int label = csv_column(head, cols, "label"), relmse = csv_column(head, cols, "relmse");
+    int gpu = csv_column(head, cols, "gpu_ms"), mem = csv_column(head, cols, "gi_memory_mib");
+    int renderer = csv_column(head, cols, "gl_renderer");
+    for (int i = 0; i < cJSON_GetArraySize(t); i++) {
+        const cJSON *e = cJSON_GetArrayItem(t, i);
+        assert_int_equal(csv_record(&p, row, 32), cols);
+        assert_string_equal(row[label], field(e, "label", 's')->valuestring);
+        assert_string_equal(row[renderer], field(g_doc, "gl_renderer", 's')->valuestring); /* has a comma */
+        double want = field(field(e, "metrics", 'o'), "relmse", 'n')->valuedouble;
+        assert_true(fabs(atof(row[relmse]) - want) <= 1e-8 * want);
+        assert_true(fabs(atof(row[gpu]) - field(e, "gpu_ms", 'n')->valuedouble) < 1e-6);
+        const cJSON *m = cJSON_GetObjectItem(field(e, "stats", 'o'), "gi_memory_mib");
+        assert_true(cJSON_IsNull(m) ? row[mem][0] == 0 : fabs(atof(row[mem]) - m->valuedouble) < 1e-6);
+    }
+    assert_int_equal(*p, 0);
+    free(text);
+
+    text = util_read_file(DIR "/bench_passes.csv", &n);
+    p = text;
+    assert_non_null(text);
+    cols = csv_record(&p, head, 32);
+    assert_int_equal(cols, 5);
+    int passes = 0;
+    for (int i = 0; i < cJSON_GetArraySize(t); i++) {
+        const cJSON *e = cJSON_GetArrayItem(t, i), *pass;
+        cJSON_ArrayForEach(pass, field(e, "passes", 'a')) {
+            assert_int_equal(csv_record(&p, row, 32), 5);
+            assert_string_equal(row[0], field(e, "id", 's')->valuestring);
+            assert_string_equal(row[2], field(pass, "name", 's')->valuestring);
+            assert_true(fabs(atof(row[3]) - field(pass, "gpu_ms", 'n')->valuedouble) < 1e-6);
+            passes++;
+        }
+    }
+    assert_int_equal(*p, 0);
+    assert_true(passes >= 12);
+    free(text);
+}
+
 /* A second run reuses the cached reference and measures the same errors. */
 static void cache_reused(void **state)
 {
@@ -350,6 +442,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(schema),
+        cmocka_unit_test(csv_matches_json),
         cmocka_unit_test(cache_reused),
         cmocka_unit_test(bad_options),
         cmocka_unit_test(ssaa_lowers_the_error),

@@ -23,6 +23,13 @@ void cmd_compare_help(void)
            "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"
            "  --mask-emitters FILE  the same, with the mask that render/reference --emitter-mask\n"
            "                     write: pixels that see an emitter (and their neighbours) do not count\n"
+           "  --unshadowed FILE  shadow artefacts: TEST and REFERENCE are direct light only (render\n"
+           "                     --gi none, reference --mode direct), FILE is TEST's renderer without\n"
+           "                     shadows (render --shadow none); prints shadow_lit_pixels and\n"
+           "                     shadow_shadowed_pixels (where REFERENCE's visibility is >= 0.95,\n"
+           "                     <= 0.05), false_shadow (share of the lit ones TEST darkens below 0.5:\n"
+           "                     acne) and false_lit (of the shadowed ones it lights above 0.5:\n"
+           "                     peter-panning, leaks)\n"
            "  --block N          also rmse/relmse of N×N block averages (default 8; 0: off):\n"
            "                     per-pixel noise and edge aliasing average out, bias does not\n"
            "  --exposure E       display exposure for SSIM and FLIP (default: 1)\n"
@@ -43,7 +50,8 @@ static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all",
 /* The results as one JSON object; strings escaped, non-finite numbers as
  * null. To stdout for "-", else atomically to the file. */
 static bool write_json(const char *json, const char *const files[2], const ImageF *t, const double val[4],
-                       const bool want[4], int block, const double block_val[2], const double ratio[4])
+                       const bool want[4], int block, const double block_val[2], const double ratio[4],
+                       const char *unshadowed, const ShadowArtefacts *sa)
 {
     AtomicFile af = {0};
     FILE *f = stdout;
@@ -84,6 +92,20 @@ static bool write_json(const char *json, const char *const files[2], const Image
             fputs("null", f);
         fputs(c == 0 ? ", \"mean_ratio_rgb\": [" : c < 3 ? ", " : "]", f);
     }
+    if (unshadowed) {
+        fputs(", \"shadow\": {\"unshadowed\": ", f);
+        util_json_string(f, unshadowed);
+        fprintf(f, ", \"lit_pixels\": %zu, \"shadowed_pixels\": %zu", sa->lit, sa->shadowed);
+        const double share[2] = {sa->false_shadow, sa->false_lit};
+        for (int k = 0; k < 2; k++) {
+            fputs(k == 0 ? ", \"false_shadow\": " : ", \"false_lit\": ", f);
+            if (isfinite(share[k]))
+                fprintf(f, "%.8g", share[k]);
+            else
+                fputs("null", f);
+        }
+        fputs("}", f);
+    }
     fputs("}\n", f);
     if (f == stdout) {
         if (fflush(stdout) != 0 || ferror(stdout)) {
@@ -96,12 +118,12 @@ static bool write_json(const char *json, const char *const files[2], const Image
 }
 
 /* The options this command knows (for "did you mean"). */
-static const char *const k_compare_options[] = {"--allow-nonfinite", "--block", "--exposure", "--heatmap", "--help", "--json", "--mask", "--mask-emitters", "--metric", "--ppd", NULL};
+static const char *const k_compare_options[] = {"--allow-nonfinite", "--block", "--exposure", "--heatmap", "--help", "--json", "--mask", "--mask-emitters", "--metric", "--ppd", "--unshadowed", NULL};
 
 int cmd_compare(int argc, char **argv)
 {
     int block = 8;
-    const char *files[2] = {NULL, NULL}, *heatmap = NULL, *mask_path = NULL, *json = NULL;
+    const char *files[2] = {NULL, NULL}, *heatmap = NULL, *mask_path = NULL, *json = NULL, *unshadowed = NULL;
     int metric = 4, nfiles = 0;
     float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
     bool allow_nonfinite = false;
@@ -138,6 +160,9 @@ int cmd_compare(int argc, char **argv)
         } else if (!strcmp(opt, "--json")) {
             CLI_VALUE(&a, v);
             json = v;
+        } else if (!strcmp(opt, "--unshadowed")) {
+            CLI_VALUE(&a, v);
+            unshadowed = v;
         } else if (!strcmp(opt, "--allow-nonfinite")) {
             allow_nonfinite = true;
         } else if (!strcmp(opt, "--exposure")) {
@@ -159,7 +184,7 @@ int cmd_compare(int argc, char **argv)
         cli_error(NULL, "needs two images, TEST and REFERENCE");
         return 2;
     }
-    ImageF t = {0}, r = {0}, m = {0};
+    ImageF t = {0}, r = {0}, m = {0}, u = {0};
     uint8_t *mask = NULL;
     float *map = NULL;
     int rc = 1;
@@ -172,13 +197,25 @@ int cmd_compare(int argc, char **argv)
                   r.width, r.height);
         goto done;
     }
-    for (int k = 0; k < 2 && !allow_nonfinite; k++) {
-        const ImageF *img = k == 0 ? &t : &r;
+    if (unshadowed) {
+        if (!image_read(unshadowed, &u))
+            goto done;
+        if (u.width != t.width || u.height != t.height) {
+            log_error("compare", "%s: --unshadowed image is %dx%d, the images are %dx%d", unshadowed, u.width,
+                      u.height, t.width, t.height);
+            goto done;
+        }
+    }
+    for (int k = 0; k < 3 && !allow_nonfinite; k++) {
+        const ImageF *img = k == 0 ? &t : k == 1 ? &r : &u;
+        const char *name = k < 2 ? files[k] : unshadowed;
+        if (!img->rgb)
+            continue;
         int x = 0, y = 0;
         size_t bad = image_count_nonfinite(img, &x, &y);
         if (bad) {
             log_error("compare", "%s: %zu of %zu pixels are NaN or infinite (first at x=%d y=%d); "
-                      "--allow-nonfinite compares anyway", files[k], bad, (size_t)img->width * img->height, x, y);
+                      "--allow-nonfinite compares anyway", name, bad, (size_t)img->width * img->height, x, y);
             goto done;
         }
     }
@@ -260,6 +297,17 @@ int cmd_compare(int argc, char **argv)
         fprintf(txt, "mean_ratio: %.6g\n", ratio[0]);
         fprintf(txt, "mean_ratio_rgb: %.6g %.6g %.6g\n", ratio[1], ratio[2], ratio[3]);
     }
+    ShadowArtefacts sa = {0};
+    if (unshadowed) {
+        sa = metric_shadow_artefacts(&t, &r, &u, mask);
+        if (sa.lit + sa.shadowed == 0) {
+            log_error("compare", "--unshadowed %s: no pixel is fully lit or fully shadowed in %s (are they direct "
+                      "light, and is %s the same view without shadows?)", unshadowed, files[1], unshadowed);
+            goto done;
+        }
+        fprintf(txt, "shadow_lit_pixels: %zu\nshadow_shadowed_pixels: %zu\n", sa.lit, sa.shadowed);
+        fprintf(txt, "false_shadow: %.6g\nfalse_lit: %.6g\n", sa.false_shadow, sa.false_lit);
+    }
     if (map) {
         if (map_metric == 0) { /* normalise RMSE by its maximum */
             float mx = 0;
@@ -274,7 +322,7 @@ int cmd_compare(int argc, char **argv)
         if (!metric_write_heatmap(heatmap, map, t.width, t.height))
             goto done;
     }
-    if (json && !write_json(json, files, &t, val, want, block > 1 ? block : 0, block_val, ratio)) {
+    if (json && !write_json(json, files, &t, val, want, block > 1 ? block : 0, block_val, ratio, unshadowed, &sa)) {
         if (heatmap)
             remove(heatmap); /* all outputs or none */
         goto done;
@@ -286,5 +334,6 @@ done:
     image_free(&t);
     image_free(&r);
     image_free(&m);
+    image_free(&u);
     return rc;
 }

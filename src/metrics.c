@@ -441,6 +441,36 @@ double metric_mean_ratio(const ImageF *test, const ImageF *ref, const uint8_t *m
     return sr[3] > 0 ? st[3] / sr[3] : NAN;
 }
 
+ShadowArtefacts metric_shadow_artefacts(const ImageF *test, const ImageF *ref, const ImageF *unshadowed,
+                                        const uint8_t *mask)
+{
+    size_t np = (size_t)test->width * test->height, counted = 0, dark = 0, bright = 0;
+    double mean = 0;
+    for (size_t i = 0; i < np; i++)
+        if (!mask || mask[i]) {
+            mean += luminance(unshadowed->rgb + 3 * i);
+            counted++;
+        }
+    double floor = counted ? 1e-4 * mean / (double)counted : 0;
+    ShadowArtefacts a = {0};
+    for (size_t i = 0; i < np; i++) {
+        double u = luminance(unshadowed->rgb + 3 * i);
+        if ((mask && !mask[i]) || !(u > floor))
+            continue;
+        double vr = luminance(ref->rgb + 3 * i) / u, vt = luminance(test->rgb + 3 * i) / u;
+        if (vr >= 0.95) {
+            a.lit++;
+            dark += vt < 0.5;
+        } else if (vr <= 0.05) {
+            a.shadowed++;
+            bright += vt > 0.5;
+        }
+    }
+    a.false_shadow = a.lit ? (double)dark / (double)a.lit : NAN;
+    a.false_lit = a.shadowed ? (double)bright / (double)a.shadowed : NAN;
+    return a;
+}
+
 bool metric_block_average(const ImageF *img, const uint8_t *mask, int block, ImageF *out, uint8_t **out_mask)
 {
     int bw = (img->width + block - 1) / block, bh = (img->height + block - 1) / block;

@@ -34,6 +34,25 @@ double metric_flip(const ImageF *test, const ImageF *ref, float exposure, float 
  * out of it, a scale error (a lost factor π, a missing bounce) does not. */
 double metric_mean_ratio(const ImageF *test, const ImageF *ref, const uint8_t *mask, double rgb[3]);
 
+/* Shadow artefacts as measured quantities (SPEC §2: acne and
+ * peter-panning), from a direct-light test image, the direct-light reference
+ * of the same view and the test renderer's image of it without shadows
+ * (`render --shadow none`). Visibility V = luminance(image) /
+ * luminance(unshadowed) where the unshadowed luminance is above 1e-4 of its
+ * mean (elsewhere no light reaches and nothing is counted). Pixels the
+ * reference sees fully lit (V_ref >= 0.95) or fully shadowed (V_ref <=
+ * 0.05) are classified; penumbrae are left out, so that an area light's
+ * soft edge and a point light's hard one measure alike. */
+typedef struct ShadowArtefacts {
+    size_t lit, shadowed; /* pixels the reference sees fully lit, fully shadowed */
+    double false_shadow;  /* share of the lit ones with test V < 0.5: acne, over-wide filters */
+    double false_lit;     /* share of the shadowed ones with test V > 0.5: peter-panning, leaks */
+} ShadowArtefacts;
+
+/* NaN shares where no pixel is of that class. */
+ShadowArtefacts metric_shadow_artefacts(const ImageF *test, const ImageF *ref, const ImageF *unshadowed,
+                                        const uint8_t *mask);
+
 /* Averages `img` over block×block pixel blocks (the pixels `mask` selects;
  * NULL: all) into `out` (ceil(w/block) × ceil(h/block)); `*out_mask`
  * (caller frees) marks the blocks that held any selected pixel. Comparing

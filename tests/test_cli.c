@@ -273,6 +273,60 @@ static void compare_json_and_mask(void **state)
     image_free(&ib);
 }
 
+/* compare --unshadowed: reference visibility 1 1 0 0 in each of two rows,
+ * test visibility 0.1 1 0 0.8: of 4 lit pixels 2 darkened, of 4 shadowed 2
+ * lit. An unshadowed image of another size, and one under which nothing is
+ * fully lit or shadowed, are errors naming it. */
+static void compare_unshadowed(void **state)
+{
+    (void)state;
+    char t[512], r[512], u[512], u2[512], json[512];
+    snprintf(t, sizeof t, "%s/sa_t.pfm", RTGI_TEST_TMP);
+    snprintf(r, sizeof r, "%s/sa_r.pfm", RTGI_TEST_TMP);
+    snprintf(u, sizeof u, "%s/sa_u.pfm", RTGI_TEST_TMP);
+    snprintf(u2, sizeof u2, "%s/sa_u2.pfm", RTGI_TEST_TMP);
+    snprintf(json, sizeof json, "%s/sa.json", RTGI_TEST_TMP);
+    const float vr[4] = {1, 1, 0, 0}, vt[4] = {0.1f, 1, 0, 0.8f};
+    ImageF it, ir, iu, iu2;
+    assert_true(image_alloc(&it, 4, 2) && image_alloc(&ir, 4, 2) && image_alloc(&iu, 4, 2) && image_alloc(&iu2, 3, 2));
+    for (int y = 0; y < 2; y++)
+        for (int x = 0; x < 4; x++)
+            for (int c = 0; c < 3; c++) {
+                image_px(&iu, x, y)[c] = 2.f;
+                image_px(&ir, x, y)[c] = 2.f * vr[x];
+                image_px(&it, x, y)[c] = 2.f * vt[x];
+            }
+    assert_true(image_write_pfm(t, &it) && image_write_pfm(r, &ir) && image_write_pfm(u, &iu) &&
+                image_write_pfm(u2, &iu2));
+    assert_int_equal(test_run_cli(NULL, "compare", t, r, "--unshadowed", u, "--json", json, NULL), 0);
+    char *text = util_read_file(json, NULL);
+    assert_non_null(text);
+    cJSON *j = cJSON_Parse(text);
+    free(text);
+    const cJSON *sh = cJSON_GetObjectItem(j, "shadow");
+    assert_true(cJSON_IsObject(sh));
+    assert_int_equal(cJSON_GetObjectItem(sh, "lit_pixels")->valueint, 4);
+    assert_int_equal(cJSON_GetObjectItem(sh, "shadowed_pixels")->valueint, 4);
+    assert_float_equal(cJSON_GetObjectItem(sh, "false_shadow")->valuedouble, 0.5, 1e-9);
+    assert_float_equal(cJSON_GetObjectItem(sh, "false_lit")->valuedouble, 0.5, 1e-9);
+    cJSON_Delete(j);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "compare", t, r, "--unshadowed", u2, NULL);
+    test_expect_cli_error(rc, err, 1, "sa_u2.pfm", "3x2");
+    rc = test_run_cli(&err, "compare", t, t, "--unshadowed", t, NULL); /* V = 1 where lit, 0/0 elsewhere */
+    assert_int_equal(rc, 0);
+    free(err);
+    for (int i = 0; i < 4 * 2 * 3; i++)
+        it.rgb[i] = 1.f; /* visibility 0.5 everywhere: all penumbra */
+    assert_true(image_write_pfm(t, &it));
+    rc = test_run_cli(&err, "compare", t, t, "--unshadowed", u, NULL);
+    test_expect_cli_error(rc, err, 1, "--unshadowed", "no pixel is fully lit or fully shadowed");
+    image_free(&it);
+    image_free(&ir);
+    image_free(&iu);
+    image_free(&iu2);
+}
+
 static void reference_bad_input(void **state)
 {
     (void)state;
@@ -729,6 +783,7 @@ int main(void)
         cmocka_unit_test(png_beside_pfm),
         cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(compare_json_and_mask),
+        cmocka_unit_test(compare_unshadowed),
         cmocka_unit_test(reference_bad_input),
         cmocka_unit_test(compare_bad_input),
         cmocka_unit_test(cli_conventions),

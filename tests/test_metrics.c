@@ -83,6 +83,43 @@ static void mean_ratio_known_pair(void **state)
     image_free(&r);
 }
 
+/* Shadow artefacts on six grey pixels, unshadowed radiance 2 (pixel 5: 0,
+ * no light reaches it). Reference visibility 1, 1, 0, 0.5 (penumbra: not
+ * counted), 0, and test visibility 0.2, 1, 0.9, 0, 0.1: lit pixels 0, 1
+ * (one darkened: false_shadow 1/2), shadowed 2, 4 (one lit: false_lit 1/2);
+ * masking pixel 0 out leaves false_shadow 0 of 1. */
+static void shadow_artefacts_known_images(void **state)
+{
+    (void)state;
+    ImageF t, r, u;
+    fill(&u, 6, 1, 2.f, 2.f, 2.f);
+    fill(&r, 6, 1, 0.f, 0.f, 0.f);
+    fill(&t, 6, 1, 0.f, 0.f, 0.f);
+    const float vr[6] = {1, 1, 0, 0.5f, 0, 0}, vt[6] = {0.2f, 1, 0.9f, 0, 0.1f, 1};
+    for (int i = 0; i < 6; i++)
+        for (int c = 0; c < 3; c++) {
+            r.rgb[3 * i + c] = 2.f * vr[i];
+            t.rgb[3 * i + c] = 2.f * vt[i];
+        }
+    u.rgb[15] = u.rgb[16] = u.rgb[17] = 0.f;
+    ShadowArtefacts a = metric_shadow_artefacts(&t, &r, &u, NULL);
+    assert_int_equal(a.lit, 2);
+    assert_int_equal(a.shadowed, 2);
+    assert_float_equal(a.false_shadow, 0.5, 1e-12);
+    assert_float_equal(a.false_lit, 0.5, 1e-12);
+    uint8_t mask[6] = {0, 1, 1, 1, 1, 1};
+    a = metric_shadow_artefacts(&t, &r, &u, mask);
+    assert_int_equal(a.lit, 1);
+    assert_float_equal(a.false_shadow, 0.0, 1e-12);
+    uint8_t only_lit[6] = {1, 1, 0, 0, 0, 0};
+    a = metric_shadow_artefacts(&t, &r, &u, only_lit);
+    assert_int_equal(a.shadowed, 0);
+    assert_true(isnan(a.false_lit));
+    image_free(&t);
+    image_free(&r);
+    image_free(&u);
+}
+
 /* Uniform greys whose display values are 0.2 and 0.4: no variance, so
  * SSIM = (2·0.2·0.4 + C1)/(0.2² + 0.4² + C1) = 0.8000999. */
 static void ssim_known_pair(void **state)
@@ -151,6 +188,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(identical_images), cmocka_unit_test(rmse_known_pair), cmocka_unit_test(relmse_known_pair), cmocka_unit_test(mean_ratio_known_pair),
+        cmocka_unit_test(shadow_artefacts_known_images),
         cmocka_unit_test(ssim_known_pair),  cmocka_unit_test(flip_known_pairs), cmocka_unit_test(flip_sees_edges),
     };
     return cmocka_run_group_tests_name("metrics", tests, NULL, NULL);

@@ -6,7 +6,8 @@
  * view and bench get --size 32x32; reference and bench --spp 2; view and
  * bench --frames 1. rtgi view runs under a virtual X server (Xvfb, started
  * once: test_x_display); scripts/crosscheck-cycles.sh at 16x16 and 4 spp
- * where Blender is installed. Skipped, saying why: scripts/setup.sh and make
+ * where Blender is installed; scripts/shadow-artefacts.sh at 32x32 and 4 spp
+ * with two settings. Skipped, saying why: scripts/setup.sh and make
  * (they install and build), Sponza when ../shared has no Sponza, the Cycles
  * cross-check without Blender or the Cornell box facts. */
 #include <errno.h>
@@ -121,6 +122,13 @@ static void readme_commands_work(void **state)
         else if (!strcmp(argv[0], "scripts/crosscheck-cycles.sh") && argc == 4) {
             argv[2] = "16x16"; /* the rewriting rule: seconds, not minutes */
             argv[3] = "4";
+        } else if (!strcmp(argv[0], "scripts/shadow-artefacts.sh")) {
+            static const char *const defaults[] = {"cornell", "32x32", "4"}; /* the rewriting rule */
+            for (int k = 1; k <= 3; k++)
+                argv[k] = (char *)(k == 1 && argc > 1 ? argv[1] : defaults[k - 1]);
+            argc = argc > 4 ? argc : 4;
+            argv[argc] = NULL;
+            setenv("SETTINGS", "--shadow hard --bias-slope 0;--shadow pcss", 1); /* two rows, not eleven */
         } else if (strcmp(argv[0], "build/rtgi") != 0)
             fail_msg("README command '%s': the test knows no rule for it (add one to tests/test_readme.c)", shown);
         if (why) {
@@ -140,6 +148,7 @@ static void readme_commands_work(void **state)
             test_x_display(); /* a window: under Xvfb */
         char *out = NULL;
         int rc = run(argv, &out);
+        unsetenv("SETTINGS");
         print_message("%s %s\n", rc == 0 ? "ok  " : "FAIL", shown);
         if (rc != 0) {
             print_message("  exit %d:\n%s\n", rc, out ? out : "");

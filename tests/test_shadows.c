@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "metrics.h"
 #include "test_util.h"
 
 enum { CW = 192, CH = 192 };
@@ -116,6 +117,49 @@ static void lit_floor_has_no_acne(void **state)
     image_free(&none);
     image_free(&hard);
     image_free(&nobias);
+}
+
+/* Acne and peter-panning as measured quantities (metric_shadow_artefacts,
+ * `compare --unshadowed`) against the path tracer's direct light: on the
+ * pixels the reference sees fully lit, the share the rasterizer darkens
+ * (false_shadow); on those it sees fully shadowed, the share it lights
+ * (false_lit). The default biases keep both near 0; no bias at all is acne
+ * (measured at 128²: half the lit pixels), a slope bias of 100 texels is
+ * peter-panning (a third of the umbra lit): the measure fails where it
+ * should. */
+static void artefacts_against_the_reference(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    ImageF ref, none, hard, pcss, nobias, overbiased;
+    test_reference(&s, CW, CH, PT_DIRECT, 128, &ref);
+    scene_free(&s);
+    render_cornell(SHADOW_MODE_NONE, -1, 0, &none);
+    render_cornell(SHADOW_MODE_HARD, -1, 0, &hard);
+    render_cornell(SHADOW_MODE_PCSS, -1, 0, &pcss);
+    render_cornell(SHADOW_MODE_HARD, 0.f, 0.f, &nobias);
+    render_cornell(SHADOW_MODE_HARD, 0.0005f, 100.f, &overbiased);
+    ShadowArtefacts h = metric_shadow_artefacts(&hard, &ref, &none, NULL);
+    ShadowArtefacts p = metric_shadow_artefacts(&pcss, &ref, &none, NULL);
+    ShadowArtefacts z = metric_shadow_artefacts(&nobias, &ref, &none, NULL);
+    ShadowArtefacts o = metric_shadow_artefacts(&overbiased, &ref, &none, NULL);
+    print_message("lit %zu, shadowed %zu pixels; false shadow / lit: hard %.4f / %.4f, pcss %.4f / %.4f, "
+                  "no bias %.4f / %.4f, slope bias 100 %.4f / %.4f\n",
+                  h.lit, h.shadowed, h.false_shadow, h.false_lit, p.false_shadow, p.false_lit, z.false_shadow,
+                  z.false_lit, o.false_shadow, o.false_lit);
+    assert_true(h.lit > 10000 && h.shadowed > 500);
+    assert_true(h.false_shadow < 0.01 && h.false_lit < 0.01);
+    assert_true(p.false_shadow < 0.01 && p.false_lit < 0.01);
+    assert_true(z.false_shadow > 0.2);
+    assert_true(o.false_lit > 0.1);
+    image_free(&ref);
+    image_free(&none);
+    image_free(&hard);
+    image_free(&pcss);
+    image_free(&nobias);
+    image_free(&overbiased);
 }
 
 /* PCSS vs PCF: a spot light of diameter 0.4 m at 2.5 m over a floor, two
@@ -395,6 +439,7 @@ int main(void)
         cmocka_unit_test(grid_pcf_keeps_the_shadow_and_widens_with_radius),
         cmocka_unit_test(tall_block_casts_shadow),
         cmocka_unit_test(lit_floor_has_no_acne),
+        cmocka_unit_test(artefacts_against_the_reference),
         cmocka_unit_test(pcss_penumbra_grows_pcf_does_not),
         cmocka_unit_test(off_the_map_is_lit),
     };

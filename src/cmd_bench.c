@@ -342,6 +342,13 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
      * null where it counts none. */
     cJSON_AddItemToObject(sj, "gi_memory_mib", st->gpu_bytes ? json_num((double)st->gpu_bytes / (1024.0 * 1024.0))
                                                               : cJSON_CreateNull());
+    /* All of the frame's GPU memory by owner (render --timings' *_memory_mib). */
+    RenderMemory mem = renderer_gpu_memory(r);
+    const double mib = 1.0 / (1024.0 * 1024.0);
+    cJSON_AddNumberToObject(sj, "light_memory_mib", (double)mem.lights * mib);
+    cJSON_AddNumberToObject(sj, "frame_memory_mib", (double)mem.frame * mib);
+    cJSON_AddNumberToObject(sj, "scene_memory_mib", (double)mem.scene * mib);
+    cJSON_AddNumberToObject(sj, "gpu_memory_mib", (double)render_memory_total(&mem) * mib);
     cJSON *m = cJSON_AddObjectToObject(o, "metrics");
     cJSON_AddItemToObject(m, "rmse", json_num(e->rmse));
     cJSON_AddItemToObject(m, "relmse", json_num(e->relmse));
@@ -441,14 +448,19 @@ static const char *json_text(const cJSON *o, const char *key)
  * that runs concatenate; bench_passes.csv: one row per technique and pass. */
 static bool write_csv(const char *dir, const cJSON *doc)
 {
-    static const char *const stats[] = {"vpl_count", "vpl_evaluations_per_pixel", "gather_evaluations_per_pixel",
-                                         "gi_memory_mib"};
+    static const char *const stats[] = {"vpl_count",       "vpl_evaluations_per_pixel", "gather_evaluations_per_pixel",
+                                         "gi_memory_mib",   "light_memory_mib",          "frame_memory_mib",
+                                         "scene_memory_mib", "gpu_memory_mib"};
     static const char *const metrics[] = {"rmse", "relmse", "ssim", "flip", "mean_ratio"};
     const cJSON *ref = cJSON_GetObjectItem(doc, "reference"), *e;
     StrBuf t = {0}, p = {0};
     strbuf_printf(&t, "commit,scene,width,height,ssaa,reference_mode,reference_spp,gl_renderer,id,label,shadow,gi,"
-                      "overrides,gpu_ms,frame_ms,%s,%s,%s,%s,%s,%s,%s,%s,%s\r\n",
-                  stats[0], stats[1], stats[2], stats[3], metrics[0], metrics[1], metrics[2], metrics[3], metrics[4]);
+                      "overrides,gpu_ms,frame_ms");
+    for (int i = 0; i < 8; i++)
+        strbuf_printf(&t, ",%s", stats[i]);
+    for (int i = 0; i < 5; i++)
+        strbuf_printf(&t, ",%s", metrics[i]);
+    strbuf_append(&t, "\r\n", 2);
     strbuf_printf(&p, "id,label,pass,gpu_ms,wall_ms\r\n");
     cJSON_ArrayForEach(e, cJSON_GetObjectItem(doc, "techniques")) {
         csv_text(&t, json_text(doc, "commit"), false);
@@ -465,7 +477,7 @@ static bool write_csv(const char *dir, const cJSON *doc)
         csv_number(&t, cJSON_GetObjectItem(e, "gpu_ms"), false);
         csv_number(&t, cJSON_GetObjectItem(e, "frame_ms"), false);
         const cJSON *st = cJSON_GetObjectItem(e, "stats"), *m = cJSON_GetObjectItem(e, "metrics"), *pass;
-        for (int i = 0; i < 4; i++)
+        for (int i = 0; i < 8; i++)
             csv_number(&t, cJSON_GetObjectItem(st, stats[i]), false);
         for (int i = 0; i < 5; i++)
             csv_number(&t, cJSON_GetObjectItem(m, metrics[i]), i == 4);

@@ -138,6 +138,59 @@ void gl_fbo_destroy(GLuint *fbo)
     *fbo = 0;
 }
 
+uint64_t gl_texture_bytes(GLuint tex)
+{
+    if (!tex)
+        return 0;
+    GLint target = 0, levels = 0;
+    glGetTextureParameteriv(tex, GL_TEXTURE_TARGET, &target);
+    glGetTextureParameteriv(tex, GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
+    if (levels <= 0)
+        levels = 1; /* mutable: what level 0 holds (rtgi makes none) */
+    static const GLenum bits[] = {GL_TEXTURE_RED_SIZE,   GL_TEXTURE_GREEN_SIZE, GL_TEXTURE_BLUE_SIZE,
+                                  GL_TEXTURE_ALPHA_SIZE, GL_TEXTURE_DEPTH_SIZE, GL_TEXTURE_STENCIL_SIZE,
+                                  GL_TEXTURE_SHARED_SIZE};
+    uint64_t total = 0;
+    for (GLint l = 0; l < levels; l++) {
+        GLint w = 0, h = 0, d = 0, b = 0;
+        glGetTextureLevelParameteriv(tex, l, GL_TEXTURE_WIDTH, &w);
+        glGetTextureLevelParameteriv(tex, l, GL_TEXTURE_HEIGHT, &h);
+        glGetTextureLevelParameteriv(tex, l, GL_TEXTURE_DEPTH, &d);
+        for (size_t k = 0; k < sizeof bits / sizeof bits[0]; k++) {
+            GLint n = 0;
+            glGetTextureLevelParameteriv(tex, l, bits[k], &n);
+            b += n;
+        }
+        uint64_t texels = (uint64_t)(w > 0 ? w : 0) * (uint64_t)(h > 0 ? h : 1) * (uint64_t)(d > 0 ? d : 1);
+        total += texels * (uint64_t)b / 8u * (target == GL_TEXTURE_CUBE_MAP ? 6u : 1u);
+    }
+    return total;
+}
+
+uint64_t gl_buffer_bytes(GLuint buf)
+{
+    GLint64 size = 0;
+    if (buf)
+        glGetNamedBufferParameteri64v(buf, GL_BUFFER_SIZE, &size);
+    return size > 0 ? (uint64_t)size : 0;
+}
+
+uint64_t gl_textures_bytes(const GLuint *tex, int n)
+{
+    uint64_t total = 0;
+    for (int i = 0; i < n; i++)
+        total += gl_texture_bytes(tex[i]);
+    return total;
+}
+
+uint64_t gl_buffers_bytes(const GLuint *buf, int n)
+{
+    uint64_t total = 0;
+    for (int i = 0; i < n; i++)
+        total += gl_buffer_bytes(buf[i]);
+    return total;
+}
+
 GlObjectCounts gl_count_live_objects(GLuint max_name)
 {
     GlObjectCounts c = {0};

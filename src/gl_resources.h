@@ -10,6 +10,7 @@
 
 #include <epoxy/gl.h>
 #include <stdbool.h>
+#include <stdint.h>
 
 /* --- 3D textures -------------------------------------------------------- */
 
@@ -74,6 +75,19 @@ void gl_texture3d_build_mips(GLuint tex, GLuint program, GLenum format, int loca
 GLuint gl_fbo_empty_make(int width, int height, int layers, int samples, const char *label);
 /* Deletes the framebuffer and zeroes *fbo (0 is fine). */
 void gl_fbo_destroy(GLuint *fbo);
+
+/* --- GPU memory --------------------------------------------------------- */
+
+/* Bytes a texture's levels hold, from what GL reports of it: every level's
+ * width × height × depth (a 2D array's layers; a cube's six faces) times
+ * its texel's bits (the components', depth, stencil and shared exponent)
+ * over 8. What the driver pads or keeps beside it is not seen. 0 for 0. */
+uint64_t gl_texture_bytes(GLuint tex);
+/* Bytes of a buffer's data store (0 for 0). */
+uint64_t gl_buffer_bytes(GLuint buf);
+/* Sums over n names (zeros skipped). */
+uint64_t gl_textures_bytes(const GLuint *tex, int n);
+uint64_t gl_buffers_bytes(const GLuint *buf, int n);
 
 /* --- Live-object census (tests) ------------------------------------------ */
 

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_resources.h"
 #include "shared/gpu_types.h"
 #include "util.h"
 
@@ -159,6 +160,12 @@ bool gpu_scene_create(GpuScene *g, const Scene *s)
         glObjectLabel(GL_TEXTURE, g->textures[i], -1, t->name);
     }
     return true;
+}
+
+uint64_t gpu_scene_bytes(const GpuScene *g)
+{
+    const GLuint bufs[2] = {g->vbo, g->ibo};
+    return gl_buffers_bytes(bufs, 2) + gl_textures_bytes(g->textures, g->texture_count);
 }
 
 void gpu_scene_destroy(GpuScene *g)

@@ -34,6 +34,8 @@ typedef struct GpuScene {
 
 bool gpu_scene_create(GpuScene *g, const Scene *s);
 void gpu_scene_destroy(GpuScene *g);
+/* GPU memory of its vertices, indices and textures. */
+uint64_t gpu_scene_bytes(const GpuScene *g);
 
 typedef enum DrawFlags {
     DRAW_ALL = 0,

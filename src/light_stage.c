@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gl_resources.h"
 #include "gpu_budget.h"
 #include "log.h"
 #include "shader.h"
@@ -240,6 +241,19 @@ void light_stage_destroy(LightStage *ls)
     glDeleteTextures(2, t);
     glDeleteSamplers(1, &ls->shadow_compare);
     memset(ls, 0, sizeof *ls);
+}
+
+uint64_t light_stage_gpu_bytes(const LightStage *ls)
+{
+    const GLuint bufs[3] = {ls->light_array, ls->vpls.vpls, ls->vpls.counters}, dummies[2] = {ls->dummy_2d, ls->dummy_cube};
+    uint64_t bytes = gl_buffers_bytes(bufs, 3) + gl_textures_bytes(dummies, 2);
+    for (int i = 0; i < ls->light_count; i++) {
+        if (ls->shadow)
+            bytes += gl_texture_bytes(ls->shadow[i].texture);
+        if (ls->rsm)
+            bytes += gl_texture_bytes(ls->rsm[i].texel) + gl_texture_bytes(ls->rsm[i].depth);
+    }
+    return bytes;
 }
 
 bool light_stage_configure(LightStage *ls, const LightStageDesc *desc)

@@ -108,6 +108,9 @@ int light_stage_rsm_size_for_vpls(const Light *l, int vpls);
 /* Programs come from `pc` (owned by the caller, outlives the stage). */
 bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc, ProgramCache *pc);
 void light_stage_destroy(LightStage *ls);
+/* GPU memory of the light products (shadow maps, RSMs, VPLs) and the light
+ * array (gl_texture_bytes, gl_buffer_bytes). */
+uint64_t light_stage_gpu_bytes(const LightStage *ls);
 /* Remakes what differs between the current and the new description. */
 bool light_stage_configure(LightStage *ls, const LightStageDesc *desc);
 

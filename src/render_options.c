@@ -348,9 +348,14 @@ double render_options_print_timings(Renderer *r, const char *gl_renderer, double
     printf("renderer: %s\n", gl_renderer);
     gpu_timer_print(&r->timer, stdout);
     printf("frame_wall_ms: %.3f\n", frame_ms);
+    const RenderStats *st = renderer_collect_stats(r);
+    RenderMemory mem = renderer_gpu_memory(r);
+    const double mib = 1.0 / (1024.0 * 1024.0);
+    printf("light_memory_mib: %.3f\nframe_memory_mib: %.3f\nscene_memory_mib: %.3f\ngpu_memory_mib: %.3f\n",
+           (double)mem.lights * mib, (double)mem.frame * mib, (double)mem.scene * mib,
+           (double)render_memory_total(&mem) * mib);
     if (rs->gi == GI_NONE)
         return 0;
-    const RenderStats *st = renderer_collect_stats(r);
     double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs); /* shaded pixels */
     printf("gathered_pixels: %u\n", st->gathered_pixels);
     if (rs->gi == GI_RSM_INTERP)

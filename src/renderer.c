@@ -9,6 +9,7 @@
 
 #include <cglm/cglm.h>
 
+#include "gl_resources.h"
 #include "gpu_budget.h"
 #include "log.h"
 #include "shared/gpu_types.h"
@@ -363,6 +364,22 @@ const RenderStats *renderer_collect_stats(Renderer *r)
         r->gi->stats(r->gi_state, &r->last_frame, &r->stats);
     return &r->stats;
 }
+
+RenderMemory renderer_gpu_memory(const Renderer *r)
+{
+    const GLuint tex[10] = {r->gbuffer.surface, r->gbuffer.material, r->gbuffer.depth, r->hdr.texture,
+                            r->hdr_ss.texture,  r->ldr.texture,      r->ldr_pre.texture, r->irradiance,
+                            r->specular,        r->brdf_albedo};
+    const GLuint bufs[2] = {r->frame_ubo, r->pass_direct.shadow_ubo};
+    return (RenderMemory){
+        .gi = r->stats.gpu_bytes,
+        .lights = light_stage_gpu_bytes(&r->lights),
+        .frame = gl_textures_bytes(tex, 10) + gl_buffers_bytes(bufs, 2),
+        .scene = gpu_scene_bytes(&r->gpu_scene),
+    };
+}
+
+uint64_t render_memory_total(const RenderMemory *m) { return m->gi + m->lights + m->frame + m->scene; }
 
 bool renderer_read_hdr(Renderer *r, ImageF *out)
 {

@@ -123,6 +123,16 @@ void renderer_invalidate(Renderer *r);
 void renderer_frame(Renderer *r, const Camera *cam);
 /* Reads the last frame's GI counters back into r->stats (waits for the GPU). */
 const RenderStats *renderer_collect_stats(Renderer *r);
+
+/* GPU memory by owner, from GL's sizes of each object (gl_texture_bytes,
+ * gl_buffer_bytes): the technique's own (its stats' gpu_bytes: call
+ * renderer_collect_stats first), the light products', the frame's targets
+ * and images, and the scene's meshes and textures. */
+typedef struct RenderMemory {
+    uint64_t gi, lights, frame, scene;
+} RenderMemory;
+RenderMemory renderer_gpu_memory(const Renderer *r);
+uint64_t render_memory_total(const RenderMemory *m);
 /* Supersampling factor (≥ 1) and the size the shading passes run at. */
 int renderer_ssaa(const RenderSettings *rs);
 /* Whether r's frames shade forward: a depth pre-pass and one draw of the

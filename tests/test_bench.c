@@ -86,7 +86,7 @@ static void schema(void **state)
     const cJSON *t = field(doc, "techniques", 'a');
     assert_int_equal(cJSON_GetArraySize(t), 4);
     static const char *const gi[] = {"none", "rsm", "vpl-slc", "vct"};
-    double ratio[4], mib = 0;
+    double ratio[4], mib = 0, light_mib[4][3];
     for (int i = 0; i < 4; i++) {
         const cJSON *e = cJSON_GetArrayItem(t, i);
         assert_string_equal(field(e, "gi", 's')->valuestring, gi[i]);
@@ -110,18 +110,31 @@ static void schema(void **state)
         assert_true(field(e, "frame_ms", 'n')->valuedouble > 0);
         /* The GPU memory the technique counts: vct's volumes (16³: albedo,
          * normal, radiance and six directional chains, 131064 bytes), its
-         * opaque-voxel list (4 · (4 + 16³/8) = 2064) and its two 24×24
-         * RGBA32F images (18432); null where none is counted. */
+         * opaque-voxel list (4 · (4 + 16³/8) = 2064), its two 24×24
+         * RGBA32F images (18432) and its parameters' UBO; null without a
+         * technique. */
         const cJSON *mem = cJSON_GetObjectItemCaseSensitive(field(e, "stats", 'o'), "gi_memory_mib");
         if (!mem)
             fail_msg("bench.json: no \"stats.gi_memory_mib\" in %s", gi[i]);
         if (i == 3) {
             assert_true(cJSON_IsNumber(mem));
             mib = mem->valuedouble;
-            assert_true(fabs(mib - (131064 + 2064 + 18432) / (1024.0 * 1024.0)) < 1e-9);
+            assert_true(fabs(mib - (131064 + 2064 + 18432 + sizeof(GpuVctParams)) / (1024.0 * 1024.0)) < 1e-9);
+        } else if (i == 0) {
+            assert_true(cJSON_IsNull(mem)); /* no technique */
         } else {
-            assert_true(cJSON_IsNull(mem));
+            assert_true(cJSON_IsNumber(mem) && mem->valuedouble > 0); /* rsm's and vpl-slc's buffers */
         }
+        /* Every owner's memory, and the total their sum. */
+        const cJSON *sj = field(e, "stats", 'o');
+        double parts = cJSON_IsNumber(mem) ? mem->valuedouble : 0;
+        static const char *const owners[] = {"light_memory_mib", "frame_memory_mib", "scene_memory_mib"};
+        for (int k = 0; k < 3; k++) {
+            light_mib[i][k] = field(sj, owners[k], 'n')->valuedouble;
+            assert_true(light_mib[i][k] > 0);
+            parts += light_mib[i][k];
+        }
+        assert_true(fabs(field(sj, "gpu_memory_mib", 'n')->valuedouble - parts) < 1e-9 * parts);
         const cJSON *m = field(e, "metrics", 'o');
         double rmse = field(m, "rmse", 'n')->valuedouble, relmse = field(m, "relmse", 'n')->valuedouble;
         double flip = field(m, "flip", 'n')->valuedouble, ssim = field(m, "ssim", 'n')->valuedouble;
@@ -139,6 +152,14 @@ static void schema(void **state)
      * 40% of the mean); one bounce brings most of it back. */
     print_message("mean ratio: none %.3f, rsm %.3f, vpl-slc %.3f, vct %.3f; vct gi_memory_mib %.4f\n", ratio[0],
                   ratio[1], ratio[2], ratio[3], mib);
+    /* rsm adds the quad light's RSM to the shadow map: six s² faces of a
+     * 16-byte texel and a 4-byte depth, so the difference is 120·s² bytes
+     * for a whole s (the frame and scene are the same for both). */
+    double extra = (light_mib[1][0] - light_mib[0][0]) * 1024.0 * 1024.0 / 120.0, side = sqrt(extra);
+    print_message("light products: none %.4f MiB, rsm %.4f MiB: an RSM of %.3f² texels a face\n", light_mib[0][0],
+                  light_mib[1][0], side);
+    assert_true(side >= 16 && fabs(side - round(side)) < 1e-6);
+    assert_true(light_mib[1][1] == light_mib[0][1] && light_mib[1][2] == light_mib[0][2]);
     assert_true(ratio[0] < 0.75);
     for (int i = 1; i < 4; i++)
         assert_true(ratio[i] > ratio[0] + 0.1 && ratio[i] < 1.1);

@@ -257,6 +257,45 @@ static void texture3d_mips_of_a_written_pattern(void **state)
     assert_memory_equal(&after, &before, sizeof after);
 }
 
+/* Texture and buffer sizes from GL's own answers, against sizes worked out
+ * by hand for each kind rtgi makes. */
+static void memory_of_textures_and_buffers(void **state)
+{
+    (void)state;
+    GLuint t[6] = {0};
+    glCreateTextures(GL_TEXTURE_2D, 1, &t[0]); /* 16² + 8² + 4² texels of 16 bytes */
+    glTextureStorage2D(t[0], 3, GL_RGBA32F, 16, 16);
+    glCreateTextures(GL_TEXTURE_CUBE_MAP, 1, &t[1]); /* six 8² faces of 4 bytes */
+    glTextureStorage2D(t[1], 1, GL_DEPTH_COMPONENT32F, 8, 8);
+    glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t[2]); /* 3 layers of 4×2 (+ 2×1), 4 bytes */
+    glTextureStorage3D(t[2], 2, GL_R32F, 4, 2, 3);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t[3]); /* 5×3 of 4 bytes (9+9+9 bits + a 5-bit exponent) */
+    glTextureStorage2D(t[3], 1, GL_RGB9_E5, 5, 3);
+    glCreateTextures(GL_TEXTURE_2D, 1, &t[4]); /* 7×5 of 4 bytes */
+    glTextureStorage2D(t[4], 1, GL_SRGB8_ALPHA8, 7, 5);
+    t[5] = gl_texture3d_make(GL_RGBA16F, 4, 4, 4, 0, TEX_FILTER_LINEAR, "test.memory"); /* 64 + 8 + 1 of 8 */
+    const uint64_t want[6] = {(256 + 64 + 16) * 16, 6 * 64 * 4, (3 * 8 + 3 * 2) * 4, 15 * 4, 35 * 4, 73 * 8};
+    uint64_t sum = 0;
+    for (int i = 0; i < 6; i++) {
+        print_message("texture %d: %llu bytes (want %llu)\n", i, (unsigned long long)gl_texture_bytes(t[i]),
+                      (unsigned long long)want[i]);
+        assert_int_equal(gl_texture_bytes(t[i]), want[i]);
+        sum += want[i];
+    }
+    assert_int_equal(gl_textures_bytes(t, 6), sum);
+    assert_int_equal(gl_texture_bytes(0), 0);
+    GLuint b[2] = {0, 0};
+    glCreateBuffers(2, b);
+    glNamedBufferStorage(b[0], 1000, NULL, 0);
+    glNamedBufferStorage(b[1], 24, NULL, GL_DYNAMIC_STORAGE_BIT);
+    assert_int_equal(gl_buffer_bytes(b[0]), 1000);
+    assert_int_equal(gl_buffers_bytes(b, 2), 1024);
+    assert_int_equal(gl_buffer_bytes(0), 0);
+    glDeleteBuffers(2, b);
+    gl_texture3d_destroy(&t[5]);
+    glDeleteTextures(5, t);
+}
+
 static void texture3d_rejects_bad_requests(void **state)
 {
     (void)state;
@@ -585,6 +624,7 @@ int main(void)
         cmocka_unit_test(census_sees_texture_and_buffer),
         cmocka_unit_test(texture3d_mips_of_a_written_pattern),
         cmocka_unit_test(texture3d_rejects_bad_requests),
+        cmocka_unit_test(memory_of_textures_and_buffers),
         cmocka_unit_test(geometry_stage_writes_every_layer),
         cmocka_unit_test(geometry_stage_errors_name_file_and_line),
         cmocka_unit_test(empty_framebuffer_rasterizes_every_pixel),

@@ -950,7 +950,7 @@ static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, 
     double voxels = levels * (2.0 * n * n * n + bounces * chain + (aniso ? 6 * half_chain : 0));
     double low = scale > 1 ? 2.0 * 16 * ((w + scale - 1) / scale) * ((h + scale - 1) / scale) : 0;
     double opaque = 4.0 * (4 + levels * n * n * n / VCT_OPAQUE_SHARE); /* the opaque-voxel list */
-    return (8 * voxels + low + opaque) / (1024.0 * 1024.0);
+    return (8 * voxels + low + opaque + sizeof(GpuVctParams)) / (1024.0 * 1024.0); /* and its UBO */
 }
 
 /* The row of pass `name` in the --timings table: its GPU and wall ms and

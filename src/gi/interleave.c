@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "gi/gi.h"
+#include "gl_resources.h"
 #include "shader.h"
 #include "shared/gpu_types.h"
 
@@ -49,6 +50,12 @@ void gi_interleave_destroy(GiInterleave *g)
     GLuint t[3] = {g->di_surface, g->di_irradiance, g->merged};
     glDeleteTextures(3, t);
     memset(g, 0, sizeof *g);
+}
+
+uint64_t gi_interleave_bytes(const GiInterleave *g)
+{
+    const GLuint t[3] = {g->di_surface, g->di_irradiance, g->merged};
+    return gl_textures_bytes(t, 3);
 }
 
 void gi_interleave_split(GiInterleave *g, const GBuffer *gb)

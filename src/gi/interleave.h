@@ -16,6 +16,7 @@
 #include <epoxy/gl.h>
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "shader.h"
 #include "targets.h"
@@ -41,6 +42,8 @@ void gi_interleave_defines(char *out, size_t size, const char *mode, int n, int 
 /* Programs come from `pc`. */
 bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int width, int height, bool deinterleave);
 void gi_interleave_destroy(GiInterleave *g);
+/* GPU memory of its images (gl_texture_bytes). */
+uint64_t gi_interleave_bytes(const GiInterleave *g);
 void gi_interleave_split(GiInterleave *g, const GBuffer *gb);
 /* Reassembles di_irradiance into `out`; with `blur`, blurred in the same pass. */
 void gi_interleave_merge(GiInterleave *g, const GBuffer *gb, bool blur, GLuint out);

@@ -562,6 +562,11 @@ static void lpv_stats(void *state, const GiFrame *f, GiStats *st)
     st->vpl_count = l->test_vpls ? (uint32_t)l->test_count : light_stage_vpl_count(f->lights);
     st->gathered_pixels = gi_count_surfaces(f, l->pc, 1);
     st->volume_builds = l->builds;
+    for (int k = 0; k < l->cascades; k++)
+        st->gpu_bytes += gl_textures_bytes(&l->c[k].inject[0][0], SETS * 3) +
+                         gl_textures_bytes(&l->c[k].sum[0][0], SETS * 3) + gl_textures_bytes(l->c[k].gv, 2);
+    const GLuint bufs[5] = {l->fixed, l->gv_fixed, l->ubo, l->indirect, l->test_vpls};
+    st->gpu_bytes += gl_textures_bytes(l->pp, 2) + gl_texture_bytes(l->faces) + gl_buffers_bytes(bufs, 5);
 }
 
 void lpv_set_vpls(void *state, const GpuVpl *vpls, int count)

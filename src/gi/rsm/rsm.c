@@ -21,6 +21,7 @@
 
 #include "gi/gi.h"
 #include "gi/interleave.h"
+#include "gl_resources.h"
 #include "log.h"
 #include "shader.h"
 
@@ -384,6 +385,10 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     st->rsm_importance_builds = g->importance_builds;
     st->gather_vpl = g->params.exhaustive;
     st->gather_from_list = importance_on(g) ? 0.5f : 0.f;
+    const GLuint bufs[2] = {g->ubo, g->list};
+    st->gpu_bytes = gl_texture_bytes(g->lowres) + gl_buffers_bytes(bufs, 2) + gi_interleave_bytes(&g->il);
+    if (g->pyramid && g->samples)
+        st->gpu_bytes += gl_textures_bytes(g->pyramid, g->lights) + gl_buffers_bytes(g->samples, g->lights);
 }
 
 #define RSM_ROW(id, variant_name, create_fn, text)                                                     \

@@ -26,6 +26,7 @@
 
 #include "gi/gi.h"
 #include "gi/interleave.h"
+#include "gl_resources.h"
 #include "log.h"
 #include "shader.h"
 #include "util.h"
@@ -399,6 +400,8 @@ static void vpl_stats(void *state, const GiFrame *f, GiStats *st)
     st->metalight_regroups = v->regroups;
     st->gather_evaluations = st->vpl_candidates;
     st->gather_vpl = true;
+    const GLuint bufs[6] = {v->ubo, v->gi_ubo, v->ranges, v->tiles, v->evals, v->subsets};
+    st->gpu_bytes = gl_buffers_bytes(bufs, 6) + gi_interleave_bytes(&v->il);
 }
 
 static void *vpl_all_create(const GiCreateInfo *ci) { return vpl_create_method(ci, VPL_ALL); }

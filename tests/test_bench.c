@@ -428,14 +428,19 @@ static void report_in_chromium(void **state)
     assert_non_null(title);
     print_message("%.60s\n", title);
     assert_true(strncmp(title, "<title>ok:4</title>", 19) == 0);
-    /* The metrics table shows vct's GPU memory (and a dash for the others). */
-    assert_non_null(strstr(dom, "<th>GPU MiB</th>"));
+    /* The metrics table shows vct's GPU memory and the frame's in all. */
+    assert_non_null(strstr(dom, "<th>GI MiB</th>"));
+    assert_non_null(strstr(dom, "<th>GPU MiB (all)</th>"));
     const cJSON *vct = cJSON_GetArrayItem(cJSON_GetObjectItem(g_doc, "techniques"), 3);
     char cell[64];
     snprintf(cell, sizeof cell, "<td>%.3f</td>",
              cJSON_GetObjectItem(cJSON_GetObjectItem(vct, "stats"), "gi_memory_mib")->valuedouble);
     if (!strstr(dom, cell))
         fail_msg("report.html: no metrics cell %s for vct's GPU memory", cell);
+    snprintf(cell, sizeof cell, "<td>%.1f</td>",
+             cJSON_GetObjectItem(cJSON_GetObjectItem(vct, "stats"), "gpu_memory_mib")->valuedouble);
+    if (!strstr(dom, cell))
+        fail_msg("report.html: no metrics cell %s for vct's frame memory in all", cell);
     /* The scatter's labels were placed clear of each other and the points. */
     const char *ov = strstr(dom, "data-label-overlaps=\"");
     assert_non_null(ov);

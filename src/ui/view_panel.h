@@ -49,6 +49,7 @@ typedef struct View {
     double pass_ms[GPU_TIMER_MAX_PASSES]; /* mean ms per frame: GPU, or wall when pass_wall */
     bool pass_wall;             /* the timer fences passes with glFinish (software rasterizer): wall ms */
     double gpu_ms, frame_ms;    /* their sum; mean wall ms per frame */
+    RenderMemory memory;        /* GPU memory by owner, as of the last interval */
     char status[1024];          /* the last capture / reload message */
     bool status_error;
     bool reloading;             /* a shader reload is under way: its errors accumulate in status */

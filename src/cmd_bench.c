@@ -340,15 +340,14 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddNumberToObject(sj, "gathered_pixels", st->gathered_pixels);
     /* GPU memory the technique counts as its own (render's gi_memory_mib);
      * null where it counts none. */
-    cJSON_AddItemToObject(sj, "gi_memory_mib", st->gpu_bytes ? json_num((double)st->gpu_bytes / (1024.0 * 1024.0))
+    cJSON_AddItemToObject(sj, "gi_memory_mib", st->gpu_bytes ? json_num(render_mib(st->gpu_bytes))
                                                               : cJSON_CreateNull());
     /* All of the frame's GPU memory by owner (render --timings' *_memory_mib). */
     RenderMemory mem = renderer_gpu_memory(r);
-    const double mib = 1.0 / (1024.0 * 1024.0);
-    cJSON_AddNumberToObject(sj, "light_memory_mib", (double)mem.lights * mib);
-    cJSON_AddNumberToObject(sj, "frame_memory_mib", (double)mem.frame * mib);
-    cJSON_AddNumberToObject(sj, "scene_memory_mib", (double)mem.scene * mib);
-    cJSON_AddNumberToObject(sj, "gpu_memory_mib", (double)render_memory_total(&mem) * mib);
+    cJSON_AddNumberToObject(sj, "light_memory_mib", render_mib(mem.lights));
+    cJSON_AddNumberToObject(sj, "frame_memory_mib", render_mib(mem.frame));
+    cJSON_AddNumberToObject(sj, "scene_memory_mib", render_mib(mem.scene));
+    cJSON_AddNumberToObject(sj, "gpu_memory_mib", render_mib(render_memory_total(&mem)));
     cJSON *m = cJSON_AddObjectToObject(o, "metrics");
     cJSON_AddItemToObject(m, "rmse", json_num(e->rmse));
     cJSON_AddItemToObject(m, "relmse", json_num(e->relmse));
@@ -418,75 +417,99 @@ static bool write_text(const char *dir, const char *name, const char *text)
 }
 
 /* CSV (RFC 4180): every text field quoted, its quotes doubled; numbers as
- * %.9g, empty where bench.json has null. */
-static void csv_text(StrBuf *b, const char *s, bool last)
+ * %.9g, empty where bench.json has null. Each file's columns are a table
+ * of where in bench.json a field comes from, so a header and its rows are
+ * one list. */
+typedef enum CsvFrom { FROM_DOC, FROM_REFERENCE, FROM_TECHNIQUE, FROM_STATS, FROM_METRICS, FROM_PASS } CsvFrom;
+
+typedef struct CsvColumn {
+    const char *name;
+    CsvFrom from;
+    const char *key; /* NULL: the name */
+    bool text;
+} CsvColumn;
+
+static const CsvColumn k_csv_techniques[] = {
+    {"commit", FROM_DOC, NULL, true},
+    {"scene", FROM_DOC, NULL, true},
+    {"width", FROM_DOC, NULL, false},
+    {"height", FROM_DOC, NULL, false},
+    {"ssaa", FROM_DOC, NULL, false},
+    {"reference_mode", FROM_REFERENCE, "mode", true},
+    {"reference_spp", FROM_REFERENCE, "spp", false},
+    {"gl_renderer", FROM_DOC, NULL, true},
+    {"id", FROM_TECHNIQUE, NULL, true},
+    {"label", FROM_TECHNIQUE, NULL, true},
+    {"shadow", FROM_TECHNIQUE, NULL, true},
+    {"gi", FROM_TECHNIQUE, NULL, true},
+    {"overrides", FROM_TECHNIQUE, NULL, true},
+    {"gpu_ms", FROM_TECHNIQUE, NULL, false},
+    {"frame_ms", FROM_TECHNIQUE, NULL, false},
+    {"vpl_count", FROM_STATS, NULL, false},
+    {"vpl_evaluations_per_pixel", FROM_STATS, NULL, false},
+    {"gather_evaluations_per_pixel", FROM_STATS, NULL, false},
+    {"gi_memory_mib", FROM_STATS, NULL, false},
+    {"light_memory_mib", FROM_STATS, NULL, false},
+    {"frame_memory_mib", FROM_STATS, NULL, false},
+    {"scene_memory_mib", FROM_STATS, NULL, false},
+    {"gpu_memory_mib", FROM_STATS, NULL, false},
+    {"rmse", FROM_METRICS, NULL, false},
+    {"relmse", FROM_METRICS, NULL, false},
+    {"ssim", FROM_METRICS, NULL, false},
+    {"flip", FROM_METRICS, NULL, false},
+    {"mean_ratio", FROM_METRICS, NULL, false},
+};
+
+static const CsvColumn k_csv_passes[] = {
+    {"id", FROM_TECHNIQUE, NULL, true},
+    {"label", FROM_TECHNIQUE, NULL, true},
+    {"pass", FROM_PASS, "name", true},
+    {"gpu_ms", FROM_PASS, NULL, false},
+    {"wall_ms", FROM_PASS, NULL, false},
+};
+
+static void csv_header(StrBuf *b, const CsvColumn *cols, int n)
 {
-    strbuf_append(b, "\"", 1);
-    for (const char *p = s ? s : ""; *p; p++) {
-        if (*p == '"')
-            strbuf_append(b, "\"\"", 2);
-        else
-            strbuf_append(b, p, 1);
+    for (int i = 0; i < n; i++)
+        strbuf_printf(b, "%s%s", cols[i].name, i + 1 < n ? "," : "\r\n");
+}
+
+/* One row; `objects` indexed by CsvFrom. */
+static void csv_row(StrBuf *b, const CsvColumn *cols, int n, const cJSON *const objects[])
+{
+    for (int i = 0; i < n; i++) {
+        const cJSON *v = cJSON_GetObjectItem(objects[cols[i].from], cols[i].key ? cols[i].key : cols[i].name);
+        if (cols[i].text) {
+            strbuf_append(b, "\"", 1);
+            for (const char *p = cJSON_IsString(v) ? v->valuestring : ""; *p; p++)
+                if (*p == '"')
+                    strbuf_append(b, "\"\"", 2);
+                else
+                    strbuf_append(b, p, 1);
+            strbuf_append(b, "\"", 1);
+        } else if (cJSON_IsNumber(v)) {
+            strbuf_printf(b, "%.9g", v->valuedouble);
+        }
+        strbuf_append(b, i + 1 < n ? "," : "\r\n", i + 1 < n ? 1 : 2);
     }
-    strbuf_append(b, last ? "\"\r\n" : "\",", last ? 3 : 2);
-}
-
-static void csv_number(StrBuf *b, const cJSON *v, bool last)
-{
-    if (cJSON_IsNumber(v))
-        strbuf_printf(b, "%.9g", v->valuedouble);
-    strbuf_append(b, last ? "\r\n" : ",", last ? 2 : 1);
-}
-
-static const char *json_text(const cJSON *o, const char *key)
-{
-    const cJSON *v = cJSON_GetObjectItem(o, key);
-    return cJSON_IsString(v) ? v->valuestring : "";
 }
 
 /* bench.csv: one row per technique, the run's facts repeated on each so
  * that runs concatenate; bench_passes.csv: one row per technique and pass. */
 static bool write_csv(const char *dir, const cJSON *doc)
 {
-    static const char *const stats[] = {"vpl_count",       "vpl_evaluations_per_pixel", "gather_evaluations_per_pixel",
-                                         "gi_memory_mib",   "light_memory_mib",          "frame_memory_mib",
-                                         "scene_memory_mib", "gpu_memory_mib"};
-    static const char *const metrics[] = {"rmse", "relmse", "ssim", "flip", "mean_ratio"};
-    const cJSON *ref = cJSON_GetObjectItem(doc, "reference"), *e;
+    enum { NT = sizeof k_csv_techniques / sizeof k_csv_techniques[0], NP = sizeof k_csv_passes / sizeof k_csv_passes[0] };
     StrBuf t = {0}, p = {0};
-    strbuf_printf(&t, "commit,scene,width,height,ssaa,reference_mode,reference_spp,gl_renderer,id,label,shadow,gi,"
-                      "overrides,gpu_ms,frame_ms");
-    for (int i = 0; i < 8; i++)
-        strbuf_printf(&t, ",%s", stats[i]);
-    for (int i = 0; i < 5; i++)
-        strbuf_printf(&t, ",%s", metrics[i]);
-    strbuf_append(&t, "\r\n", 2);
-    strbuf_printf(&p, "id,label,pass,gpu_ms,wall_ms\r\n");
+    csv_header(&t, k_csv_techniques, NT);
+    csv_header(&p, k_csv_passes, NP);
+    const cJSON *e, *pass;
     cJSON_ArrayForEach(e, cJSON_GetObjectItem(doc, "techniques")) {
-        csv_text(&t, json_text(doc, "commit"), false);
-        csv_text(&t, json_text(doc, "scene"), false);
-        csv_number(&t, cJSON_GetObjectItem(doc, "width"), false);
-        csv_number(&t, cJSON_GetObjectItem(doc, "height"), false);
-        csv_number(&t, cJSON_GetObjectItem(doc, "ssaa"), false);
-        csv_text(&t, json_text(ref, "mode"), false);
-        csv_number(&t, cJSON_GetObjectItem(ref, "spp"), false);
-        csv_text(&t, json_text(doc, "gl_renderer"), false);
-        static const char *const texts[] = {"id", "label", "shadow", "gi", "overrides"};
-        for (int i = 0; i < 5; i++)
-            csv_text(&t, json_text(e, texts[i]), false);
-        csv_number(&t, cJSON_GetObjectItem(e, "gpu_ms"), false);
-        csv_number(&t, cJSON_GetObjectItem(e, "frame_ms"), false);
-        const cJSON *st = cJSON_GetObjectItem(e, "stats"), *m = cJSON_GetObjectItem(e, "metrics"), *pass;
-        for (int i = 0; i < 8; i++)
-            csv_number(&t, cJSON_GetObjectItem(st, stats[i]), false);
-        for (int i = 0; i < 5; i++)
-            csv_number(&t, cJSON_GetObjectItem(m, metrics[i]), i == 4);
+        const cJSON *objects[] = {doc, cJSON_GetObjectItem(doc, "reference"), e, cJSON_GetObjectItem(e, "stats"),
+                                  cJSON_GetObjectItem(e, "metrics"), NULL};
+        csv_row(&t, k_csv_techniques, NT, objects);
         cJSON_ArrayForEach(pass, cJSON_GetObjectItem(e, "passes")) {
-            csv_text(&p, json_text(e, "id"), false);
-            csv_text(&p, json_text(e, "label"), false);
-            csv_text(&p, json_text(pass, "name"), false);
-            csv_number(&p, cJSON_GetObjectItem(pass, "gpu_ms"), false);
-            csv_number(&p, cJSON_GetObjectItem(pass, "wall_ms"), true);
+            objects[FROM_PASS] = pass;
+            csv_row(&p, k_csv_passes, NP, objects);
         }
     }
     bool ok = !t.failed && !p.failed && write_text(dir, "bench.csv", t.data) &&

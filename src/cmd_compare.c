@@ -47,6 +47,15 @@ void cmd_compare_help(void)
 
 static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all", NULL};
 
+/* A JSON number as %.8g, or null where it is not finite. */
+static void json_number(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.8g", v);
+    else
+        fputs("null", f);
+}
+
 /* The results as one JSON object; strings escaped, non-finite numbers as
  * null. To stdout for "-", else atomically to the file. */
 static bool write_json(const char *json, const char *const files[2], const ImageF *t, const double val[4],
@@ -68,42 +77,31 @@ static bool write_json(const char *json, const char *const files[2], const Image
     for (int k = 0; k < 4; k++) {
         if (!want[k])
             continue;
-        if (isfinite(val[k]))
-            fprintf(f, ", \"%s\": %.8g", k_metrics[k], val[k]);
-        else
-            fprintf(f, ", \"%s\": null", k_metrics[k]);
+        fprintf(f, ", \"%s\": ", k_metrics[k]);
+        json_number(f, val[k]);
     }
     if (block > 0) {
         fprintf(f, ", \"block\": %d", block);
         for (int k = 0; k < 2; k++)
             if (want[k]) {
-                if (isfinite(block_val[k]))
-                    fprintf(f, ", \"%s_block\": %.8g", k_metrics[k], block_val[k]);
-                else
-                    fprintf(f, ", \"%s_block\": null", k_metrics[k]);
+                fprintf(f, ", \"%s_block\": ", k_metrics[k]);
+                json_number(f, block_val[k]);
             }
     }
     /* ratio: luminance, then r, g, b */
     fputs(", \"mean_ratio\": ", f);
     for (int c = 0; c < 4; c++) {
-        if (isfinite(ratio[c]))
-            fprintf(f, "%.8g", ratio[c]);
-        else
-            fputs("null", f);
+        json_number(f, ratio[c]);
         fputs(c == 0 ? ", \"mean_ratio_rgb\": [" : c < 3 ? ", " : "]", f);
     }
     if (unshadowed) {
         fputs(", \"shadow\": {\"unshadowed\": ", f);
         util_json_string(f, unshadowed);
         fprintf(f, ", \"lit_pixels\": %zu, \"shadowed_pixels\": %zu", sa->lit, sa->shadowed);
-        const double share[2] = {sa->false_shadow, sa->false_lit};
-        for (int k = 0; k < 2; k++) {
-            fputs(k == 0 ? ", \"false_shadow\": " : ", \"false_lit\": ", f);
-            if (isfinite(share[k]))
-                fprintf(f, "%.8g", share[k]);
-            else
-                fputs("null", f);
-        }
+        fputs(", \"false_shadow\": ", f);
+        json_number(f, sa->false_shadow);
+        fputs(", \"false_lit\": ", f);
+        json_number(f, sa->false_lit);
         fputs("}", f);
     }
     fputs("}\n", f);
@@ -115,6 +113,20 @@ static bool write_json(const char *json, const char *const files[2], const Image
         return true;
     }
     return util_atomic_commit(&af, "compare");
+}
+
+/* Reads `path` (what: how errors name it) into *out, which must be the
+ * size of `like`; false after logging. */
+static bool read_matching(const char *path, const char *what, const ImageF *like, ImageF *out)
+{
+    if (!image_read(path, out))
+        return false;
+    if (out->width != like->width || out->height != like->height) {
+        log_error("compare", "%s: %s is %dx%d, images are %dx%d", path, what, out->width, out->height, like->width,
+                  like->height);
+        return false;
+    }
+    return true;
 }
 
 /* The options this command knows (for "did you mean"). */
@@ -197,15 +209,8 @@ int cmd_compare(int argc, char **argv)
                   r.width, r.height);
         goto done;
     }
-    if (unshadowed) {
-        if (!image_read(unshadowed, &u))
-            goto done;
-        if (u.width != t.width || u.height != t.height) {
-            log_error("compare", "%s: --unshadowed image is %dx%d, the images are %dx%d", unshadowed, u.width,
-                      u.height, t.width, t.height);
-            goto done;
-        }
-    }
+    if (unshadowed && !read_matching(unshadowed, "--unshadowed image", &t, &u))
+        goto done;
     for (int k = 0; k < 3 && !allow_nonfinite; k++) {
         const ImageF *img = k == 0 ? &t : k == 1 ? &r : &u;
         const char *name = k < 2 ? files[k] : unshadowed;
@@ -231,13 +236,8 @@ int cmd_compare(int argc, char **argv)
         goto done;
     }
     if (mask_path) {
-        if (!image_read(mask_path, &m))
+        if (!read_matching(mask_path, "mask", &t, &m))
             goto done;
-        if (m.width != t.width || m.height != t.height) {
-            log_error("compare", "%s: mask is %dx%d, images are %dx%d", mask_path, m.width, m.height, t.width,
-                      t.height);
-            goto done;
-        }
         if (!(mask = util_malloc("compare", "the mask", np, 1)))
             goto done;
         size_t selected = 0;

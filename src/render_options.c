@@ -350,10 +350,8 @@ double render_options_print_timings(Renderer *r, const char *gl_renderer, double
     printf("frame_wall_ms: %.3f\n", frame_ms);
     const RenderStats *st = renderer_collect_stats(r);
     RenderMemory mem = renderer_gpu_memory(r);
-    const double mib = 1.0 / (1024.0 * 1024.0);
     printf("light_memory_mib: %.3f\nframe_memory_mib: %.3f\nscene_memory_mib: %.3f\ngpu_memory_mib: %.3f\n",
-           (double)mem.lights * mib, (double)mem.frame * mib, (double)mem.scene * mib,
-           (double)render_memory_total(&mem) * mib);
+           render_mib(mem.lights), render_mib(mem.frame), render_mib(mem.scene), render_mib(render_memory_total(&mem)));
     if (rs->gi == GI_NONE)
         return 0;
     double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs); /* shaded pixels */
@@ -369,7 +367,7 @@ double render_options_print_timings(Renderer *r, const char *gl_renderer, double
             printf("vpl_tile_overflow: %u\n", st->tile_overflow);
     }
     if (st->gpu_bytes)
-        printf("gi_memory_mib: %.3f\n", (double)st->gpu_bytes / (1024.0 * 1024.0));
+        printf("gi_memory_mib: %.3f\n", render_mib(st->gpu_bytes));
     if (rs->gi == GI_VCT)
         printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
     return print_gather_efficiency(r, st, s_probe_path);

@@ -133,6 +133,8 @@ typedef struct RenderMemory {
 } RenderMemory;
 RenderMemory renderer_gpu_memory(const Renderer *r);
 uint64_t render_memory_total(const RenderMemory *m);
+/* Bytes in MiB, as every memory line prints them. */
+static inline double render_mib(uint64_t bytes) { return (double)bytes / (1024.0 * 1024.0); }
 /* Supersampling factor (≥ 1) and the size the shading passes run at. */
 int renderer_ssaa(const RenderSettings *rs);
 /* Whether r's frames shade forward: a depth pre-pass and one draw of the

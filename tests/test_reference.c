@@ -198,18 +198,12 @@ static void modes_add_up(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    PtSettings set;
-    pt_settings_default(&set);
-    set.width = set.height = 16;
-    set.spp = 256;
-    set.threads = 2;
     double m[5], se[5];
     for (int mode = 0; mode < 5; mode++) {
         if (mode == PT_ONE_BOUNCE_NOVIS)
             continue;
-        set.mode = (PtMode)mode;
         ImageF img, var;
-        assert_true(pt_render(&s, &set, &img, &var, NULL));
+        test_reference_var(&s, 16, 16, (PtMode)mode, 256, true, &img, &var);
         image_mean(&img, &var, &m[mode], &se[mode]);
         image_free(&img);
         image_free(&var);

@@ -115,15 +115,8 @@ static void plane_under_sphere_light(void **state)
     scene_add_light(&s, &l);
     look_at(&s.camera, (vec3){0, 2.5f, 0}, (vec3){0, -1, 0}, 60.f);
     scene_finalize(&s);
-    PtSettings set;
-    pt_settings_default(&set);
-    set.width = set.height = 24;
-    set.spp = 64;
-    set.threads = 2;
-    set.pixel_jitter = false;
-    set.mode = PT_DIRECT;
     ImageF img;
-    assert_true(pt_render(&s, &set, &img, NULL, NULL));
+    test_reference(&s, 24, 24, PT_DIRECT, 64, &img);
     double worst = 0;
     for (int y = 1; y < 24; y += 3)
         for (int x = 1; x < 24; x += 3) {
@@ -182,15 +175,8 @@ static void plane_under_quad_light(void **state)
     scene_add_light(&s, &l);
     look_at(&s.camera, (vec3){0, 0.7f, 2.2f}, (vec3){0, -0.7f, -2.2f}, 50.f);
     scene_finalize(&s);
-    PtSettings set;
-    pt_settings_default(&set);
-    set.width = set.height = 24;
-    set.spp = 1024;
-    set.threads = 2;
-    set.pixel_jitter = false;
-    set.mode = PT_DIRECT;
     ImageF img, var;
-    assert_true(pt_render(&s, &set, &img, &var, NULL));
+    test_reference_var(&s, 24, 24, PT_DIRECT, 1024, false, &img, &var);
     double worst = 0, dev = 0, se2 = 0, worst_rel = 0, rel_sum = 0;
     int n = 0;
     for (int y = 0; y < 24; y++)

@@ -56,7 +56,7 @@ RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiPara
     return st;
 }
 
-void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out)
+void test_reference_var(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out, ImageF *var)
 {
     PtSettings set;
     pt_settings_default(&set);
@@ -66,7 +66,12 @@ void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool 
     set.mode = mode;
     set.pixel_jitter = jitter;
     set.threads = 2;
-    assert_true(pt_render(s, &set, out, NULL, NULL));
+    assert_true(pt_render(s, &set, out, var, NULL));
+}
+
+void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out)
+{
+    test_reference_var(s, w, h, mode, spp, jitter, out, NULL);
 }
 
 void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *out)

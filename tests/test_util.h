@@ -35,6 +35,8 @@ void test_reference(const Scene *s, int w, int h, PtMode mode, int spp, ImageF *
 /* The same with samples spread over each pixel (`jitter`: a box filter,
  * what supersampling approximates) or at its centre. */
 void test_reference_ex(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out);
+/* The same with the variance of each pixel's mean into `var` (NULL: none). */
+void test_reference_var(const Scene *s, int w, int h, PtMode mode, int spp, bool jitter, ImageF *out, ImageF *var);
 /* The point of the plane y = 0 that the ray through the centre of pixel
  * (x, y) of a w×h image of `s`'s camera meets, into p; false (p then
  * behind the camera or at infinity) where the ray does not go down to it. */

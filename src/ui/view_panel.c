@@ -107,7 +107,8 @@ void view_record_timings(View *v, double frame_ms, bool is_cost)
     GpuTimer *t = &r->timer;
     v->frame_ms = frame_ms;
     view_take_pass_table(v);
-    renderer_collect_stats(r); /* the technique's memory (every half second: its counters' read-back too) */
+    /* The technique's counters and memory, read back once an interval. */
+    const RenderStats *st = renderer_collect_stats(r);
     v->memory = renderer_gpu_memory(r);
     v->history[v->history_next] = (float)frame_ms;
     v->history_next = (v->history_next + 1) % VIEW_HISTORY;
@@ -126,11 +127,8 @@ void view_record_timings(View *v, double frame_ms, bool is_cost)
         double m = gpu_timer_mean_ms(t, gathers[i], t->sync);
         ms += m > 0 ? m : 0;
     }
-    if (gi != GI_NONE && ms > 0.5) {
-        const RenderStats *st = renderer_collect_stats(r);
-        if (st->gather_evaluations > 0)
-            v->evals_per_s = (double)st->gather_evaluations / (ms * 1e-3);
-    }
+    if (gi != GI_NONE && ms > 0.5 && st->gather_evaluations > 0)
+        v->evals_per_s = (double)st->gather_evaluations / (ms * 1e-3);
 }
 
 /* ---- Captures and reload ---------------------------------------------------- */
@@ -330,10 +328,9 @@ static void timings_section(View *v)
     /* On a software rasterizer the passes' times are wall times fenced by
      * glFinish (see gl_renderer_is_software), as `render --timings` counts them. */
     ui_text("frame %.1f ms, passes %.1f ms (%s)", v->frame_ms, v->gpu_ms, v->pass_wall ? "wall" : "GPU");
-    const double mib = 1.0 / (1024.0 * 1024.0);
-    ui_text("GPU memory %.1f MiB", (double)render_memory_total(&v->memory) * mib);
-    ui_text("  lights %.1f, GI %.1f,", (double)v->memory.lights * mib, (double)v->memory.gi * mib);
-    ui_text("  frame %.1f, scene %.1f", (double)v->memory.frame * mib, (double)v->memory.scene * mib);
+    ui_text("GPU memory %.1f MiB", render_mib(render_memory_total(&v->memory)));
+    ui_text("  lights %.1f, GI %.1f,", render_mib(v->memory.lights), render_mib(v->memory.gi));
+    ui_text("  frame %.1f, scene %.1f", render_mib(v->memory.frame), render_mib(v->memory.scene));
     const char *headers[] = {"pass", v->pass_wall ? "wall ms" : "GPU ms"};
     if (v->pass_count > 0 && ui_table_begin("passes", 2, headers)) {
         for (int i = 0; i < v->pass_count; i++) {

@@ -585,7 +585,7 @@ int cmd_bench(int argc, char **argv)
                 return 2;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
+            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &exposure))
                 return 2;
         } else if (!strcmp(opt, "--cache")) {
             CLI_VALUE(&a, v);

@@ -179,7 +179,7 @@ int cmd_compare(int argc, char **argv)
             allow_nonfinite = true;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
+            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &exposure))
                 return 2;
         } else if (!strcmp(opt, "--ppd")) {
             CLI_VALUE(&a, v);
@@ -267,6 +267,16 @@ int cmd_compare(int argc, char **argv)
         val[3] = metric_flip(&t, &r, exposure, ppd, mask, map_metric == 3 ? map : NULL);
     if (metric_alloc_failures())
         goto done; /* logged, with the size */
+    /* Checked before any line is printed: a failed run prints no result. */
+    ShadowArtefacts sa = {0};
+    if (unshadowed) {
+        sa = metric_shadow_artefacts(&t, &r, &u, mask);
+        if (sa.lit + sa.shadowed == 0) {
+            log_error("compare", "--unshadowed %s: no pixel is fully lit or fully shadowed in %s (are they direct "
+                      "light, and is %s the same view without shadows?)", unshadowed, files[1], unshadowed);
+            goto done;
+        }
+    }
     /* With --json - the JSON alone goes to stdout, the lines to stderr. */
     FILE *txt = json && !strcmp(json, "-") ? stderr : stdout;
     for (int k = 0; k < 4; k++)
@@ -297,14 +307,7 @@ int cmd_compare(int argc, char **argv)
         fprintf(txt, "mean_ratio: %.6g\n", ratio[0]);
         fprintf(txt, "mean_ratio_rgb: %.6g %.6g %.6g\n", ratio[1], ratio[2], ratio[3]);
     }
-    ShadowArtefacts sa = {0};
     if (unshadowed) {
-        sa = metric_shadow_artefacts(&t, &r, &u, mask);
-        if (sa.lit + sa.shadowed == 0) {
-            log_error("compare", "--unshadowed %s: no pixel is fully lit or fully shadowed in %s (are they direct "
-                      "light, and is %s the same view without shadows?)", unshadowed, files[1], unshadowed);
-            goto done;
-        }
         fprintf(txt, "shadow_lit_pixels: %zu\nshadow_shadowed_pixels: %zu\n", sa.lit, sa.shadowed);
         fprintf(txt, "false_shadow: %.6g\nfalse_lit: %.6g\n", sa.false_shadow, sa.false_lit);
     }

@@ -143,7 +143,7 @@ int cmd_reference(int argc, char **argv)
             }
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e9f, &exposure))
+            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &exposure))
                 return 2;
         } else if (!strcmp(opt, "--light-scale")) {
             CLI_VALUE(&a, v);

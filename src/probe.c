@@ -173,20 +173,36 @@ bool probe_write_json(const char *path, const ProbeResult *r)
     cJSON_AddNumberToObject(o, "map_size", r->map_size);
     char *text = cJSON_Print(o);
     cJSON_Delete(o);
-    bool to_stdout = !strcmp(path, "-");
-    FILE *f = !text ? NULL : to_stdout ? stdout : fopen(path, "w");
-    bool ok = f && fputs(text, f) >= 0 && (!to_stdout || fputc('\n', f) != EOF);
-    ok = f && (to_stdout ? fflush(f) == 0 : fclose(f) == 0) && ok;
+    if (!text) {
+        log_error("probe", "%s: cannot allocate the probe result", path);
+        return false;
+    }
+    bool ok;
+    if (!strcmp(path, "-")) {
+        ok = fputs(text, stdout) >= 0 && fputc('\n', stdout) != EOF && fflush(stdout) == 0;
+        if (!ok)
+            log_error("probe", "cannot write the probe result to stdout");
+    } else {
+        /* Atomically, as every output: refuses a FIFO or a device, leaves
+         * nothing behind on an error. */
+        AtomicFile af;
+        ok = util_atomic_open(&af, "probe", path);
+        if (ok) {
+            if (fputs(text, af.f) < 0)
+                af.failed = true;
+            ok = util_atomic_commit(&af, "probe");
+        }
+    }
     free(text);
-    if (!ok)
-        log_error("probe", "%s: cannot write the probe result", path);
     return ok;
 }
 
 bool probe_read_json(const char *path, ProbeResult *r)
 {
-    char *text = util_read_file(path, NULL);
-    cJSON *o = text ? cJSON_Parse(text) : NULL;
+    char *text = util_read_input("probe", "probe result", path, (size_t)1 << 20, NULL);
+    if (!text)
+        return false;
+    cJSON *o = cJSON_Parse(text);
     free(text);
     const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, "evals_2d");
     const cJSON *b = cJSON_GetObjectItemCaseSensitive(o, "evals_cube");

@@ -192,7 +192,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e9f, &o->exposure))
+            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &o->exposure))
                 return 2;
         } else if (!strcmp(opt, "--light-scale")) {
             CLI_VALUE(&a, v);
@@ -257,6 +257,16 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
     }
     if (cli_failed(&a))
         return 2;
+    if (o->probe) {
+        /* Checked now, not after the frames it would have judged. */
+        ProbeResult pr;
+        if (!o->timings) {
+            cli_error(NULL, "--probe: needs --timings (the fractions are part of the timings report)");
+            return 2;
+        }
+        if (strcmp(o->probe, "run") && !probe_read_json(o->probe, &pr))
+            return 2;
+    }
     return render_options_ssaa_fits(o->width, o->height, o->ssaa) ? 0 : 2;
 }
 

@@ -2,11 +2,13 @@
  * A scene file names a built-in scene or a mesh file (relative to the scene
  * file), optional inline quads, lights, camera, exposure and technique
  * parameters. See the files under scenes/ and README.md for the format. */
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <cjson/cJSON.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -29,6 +31,7 @@
 #define MESH_MAX_INDICES ((uint32_t)1 << 28)  /* 1 GiB of indices */
 #define TEXTURE_MAX_SIZE 16384                /* texels per side (GL_MAX_TEXTURE_SIZE of common GPUs) */
 #define MESH_MAX_BYTES ((size_t)1 << 31)      /* mesh or texture file size */
+#define SCENE_MAX_POWER 1e30f
 
 /* Loads (or finds) texture `name`: colour (sRGB) or, when `linear`, data. */
 static int load_texture(Scene *s, const struct aiScene *ai, const char *dir, const char *name, bool linear)
@@ -111,7 +114,26 @@ static bool merge_opacity(Scene *s, int albedo_tex, int opacity_tex)
 
 /* One material; glTF files (`gltf`) bring metallic-roughness parameters
  * and a dielectric F0 of 0.04, other formats are Lambertian. */
-static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMaterial *am,
+/* A mesh file's material values, as the scene file's "materials" checks
+ * its own: n numbers, each finite and in [0, hi]; false after logging
+ * which file, material and key. */
+static bool material_in_range(const char *path, const char *material, const char *key, const float *v, int n,
+                              float hi)
+{
+    for (int i = 0; i < n; i++)
+        if (!(v[i] >= 0.f && v[i] <= hi)) { /* NaN fails too */
+            if (n > 1)
+                log_error("scene", "%s: material '%s': %s component %d is %g, not in [0, %g]", path, material, key, i,
+                          (double)v[i], (double)hi);
+            else
+                log_error("scene", "%s: material '%s': %s is %g, not in [0, %g]", path, material, key, (double)v[i],
+                          (double)hi);
+            return false;
+        }
+    return true;
+}
+
+static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMaterial *am, const char *path,
                           const char *dir, bool gltf, int *out)
 {
     struct aiString name = {0};
@@ -120,6 +142,9 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
     if (aiGetMaterialColor(am, "$clr.base", 0, 0, &c) != aiReturn_SUCCESS &&
         aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) != aiReturn_SUCCESS)
         c = (struct aiColor4D){0.8f, 0.8f, 0.8f, 1};
+    const char *base_key = gltf ? "baseColorFactor" : "diffuse colour (Kd)";
+    if (!material_in_range(path, name.data, base_key, &c.r, 3, 1.f))
+        return false;
     int m = scene_add_material(s, name.data, (vec3){c.r, c.g, c.b});
     if (m < 0)
         return false;
@@ -138,12 +163,17 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
         float f = 1.f;
         unsigned int one = 1;
         mat->specular = 1.f;
-        mat->metallic = aiGetMaterialFloatArray(am, AI_MATKEY_METALLIC_FACTOR, &f, &one) == aiReturn_SUCCESS
-                            ? glm_clamp(f, 0.f, 1.f) : 1.f;
+        if (aiGetMaterialFloatArray(am, AI_MATKEY_METALLIC_FACTOR, &f, &one) != aiReturn_SUCCESS)
+            f = 1.f;
+        if (!material_in_range(path, name.data, "metallicFactor", &f, 1, 1.f))
+            return false;
+        mat->metallic = f;
         one = 1;
-        f = 1.f;
-        mat->roughness = aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &f, &one) == aiReturn_SUCCESS
-                             ? glm_clamp(f, 0.f, 1.f) : 1.f;
+        if (aiGetMaterialFloatArray(am, AI_MATKEY_ROUGHNESS_FACTOR, &f, &one) != aiReturn_SUCCESS)
+            f = 1.f;
+        if (!material_in_range(path, name.data, "roughnessFactor", &f, 1, 1.f))
+            return false;
+        mat->roughness = f;
         /* assimp 5.2 files the metallicRoughness texture as UNKNOWN. */
         if (aiGetMaterialTexture(am, aiTextureType_UNKNOWN, 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
             aiReturn_SUCCESS) {
@@ -154,9 +184,11 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
             mat->mr_tex = t;
         }
         struct aiColor4D e = {0, 0, 0, 1};
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &e) == aiReturn_SUCCESS && isfinite(e.r) &&
-            isfinite(e.g) && isfinite(e.b))
-            glm_vec3_copy((vec3){fmaxf(e.r, 0.f), fmaxf(e.g, 0.f), fmaxf(e.b, 0.f)}, mat->emission);
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &e) == aiReturn_SUCCESS) {
+            if (!material_in_range(path, name.data, "emissiveFactor", &e.r, 3, SCENE_MAX_POWER))
+                return false;
+            glm_vec3_copy((vec3){e.r, e.g, e.b}, mat->emission);
+        }
     }
     struct aiString mode;
     if (aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, &mode) == aiReturn_SUCCESS &&
@@ -164,8 +196,11 @@ static bool load_material(Scene *s, const struct aiScene *ai, const struct aiMat
         mat->alpha_mask = true;
         float cutoff = 0.5f;
         unsigned int one = 1;
-        if (aiGetMaterialFloatArray(am, "$mat.gltf.alphaCutoff", 0, 0, &cutoff, &one) == aiReturn_SUCCESS)
+        if (aiGetMaterialFloatArray(am, "$mat.gltf.alphaCutoff", 0, 0, &cutoff, &one) == aiReturn_SUCCESS) {
+            if (!material_in_range(path, name.data, "alphaCutoff", &cutoff, 1, 1.f))
+                return false;
             mat->alpha_cutoff = cutoff;
+        }
     }
     if (aiGetMaterialTexture(am, aiTextureType_OPACITY, 0, &tex, NULL, NULL, NULL, NULL, NULL, NULL) ==
             aiReturn_SUCCESS && mat->albedo_tex >= 0) {
@@ -377,6 +412,103 @@ static bool mesh_check_raw(const char *path, struct aiScene *ai)
     return true;
 }
 
+/* assimp's file system for a mesh and every file it names (OBJ's mtllib,
+ * glTF's buffers and images): plain stdio, except that a path which is no
+ * regular file is not opened (a FIFO would block the import for ever, a
+ * directory reads as garbage) and is remembered, so that the load fails
+ * naming it rather than go on without it. */
+typedef struct MeshIo {
+    struct aiFileIO io;
+    char refused[1024]; /* the first path refused, and what it is */
+    const char *refused_kind;
+} MeshIo;
+
+static size_t mesh_io_read(struct aiFile *f, char *buf, size_t size, size_t count)
+{
+    return fread(buf, size, count, (FILE *)f->UserData);
+}
+
+static size_t mesh_io_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0; /* opened read-only */
+}
+
+static size_t mesh_io_tell(struct aiFile *f)
+{
+    long p = ftell((FILE *)f->UserData);
+    return p < 0 ? 0 : (size_t)p;
+}
+
+static size_t mesh_io_size(struct aiFile *f)
+{
+    FILE *fp = (FILE *)f->UserData;
+    long at = ftell(fp);
+    if (at < 0 || fseek(fp, 0, SEEK_END) != 0)
+        return 0;
+    long end = ftell(fp);
+    fseek(fp, at, SEEK_SET);
+    return end < 0 ? 0 : (size_t)end;
+}
+
+static enum aiReturn mesh_io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)
+{
+    int whence = origin == aiOrigin_CUR ? SEEK_CUR : origin == aiOrigin_END ? SEEK_END : SEEK_SET;
+    if (offset > (size_t)LONG_MAX)
+        return aiReturn_FAILURE;
+    return fseek((FILE *)f->UserData, (long)offset, whence) == 0 ? aiReturn_SUCCESS : aiReturn_FAILURE;
+}
+
+static void mesh_io_flush(struct aiFile *f) { (void)f; }
+
+static struct aiFile *mesh_io_open(struct aiFileIO *io, const char *path, const char *mode)
+{
+    MeshIo *m = (MeshIo *)io->UserData;
+    if (strpbrk(mode, "wa+"))
+        return NULL;
+    const char *kind;
+    FILE *fp = util_fopen_regular(path, &kind);
+    if (!fp) {
+        if (kind && !m->refused_kind) {
+            snprintf(m->refused, sizeof m->refused, "%s", path);
+            m->refused_kind = kind;
+        }
+        return NULL;
+    }
+    struct aiFile *f = calloc(1, sizeof *f);
+    if (!f) {
+        fclose(fp);
+        return NULL;
+    }
+    f->ReadProc = mesh_io_read;
+    f->WriteProc = mesh_io_write;
+    f->TellProc = mesh_io_tell;
+    f->FileSizeProc = mesh_io_size;
+    f->SeekProc = mesh_io_seek;
+    f->FlushProc = mesh_io_flush;
+    f->UserData = (aiUserData)fp;
+    return f;
+}
+
+static void mesh_io_close(struct aiFileIO *io, struct aiFile *f)
+{
+    (void)io;
+    if (!f)
+        return;
+    fclose((FILE *)f->UserData);
+    free(f);
+}
+
+/* The import's outcome against what its file system refused: false after
+ * logging when a file the mesh names is no regular file. */
+static bool mesh_io_check(const MeshIo *m, const char *path)
+{
+    if (!m->refused_kind)
+        return true;
+    log_error("scene", "%s: the file it names, %s, is %s, not a regular file", path, m->refused, m->refused_kind);
+    return false;
+}
+
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 {
     /* assimp would block on a FIFO and read a directory as garbage. */
@@ -386,9 +518,12 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
         return false;
     /* Import and validate first, check what assimp's own checks miss, then
      * post-process: its steps assert (abort) on inconsistent meshes. */
-    const struct aiScene *ai = aiImportFile(path, aiProcess_ValidateDataStructure);
-    if (!ai || !ai->mRootNode) {
-        log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
+    MeshIo io = {.io = {.OpenProc = mesh_io_open, .CloseProc = mesh_io_close}};
+    io.io.UserData = (aiUserData)&io;
+    const struct aiScene *ai = aiImportFileEx(path, aiProcess_ValidateDataStructure, &io.io);
+    if (!mesh_io_check(&io, path) || !ai || !ai->mRootNode) {
+        if (!io.refused_kind)
+            log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
         if (ai)
             aiReleaseImport(ai);
         return false;
@@ -412,12 +547,12 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
     bool ok = mat_map != NULL;
     bool gltf = util_ends_with(path, ".gltf") || util_ends_with(path, ".glb");
     for (unsigned i = 0; ok && i < ai->mNumMaterials; i++)
-        ok = load_material(s, ai, ai->mMaterials[i], dir, gltf, &mat_map[i]);
+        ok = load_material(s, ai, ai->mMaterials[i], path, dir, gltf, &mat_map[i]);
     mat3 nrm_m;
     glm_mat4_pick3((vec4 *)transform, nrm_m);
     glm_mat3_inv(nrm_m, nrm_m);
     glm_mat3_transpose(nrm_m);
-    unsigned tris = 0;
+    unsigned tris = 0, area_tris = 0; /* area_tris: with an area (counted up to the first) */
     for (unsigned mi = 0; mi < ai->mNumMeshes && ok; mi++) {
         const struct aiMesh *am = ai->mMeshes[mi];
         if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
@@ -498,6 +633,13 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
             ok = false;
         if (ok) {
             memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
+            for (uint32_t t = 0; t < n && !area_tris; t += 3) {
+                const float *a = s->vertices[idx[t]].position, *b = s->vertices[idx[t + 1]].position,
+                            *c = s->vertices[idx[t + 2]].position;
+                vec3 e1 = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2 = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, x;
+                glm_vec3_cross(e1, e2, x);
+                area_tris += glm_vec3_norm2(x) > 0.f;
+            }
             s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, mat_map[am->mMaterialIndex]};
             s->index_count += n;
             tris += n / 3;
@@ -508,6 +650,10 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
     aiReleaseImport(ai);
     if (ok && tris == 0) {
         log_error("scene", "%s: mesh file has no triangles", path);
+        ok = false;
+    } else if (ok && area_tris == 0) {
+        log_error("scene", "%s: all %u triangles have zero area (after mesh_scale/translate): nothing to draw", path,
+                  tris);
         ok = false;
     }
     if (ok)
@@ -687,7 +833,6 @@ static const char *const k_quad_light_keys[] = {"type", "position", "direction",
 
 /* The largest radiometric value a light may have: its float sums over
  * pixels and samples must stay finite. */
-#define SCENE_MAX_POWER 1e30f
 
 static void parse_light(Ctx *c, Scene *s, const cJSON *j, int index)
 {
@@ -1053,7 +1198,7 @@ static bool load_json(Scene *s, const char *path)
         }
     }
     /* Exposure 0 is allowed (a black image, as --exposure 0). */
-    get_num_in(&c, root, "exposure", &s->exposure, 0.f, false, SCENE_MAX_EXPOSURE);
+    get_num_in(&c, root, "exposure", &s->exposure, 0.f, true, SCENE_MAX_EXPOSURE); /* > 0: 0 is a black image */
     const cJSON *shadow = cJSON_GetObjectItemCaseSensitive(root, "shadow");
     if (shadow && c.ok)
         parse_settings(&c, s, shadow, "shadow");

@@ -119,6 +119,25 @@ static int open_input(const char *tag, const char *what, const char *path, size_
     return fd;
 }
 
+FILE *util_fopen_regular(const char *path, const char **kind)
+{
+    *kind = NULL;
+    struct stat st;
+    int fd = open_regular(path, &st);
+    if (fd < 0)
+        return NULL;
+    if (!S_ISREG(st.st_mode)) {
+        *kind = file_kind(st.st_mode);
+        close(fd);
+        errno = EINVAL;
+        return NULL;
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f)
+        close(fd);
+    return f;
+}
+
 bool util_check_input(const char *tag, const char *what, const char *path, size_t max_bytes, size_t *size)
 {
     int fd = open_input(tag, what, path, max_bytes, size);

@@ -35,6 +35,11 @@ bool util_check_input(const char *tag, const char *what, const char *path, size_
 /* util_check_input, then reads the whole file, NUL-terminated (caller
  * frees); NULL after logging. */
 char *util_read_input(const char *tag, const char *what, const char *path, size_t max_bytes, size_t *size);
+/* fopen(path, "rb") for a file some other file names (a mesh's materials,
+ * buffers, textures), without blocking on a FIFO: NULL, silently, when it
+ * cannot be opened (errno set) or is no regular file (then *kind says what
+ * it is: "a FIFO", "a directory", ...; else *kind is NULL). */
+FILE *util_fopen_regular(const char *path, const char **kind);
 
 /* malloc/calloc of `count` × `size` bytes for something image- or
  * scene-sized: NULL after logging "cannot allocate <what>: N bytes" under

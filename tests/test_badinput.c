@@ -73,6 +73,22 @@ typedef struct Case {
 #define PLY_HEAD "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n" \
                  "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
 
+/* One triangle in glTF: GLTF_TRI(primitive extra, buffer uri, top-level extra). */
+#define GLTF_TRI(prim, uri, extra)                                                                                     \
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"             \
+    "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}" prim "}]}],"                                      \
+    "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"          \
+    "\"max\":[1,1,0]}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"buffers\":[{\"byteLength\":36,\"uri\":\"" \
+    uri "\"}]" extra "}"
+/* (0,0,0), (1,0,0), (0,1,0) as float32. */
+#define GLTF_TRI_DATA "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"
+#define GLTF_TRI_SCALE0                                                                                               \
+    "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0,"               \
+    "\"scale\":[0,0,0]}],\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"                          \
+    "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"          \
+    "\"max\":[1,1,0]}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"buffers\":[{\"byteLength\":36,\"uri\":\"" \
+    GLTF_TRI_DATA "\"}]}"
+
 static const Case k_cases[] = {
     /* ---- scene numbers: finite, in range ---- */
     {"cam_pos_inf", SCENE("{" CORNELL ", \"camera\": {\"position\": [1e400, 0, 0], \"target\": [0, 0, 0]}}"),
@@ -203,7 +219,8 @@ static const Case k_cases[] = {
     {"mesh_scale_without_mesh", SCENE("{" CORNELL ", \"mesh_scale\": 2}"), {RENDER_S}, 1, "given without \"mesh\""},
     {"mesh_translate_inf", SCENE("{\"mesh\": \"m.obj\", \"mesh_translate\": [0, 1e400, 0]}"), {RENDER_S}, 1,
      "mesh_translate[1]"},
-    {"exposure_negative", SCENE("{" CORNELL ", \"exposure\": -1}"), {RENDER_S}, 1, "exposure: -1 is outside [0"},
+    {"exposure_negative", SCENE("{" CORNELL ", \"exposure\": -1}"), {RENDER_S}, 1, "exposure: -1 is outside (0"},
+    {"exposure_zero", SCENE("{" CORNELL ", \"exposure\": 0}"), {RENDER_S}, 1, "exposure: 0 is outside (0"},
     {"exposure_inf", SCENE("{" CORNELL ", \"exposure\": 1e400}"), {RENDER_S}, 1, "exposure: inf is not a finite"},
     {"exposure_string", SCENE("{" CORNELL ", \"exposure\": \"bright\"}"), {RENDER_S}, 1, "exposure: must be a number"},
     {"unknown_key_top", SCENE("{" CORNELL ", \"camrea\": {}}"), {RENDER_S}, 1,
@@ -322,6 +339,49 @@ static const Case k_cases[] = {
     {"texture_fifo", {{"m.obj", K_TEXT, "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n"},
                       {"m.mtl", K_TEXT, "newmtl a\nmap_Kd t.png\n"}, {"t.png", K_FIFO}},
      {"render", "--scene", "@m.obj", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "t.png: texture is a FIFO"},
+    /* Files a mesh names are opened through rtgi's own file system for
+     * assimp (scene_load.c): a FIFO would block the import for ever. */
+    {"mtllib_fifo", {{"m.obj", K_TEXT, "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"}, {"m.mtl", K_FIFO}},
+     {"render", "--scene", "@m.obj", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "m.mtl, is a FIFO, not a regular file"},
+    {"gltf_buffer_fifo", {{"m.gltf", K_TEXT, GLTF_TRI("", "b.bin", "")}, {"b.bin", K_FIFO}},
+     {"reference", "--scene", "@m.gltf", "--size", "8x8", "--spp", "1", "--out", "@out/r.pfm"}, 1,
+     "b.bin, is a FIFO, not a regular file"},
+    /* A mesh file's material values, checked as the scene file's are. */
+    {"mtl_kd_nan", {{"m.obj", K_TEXT, "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+                    {"m.mtl", K_TEXT, "newmtl a\nKd nan nan nan\n"}},
+     {"render", "--scene", "@m.obj", "--size", "8x8", "--gi", "rsm", "--out", "@out/r.pfm"}, 1,
+     "m.obj: material 'a': diffuse colour (Kd) component 0 is nan, not in [0, 1]"},
+    {"mtl_kd_negative", {{"m.obj", K_TEXT, "mtllib m.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"},
+                         {"m.mtl", K_TEXT, "newmtl a\nKd 0.5 -1 0.5\n"}},
+     {"reference", "--scene", "@m.obj", "--size", "8x8", "--spp", "1", "--out", "@out/r.pfm"}, 1,
+     "component 1 is -1, not in [0, 1]"},
+    {"gltf_base_color_huge", {{"m.gltf", K_TEXT, GLTF_TRI(",\"material\":0", GLTF_TRI_DATA,
+                                                           ",\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[1e39,0,0,1]}}]")}},
+     {"render", "--scene", "@m.gltf", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "baseColorFactor component 0 is inf"},
+    {"gltf_metallic_negative", {{"m.gltf", K_TEXT, GLTF_TRI(",\"material\":0", GLTF_TRI_DATA,
+                                                             ",\"materials\":[{\"pbrMetallicRoughness\":{\"metallicFactor\":-3}}]")}},
+     {"render", "--scene", "@m.gltf", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "metallicFactor is -3, not in [0, 1]"},
+    {"gltf_emissive_negative", {{"m.gltf", K_TEXT, GLTF_TRI(",\"material\":0", GLTF_TRI_DATA,
+                                                        ",\"materials\":[{\"emissiveFactor\":[-5,0,0]}]")}},
+     {"render", "--scene", "@m.gltf", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "emissiveFactor component 0 is -5"},
+    /* Only zero-area triangles: nothing to draw, where it had rendered black. */
+    {"obj_zero_area", {{"m.obj", K_TEXT, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"}},
+     {"render", "--scene", "@m.obj", "--size", "8x8", "--out", "@out/r.pfm"}, 1, "all 1 triangles have zero area"},
+    {"gltf_zero_scale", {{"m.gltf", K_TEXT, GLTF_TRI_SCALE0}},
+     {"reference", "--scene", "@m.gltf", "--size", "8x8", "--spp", "1", "--out", "@out/r.pfm"}, 1, "have zero area"},
+    /* ---- options checked before any work ---- */
+    {"probe_without_timings", {{0}}, {"render", "--size", "8x8", "--probe", "run", "--out", "@out/r.pfm"}, 2,
+     "--probe: needs --timings"},
+    {"probe_file_missing", {{0}}, {"render", "--size", "8x8", "--timings", "--probe", "@nope.json", "--out", "@out/r.pfm"}, 2,
+     "nope.json: cannot read probe result: it does not exist"},
+    {"probe_file_not_a_result", {{"p.json", K_TEXT, "{\"evals_2d\": 1}"}},
+     {"render", "--size", "8x8", "--timings", "--probe", "@p.json", "--out", "@out/r.pfm"}, 2, "p.json: not a probe result"},
+    {"probe_json_fifo", {{"p.json", K_FIFO}}, {"probe", "--map-size", "64", "--json", "@p.json"}, 1,
+     "p.json: output is a FIFO, not a regular file"},
+    {"compare_exposure_zero", {{"a.pfm", K_PFM8}, {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm", "--exposure", "0"}, 2,
+     "--exposure: 0 is out of range"},
+    {"render_exposure_zero", {{0}}, {"render", "--size", "8x8", "--exposure", "0", "--out", "@out/r.png"}, 2,
+     "--exposure: 0 is out of range"},
     /* ---- compare inputs ---- */
     {"compare_fifo", {{"a.pfm", K_FIFO}, {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm"}, 1,
      "a.pfm: image is a FIFO"},

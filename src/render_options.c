@@ -79,6 +79,7 @@ static const char *const k_shading_names[] = {"auto", "forward", "deferred", NUL
 
 /* --probe of the options last turned into settings (read by the timings report). */
 static const char *s_probe_path;
+static ProbeResult s_probe_file; /* its result when it names a file (read once, at parse time) */
 
 void render_options_init(RenderOptions *o, bool view)
 {
@@ -258,13 +259,12 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
     if (cli_failed(&a))
         return 2;
     if (o->probe) {
-        /* Checked now, not after the frames it would have judged. */
-        ProbeResult pr;
+        /* Read now, not after the frames it would have judged. */
         if (!o->timings) {
             cli_error(NULL, "--probe: needs --timings (the fractions are part of the timings report)");
             return 2;
         }
-        if (strcmp(o->probe, "run") && !probe_read_json(o->probe, &pr))
+        if (strcmp(o->probe, "run") && !probe_read_json(o->probe, &o->probe_file))
             return 2;
     }
     return render_options_ssaa_fits(o->width, o->height, o->ssaa) ? 0 : 2;
@@ -295,6 +295,7 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->gi_params = set.gi;
     rs->exposure = o->exposure >= 0.f ? o->exposure : scene->exposure;
     s_probe_path = o->probe;
+    s_probe_file = o->probe_file;
     rs->timings = o->timings;
     rs->timing_sync = o->timings;
     rs->ssaa = o->ssaa;
@@ -330,10 +331,8 @@ static double print_gather_efficiency(const Renderer *r, const RenderStats *st, 
         return 0;
     printf("gather_evaluations: %llu\n", (unsigned long long)st->gather_evaluations);
     printf("gather_evals_per_s: %.4g\n", rate);
-    ProbeResult pr;
-    bool have = probe_path && (!strcmp(probe_path, "run") ? probe_run(&pr, st->gather_vpl ? 0 : st->gather_map_size)
-                                                          : probe_read_json(probe_path, &pr));
-    if (!have)
+    ProbeResult pr = s_probe_file;
+    if (!probe_path || (!strcmp(probe_path, "run") && !probe_run(&pr, st->gather_vpl ? 0 : st->gather_map_size)))
         return rate;
     const char *map = st->gather_cube ? "cube" : "2d", *list = st->gather_from_list > 0 ? " + ssbo_vpl" : "";
     double bound = probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list, false);

@@ -6,6 +6,7 @@
 
 #include <stdbool.h>
 
+#include "probe.h"
 #include "renderer.h"
 #include "scene.h"
 #include "settings.h"
@@ -27,6 +28,7 @@ typedef struct RenderOptions {
     bool timings, debug;
     bool half;         /* --half: EXR output (render) or captures (view) as half floats */
     const char *probe; /* --probe FILE: a `rtgi probe --json` result for --timings */
+    ProbeResult probe_file; /* --probe FILE's result, read when the options are parsed */
     bool view;         /* the options of `rtgi view` (else `rtgi render`) */
     const char *emitter_mask; /* --emitter-mask FILE.png: the pixels that see an emitter (for compare) */
     const char *out_ao; /* --out-ao FILE.pfm|FILE.png: ambient visibility of --gi vct (--vct-ao on) */

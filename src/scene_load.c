@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <stb/stb_image.h>
@@ -442,13 +443,8 @@ static size_t mesh_io_tell(struct aiFile *f)
 
 static size_t mesh_io_size(struct aiFile *f)
 {
-    FILE *fp = (FILE *)f->UserData;
-    long at = ftell(fp);
-    if (at < 0 || fseek(fp, 0, SEEK_END) != 0)
-        return 0;
-    long end = ftell(fp);
-    fseek(fp, at, SEEK_SET);
-    return end < 0 ? 0 : (size_t)end;
+    struct stat st; /* a regular file (mesh_io_open) */
+    return fstat(fileno((FILE *)f->UserData), &st) == 0 ? (size_t)st.st_size : 0;
 }
 
 static enum aiReturn mesh_io_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)

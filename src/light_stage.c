@@ -21,24 +21,27 @@ enum { SLOT_SHADOW = 0, SLOT_RSM = 1, SLOTS_PER_LIGHT = 2 };
  * never passes for current. */
 static uint64_t s_map_draws;
 
-static bool light_is_cube(const Light *l) { return l->type == LIGHT_POINT || l->type == LIGHT_QUAD; }
+static bool light_is_cube(const Scene *s, const Light *l)
+{
+    return shadow_frame_is_cube(l, s->bounds_min, s->bounds_max);
+}
 
-float light_stage_lit_layers(const Light *l)
+float light_stage_lit_layers(const Scene *s, const Light *l)
 {
     /* Texels that can hold a lit surface: a 2D map, half a cube for a
      * one-sided quad (one face and four half faces), a whole cube. */
-    return l->type == LIGHT_QUAD ? 3.f : l->type == LIGHT_POINT ? 6.f : 1.f;
+    return l->type == LIGHT_QUAD ? 3.f : light_is_cube(s, l) ? 6.f : 1.f;
 }
 
-int light_stage_rsm_size_for_vpls(const Light *l, int vpls)
+int light_stage_rsm_size_for_vpls(const Scene *s, const Light *l, int vpls)
 {
-    int size = (int)lrintf(sqrtf((float)vpls / light_stage_lit_layers(l)));
+    int size = (int)lrintf(sqrtf((float)vpls / light_stage_lit_layers(s, l)));
     return size < 4 ? 4 : size;
 }
 
-static int rsm_size_for(const LightStageDesc *d, const Light *l)
+static int rsm_size_for(const LightStageDesc *d, const Scene *s, const Light *l)
 {
-    return d->vpl_count > 0 ? light_stage_rsm_size_for_vpls(l, d->vpl_count) : d->rsm_size;
+    return d->vpl_count > 0 ? light_stage_rsm_size_for_vpls(s, l, d->vpl_count) : d->rsm_size;
 }
 
 /* ---- Products ------------------------------------------------------------ */
@@ -121,7 +124,7 @@ static bool products_fit(const LightStage *ls, const LightStageDesc *d)
     uint64_t shadow = 0, rsm = 0;
     for (int i = 0; i < ls->light_count; i++) {
         const Light *l = &ls->scene->lights[i];
-        uint64_t faces = light_is_cube(l) ? 6 : 1, rs = (uint64_t)rsm_size_for(d, l);
+        uint64_t faces = light_is_cube(ls->scene, l) ? 6 : 1, rs = (uint64_t)rsm_size_for(d, ls->scene, l);
         if (d->needs & LIGHT_NEEDS_SHADOW_MAPS)
             shadow += faces * (uint64_t)d->shadow_map_size * (uint64_t)d->shadow_map_size * 4;
         if (d->needs & (LIGHT_NEEDS_RSM | LIGHT_NEEDS_VPLS))
@@ -155,7 +158,7 @@ static bool make_products(LightStage *ls)
             return false;
         }
         for (int i = 0; i < ls->light_count && ok; i++)
-            ok = shadow_map_create(&ls->shadow[i], light_is_cube(&s->lights[i]), d->shadow_map_size);
+            ok = shadow_map_create(&ls->shadow[i], light_is_cube(s, &s->lights[i]), d->shadow_map_size);
     }
     if (ok && (d->needs & (LIGHT_NEEDS_RSM | LIGHT_NEEDS_VPLS))) {
         ls->rsm = calloc((size_t)ls->light_count + 1, sizeof(RsmMap));
@@ -165,8 +168,8 @@ static bool make_products(LightStage *ls)
         }
         uint32_t total = 0;
         for (int i = 0; i < ls->light_count && ok; i++) {
-            bool cube = light_is_cube(&s->lights[i]);
-            int size = rsm_size_for(d, &s->lights[i]);
+            bool cube = light_is_cube(s, &s->lights[i]);
+            int size = rsm_size_for(d, s, &s->lights[i]);
             ok = rsm_map_create(&ls->rsm[i], cube, size);
             total += (uint32_t)size * (uint32_t)size * (cube ? 6u : 1u);
         }

@@ -99,11 +99,12 @@ typedef struct LightStage {
 } LightStage;
 
 /* RSM layers (2D maps or cube faces) whose texels can hold a lit surface
- * for light `l`: 1 for a 2D map, 3 for a one-sided quad's half cube, 6 for
- * a point light's cube. At most layers × size² VPLs come from its RSM. */
-float light_stage_lit_layers(const Light *l);
+ * for light `l` of scene `s`: 1 for a 2D map (a fitted point light's too,
+ * shadow_frame_point_fitted), 3 for a one-sided quad's half cube, 6 for a
+ * point light's cube. At most layers × size² VPLs come from its RSM. */
+float light_stage_lit_layers(const Scene *s, const Light *l);
 /* RSM texels per side that give about `vpls` VPLs for light `l`. */
-int light_stage_rsm_size_for_vpls(const Light *l, int vpls);
+int light_stage_rsm_size_for_vpls(const Scene *s, const Light *l, int vpls);
 
 /* Programs come from `pc` (owned by the caller, outlives the stage). */
 bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *desc, ProgramCache *pc);

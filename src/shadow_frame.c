@@ -23,6 +23,46 @@ static float farthest_corner(const vec3 p, const vec3 bmin, const vec3 bmax)
     return m;
 }
 
+bool shadow_frame_point_fitted(const Light *l, const vec3 bmin, const vec3 bmax)
+{
+    if (l->type != LIGHT_POINT)
+        return false;
+    vec3 c;
+    glm_vec3_center((float *)bmin, (float *)bmax, c);
+    float r = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
+    return r > 0.f && glm_vec3_distance((float *)l->position, c) >= 2.f * r;
+}
+
+bool shadow_frame_is_cube(const Light *l, const vec3 bmin, const vec3 bmax)
+{
+    return l->type == LIGHT_QUAD || (l->type == LIGHT_POINT && !shadow_frame_point_fitted(l, bmin, bmax));
+}
+
+/* A point light's one perspective map around the scene's bounding sphere
+ * (centre c, radius r, at distance d ≥ 2r from the light): the sphere's
+ * half-angle plus 5%, and at least margin_texels texels inside the map. */
+static void fitted_point_frame(const Light *l, const vec3 bmin, const vec3 bmax, int res, int margin_texels,
+                               ShadowFrame *f)
+{
+    vec3 c, axis, up, target;
+    glm_vec3_center((float *)bmin, (float *)bmax, c);
+    float r = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
+    glm_vec3_sub(c, (float *)l->position, axis);
+    float d = glm_vec3_norm(axis);
+    glm_vec3_scale(axis, 1.f / d, axis);
+    float half = asinf(fminf(r / d, 1.f));
+    float keep = 1.f - 2.f * (float)margin_texels / (float)res;
+    float t = fmaxf(tanf(1.05f * half), keep > 0.f ? tanf(half) / keep : 0.f);
+    glm_vec3_copy((float *)l->position, f->origin);
+    f->far = farthest_corner(l->position, bmin, bmax) * 1.01f + 1e-3f;
+    glm_vec3_add(f->origin, axis, target);
+    pick_up(axis, up);
+    glm_lookat(f->origin, target, up, f->view[0]);
+    glm_perspective(2.f * atanf(t), 1.f, fmaxf(0.99f * (d - r), f->far * 1e-4f), f->far, f->proj[0]);
+    f->texel_k = 2.f * t / (float)res;
+    f->face_count = 1;
+}
+
 void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int res, int margin_texels,
                           ShadowFrame *f)
 {
@@ -56,6 +96,8 @@ void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int 
         glm_perspective(fov, 1.f, f->far * 1e-4f, f->far, f->proj[0]);
         f->texel_k = 2.f * tanf(0.5f * fov) / (float)res;
         f->face_count = 1;
+    } else if (shadow_frame_point_fitted(l, bmin, bmax)) {
+        fitted_point_frame(l, bmin, bmax, res, margin_texels, f);
     } else {
         /* Cube faces in GL's cube-map orientation (+X, −X, +Y, −Y, +Z, −Z). */
         static const float dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -93,6 +135,12 @@ void shadow_frame_to_gpu(const Light *l, const ShadowFrame *f, int res, GpuLight
     memcpy(g->position_type, l->position, sizeof(vec3));
     g->position_type[3] = (float)l->type;
     memcpy(g->direction_width, l->direction, sizeof(vec3));
+    if (l->type == LIGHT_POINT && !f->cube) { /* fitted: the map's axis, the view's −z row */
+        const float *v = (const float *)f->view[0];
+        g->direction_width[0] = -v[2];
+        g->direction_width[1] = -v[6];
+        g->direction_width[2] = -v[10];
+    }
     g->direction_width[3] = l->type == LIGHT_DIRECTIONAL ? tanf(l->size) : light_width(l);
     if (l->type == LIGHT_QUAD) {
         vec3 n;

@@ -65,12 +65,19 @@ static void make_scene(Scene *s, LightType type, bool two_lights, bool glossy)
 static void variants_equal_general(void **state)
 {
     (void)state;
-    const LightType types[] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD};
+    /* The last: a point light far enough out for one fitted 2D map
+     * (shadow_frame_point_fitted), a variant of its own. */
+    const LightType types[] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD, LIGHT_POINT};
     int frames = 0;
-    for (int t = 0; t < 4; t++) {
+    for (int t = 0; t < 5; t++) {
         Scene s;
         bool two = t % 2 == 1, glossy = t >= 2;
         make_scene(&s, types[t], two, glossy);
+        if (t == 4) {
+            glm_vec3_copy((vec3){0.5f, 0.2f, -3.f}, s.lights[0].position);
+            glm_vec3_scale(s.lights[0].color, 40.f, s.lights[0].color);
+            assert_true(shadow_frame_point_fitted(&s.lights[0], s.bounds_min, s.bounds_max));
+        }
         RenderSettings rs = test_settings(&s, 40, 40, SHADOW_MODE_NONE);
         rs.shadow_params.map_size = 128;
         rs.shading = t < 2 ? SHADING_FORWARD : SHADING_DEFERRED; /* each light type once per path */

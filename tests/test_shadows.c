@@ -433,6 +433,77 @@ static void off_the_map_is_lit(void **state)
     scene_free(&s);
 }
 
+/* A point light far outside the scene gets one perspective map fitted to
+ * the scene's bounding sphere (shadow_frame_point_fitted) instead of a cube
+ * whose 90° faces spread the scene over a few texels.
+ *  - 3 m in front of the Cornell box (6 bounding radii), low and to one
+ *    side: the hard shadows against the direct reference, as
+ *    artefacts_against_the_reference counts them. Fitted: false shadow
+ *    0.0016, false lit 0; the cube map (texels 1.7× as wide): false lit
+ *    0.11 (checked by turning the fitting off).
+ *  - 170 m behind its closed back, top and side (the reference is black):
+ *    the share of the pixels it reaches unshadowed that the hard shadows
+ *    still light above 1% of that. Fitted: 0.6%, a line along the seam of
+ *    the floor and a wall (the bias's contact leak); the cube map (a texel
+ *    0.33 m wide there) lit all of them. */
+static void far_point_light_scene(Scene *s, const vec3 at, float intensity)
+{
+    scene_build_cornell(s);
+    Light *l = &s->lights[0];
+    l->type = LIGHT_POINT;
+    glm_vec3_copy((float *)at, l->position);
+    glm_vec3_fill(l->color, intensity);
+    l->size = 0.02f;
+    scene_finalize(s);
+}
+
+static void far_point_light_gets_a_fitted_map(void **state)
+{
+    (void)state;
+    Scene s;
+    far_point_light_scene(&s, (vec3){0.5f, 0.2f, -3.f}, 10.f);
+    assert_true(shadow_frame_point_fitted(&s.lights[0], s.bounds_min, s.bounds_max));
+    ShadowFrame f;
+    shadow_frame_compute(&s.lights[0], s.bounds_min, s.bounds_max, 1024, 2, &f);
+    assert_false(f.cube);
+    assert_true(f.texel_k < 0.65f * 2.f / 1024.f);
+    ImageF ref, none, hard;
+    test_reference(&s, CW, CH, PT_DIRECT, 128, &ref);
+    RenderSettings rs = test_settings(&s, CW, CH, SHADOW_MODE_NONE);
+    test_render(&s, &rs, &none);
+    rs.shadow = SHADOW_MODE_HARD;
+    test_render(&s, &rs, &hard);
+    ShadowArtefacts h = metric_shadow_artefacts(&hard, &ref, &none, NULL);
+    print_message("light 3 m in front: lit %zu, shadowed %zu pixels; false shadow %.4f, false lit %.4f\n", h.lit,
+                  h.shadowed, h.false_shadow, h.false_lit);
+    assert_true(h.lit > 10000 && h.shadowed > 200);
+    assert_true(h.false_shadow < 0.01 && h.false_lit < 0.02);
+    image_free(&ref);
+    image_free(&none);
+    image_free(&hard);
+    scene_free(&s);
+
+    far_point_light_scene(&s, (vec3){100.f, 100.f, 100.f}, 3e4f);
+    assert_true(shadow_frame_point_fitted(&s.lights[0], s.bounds_min, s.bounds_max));
+    rs = test_settings(&s, CW, CH, SHADOW_MODE_NONE);
+    test_render(&s, &rs, &none);
+    rs.shadow = SHADOW_MODE_HARD;
+    test_render(&s, &rs, &hard);
+    size_t lit = 0, reached = 0;
+    for (int i = 0; i < CW * CH; i++) {
+        float u = none.rgb[3 * i + 1], v = hard.rgb[3 * i + 1];
+        reached += u > 0.f;
+        lit += u > 0.f && v > 0.01f * u;
+    }
+    print_message("light 170 m behind the closed walls: %zu of %zu pixels it reaches unshadowed stay lit\n", lit,
+                  reached);
+    assert_true(reached > 5000);
+    assert_true((double)lit < 0.02 * (double)reached);
+    image_free(&none);
+    image_free(&hard);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -442,6 +513,7 @@ int main(void)
         cmocka_unit_test(artefacts_against_the_reference),
         cmocka_unit_test(pcss_penumbra_grows_pcf_does_not),
         cmocka_unit_test(off_the_map_is_lit),
+        cmocka_unit_test(far_point_light_gets_a_fitted_map),
     };
     return cmocka_run_group_tests_name("shadows", tests, test_gl_setup, test_gl_teardown);
 }

@@ -15,14 +15,15 @@ struct ShadowCoord {
     vec3 t, b; // cube: tangent frame of dir
 };
 
-// A program built for one light type (LIGHT_FIXED_TYPE, see
-// common/lights.glsl) also knows its map kind: cube maps for point and quad
-// lights (shadow_frame_compute). SHADOW_FIXED_MODE and SHADOW_FIXED_BIAS
-// likewise fix u_shadow's mode and filter bias to drop the other filters' code.
+// A program built for one light (LIGHT_FIXED_TYPE, see common/lights.glsl)
+// also knows its map kind, SHADOW_FIXED_CUBE: cube maps for point and quad
+// lights, but one 2D map for a point light far outside the scene
+// (shadow_frame_is_cube). SHADOW_FIXED_MODE and SHADOW_FIXED_BIAS likewise
+// fix u_shadow's mode and filter bias to drop the other filters' code.
 bool shadow_is_cube()
 {
-#ifdef LIGHT_FIXED_TYPE
-    return LIGHT_FIXED_TYPE == LIGHT_POINT || LIGHT_FIXED_TYPE == LIGHT_QUAD;
+#ifdef SHADOW_FIXED_CUBE
+    return SHADOW_FIXED_CUBE != 0;
 #else
     return u_light.shadow_info.w > 0.5;
 #endif

@@ -26,9 +26,9 @@
 
 /* RSM texels per side for light `l`: what --vpls sets for rows that make
  * VPLs from it, else the RSM size. */
-static int rsm_size(const Light *l, const GiParams *p, int gi)
+static int rsm_size(const Scene *s, const Light *l, const GiParams *p, int gi)
 {
-    return gi_techniques[gi]->rsm_from_vpl_count && p->vpl_count > 0 ? light_stage_rsm_size_for_vpls(l, p->vpl_count)
+    return gi_techniques[gi]->rsm_from_vpl_count && p->vpl_count > 0 ? light_stage_rsm_size_for_vpls(s, l, p->vpl_count)
                                                                       : p->rsm_size;
 }
 
@@ -42,8 +42,8 @@ static double rsm_texels(const Scene *s, const GiParams *p, int gi, bool lit_onl
     double n = 0;
     for (int i = 0; i < s->light_count; i++) {
         const Light *l = &s->lights[i];
-        double layers = lit_only ? light_stage_lit_layers(l) : (l->type == LIGHT_POINT || l->type == LIGHT_QUAD) ? 6 : 1;
-        double size = rsm_size(l, p, gi);
+        double layers = lit_only ? light_stage_lit_layers(s, l) : shadow_frame_is_cube(l, s->bounds_min, s->bounds_max) ? 6 : 1;
+        double size = rsm_size(s, l, p, gi);
         n += layers * size * size;
     }
     return n;

@@ -158,9 +158,10 @@ static void variant_defines(const PassDirect *p, const Scene *s, const Light *l,
         snprintf(grid, sizeof grid, "#define SHADOW_GRID_TAPS %d\n%s", k, unit ? "#define SHADOW_GRID_UNIT_STEP\n" : "");
     }
     snprintf(out, size,
-             "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_MODE %d\n#define SHADOW_FIXED_BIAS %d\n"
-             "#define SHADOW_FIXED_FILTER %d\n%s%s%s",
-             (int)l->type, (int)p->mode, p->filter_bias, p->pcf_filter, grid,
+             "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_CUBE %d\n#define SHADOW_FIXED_MODE %d\n"
+             "#define SHADOW_FIXED_BIAS %d\n#define SHADOW_FIXED_FILTER %d\n%s%s%s",
+             (int)l->type, shadow_frame_is_cube(l, s->bounds_min, s->bounds_max) ? 1 : 0, (int)p->mode,
+             p->filter_bias, p->pcf_filter, grid,
              scene_has_glossy(s) ? "" : "#define DIRECT_DIFFUSE_ONLY\n", extra);
 }
 

@@ -448,10 +448,11 @@ static void dispatch_opaque(const VctGi *v)
  * so each shadow tap read a cube and a 2D map), over the opaque-voxel list
  * or every voxel, built on first use; the general one (every voxel) if it
  * does not build. */
-static GLuint inject_program(VctGi *v, int type, bool list)
+static GLuint inject_program(VctGi *v, const Scene *s, const Light *l, bool list)
 {
-    char defs[64];
-    snprintf(defs, sizeof defs, "#define LIGHT_FIXED_TYPE %d\n%s", type, list ? "#define OPAQUE_LIST\n" : "");
+    char defs[96];
+    snprintf(defs, sizeof defs, "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_CUBE %d\n%s", (int)l->type,
+             shadow_frame_is_cube(l, s->bounds_min, s->bounds_max) ? 1 : 0, list ? "#define OPAQUE_LIST\n" : "");
     GLuint p = program(v, "vct_inject_fixed_type", NULL, NULL, NULL, "gi/vct/inject.comp", defs);
     return p ? p : v->inject;
 }
@@ -468,7 +469,7 @@ static void inject(VctGi *v, const GiFrame *f)
     if (lights == 0 || list)
         glClearTexImage(v->radiance[0], 0, GL_RGBA, GL_FLOAT, NULL);
     for (int i = 0; i < lights; i++) {
-        GLuint prog = inject_program(v, (int)f->scene->lights[i].type, list);
+        GLuint prog = inject_program(v, f->scene, &f->scene->lights[i], list);
         glUseProgram(prog);
         light_stage_bind_shadow(f->lights, i);
         glProgramUniform1i(prog, LOC_VCT_ACCUMULATE, i > 0);

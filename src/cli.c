@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "log.h"
 #include "scene.h"
@@ -187,4 +189,36 @@ const char *cli_value(CliArgs *a)
         return NULL;
     }
     return a->argv[a->i++];
+}
+
+/* Whether a and b name one file: the same string, or one existing file. */
+static bool same_file(const char *a, const char *b)
+{
+    if (strcmp(a, b) == 0)
+        return true;
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+int cli_check_files(int n, int outputs, const char *const opts[], const char *const paths[])
+{
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            if (paths[i] && paths[j] && strcmp(paths[i], "-") && (i < outputs || j < outputs) &&
+                same_file(paths[i], paths[j])) {
+                cli_error(NULL, "%s and %s name the same file, %s", opts[i], opts[j], paths[j]);
+                return 2;
+            }
+    for (int i = 0; i < outputs; i++) {
+        if (!paths[i] || !strcmp(paths[i], "-")) /* -: standard output */
+            continue;
+        /* The writers' own temporary file, created and removed: what the
+         * write will meet, permissions as the kernel applies them (root
+         * included); directories, devices and FIFOs refused. */
+        AtomicFile af;
+        if (!util_atomic_open(&af, "cli", paths[i]))
+            return 1;
+        util_atomic_abort(&af);
+    }
+    return 0;
 }

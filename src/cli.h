@@ -64,6 +64,17 @@ static inline bool cli_operand(const CliArgs *a) { return a->is_operand; }
  * <cmd> --help)", the nearest of the NULL-terminated `known` if one is near. */
 void cli_unknown_option(const char *opt, const char *const *known);
 
+/* Files a command reads and writes, checked before its work starts (a
+ * render or a probe can take minutes): `n` options and their paths (NULL:
+ * not given; "-": standard output), of which the first `outputs` are
+ * written. Returns 0, or the exit status after logging one line: 2 (usage)
+ * when two options name one file and either is written (the same path, or
+ * one existing file); 1 when an output cannot be written, as its writer
+ * would have found at the end (a directory, device or FIFO, or no
+ * permission: its temporary file is made and removed here, and a missing
+ * parent directory made, as the writer would). */
+int cli_check_files(int n, int outputs, const char *const opts[], const char *const paths[]);
+
 /* true if `s` is one of the NULL-terminated `list`. */
 bool cli_in_list(const char *s, const char *const *list);
 

@@ -662,6 +662,10 @@ int cmd_bench(int argc, char **argv)
     Scene scene;
     if (!scene_load(&scene, scene_name))
         return 1;
+    if (!scene_check_lights(&scene, "")) {
+        scene_free(&scene);
+        return 1;
+    }
     ps.width = width;
     ps.height = height;
     ps.progress = log_get_level() <= LOG_INFO;

@@ -157,6 +157,10 @@ int cmd_compare(int argc, char **argv)
                 return 2;
         } else if (!strcmp(opt, "--heatmap")) {
             CLI_VALUE(&a, v);
+            if (!util_ends_with(v, ".png")) {
+                cli_error(NULL, "--heatmap: '%s' must end in .png", v);
+                return 2;
+            }
             heatmap = v;
         } else if (!strcmp(opt, "--block")) {
             CLI_VALUE(&a, v);
@@ -196,6 +200,11 @@ int cmd_compare(int argc, char **argv)
         cli_error(NULL, "needs two images, TEST and REFERENCE");
         return 2;
     }
+    const char *const opts[] = {"--heatmap", "--json", "TEST", "REFERENCE", "--mask", "--unshadowed"};
+    const char *const paths[] = {heatmap, json, files[0], files[1], mask_path, unshadowed};
+    int checked = cli_check_files(6, 2, opts, paths);
+    if (checked)
+        return checked;
     ImageF t = {0}, r = {0}, m = {0}, u = {0};
     uint8_t *mask = NULL;
     float *map = NULL;

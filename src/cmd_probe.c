@@ -48,6 +48,9 @@ int cmd_probe(int argc, char **argv)
     }
     if (cli_failed(&a))
         return 2;
+    int files = cli_check_files(1, 1, (const char *const[]){"--json"}, (const char *const[]){json});
+    if (files)
+        return files;
     GlContext *gl = gl_context_create(false);
     if (!gl)
         return 1;

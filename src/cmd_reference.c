@@ -170,6 +170,11 @@ int cmd_reference(int argc, char **argv)
     }
     if (cli_failed(&a))
         return 2;
+    const char *const opts[] = {"--out", "--png", "--variance", "--emitter-mask", "--scene"};
+    const char *const paths[] = {out, png, var_out, emitter_mask, scene_name};
+    int files = cli_check_files(5, 4, opts, paths);
+    if (files)
+        return files;
     set.progress = log_get_level() <= LOG_INFO; /* --quiet: none */
     set.stop = &g_interrupted;
 
@@ -191,6 +196,10 @@ int cmd_reference(int argc, char **argv)
         return 1;
     if (light_scale >= 0.f)
         scene_rescale_lights(&scene, light_scale);
+    if (!scene_check_lights(&scene, light_scale >= 0.f ? ", after --light-scale" : "")) {
+        scene_free(&scene);
+        return 1;
+    }
     ImageF mean = {0}, var = {0};
     PtStats st = {0};
     int rc = 1;
@@ -206,6 +215,7 @@ int cmd_reference(int argc, char **argv)
         log_info("reference", "interrupted: writing the partial image with %d of %d spp", st.spp, set.spp);
     if (rendered) {
         float e = exposure >= 0.f ? exposure : scene.exposure;
+        image_warn_if_black(&mean, "reference", out);
         /* All outputs or none: a later failure removes the earlier ones. */
         bool ok = write_mean(out, &mean, e, half, st.spp, set.spp);
         if (ok && png && !(ok = image_write_png(png, &mean, e)))

@@ -195,9 +195,11 @@ int cmd_render(int argc, char **argv)
             ok = false;
         }
         if (ok && hdr_out) {
+            image_warn_if_black(&hdr, "render", o.out);
             ok = image_write(o.out, &hdr, 1.f, o.half); /* linear radiance */
         } else if (ok) {
             uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */
+            image_warn_if_black8(rgb, rs.width, rs.height, "render", o.out);
             ok = image_write_png8(o.out, rs.width, rs.height, rgb);
             free(rgb);
         }

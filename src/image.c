@@ -60,6 +60,32 @@ bool image_check_finite(const ImageF *img, const char *name)
     return false;
 }
 
+static void warn_black(const char *tag, const char *name)
+{
+    log_warn(tag, "%s: the image is black: no light reaches a surface the camera sees (check the lights, the "
+             "camera and the exposure)", name);
+}
+
+void image_warn_if_black(const ImageF *img, const char *tag, const char *name)
+{
+    size_t n = (size_t)img->width * img->height * 3;
+    for (size_t i = 0; i < n; i++)
+        if (img->rgb[i] > 0.f)
+            return;
+    warn_black(tag, name);
+}
+
+void image_warn_if_black8(const uint8_t *rgb, int width, int height, const char *tag, const char *name)
+{
+    if (!rgb)
+        return;
+    size_t n = (size_t)width * height * 3;
+    for (size_t i = 0; i < n; i++)
+        if (rgb[i])
+            return;
+    warn_black(tag, name);
+}
+
 void image_free(ImageF *img)
 {
     free(img->rgb);

@@ -33,6 +33,11 @@ size_t image_count_nonfinite(const ImageF *img, int *first_x, int *first_y);
 /* true if every value is finite; else false after logging "<name>: N of M
  * pixels are NaN or infinite (first at ...); not written". */
 bool image_check_finite(const ImageF *img, const char *name);
+/* Warns, under `tag`, when an image about to be written to `name` is black
+ * (no value above 0; an 8-bit image: every byte 0): no silent black image.
+ * Not an error: a camera may rightly look at nothing lit. */
+void image_warn_if_black(const ImageF *img, const char *tag, const char *name);
+void image_warn_if_black8(const uint8_t *rgb, int width, int height, const char *tag, const char *name);
 
 /* Writers: refuse non-finite pixels, write atomically (util_atomic_*): an
  * error leaves no file behind. Readers: regular files only (never block on

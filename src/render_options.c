@@ -258,6 +258,13 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
     }
     if (cli_failed(&a))
         return 2;
+    const char *const opts[] = {"--out", "--png", "--emitter-mask", "--out-ao", "--window-out", "--scene", "--probe",
+                                "--compare"};
+    const char *const paths[] = {o->view ? NULL : o->out, o->png, o->emitter_mask, o->out_ao, o->window_out, o->scene,
+                                 o->probe && strcmp(o->probe, "run") ? o->probe : NULL, o->compare};
+    int files = cli_check_files(8, 5, opts, paths);
+    if (files)
+        return files;
     if (o->probe) {
         /* Read now, not after the frames it would have judged. */
         if (!o->timings) {
@@ -276,6 +283,10 @@ bool render_options_load_scene(const RenderOptions *o, Scene *scene)
         return false;
     if (o->light_scale >= 0.f)
         scene_rescale_lights(scene, o->light_scale);
+    if (!scene_check_lights(scene, o->light_scale >= 0.f ? ", after --light-scale" : "")) {
+        scene_free(scene);
+        return false;
+    }
     return true;
 }
 

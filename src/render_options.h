@@ -46,7 +46,8 @@ typedef struct RenderOptions {
 /* Defaults for `rtgi render` (out = out/render.png, 3 timed frames) or
  * `rtgi view` (no screenshot, runs until closed). */
 void render_options_init(RenderOptions *o, bool view);
-/* Parses argv. 0: go on; -1: --help was shown; else an exit status (2). */
+/* Parses argv. 0: go on; -1: --help was shown; else an exit status (2 for
+ * usage, 1 for an output that cannot be written: cli_check_files). */
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void));
 /* Loads the scene the options name, with their light scale applied.
  * false after logging. */

@@ -233,6 +233,13 @@ void scene_default_camera(Scene *s)
     glm_vec3_copy(c, target);
     target[axis] += 0.5f * ext[axis];
     target[1] = s->bounds_min[1] + 0.3f * ext[1];
+    float wide = fmaxf(ext[0], ext[2]);
+    if (ext[1] < 0.25f * wide) {
+        /* A flat scene (a terrain, a floor, one quad): from eye height it
+         * would be seen edge-on; look down on it from above its top. */
+        cam->position[1] = s->bounds_max[1] + 0.3f * wide;
+        target[1] = c[1];
+    }
     glm_vec3_sub(target, cam->position, cam->forward);
     glm_vec3_normalize(cam->forward);
     vec3 right;
@@ -242,7 +249,7 @@ void scene_default_camera(Scene *s)
     cam->fov_y = glm_rad(60.f);
     float diag = glm_vec3_norm(ext);
     cam->znear = fmaxf(1e-3f, diag * 1e-4f);
-    cam->zfar = diag * 2.f;
+    cam->zfar = diag * 2.f + 0.3f * wide;
 }
 
 float light_quad_area(const Light *l)
@@ -287,4 +294,122 @@ float light_width(const Light *l)
     if (l->type == LIGHT_QUAD)
         return 0.5f * (glm_vec3_norm((float *)l->quad_u) + glm_vec3_norm((float *)l->quad_v)) * l->size;
     return l->size;
+}
+
+/* Squared distance from p to triangle abc (Ericson, Real-Time Collision
+ * Detection §5.1.5: the closest point by Voronoi region). */
+static float dist2_point_triangle(const vec3 p, const float *a, const float *b, const float *c)
+{
+    vec3 ab, ac, ap, q;
+    glm_vec3_sub((float *)b, (float *)a, ab);
+    glm_vec3_sub((float *)c, (float *)a, ac);
+    glm_vec3_sub((float *)p, (float *)a, ap);
+    float d1 = glm_vec3_dot(ab, ap), d2 = glm_vec3_dot(ac, ap);
+    if (d1 <= 0.f && d2 <= 0.f)
+        return glm_vec3_norm2(ap);
+    vec3 bp, cp;
+    glm_vec3_sub((float *)p, (float *)b, bp);
+    float d3 = glm_vec3_dot(ab, bp), d4 = glm_vec3_dot(ac, bp);
+    if (d3 >= 0.f && d4 <= d3)
+        return glm_vec3_norm2(bp);
+    glm_vec3_sub((float *)p, (float *)c, cp);
+    float d5 = glm_vec3_dot(ab, cp), d6 = glm_vec3_dot(ac, cp);
+    if (d6 >= 0.f && d5 <= d6)
+        return glm_vec3_norm2(cp);
+    float vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
+    if (vc <= 0.f && d1 >= 0.f && d3 <= 0.f) { /* edge ab */
+        glm_vec3_scale(ab, d1 / (d1 - d3), q);
+        return glm_vec3_distance2(ap, q);
+    }
+    if (vb <= 0.f && d2 >= 0.f && d6 <= 0.f) { /* edge ac */
+        glm_vec3_scale(ac, d2 / (d2 - d6), q);
+        return glm_vec3_distance2(ap, q);
+    }
+    if (va <= 0.f && d4 - d3 >= 0.f && d5 - d6 >= 0.f) { /* edge bc */
+        vec3 bc;
+        glm_vec3_sub((float *)c, (float *)b, bc);
+        glm_vec3_scale(bc, (d4 - d3) / ((d4 - d3) + (d5 - d6)), q);
+        return glm_vec3_distance2(bp, q);
+    }
+    float den = va + vb + vc;
+    if (!(den > 0.f)) /* degenerate: the nearest vertex will do */
+        return fminf(glm_vec3_norm2(ap), fminf(glm_vec3_norm2(bp), glm_vec3_norm2(cp)));
+    glm_vec3_scale(ab, vb / den, q);
+    glm_vec3_muladds(ac, vc / den, q);
+    return glm_vec3_distance2(ap, q);
+}
+
+/* Squared distance from p to the box [lo, hi] (0 inside). */
+static float dist2_point_box(const vec3 p, const vec3 lo, const vec3 hi)
+{
+    float d2 = 0.f;
+    for (int k = 0; k < 3; k++) {
+        float d = fmaxf(fmaxf(lo[k] - p[k], p[k] - hi[k]), 0.f);
+        d2 += d * d;
+    }
+    return d2;
+}
+
+bool scene_check_lights(const Scene *s, const char *after)
+{
+    for (int i = 0; i < s->light_count; i++) {
+        const Light *l = &s->lights[i];
+        if (l->type != LIGHT_POINT || l->size <= 0.f)
+            continue;
+        float r = 0.5f * l->size;
+        if (dist2_point_box(l->position, s->bounds_min, s->bounds_max) >= r * r)
+            continue;
+        float best = INFINITY;
+        for (int k = 0; k < s->submesh_count; k++) {
+            const Submesh *sm = &s->submeshes[k];
+            if (s->materials[sm->material].light_index >= 0)
+                continue;
+            for (uint32_t t = sm->first_index; t + 2 < sm->first_index + sm->index_count; t += 3)
+                best = fminf(best, dist2_point_triangle(l->position, s->vertices[s->indices[t]].position,
+                                                        s->vertices[s->indices[t + 1]].position,
+                                                        s->vertices[s->indices[t + 2]].position));
+        }
+        if (best < r * r) {
+            /* Both renderers take a sphere light for a light outside every
+             * surface: inside it, the path tracer sees none of its light
+             * and the rasterizer all of it. */
+            log_error("scene", "%s: lights[%d]: the point light's sphere (diameter %g m%s) reaches into the "
+                      "scene's surfaces, the nearest %.3g m from its centre: the diameter must be below %.3g m",
+                      s->source, i, (double)l->size, after ? after : "", (double)sqrtf(best),
+                      (double)(2.f * sqrtf(best)));
+            return false;
+        }
+    }
+    return true;
+}
+
+bool scene_check_view(const Scene *s)
+{
+    const Camera *cam = &s->camera;
+    if (s->bounds_min[0] > s->bounds_max[0] || s->index_count == 0)
+        return true;
+    float near2 = dist2_point_box(cam->position, s->bounds_min, s->bounds_max), far = 0.f, ahead = -INFINITY;
+    for (int c = 0; c < 8; c++) {
+        vec3 p = {(c & 1) ? s->bounds_max[0] : s->bounds_min[0], (c & 2) ? s->bounds_max[1] : s->bounds_min[1],
+                  (c & 4) ? s->bounds_max[2] : s->bounds_min[2]}, d;
+        glm_vec3_sub(p, (float *)cam->position, d);
+        far = fmaxf(far, glm_vec3_norm(d));
+        ahead = fmaxf(ahead, glm_vec3_dot(d, (float *)cam->forward));
+    }
+    if (near2 > cam->zfar * cam->zfar) {
+        log_error("scene", "%s: camera.far %g ends before the scene, whose nearest point is %.3g m from the camera",
+                  s->source, (double)cam->zfar, (double)sqrtf(near2));
+        return false;
+    }
+    if (cam->znear >= far) {
+        log_error("scene", "%s: camera.near %g starts past the scene, whose farthest point is %.3g m from the camera",
+                  s->source, (double)cam->znear, (double)far);
+        return false;
+    }
+    if (ahead <= cam->znear) {
+        log_error("scene", "%s: the camera sees none of the scene: all of it lies behind the camera (check "
+                  "camera.target or camera.forward)", s->source);
+        return false;
+    }
+    return true;
 }

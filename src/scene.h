@@ -210,7 +210,8 @@ void scene_rescale_lights(Scene *s, float scale);
 
 /* Loads a scene: "cornell", a .json scene file, or a mesh file (.gltf,
  * .glb, .obj, ...) that gets a default sun and camera. false after logging
- * one line naming the file and the problem. */
+ * one line naming the file and the problem (scene_check_view included;
+ * scene_check_lights is the caller's, once the light sizes are final). */
 bool scene_load(Scene *s, const char *what);
 /* The built-in scene's name that `what` is a likely typo of ("cornel":
  * "cornell"), when `what` is a bare name (no '/' or '.') and no file; else
@@ -219,6 +220,17 @@ bool scene_load(Scene *s, const char *what);
 const char *scene_builtin_near(const char *what);
 /* Loads a mesh file through assimp, appending to `s`. */
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform);
+
+/* Checks of a finalized scene that parsing cannot make, false after logging
+ * one line naming the file and the problem:
+ *  - every point light's sphere lies outside every surface (inside it the
+ *    renderers cannot agree); `after` names what set the sizes ("" or
+ *    ", after --light-scale");
+ *  - the camera sees some of the scene's bounds: camera.far reaches them,
+ *    camera.near starts before their far side, and they are not all behind
+ *    it. */
+bool scene_check_lights(const Scene *s, const char *after);
+bool scene_check_view(const Scene *s);
 
 /* Default sun and camera for a scene without them, from its bounds. */
 void scene_add_default_sun(Scene *s);

@@ -505,6 +505,22 @@ static bool mesh_io_check(const MeshIo *m, const char *path)
     return false;
 }
 
+/* assimp's import error in a user's words where its own would puzzle. */
+static void log_import_error(const char *path)
+{
+    const char *e = aiGetErrorString();
+    if (!e || !*e)
+        e = "the importer gave no reason";
+    if (strstr(e, "No suitable reader found"))
+        log_error("scene", "%s: cannot import mesh: no importer recognises its contents (damaged, or not a format "
+                  "assimp reads: .obj, .gltf, .glb, .ply, .fbx, ...)", path);
+    else if (strstr(e, "Normal buffer size does not match"))
+        log_error("scene", "%s: cannot import mesh: a facet's normal has no vertices (the file is cut short or "
+                  "damaged)", path);
+    else
+        log_error("scene", "%s: cannot import mesh (%s)", path, e);
+}
+
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 {
     /* assimp would block on a FIFO and read a directory as garbage. */
@@ -519,7 +535,7 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
     const struct aiScene *ai = aiImportFileEx(path, aiProcess_ValidateDataStructure, &io.io);
     if (!mesh_io_check(&io, path) || !ai || !ai->mRootNode) {
         if (!io.refused_kind)
-            log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
+            log_import_error(path);
         if (ai)
             aiReleaseImport(ai);
         return false;
@@ -532,7 +548,7 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
                      aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
     ai = aiApplyPostProcessing(ai, flags); /* releases the scene on failure */
     if (!ai || !ai->mRootNode) {
-        log_error("scene", "%s: cannot import mesh (%s)", path, aiGetErrorString());
+        log_import_error(path);
         if (ai)
             aiReleaseImport(ai);
         return false;
@@ -1225,7 +1241,7 @@ const char *scene_builtin_near(const char *what)
     return near && access(what, F_OK) != 0 ? near : NULL;
 }
 
-bool scene_load(Scene *s, const char *what)
+static bool load_any(Scene *s, const char *what)
 {
     if (strcmp(what, "cornell") == 0) {
         scene_build_cornell(s);
@@ -1257,4 +1273,14 @@ bool scene_load(Scene *s, const char *what)
     scene_finalize(s);
     scene_default_camera(s);
     return true;
+}
+
+bool scene_load(Scene *s, const char *what)
+{
+    if (!load_any(s, what))
+        return false;
+    if (scene_check_view(s))
+        return true;
+    scene_free(s);
+    return false;
 }

@@ -219,6 +219,22 @@ static const Case k_cases[] = {
     {"mesh_scale_without_mesh", SCENE("{" CORNELL ", \"mesh_scale\": 2}"), {RENDER_S}, 1, "given without \"mesh\""},
     {"mesh_translate_inf", SCENE("{\"mesh\": \"m.obj\", \"mesh_translate\": [0, 1e400, 0]}"), {RENDER_S}, 1,
      "mesh_translate[1]"},
+    /* ---- views that see nothing, lights inside surfaces ---- */
+    {"camera_far_before_scene", SCENE("{" CORNELL ", \"camera\": {\"position\": [0.278, 0.273, -0.8], "
+                                      "\"target\": [0.278, 0.273, 0.28], \"far\": 0.5}}"),
+     {RENDER_S}, 1, "camera.far 0.5 ends before the scene, whose nearest point is 0.8 m from the camera"},
+    {"camera_near_past_scene", SCENE("{" CORNELL ", \"camera\": {\"position\": [0.278, 0.273, -0.8], "
+                                     "\"target\": [0.278, 0.273, 0.28], \"near\": 5, \"far\": 10}}"),
+     {REF_S}, 1, "camera.near 5 starts past the scene"},
+    {"camera_looks_away", SCENE("{" CORNELL ", \"camera\": {\"position\": [0.278, 0.273, -0.8], "
+                                "\"target\": [0.278, 0.273, -2]}}"),
+     {RENDER_S}, 1, "the camera sees none of the scene: all of it lies behind the camera"},
+    {"point_light_in_surfaces", SCENE("{" CORNELL ", \"lights\": [{\"type\": \"point\", \"position\": [0.278, 0.45, 0.2795], "
+                                      "\"intensity\": 0.2, \"diameter\": 10}]}"),
+     {REF_S}, 1, "lights[0]: the point light's sphere (diameter 10 m) reaches into the scene's surfaces"},
+    {"point_light_in_surfaces_scaled", SCENE("{" CORNELL ", \"lights\": [{\"type\": \"point\", \"position\": [0.278, 0.45, 0.2795], "
+                                             "\"intensity\": 0.2, \"diameter\": 0.05}]}"),
+     {RENDER_S, "--light-scale", "10"}, 1, "(diameter 0.5 m, after --light-scale) reaches into"},
     {"exposure_negative", SCENE("{" CORNELL ", \"exposure\": -1}"), {RENDER_S}, 1, "exposure: -1 is outside (0"},
     {"exposure_zero", SCENE("{" CORNELL ", \"exposure\": 0}"), {RENDER_S}, 1, "exposure: 0 is outside (0"},
     {"exposure_inf", SCENE("{" CORNELL ", \"exposure\": 1e400}"), {RENDER_S}, 1, "exposure: inf is not a finite"},
@@ -383,6 +399,17 @@ static const Case k_cases[] = {
     {"render_exposure_zero", {{0}}, {"render", "--size", "8x8", "--exposure", "0", "--out", "@out/r.png"}, 2,
      "--exposure: 0 is out of range"},
     /* ---- compare inputs ---- */
+    /* ---- outputs that name one file, or an input ---- */
+    {"render_out_is_png", {{NULL}}, {"render", "--size", "8x8", "--out", "@out/r.png", "--png", "@out/r.png"}, 2,
+     "--out and --png name the same file"},
+    {"reference_out_is_variance", {{NULL}}, {"reference", "--size", "8x8", "--spp", "1", "--out", "@out/r.pfm",
+                                             "--variance", "@out/r.pfm"}, 2, "--out and --variance name the same file"},
+    {"compare_heatmap_is_input", {{"a.png", K_TEXT, "x"}, {"b.pfm", K_PFM8}}, {"compare", "@a.png", "@b.pfm", "--heatmap", "@a.png"}, 2,
+     "--heatmap and TEST name the same file"},
+    {"compare_heatmap_not_png", {{"a.pfm", K_PFM8}, {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm", "--heatmap", "@out/h.pfm"}, 2,
+     "--heatmap: '"},
+    {"probe_json_directory", {{"p.json", K_DIR}}, {"probe", "--map-size", "64", "--json", "@p.json"}, 1,
+     "p.json: output is a directory"},
     {"compare_fifo", {{"a.pfm", K_FIFO}, {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm"}, 1,
      "a.pfm: image is a FIFO"},
     {"compare_fifo_png", {{"a.pfm", K_PFM8}, {"b.png", K_FIFO}}, {"compare", "@a.pfm", "@b.png"}, 1,
@@ -701,6 +728,55 @@ static void lenient_unknown_key_is_warning(void **state)
     unlink(path);
 }
 
+/* A black image is written (a camera may rightly see nothing lit) but
+ * never silently: render and reference warn, naming the file. The scene: a
+ * spot light in front of the Cornell box, turned away from it. A flat scene's
+ * default camera looks down on it rather than along it (one quad, lit by
+ * the default sun): no warning, a lit image. */
+static void black_image_is_reported(void **state)
+{
+    (void)state;
+    char scene[700], flat[700], out[700];
+    snprintf(scene, sizeof scene, "%s/black.json", g_root);
+    snprintf(flat, sizeof flat, "%s/flat.json", g_root);
+    snprintf(out, sizeof out, "%s/black.pfm", g_root);
+    const char *json = "{\"builtin\": \"cornell\", \"lights\": [{\"type\": \"spot\", \"position\": [0.278, 0.3, -0.5], "
+                       "\"direction\": [0, 0, -1], \"intensity\": 1, \"inner_deg\": 20, \"outer_deg\": 30}]}";
+    write_bytes(scene, json, strlen(json));
+    const char *cmds[2][12] = {
+        {"render", "--scene", scene, "--size", "16x16", "--gi", "none", "--shadow", "hard", "--out", out, NULL},
+        {"reference", "--scene", scene, "--size", "16x16", "--spp", "1", "--out", out, NULL}};
+    for (int k = 0; k < 2; k++) {
+        char *err = NULL;
+        int rc = test_run_cli(&err, cmds[k][0], cmds[k][1], cmds[k][2], cmds[k][3], cmds[k][4], cmds[k][5],
+                              cmds[k][6], cmds[k][7], cmds[k][8], cmds[k][9], cmds[k][10], NULL);
+        if (rc != 0 || !err || !strstr(err, "warning [") || !strstr(err, "black.pfm: the image is black"))
+            fail_msg("%s: exit %d, stderr: %s", cmds[k][0], rc, err ? err : "");
+        free(err);
+        ImageF img = {0};
+        assert_true(image_read_pfm(out, &img));
+        assert_true(test_image_mean(&img) == 0.0);
+        image_free(&img);
+        unlink(out);
+    }
+    json = "{\"quads\": [{\"vertices\": [[-1, 0, -1], [-1, 0, 1], [1, 0, 1], [1, 0, -1]]}]}";
+    write_bytes(flat, json, strlen(json));
+    char *err = NULL;
+    int rc = test_run_cli(&err, "render", "--scene", flat, "--size", "16x16", "--out", out, NULL);
+    if (rc != 0 || (err && strstr(err, "the image is black")))
+        fail_msg("flat scene: exit %d, stderr: %s", rc, err ? err : "");
+    free(err);
+    ImageF img = {0};
+    assert_true(image_read_pfm(out, &img));
+    double mean = test_image_mean(&img);
+    print_message("one flat quad from the default camera: mean radiance %g\n", mean);
+    assert_true(mean > 0.1);
+    image_free(&img);
+    unlink(out);
+    unlink(scene);
+    unlink(flat);
+}
+
 /* compare --allow-nonfinite: the metrics may be NaN; --json is still valid
  * JSON (null for them) and escapes a file name with quotes. */
 static void compare_json_is_valid(void **state)
@@ -857,7 +933,7 @@ int main(void)
     remove_tree(g_root);
     mkdir(g_root, 0700);
     enum { N = sizeof k_cases / sizeof k_cases[0] };
-    struct CMUnitTest tests[N + 6];
+    struct CMUnitTest tests[N + 7];
     for (int i = 0; i < N; i++)
         tests[i] = (struct CMUnitTest){k_cases[i].name, bad_input_case, NULL, NULL, (void *)&k_cases[i]};
     tests[N + 0] = (struct CMUnitTest)cmocka_unit_test(lenient_unknown_key_is_warning);
@@ -866,7 +942,8 @@ int main(void)
     tests[N + 3] = (struct CMUnitTest)cmocka_unit_test(atomic_abort_leaves_nothing);
     tests[N + 4] = (struct CMUnitTest)cmocka_unit_test(nearest_and_keys);
     tests[N + 5] = (struct CMUnitTest)cmocka_unit_test(valid_glb_loads);
-    int failed = _cmocka_run_group_tests("badinput", tests, N + 6, NULL, NULL);
+    tests[N + 6] = (struct CMUnitTest)cmocka_unit_test(black_image_is_reported);
+    int failed = _cmocka_run_group_tests("badinput", tests, N + 7, NULL, NULL);
     if (!failed)
         remove_tree(g_root);
     return failed;

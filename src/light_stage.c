@@ -424,6 +424,14 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     /* Frames: every light's shadow-lookup block, whether or not maps are
      * drawn; a map is drawn unless caching finds it current. */
     bool maps = (d->needs & LIGHT_NEEDS_SHADOW_MAPS) != 0, timing = false;
+    for (int i = 0; i < ls->light_count && (ls->shadow || ls->rsm); i++) {
+        bool cube = light_is_cube(s, &s->lights[i]);
+        if (((ls->shadow && ls->shadow[i].cube != cube) || (ls->rsm && ls->rsm[i].cube != cube)) && !ls->kind_warned) {
+            ls->kind_warned = true;
+            log_error("lights", "light %d moved across the bound between a cube map and a fitted 2D map "
+                      "(shadow_frame_point_fitted): its maps keep their kind until the renderer is made again", i);
+        }
+    }
     for (int i = 0; i < ls->light_count; i++) {
         ShadowMap none = {0}, *m = maps ? &ls->shadow[i] : &none;
         GpuLight g;

@@ -96,6 +96,7 @@ typedef struct LightStage {
     GLuint rsm_program_untextured;   /* the same for opaque materials without textures */
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
     GLuint shadow_compare;       /* depth-compare sampler for TEX_SHADOW_COMPARE_2D/CUBE */
+    bool kind_warned;            /* a light's map kind changed under its products (light_stage_run) */
 } LightStage;
 
 /* RSM layers (2D maps or cube faces) whose texels can hold a lit surface
@@ -116,7 +117,12 @@ uint64_t light_stage_gpu_bytes(const LightStage *ls);
 bool light_stage_configure(LightStage *ls, const LightStageDesc *desc);
 
 /* Computes every light's frames into the light array and builds the
- * products of the description (timer scopes "shadow", "rsm", "vpl_generate"). */
+ * products of the description (timer scopes "shadow", "rsm", "vpl_generate").
+ * A light's map kind (cube or 2D, shadow_frame_is_cube) is fixed when its
+ * products are made, and the GI techniques size their own buffers from it:
+ * a point light moved across shadow_frame_point_fitted's bound needs a new
+ * renderer (renderer_create). Nothing in rtgi moves lights; a caller that
+ * does gets one error line here, not a silent wrong image. */
 void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t);
 
 /* Forgets what the maps were drawn for: the next run redraws them all. */

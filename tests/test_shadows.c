@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "log.h"
 #include "metrics.h"
 #include "test_util.h"
 
@@ -457,6 +458,35 @@ static void far_point_light_scene(Scene *s, const vec3 at, float intensity)
     scene_finalize(s);
 }
 
+static void count_light_errors(LogLevel level, const char *tag, const char *message, void *user)
+{
+    if (level == LOG_ERROR && !strcmp(tag, "lights") && strstr(message, "moved across the bound"))
+        ++*(int *)user;
+}
+
+/* The map kind is fixed with the products (light_stage_run): a light moved
+ * across the fitting bound is reported once, not drawn wrong in silence. */
+static void moved_across_the_fitting_bound_is_reported(void **state)
+{
+    (void)state;
+    Scene s;
+    far_point_light_scene(&s, (vec3){0.278f, 0.4f, 0.28f}, 0.2f);
+    RenderSettings rs = test_settings(&s, 16, 16, SHADOW_MODE_HARD);
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    int errors = 0;
+    log_set_hook(count_light_errors, &errors);
+    renderer_frame(&r, &s.camera);
+    assert_int_equal(errors, 0);
+    glm_vec3_copy((vec3){0.5f, 0.2f, -3.f}, s.lights[0].position);
+    renderer_frame(&r, &s.camera);
+    renderer_frame(&r, &s.camera);
+    log_set_hook(NULL, NULL);
+    assert_int_equal(errors, 1);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
 static void far_point_light_gets_a_fitted_map(void **state)
 {
     (void)state;
@@ -514,6 +544,7 @@ int main(void)
         cmocka_unit_test(pcss_penumbra_grows_pcf_does_not),
         cmocka_unit_test(off_the_map_is_lit),
         cmocka_unit_test(far_point_light_gets_a_fitted_map),
+        cmocka_unit_test(moved_across_the_fitting_bound_is_reported),
     };
     return cmocka_run_group_tests_name("shadows", tests, test_gl_setup, test_gl_teardown);
 }

@@ -370,9 +370,8 @@ static void rsm_face(const LightStage *ls, int face, void *user)
     const float one = 1.f;
     glClearNamedFramebufferuiv(m->fbo, GL_COLOR, 0, zero);
     glClearNamedFramebufferfv(m->fbo, GL_DEPTH, 0, &one);
-    /* The face (or spot) axis is the view's −z row. */
-    const float *v = (const float *)m->frame.view[face];
-    vec3 axis = {-v[2], -v[6], -v[10]};
+    vec3 axis; /* the face's (or spot's, or fitted map's) */
+    shadow_frame_axis(&m->frame, face, axis);
     const GLuint programs[3] = {ls->rsm_program, ls->rsm_program_opaque, ls->rsm_program_untextured};
     for (int i = 0; i < 3; i++)
         glProgramUniform3fv(programs[i], LOC_RSM_FACE_AXIS, 1, axis);

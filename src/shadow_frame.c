@@ -117,6 +117,14 @@ void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int 
         glm_mat4_mul(f->proj[i], f->view[i], f->view_proj[i]);
 }
 
+void shadow_frame_axis(const ShadowFrame *f, int face, vec3 axis)
+{
+    const float *v = (const float *)f->view[face];
+    axis[0] = -v[2];
+    axis[1] = -v[6];
+    axis[2] = -v[10];
+}
+
 void shadow_frame_project(const ShadowFrame *f, const Light *l, const vec3 world, vec3 out)
 {
     vec4 p = {world[0], world[1], world[2], 1.f};
@@ -135,12 +143,8 @@ void shadow_frame_to_gpu(const Light *l, const ShadowFrame *f, int res, GpuLight
     memcpy(g->position_type, l->position, sizeof(vec3));
     g->position_type[3] = (float)l->type;
     memcpy(g->direction_width, l->direction, sizeof(vec3));
-    if (l->type == LIGHT_POINT && !f->cube) { /* fitted: the map's axis, the view's −z row */
-        const float *v = (const float *)f->view[0];
-        g->direction_width[0] = -v[2];
-        g->direction_width[1] = -v[6];
-        g->direction_width[2] = -v[10];
-    }
+    if (l->type == LIGHT_POINT && !f->cube) /* fitted: the map's axis */
+        shadow_frame_axis(f, 0, g->direction_width);
     g->direction_width[3] = l->type == LIGHT_DIRECTIONAL ? tanf(l->size) : light_width(l);
     if (l->type == LIGHT_QUAD) {
         vec3 n;

@@ -42,6 +42,9 @@ bool shadow_frame_is_cube(const Light *l, const vec3 bounds_min, const vec3 boun
  * maps: 2, see light_stage.c shadow_face). */
 void shadow_frame_compute(const Light *l, const vec3 bounds_min, const vec3 bounds_max, int resolution,
                           int margin_texels, ShadowFrame *out);
+/* The unit direction face `face` looks along (the spot's or fitted map's
+ * axis, a cube face's): its view matrix's −z row. */
+void shadow_frame_axis(const ShadowFrame *f, int face, vec3 axis);
 /* Maps a world point through face 0 to shadow-map coordinates (u, v in
  * [0,1], depth = stored distance / far). */
 void shadow_frame_project(const ShadowFrame *f, const Light *l, const vec3 world, vec3 out_uvd);

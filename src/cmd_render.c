@@ -229,7 +229,7 @@ int cmd_render(int argc, char **argv)
                      gl_context_renderer(gl));
             if (o.timings) {
                 double cold_ms = 1e3 * (t1 - t0) / frames, ms;
-                double gather = render_options_print_timings(&r, gl_context_renderer(gl), cold_ms);
+                GatherRates gather = render_options_print_timings(&r, gl_context_renderer(gl), cold_ms);
                 /* The frames above draw every light product (cold frames);
                  * steady frames keep them, as the window does while the
                  * lights stand still (the untimed first one draws them). */
@@ -239,9 +239,9 @@ int cmd_render(int argc, char **argv)
                     render_options_print_steady(&r, cold_ms, ms);
                 RenderSettings twin = steady;
                 twin.gi_params.gather_reads_only = true;
-                if (render_options_reads_twin(&rs, gather) &&
+                if (render_options_reads_twin(&rs, &gather) &&
                     timed_frames(&r, &twin, &scene.camera, &clock, frames, &ms))
-                    render_options_print_reads_twin(&r, gather);
+                    render_options_print_reads_twin(&r, &gather);
             }
         }
     }

@@ -316,53 +316,71 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
 
 /* The gather's evaluations/s over its passes' time in their fastest frame
  * (each pass's, summed; as rtgi probe takes its kernels' fastest run, so
- * that the load of a shared machine does not lower one side only) and, with
- * a probe result, the fraction of two bounds: issue 11's yardstick, the
- * two-fetch kernel (PROBE_RSM_FETCHES RGBA32F fetches per RSM sample; a
+ * that the load of a shared machine does not lower one side only): of
+ * every gather pass the technique listed (pass < 0) or of one. */
+static double gather_rate(const Renderer *r, const RenderStats *st, int pass)
+{
+    double ms = 0;
+    uint64_t evaluations = 0;
+    for (int i = 0; i < st->gather_pass_count; i++) {
+        if (pass >= 0 && i != pass)
+            continue;
+        double m = gpu_timer_min_ms(&r->timer, st->gather_passes[i].name, r->timer.sync);
+        ms += m > 0 ? m : 0;
+        evaluations += st->gather_passes[i].evaluations;
+    }
+    return evaluations == 0 || ms <= 0 ? 0 : (double)evaluations / (ms * 1e-3);
+}
+
+/* With a probe result, the fraction of two bounds: issue 11's yardstick,
+ * the two-fetch kernel (PROBE_RSM_FETCHES RGBA32F fetches per RSM sample; a
  * VPL's three vec4 from a storage buffer for VPL loops), and for RSM
  * gathers the kernel that reads what they read, one packed texel per
  * sample. `--probe run` measures on maps of the gather's RSM size: the
- * rate of a fetch depends on the size of the map it reads. */
-static double gather_rate(const Renderer *r, const RenderStats *st)
+ * rate of a fetch depends on the size of the map it reads. Each gather
+ * pass's own lines (gather_pass_NAME_*) follow the whole gather's. */
+static GatherRates print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
 {
-    static const char *const passes[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
-                                         "rsm_gather_interleaved", "vpl_shade", NULL};
-    double ms = 0;
-    for (int i = 0; passes[i]; i++) {
-        double m = gpu_timer_min_ms(&r->timer, passes[i], r->timer.sync);
-        ms += m > 0 ? m : 0;
-    }
-    return st->gather_evaluations == 0 || ms <= 0 ? 0 : (double)st->gather_evaluations / (ms * 1e-3);
-}
-
-static double print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
-{
-    double rate = gather_rate(r, st);
+    GatherRates rates = {gather_rate(r, st, -1), {0}};
+    double rate = rates.total;
     if (rate <= 0)
-        return 0;
+        return rates;
     printf("gather_evaluations: %llu\n", (unsigned long long)st->gather_evaluations);
     printf("gather_evals_per_s: %.4g\n", rate);
     ProbeResult pr = s_probe_file;
-    if (!probe_path || (!strcmp(probe_path, "run") && !probe_run(&pr, st->gather_vpl ? 0 : st->gather_map_size)))
-        return rate;
+    bool probed = probe_path && (strcmp(probe_path, "run") || probe_run(&pr, st->gather_vpl ? 0 : st->gather_map_size));
     const char *map = st->gather_cube ? "cube" : "2d", *list = st->gather_from_list > 0 ? " + ssbo_vpl" : "";
-    double bound = probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list, false);
-    if (!st->gather_vpl)
-        printf("gather_probe_map_size: %d\n", pr.map_size);
-    if (st->gather_vpl)
-        printf("gather_probe_bound: %.4g (ssbo_vpl)\n", bound);
-    else
-        printf("gather_probe_bound: %.4g (%s_fetch2%s)\n", bound, map, list);
-    printf("gather_fraction_of_bound: %.3f\n", rate / bound);
-    double texel = st->gather_vpl ? 0 : probe_bound(&pr, false, st->gather_cube, st->gather_from_list, true);
-    if (texel > 0) {
-        printf("gather_texel_bound: %.4g (%s_texel%s)\n", texel, map, list);
-        printf("gather_fraction_of_texel_bound: %.3f\n", rate / texel);
+    double bound = probed ? probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list, false) : 0;
+    double texel = probed && !st->gather_vpl ? probe_bound(&pr, false, st->gather_cube, st->gather_from_list, true) : 0;
+    if (probed) {
+        if (!st->gather_vpl)
+            printf("gather_probe_map_size: %d\n", pr.map_size);
+        if (st->gather_vpl)
+            printf("gather_probe_bound: %.4g (ssbo_vpl)\n", bound);
+        else
+            printf("gather_probe_bound: %.4g (%s_fetch2%s)\n", bound, map, list);
+        printf("gather_fraction_of_bound: %.3f\n", rate / bound);
+        if (texel > 0) {
+            printf("gather_texel_bound: %.4g (%s_texel%s)\n", texel, map, list);
+            printf("gather_fraction_of_texel_bound: %.3f\n", rate / texel);
+        }
     }
-    return rate;
+    for (int i = 0; i < st->gather_pass_count; i++) {
+        const GiGatherPass *p = &st->gather_passes[i];
+        double pass_rate = rates.pass[i] = gather_rate(r, st, i);
+        printf("gather_pass_%s_evaluations: %llu\n", p->name, (unsigned long long)p->evaluations);
+        if (pass_rate <= 0)
+            continue;
+        printf("gather_pass_%s_evals_per_s: %.4g\n", p->name, pass_rate);
+        if (bound > 0)
+            printf("gather_pass_%s_fraction_of_bound: %.3f\n", p->name, pass_rate / bound);
+        if (texel > 0)
+            printf("gather_pass_%s_fraction_of_texel_bound: %.3f\n", p->name, pass_rate / texel);
+    }
+    return rates;
 }
 
-double render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)
+GatherRates render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)
 {
     const RenderSettings *rs = &r->settings;
     printf("renderer: %s\n", gl_renderer);
@@ -373,7 +391,7 @@ double render_options_print_timings(Renderer *r, const char *gl_renderer, double
     printf("light_memory_mib: %.3f\nframe_memory_mib: %.3f\nscene_memory_mib: %.3f\ngpu_memory_mib: %.3f\n",
            render_mib(mem.lights), render_mib(mem.frame), render_mib(mem.scene), render_mib(render_memory_total(&mem)));
     if (rs->gi == GI_NONE)
-        return 0;
+        return (GatherRates){0};
     double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs); /* shaded pixels */
     printf("gathered_pixels: %u\n", st->gathered_pixels);
     if (rs->gi == GI_RSM_INTERP)
@@ -393,18 +411,27 @@ double render_options_print_timings(Renderer *r, const char *gl_renderer, double
     return print_gather_efficiency(r, st, s_probe_path);
 }
 
-bool render_options_reads_twin(const RenderSettings *rs, double gather_evals_per_s)
+bool render_options_reads_twin(const RenderSettings *rs, const GatherRates *gather)
 {
-    return s_probe_path && gather_evals_per_s > 0 && (rs->gi == GI_RSM || rs->gi == GI_RSM_INTERP || rs->gi == GI_RSM_INTERLEAVED);
+    return s_probe_path && gather->total > 0 && (rs->gi == GI_RSM || rs->gi == GI_RSM_INTERP || rs->gi == GI_RSM_INTERLEAVED);
 }
 
-void render_options_print_reads_twin(Renderer *r, double gather_evals_per_s)
+void render_options_print_reads_twin(Renderer *r, const GatherRates *gather)
 {
-    double rate = gather_rate(r, renderer_collect_stats(r));
+    const RenderStats *st = renderer_collect_stats(r);
+    double rate = gather_rate(r, st, -1);
     if (rate <= 0)
         return;
     printf("gather_reads_only_evals_per_s: %.4g\n", rate);
-    printf("gather_fraction_of_reads_only: %.3f\n", gather_evals_per_s / rate);
+    printf("gather_fraction_of_reads_only: %.3f\n", gather->total / rate);
+    for (int i = 0; i < st->gather_pass_count; i++) {
+        double twin = gather_rate(r, st, i);
+        if (twin <= 0)
+            continue;
+        printf("gather_pass_%s_reads_only_evals_per_s: %.4g\n", st->gather_passes[i].name, twin);
+        if (gather->pass[i] > 0)
+            printf("gather_pass_%s_fraction_of_reads_only: %.3f\n", st->gather_passes[i].name, gather->pass[i] / twin);
+    }
 }
 
 void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms)

@@ -114,6 +114,36 @@ static void reads_only_twin_runs(void **state)
             assert_true(isfinite(v) && v > 0);
             assert_non_null(strstr(text, "gather_fraction_of_reads_only: "));
         }
+        /* Each gather pass's lines: its evaluations (summing to the
+         * gather's), its rate, its fraction of the bound and of its twin. */
+        const char *passes[2] = {"rsm_gather", NULL};
+        if (!strcmp(a[1], "rsm-interp")) {
+            passes[0] = "rsm_gather_lowres";
+            passes[1] = "rsm_gather_full";
+        } else if (!strcmp(a[1], "rsm-interleaved")) {
+            passes[0] = "rsm_gather_interleaved";
+        } else if (!cases[i].twin) {
+            passes[0] = "vpl_shade";
+        }
+        const char *total = strstr(text, "gather_evaluations: ");
+        assert_non_null(total);
+        unsigned long long want = strtoull(total + strlen("gather_evaluations: "), NULL, 10), sum = 0;
+        for (int p = 0; p < 2 && passes[p]; p++) {
+            char key[128];
+            snprintf(key, sizeof key, "gather_pass_%s_evaluations: ", passes[p]);
+            const char *at = strstr(text, key);
+            assert_non_null(at);
+            sum += strtoull(at + strlen(key), NULL, 10);
+            const char *const suffixes[] = {"evals_per_s", "fraction_of_bound", "fraction_of_reads_only"};
+            for (int k = 0; k < (cases[i].twin ? 3 : 2); k++) {
+                snprintf(key, sizeof key, "gather_pass_%s_%s: ", passes[p], suffixes[k]);
+                at = strstr(text, key);
+                assert_non_null(at);
+                double v = strtod(at + strlen(key), NULL);
+                assert_true(isfinite(v) && v > 0);
+            }
+        }
+        assert_true(sum == want);
         free(text);
     }
 }

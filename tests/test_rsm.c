@@ -570,6 +570,27 @@ static void evaluations_count_surfaces_only(void **state)
             assert_int_equal(st.gather_evaluations, (uint64_t)all * (uint64_t)s.gi.samples);
         if (modes[i] == GI_RSM_INTERLEAVED)
             assert_int_equal(st.gather_evaluations, (uint64_t)all * (uint64_t)(s.gi.samples / 16));
+        /* Each gather pass's own count (--timings prints its rate), named as
+         * its timer: rsm-interp's two passes split the evaluations. */
+        uint64_t sum = 0;
+        for (int p = 0; p < st.gather_pass_count; p++)
+            sum += st.gather_passes[p].evaluations;
+        assert_true(sum == st.gather_evaluations);
+        if (modes[i] == GI_RSM_INTERP) {
+            assert_int_equal(st.gather_pass_count, 2);
+            assert_string_equal(st.gather_passes[0].name, "rsm_gather_lowres");
+            assert_string_equal(st.gather_passes[1].name, "rsm_gather_full");
+            assert_true(st.gather_passes[0].evaluations == (uint64_t)st.lowres_gathers * (uint64_t)s.gi.samples);
+            assert_true(st.gather_passes[1].evaluations == (uint64_t)st.full_gathers * (uint64_t)s.gi.samples);
+        } else if (modes[i] == GI_LPV || modes[i] == GI_VCT) {
+            assert_int_equal(st.gather_pass_count, 0); /* no gather pass */
+        } else {
+            assert_int_equal(st.gather_pass_count, 1);
+            const char *name = modes[i] == GI_RSM               ? "rsm_gather"
+                               : modes[i] == GI_RSM_INTERLEAVED ? "rsm_gather_interleaved"
+                                                                : "vpl_shade";
+            assert_string_equal(st.gather_passes[0].name, name);
+        }
         renderer_destroy(&r);
     }
     scene_free(&s);

@@ -1,6 +1,7 @@
 /* gi.c — the technique table, and "none". */
 #include "gi/gi.h"
 
+#include <assert.h>
 #include <cglm/vec3.h>
 #include <math.h>
 #include <stddef.h>
@@ -113,6 +114,15 @@ const GiTechnique gi_none = {
     .summary = "direct light only",
     .needs = none_needs,
 };
+
+void gi_stats_add_gather(GiStats *st, const char *name, uint64_t evaluations)
+{
+    assert(st->gather_pass_count < GI_GATHER_PASSES);
+    if (st->gather_pass_count >= GI_GATHER_PASSES)
+        return;
+    st->gather_passes[st->gather_pass_count++] = (GiGatherPass){name, evaluations};
+    st->gather_evaluations += evaluations;
+}
 
 uint32_t gi_count_surfaces(const GiFrame *f, ProgramCache *pc, int step)
 {

@@ -29,6 +29,15 @@
 #include "shared/gpu_types.h"
 #include "targets.h"
 
+/* A pass that evaluates samples or VPLs per pixel, named as its GPU timer:
+ * `--timings` prints each one's evaluations/s and its fraction of the
+ * probe's bound (issue 11). */
+#define GI_GATHER_PASSES 2
+typedef struct GiGatherPass {
+    const char *name;     /* its timer's name (a literal) */
+    uint64_t evaluations; /* its sample (or VPL) evaluations in one frame */
+} GiGatherPass;
+
 /* Counters of a frame's GI work (read back on request). */
 typedef struct GiStats {
     uint32_t vpl_count;       /* VPLs in the buffer (VPL techniques, exhaustive gathers) */
@@ -42,7 +51,9 @@ typedef struct GiStats {
     int rsm_importance_builds; /* times an RSM's flux pyramid and sample list were built (importance weighting) */
     int volume_builds;        /* lpv: times the volumes were injected and propagated; vct: times radiance was
                                  injected and filtered (both kept while the light products and grids stand) */
-    uint64_t gather_evaluations; /* sample (or VPL) evaluations of the gather passes */
+    uint64_t gather_evaluations; /* sample (or VPL) evaluations of the gather passes, the sum of: */
+    GiGatherPass gather_passes[GI_GATHER_PASSES]; /* (gi_stats_add_gather) */
+    int gather_pass_count;
     bool gather_cube;         /* they read cube maps (the probe's matching bound) */
     int gather_map_size;      /* side of the maps they read (the probe's maps for --probe run); 0: none */
     bool gather_vpl;          /* they loop over VPLs in a storage buffer */
@@ -131,6 +142,10 @@ void gi_dispatch_pixels(int w, int h);
  * so GiStats counts only these. Reads the count back (stats time, not a
  * frame's pass); 0 if its program could not be built. */
 uint32_t gi_count_surfaces(const GiFrame *f, ProgramCache *pc, int step);
+
+/* Records gather pass `name` (its timer's, a literal) with its evaluations
+ * in st->gather_passes and adds them to st->gather_evaluations. */
+void gi_stats_add_gather(GiStats *st, const char *name, uint64_t evaluations);
 /* Gather evaluations/s (one RSM sample or one VPL at one pixel) assumed
  * for estimates before a device has been measured; the window then uses
  * the rate it measures. llvmpipe on this project's shared 2-core machine,

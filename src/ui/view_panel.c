@@ -120,11 +120,9 @@ void view_record_timings(View *v, double frame_ms, bool is_cost)
     v->measured_ms[gi] = frame_ms;
     v->measured_px[gi] = (double)r->settings.width * r->settings.height * n * n;
     /* The device's gather rate, from this technique's counters and its gather passes. */
-    static const char *const gathers[] = {"rsm_gather", "rsm_gather_lowres", "rsm_gather_full",
-                                          "rsm_gather_interleaved", "vpl_shade", NULL};
     double ms = 0;
-    for (int i = 0; gathers[i]; i++) {
-        double m = gpu_timer_mean_ms(t, gathers[i], t->sync);
+    for (int i = 0; i < st->gather_pass_count; i++) {
+        double m = gpu_timer_mean_ms(t, st->gather_passes[i].name, t->sync);
         ms += m > 0 ? m : 0;
     }
     if (gi != GI_NONE && ms > 0.5 && st->gather_evaluations > 0)

@@ -379,7 +379,19 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     uint64_t per_pixel = g->params.exhaustive ? st->vpl_count : (uint64_t)g->params.samples;
     if (g->variant == RSM_INTERLEAVED && !g->params.exhaustive)
         per_pixel = (uint64_t)(g->params.samples / (g->params.interleave_n * g->params.interleave_m));
-    st->gather_evaluations = (uint64_t)st->gathered_pixels * (per_pixel ? per_pixel : 1);
+    per_pixel = per_pixel ? per_pixel : 1;
+    switch (g->variant) { /* each gather pass, named as its timer (rsm_run) */
+    case RSM_FULL:
+        gi_stats_add_gather(st, "rsm_gather", st->gathered_pixels * per_pixel);
+        break;
+    case RSM_INTERP:
+        gi_stats_add_gather(st, "rsm_gather_lowres", st->lowres_gathers * per_pixel);
+        gi_stats_add_gather(st, "rsm_gather_full", st->full_gathers * per_pixel);
+        break;
+    case RSM_INTERLEAVED:
+        gi_stats_add_gather(st, "rsm_gather_interleaved", st->gathered_pixels * per_pixel);
+        break;
+    }
     st->gather_cube = f->lights->light_count > 0 && f->lights->rsm[0].cube;
     st->gather_map_size = f->lights->light_count > 0 ? f->lights->rsm[0].size : 0;
     st->rsm_importance_builds = g->importance_builds;

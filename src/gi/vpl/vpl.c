@@ -398,7 +398,7 @@ static void vpl_stats(void *state, const GiFrame *f, GiStats *st)
         glGetNamedBufferSubData(v->tiles, sizeof(uint32_t) * ntiles, sizeof st->tile_overflow, &st->tile_overflow);
     }
     st->metalight_regroups = v->regroups;
-    st->gather_evaluations = st->vpl_candidates;
+    gi_stats_add_gather(st, "vpl_shade", st->vpl_candidates); /* its timer (vpl_run) */
     st->gather_vpl = true;
     const GLuint bufs[6] = {v->ubo, v->gi_ubo, v->ranges, v->tiles, v->evals, v->subsets};
     st->gpu_bytes = gl_buffers_bytes(bufs, 6) + gi_interleave_bytes(&v->il);

@@ -318,6 +318,8 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
         settings_format(d, &s, val, sizeof val);
         cJSON_AddStringToObject(set, key, val);
     }
+    /* The technique's counters of the last frame, per pixel where they are. */
+    const RenderStats *st = &r->stats;
     cJSON *passes = cJSON_AddArrayToObject(o, "passes");
     int frames = r->timer.frames > 0 ? r->timer.frames : 1;
     for (int i = 0; i < r->timer.pass_count; i++) {
@@ -325,12 +327,15 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
         cJSON_AddStringToObject(p, "name", r->timer.passes[i].name);
         cJSON_AddItemToObject(p, "gpu_ms", json_num(r->timer.passes[i].gpu_ms / frames));
         cJSON_AddItemToObject(p, "wall_ms", json_num(r->timer.sync ? r->timer.passes[i].cpu_ms / frames : NAN));
+        /* A gather pass's evaluations in a frame (render --timings'
+         * gather_pass_NAME_evaluations): its rate is them over gpu_ms. */
+        for (int g = 0; g < st->gather_pass_count; g++)
+            if (!strcmp(st->gather_passes[g].name, r->timer.passes[i].name))
+                cJSON_AddNumberToObject(p, "evaluations", (double)st->gather_passes[g].evaluations);
         cJSON_AddItemToArray(passes, p);
     }
     cJSON_AddItemToObject(o, "gpu_ms", json_num(e->gpu_ms));
     cJSON_AddItemToObject(o, "frame_ms", json_num(e->frame_ms));
-    /* The technique's counters of the last frame, per pixel where they are. */
-    const RenderStats *st = &r->stats;
     double px = (double)e->rs.width * e->rs.height;
     cJSON *sj = cJSON_AddObjectToObject(o, "stats");
     cJSON_AddNumberToObject(sj, "vpl_count", st->vpl_count);

@@ -98,14 +98,25 @@ static void schema(void **state)
         const cJSON *passes = field(e, "passes", 'a');
         assert_true(cJSON_GetArraySize(passes) >= 3);
         double sum = 0;
+        int gathers = 0;
         for (int k = 0; k < cJSON_GetArraySize(passes); k++) {
             const cJSON *p = cJSON_GetArrayItem(passes, k);
-            field(p, "name", 's');
+            const char *name = field(p, "name", 's')->valuestring;
             double ms = field(p, "gpu_ms", 'n')->valuedouble;
             assert_true(ms >= 0);
             field(p, "wall_ms", 'n');
             sum += ms;
+            /* The gather pass (rsm's rsm_gather, vpl-slc's vpl_shade) carries
+             * its evaluations per frame; no other pass does. */
+            const cJSON *ev = cJSON_GetObjectItemCaseSensitive(p, "evaluations");
+            bool gather = !strcmp(name, "rsm_gather") || !strcmp(name, "vpl_shade");
+            assert_true(gather == (ev != NULL));
+            if (ev) {
+                assert_true(cJSON_IsNumber(ev) && ev->valuedouble > 0);
+                gathers++;
+            }
         }
+        assert_int_equal(gathers, i == 1 || i == 2 ? 1 : 0);
         assert_true(fabs(sum - field(e, "gpu_ms", 'n')->valuedouble) < 1e-6 * (1 + sum));
         assert_true(field(e, "frame_ms", 'n')->valuedouble > 0);
         /* The GPU memory the technique counts: vct's volumes (16³: albedo,

@@ -320,15 +320,8 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
  * every gather pass the technique listed (pass < 0) or of one. */
 static double gather_rate(const Renderer *r, const RenderStats *st, int pass)
 {
-    double ms = 0;
-    uint64_t evaluations = 0;
-    for (int i = 0; i < st->gather_pass_count; i++) {
-        if (pass >= 0 && i != pass)
-            continue;
-        double m = gpu_timer_min_ms(&r->timer, st->gather_passes[i].name, r->timer.sync);
-        ms += m > 0 ? m : 0;
-        evaluations += st->gather_passes[i].evaluations;
-    }
+    double ms = renderer_gather_ms(r, st, pass, true);
+    uint64_t evaluations = pass < 0 ? st->gather_evaluations : st->gather_passes[pass].evaluations;
     return evaluations == 0 || ms <= 0 ? 0 : (double)evaluations / (ms * 1e-3);
 }
 

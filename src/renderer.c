@@ -365,6 +365,20 @@ const RenderStats *renderer_collect_stats(Renderer *r)
     return &r->stats;
 }
 
+double renderer_gather_ms(const Renderer *r, const RenderStats *st, int pass, bool fastest)
+{
+    const GpuTimer *t = &r->timer;
+    double ms = 0;
+    for (int i = 0; i < st->gather_pass_count; i++) {
+        if (pass >= 0 && i != pass)
+            continue;
+        const char *name = st->gather_passes[i].name;
+        double m = fastest ? gpu_timer_min_ms(t, name, t->sync) : gpu_timer_mean_ms(t, name, t->sync);
+        ms += m > 0 ? m : 0;
+    }
+    return ms;
+}
+
 RenderMemory renderer_gpu_memory(const Renderer *r)
 {
     const GLuint tex[10] = {r->gbuffer.surface, r->gbuffer.material, r->gbuffer.depth, r->hdr.texture,

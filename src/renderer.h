@@ -123,6 +123,10 @@ void renderer_invalidate(Renderer *r);
 void renderer_frame(Renderer *r, const Camera *cam);
 /* Reads the last frame's GI counters back into r->stats (waits for the GPU). */
 const RenderStats *renderer_collect_stats(Renderer *r);
+/* The time of st's gather passes (pass < 0: all of them summed; else that
+ * one) in r's timer: each pass's fastest frame (`fastest`) or its mean, wall
+ * time where the timer syncs; 0 where none ran. */
+double renderer_gather_ms(const Renderer *r, const RenderStats *st, int pass, bool fastest);
 
 /* GPU memory by owner, from GL's sizes of each object (gl_texture_bytes,
  * gl_buffer_bytes): the technique's own (its stats' gpu_bytes: call

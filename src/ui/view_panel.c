@@ -104,7 +104,6 @@ void view_take_pass_table(View *v)
 void view_record_timings(View *v, double frame_ms, bool is_cost)
 {
     Renderer *r = v->renderer;
-    GpuTimer *t = &r->timer;
     v->frame_ms = frame_ms;
     view_take_pass_table(v);
     /* The technique's counters and memory, read back once an interval. */
@@ -120,11 +119,7 @@ void view_record_timings(View *v, double frame_ms, bool is_cost)
     v->measured_ms[gi] = frame_ms;
     v->measured_px[gi] = (double)r->settings.width * r->settings.height * n * n;
     /* The device's gather rate, from this technique's counters and its gather passes. */
-    double ms = 0;
-    for (int i = 0; i < st->gather_pass_count; i++) {
-        double m = gpu_timer_mean_ms(t, st->gather_passes[i].name, t->sync);
-        ms += m > 0 ? m : 0;
-    }
+    double ms = renderer_gather_ms(r, st, -1, false);
     if (gi != GI_NONE && ms > 0.5 && st->gather_evaluations > 0)
         v->evals_per_s = (double)st->gather_evaluations / (ms * 1e-3);
 }

@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "gi/gi.h"
 #include "test_util.h"
 #include "util.h"
 
@@ -767,6 +768,48 @@ static void shared_defaults(void **state)
     free(out);
 }
 
+/* Every technique and shadow filter, and a scene with an alpha-masked
+ * material (its own depth pre-pass and shadow programs), rendered with a
+ * GL debug context (--debug): the driver reports no error. A program that
+ * was given a uniform it does not declare (the depth pre-pass had been
+ * given the material's and the eye's on every draw) is an error there
+ * (GL_INVALID_OPERATION), logged as "[gl] debug message". */
+static void debug_context_reports_no_gl_errors(void **state)
+{
+    (void)state;
+    test_mask_textures("debug_mask_albedo.png", "debug_mask_alpha.png");
+    test_tmp_file("debug_masked.mtl", "newmtl leaf\nKd 0.3 0.6 0.3\nmap_Kd debug_mask_albedo.png\n"
+                                      "map_d debug_mask_alpha.png\nnewmtl ground\nKd 0.8 0.8 0.8\n");
+    test_tmp_file("debug_masked.obj", "mtllib debug_masked.mtl\n"
+                                      "v -1 0.5 -1\nv 1 0.5 -1\nv 1 0.5 1\nv -1 0.5 1\n"
+                                      "v -3 0 -3\nv 3 0 -3\nv 3 0 3\nv -3 0 3\n"
+                                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 1 0\n"
+                                      "usemtl leaf\nf 1/1/1 4/4/1 3/3/1 2/2/1\n"
+                                      "usemtl ground\nf 5/1/1 8/4/1 7/3/1 6/2/1\n");
+    const char *masked = test_tmp_file(
+        "debug_masked.json",
+        "{\"mesh\": \"debug_masked.obj\", \"camera\": {\"position\": [0, 4, 2], \"target\": [0, 0, 0]},"
+        " \"lights\": [{\"type\": \"spot\", \"position\": [0.5, 3, 0.5], \"direction\": [0, -1, 0],"
+        " \"intensity\": [5, 5, 5], \"inner_deg\": 40, \"outer_deg\": 50, \"diameter\": 0.1}]}");
+    char out[512];
+    snprintf(out, sizeof out, "%s/debug_context.png", RTGI_TEST_TMP);
+    const char *shadows[] = {"none", "hard", "pcf", "pcss"};
+    const char *const *gi = gi_technique_names();
+    for (int i = 0; i < gi_technique_count(); i++) {
+        for (int k = 0; k < 2; k++) {
+            const char *scene = k ? masked : "cornell";
+            char *err = NULL;
+            int rc = test_run_cli(&err, "render", "--scene", scene, "--gi", gi[i], "--shadow", shadows[(i + k) % 4],
+                                  "--size", "32x32", "--rsm-size", "64", "--vpls", "256", "--frames", "1",
+                                  "--out", out, "--debug", NULL);
+            print_message("%s, %s, --shadow %s: exit %d\n", scene, gi[i], shadows[(i + k) % 4], rc);
+            if (rc != 0 || strstr(err ? err : "", "[gl]"))
+                fail_msg("render --gi %s --scene %s --debug: exit %d: %s", gi[i], scene, rc, err ? err : "");
+            free(err);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -795,6 +838,7 @@ int main(void)
         cmocka_unit_test(reference_progress_lines),
         cmocka_unit_test(render_frame_progress_lines),
         cmocka_unit_test(shared_defaults),
+        cmocka_unit_test(debug_context_reports_no_gl_errors),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

@@ -34,7 +34,8 @@ static void gbuffer_begin(PassGbuffer *p, const Camera *cam, const GBuffer *out,
     const GLuint programs[5] = {p->depth_opaque, p->depth_masked, p->program_opaque, p->program, p->program_untextured};
     for (int i = 0; i < (colors ? 5 : 2); i++) {
         glProgramUniformMatrix4fv(programs[i], LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
-        glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
+        if (i >= 2) /* the pre-pass's programs have no eye (frame/depth.frag) */
+            glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
     }
     const GLuint zero[4] = {0, 0, 0, 0}; /* no surface, no material */
     const float one = 1.f;

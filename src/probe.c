@@ -42,10 +42,12 @@ static GLuint make_map(GLenum target, int which, int size)
     }
     GLuint tex = gl_texture_make(target, packed ? GL_RGBA32UI : GL_RGBA32F, size, size, "probe.map");
     if (tex) {
-        int faces = target == GL_TEXTURE_CUBE_MAP ? 6 : 1;
-        for (int f = 0; f < faces; f++)
-            glTextureSubImage3D(tex, 0, 0, 0, f, size, size, 1, packed ? GL_RGBA_INTEGER : GL_RGBA,
-                                packed ? GL_UNSIGNED_INT : GL_FLOAT, texels);
+        GLenum format = packed ? GL_RGBA_INTEGER : GL_RGBA, type = packed ? GL_UNSIGNED_INT : GL_FLOAT;
+        if (target == GL_TEXTURE_CUBE_MAP) /* the faces are layers 0-5 */
+            for (int f = 0; f < 6; f++)
+                glTextureSubImage3D(tex, 0, 0, 0, f, size, size, 1, format, type, texels);
+        else /* a 2D map takes the 2D call: the 3D one is GL_INVALID_OPERATION there, and wrote nothing */
+            glTextureSubImage2D(tex, 0, 0, 0, size, size, format, type, texels);
     }
     free(texels);
     return tex;

@@ -53,6 +53,7 @@ RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiPara
     assert_true(renderer_read_hdr(&r, out));
     RenderStats st = *renderer_collect_stats(&r);
     renderer_destroy(&r);
+    test_expect_no_gl_error("test_render_gi");
     return st;
 }
 
@@ -142,6 +143,18 @@ void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
     renderer_frame(&r, &s->camera);
     assert_true(renderer_read_hdr(&r, out));
     renderer_destroy(&r);
+    test_expect_no_gl_error("test_render");
+}
+
+void test_expect_no_gl_error(const char *where)
+{
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        while (glGetError() != GL_NO_ERROR) { /* clear the rest: one report per failure */
+        }
+        fail_msg("%s: GL error 0x%x (GL_INVALID_OPERATION is 0x502; rtgi render --debug names the call)", where,
+                 (unsigned)e);
+    }
 }
 
 static int run_argv(char **out, char **err, const char *exe, const char *first, va_list ap)

@@ -57,6 +57,10 @@ const char *test_tmp_file(const char *name, const char *content);
  * white albedo, and a mask (map_d) opaque on texel columns 0-3 and
  * transparent on 4-7. */
 void test_mask_textures(const char *albedo_name, const char *alpha_name);
+/* Fails the test if GL has recorded an error since the last call (the
+ * tests' context is not a debug one: glGetError is what reports there);
+ * `where` names the step in the failure. */
+void test_expect_no_gl_error(const char *where);
 /* Runs build/rtgi with the given arguments (NULL-terminated); returns its
  * exit status and, if `err` is not NULL, what it wrote on stderr (caller
  * frees). */

@@ -25,8 +25,16 @@ int test_gl_setup(void **state)
 int test_gl_teardown(void **state)
 {
     (void)state;
+    /* The whole group's GL calls, including those outside test_render:
+     * an error left recorded fails the group. */
+    GLenum e = g_test_gl ? glGetError() : GL_NO_ERROR;
+    if (e != GL_NO_ERROR)
+        print_error("GL error 0x%x left recorded by this test program (rtgi render --debug names the call)\n",
+                    (unsigned)e);
     gl_context_destroy(g_test_gl);
     g_test_gl = NULL;
+    if (e != GL_NO_ERROR) /* cmocka prints a failed group teardown but does not count it in its exit status */
+        exit(EXIT_FAILURE);
     return 0;
 }
 

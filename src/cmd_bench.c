@@ -665,12 +665,8 @@ int cmd_bench(int argc, char **argv)
     }
 
     Scene scene;
-    if (!scene_load(&scene, scene_name))
+    if (!scene_load_scaled(&scene, scene_name, -1.f))
         return 1;
-    if (!scene_check_lights(&scene, "")) {
-        scene_free(&scene);
-        return 1;
-    }
     ps.width = width;
     ps.height = height;
     ps.progress = log_get_level() <= LOG_INFO;

@@ -192,14 +192,8 @@ int cmd_reference(int argc, char **argv)
     }
 
     Scene scene;
-    if (!scene_load(&scene, scene_name))
+    if (!scene_load_scaled(&scene, scene_name, light_scale))
         return 1;
-    if (light_scale >= 0.f)
-        scene_rescale_lights(&scene, light_scale);
-    if (!scene_check_lights(&scene, light_scale >= 0.f ? ", after --light-scale" : "")) {
-        scene_free(&scene);
-        return 1;
-    }
     ImageF mean = {0}, var = {0};
     PtStats st = {0};
     int rc = 1;

@@ -279,15 +279,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
 
 bool render_options_load_scene(const RenderOptions *o, Scene *scene)
 {
-    if (!scene_load(scene, o->scene))
-        return false;
-    if (o->light_scale >= 0.f)
-        scene_rescale_lights(scene, o->light_scale);
-    if (!scene_check_lights(scene, o->light_scale >= 0.f ? ", after --light-scale" : "")) {
-        scene_free(scene);
-        return false;
-    }
-    return true;
+    return scene_load_scaled(scene, o->scene, o->light_scale);
 }
 
 void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs)

@@ -211,8 +211,14 @@ void scene_rescale_lights(Scene *s, float scale);
 /* Loads a scene: "cornell", a .json scene file, or a mesh file (.gltf,
  * .glb, .obj, ...) that gets a default sun and camera. false after logging
  * one line naming the file and the problem (scene_check_view included;
- * scene_check_lights is the caller's, once the light sizes are final). */
+ * scene_check_lights is the caller's, once the light sizes are final:
+ * scene_load_scaled). */
 bool scene_load(Scene *s, const char *what);
+/* The scene a command renders: scene_load, every light's emitter size
+ * scaled by `light_scale` where it is >= 0 (--light-scale; < 0: as the
+ * file gives them), then scene_check_lights. false after logging; the
+ * scene is freed then. */
+bool scene_load_scaled(Scene *s, const char *what, float light_scale);
 /* The built-in scene's name that `what` is a likely typo of ("cornel":
  * "cornell"), when `what` is a bare name (no '/' or '.') and no file; else
  * NULL. scene_load refuses such names; the CLI checks them first, as a

@@ -1284,3 +1284,15 @@ bool scene_load(Scene *s, const char *what)
     scene_free(s);
     return false;
 }
+
+bool scene_load_scaled(Scene *s, const char *what, float light_scale)
+{
+    if (!scene_load(s, what))
+        return false;
+    if (light_scale >= 0.f)
+        scene_rescale_lights(s, light_scale);
+    if (scene_check_lights(s, light_scale >= 0.f ? ", after --light-scale" : ""))
+        return true;
+    scene_free(s);
+    return false;
+}

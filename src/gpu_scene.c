@@ -201,18 +201,6 @@ static int drawitem_cmp(const void *a, const void *b)
     return x->cluster - y->cluster; /* stable: equal distances keep scene order */
 }
 
-/* Distance from `eye` to the nearest point of the cluster's box (0 inside). */
-static float box_distance(const GpuCluster *c, const float *eye)
-{
-    float d2 = 0.f;
-    for (int k = 0; k < 3; k++) {
-        float d = eye[k] < c->bounds_min[k] ? c->bounds_min[k] - eye[k]
-                : eye[k] > c->bounds_max[k] ? eye[k] - c->bounds_max[k] : 0.f;
-        d2 += d * d;
-    }
-    return d2;
-}
-
 static void bind_material(const GpuScene *g, const Material *m, GLuint program)
 {
     glProgramUniform3fv(program, LOC_MATERIAL_ALBEDO, 1, m->albedo);
@@ -250,7 +238,8 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, const DrawPrograms *
                 continue;
             }
         }
-        items[n++] = (DrawItem){view && view->eye ? box_distance(c, view->eye) : 0.f, i};
+        float d2 = view && view->eye ? scene_box_dist2(view->eye, c->bounds_min, c->bounds_max) : 0.f;
+        items[n++] = (DrawItem){d2, i};
     }
     if (view && view->eye)
         qsort(items, (size_t)n, sizeof(DrawItem), drawitem_cmp);

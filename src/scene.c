@@ -339,8 +339,7 @@ static float dist2_point_triangle(const vec3 p, const float *a, const float *b, 
     return glm_vec3_distance2(ap, q);
 }
 
-/* Squared distance from p to the box [lo, hi] (0 inside). */
-static float dist2_point_box(const vec3 p, const vec3 lo, const vec3 hi)
+float scene_box_dist2(const vec3 p, const vec3 lo, const vec3 hi)
 {
     float d2 = 0.f;
     for (int k = 0; k < 3; k++) {
@@ -357,7 +356,7 @@ bool scene_check_lights(const Scene *s, const char *after)
         if (l->type != LIGHT_POINT || l->size <= 0.f)
             continue;
         float r = 0.5f * l->size;
-        if (dist2_point_box(l->position, s->bounds_min, s->bounds_max) >= r * r)
+        if (scene_box_dist2(l->position, s->bounds_min, s->bounds_max) >= r * r)
             continue;
         float best = INFINITY;
         for (int k = 0; k < s->submesh_count; k++) {
@@ -388,7 +387,7 @@ bool scene_check_view(const Scene *s)
     const Camera *cam = &s->camera;
     if (s->bounds_min[0] > s->bounds_max[0] || s->index_count == 0)
         return true;
-    float near2 = dist2_point_box(cam->position, s->bounds_min, s->bounds_max), far = 0.f, ahead = -INFINITY;
+    float near2 = scene_box_dist2(cam->position, s->bounds_min, s->bounds_max), far = 0.f, ahead = -INFINITY;
     for (int c = 0; c < 8; c++) {
         vec3 p = {(c & 1) ? s->bounds_max[0] : s->bounds_min[0], (c & 2) ? s->bounds_max[1] : s->bounds_min[1],
                   (c & 4) ? s->bounds_max[2] : s->bounds_min[2]}, d;

@@ -236,6 +236,9 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform);
  *    camera.near starts before their far side, and they are not all behind
  *    it. */
 bool scene_check_lights(const Scene *s, const char *after);
+/* Squared distance from p to the box [lo, hi] (0 inside): a scene's or a
+ * draw cluster's bounds. */
+float scene_box_dist2(const vec3 p, const vec3 lo, const vec3 hi);
 bool scene_check_view(const Scene *s);
 
 /* Default sun and camera for a scene without them, from its bounds. */

@@ -23,13 +23,19 @@ static float farthest_corner(const vec3 p, const vec3 bmin, const vec3 bmax)
     return m;
 }
 
+/* The bounds' bounding sphere: its centre in c, its radius returned. */
+static float bounding_sphere(const vec3 bmin, const vec3 bmax, vec3 c)
+{
+    glm_vec3_center((float *)bmin, (float *)bmax, c);
+    return 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
+}
+
 bool shadow_frame_point_fitted(const Light *l, const vec3 bmin, const vec3 bmax)
 {
     if (l->type != LIGHT_POINT)
         return false;
     vec3 c;
-    glm_vec3_center((float *)bmin, (float *)bmax, c);
-    float r = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
+    float r = bounding_sphere(bmin, bmax, c);
     return r > 0.f && glm_vec3_distance((float *)l->position, c) >= 2.f * r;
 }
 
@@ -45,8 +51,7 @@ static void fitted_point_frame(const Light *l, const vec3 bmin, const vec3 bmax,
                                ShadowFrame *f)
 {
     vec3 c, axis, up, target;
-    glm_vec3_center((float *)bmin, (float *)bmax, c);
-    float r = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
+    float r = bounding_sphere(bmin, bmax, c);
     glm_vec3_sub(c, (float *)l->position, axis);
     float d = glm_vec3_norm(axis);
     glm_vec3_scale(axis, 1.f / d, axis);
@@ -69,11 +74,10 @@ void shadow_frame_compute(const Light *l, const vec3 bmin, const vec3 bmax, int 
     memset(f, 0, sizeof *f);
     vec3 up, target;
     if (l->type == LIGHT_DIRECTIONAL) {
-        vec3 c;
-        glm_vec3_center((float *)bmin, (float *)bmax, c);
         /* The scene's bounding sphere, 1% and at least margin_texels texels
          * (t = 2r/res each: r − r0 ≥ m·t) inside the map. */
-        float r0 = 0.5f * glm_vec3_distance((float *)bmin, (float *)bmax);
+        vec3 c;
+        float r0 = bounding_sphere(bmin, bmax, c);
         float keep = 1.f - 2.f * (float)margin_texels / (float)res;
         float r = (keep > 0.f ? fmaxf(r0 * 1.01f, r0 / keep) : r0 * 1.01f) + 1e-3f;
         glm_vec3_copy(c, f->origin);

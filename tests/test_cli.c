@@ -777,15 +777,7 @@ static void shared_defaults(void **state)
 static void debug_context_reports_no_gl_errors(void **state)
 {
     (void)state;
-    test_mask_textures("debug_mask_albedo.png", "debug_mask_alpha.png");
-    test_tmp_file("debug_masked.mtl", "newmtl leaf\nKd 0.3 0.6 0.3\nmap_Kd debug_mask_albedo.png\n"
-                                      "map_d debug_mask_alpha.png\nnewmtl ground\nKd 0.8 0.8 0.8\n");
-    test_tmp_file("debug_masked.obj", "mtllib debug_masked.mtl\n"
-                                      "v -1 0.5 -1\nv 1 0.5 -1\nv 1 0.5 1\nv -1 0.5 1\n"
-                                      "v -3 0 -3\nv 3 0 -3\nv 3 0 3\nv -3 0 3\n"
-                                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 1 0\n"
-                                      "usemtl leaf\nf 1/1/1 4/4/1 3/3/1 2/2/1\n"
-                                      "usemtl ground\nf 5/1/1 8/4/1 7/3/1 6/2/1\n");
+    test_masked_leaf_obj("debug_masked");
     const char *masked = test_tmp_file(
         "debug_masked.json",
         "{\"mesh\": \"debug_masked.obj\", \"camera\": {\"position\": [0, 4, 2], \"target\": [0, 0, 0]},"

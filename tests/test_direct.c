@@ -179,17 +179,8 @@ static void forward_equals_deferred(void **state)
 static void forward_masked_materials(void **state)
 {
     (void)state;
-    test_mask_textures("direct_mask_albedo.png", "direct_mask_alpha.png");
-    test_tmp_file("direct_masked.mtl", "newmtl leaf\nKd 0.3 0.6 0.3\nmap_Kd direct_mask_albedo.png\n"
-                                       "map_d direct_mask_alpha.png\nnewmtl ground\nKd 0.8 0.8 0.8\n");
-    const char *obj = "mtllib direct_masked.mtl\n"
-                      "v -1 0.5 -1\nv 1 0.5 -1\nv 1 0.5 1\nv -1 0.5 1\n"
-                      "v -3 0 -3\nv 3 0 -3\nv 3 0 3\nv -3 0 3\n"
-                      "vt 0.0625 0.0625\nvt 0.9375 0.0625\nvt 0.9375 0.9375\nvt 0.0625 0.9375\nvn 0 1 0\n"
-                      "usemtl leaf\nf 1/1/1 4/4/1 3/3/1 2/2/1\n"
-                      "usemtl ground\nf 5/1/1 8/4/1 7/3/1 6/2/1\n";
     Scene s;
-    assert_true(scene_load(&s, test_tmp_file("direct_masked.obj", obj)));
+    assert_true(scene_load(&s, test_masked_leaf_obj("direct_masked")));
     int masked = 0;
     for (int i = 0; i < s.material_count; i++)
         masked += s.materials[i].alpha_mask;

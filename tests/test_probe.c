@@ -15,12 +15,11 @@ static void probe_measures_and_round_trips(void **state)
 {
     (void)state;
     ProbeResult r, back;
-    while (glGetError() != GL_NO_ERROR) {
-    }
+    test_expect_no_gl_error("before probe_run");
     assert_true(probe_run(&r, 64));
     /* Its maps are filled with calls GL takes (the 2D ones had been given
      * glTextureSubImage3D, an error that left them unwritten). */
-    assert_int_equal(glGetError(), GL_NO_ERROR);
+    test_expect_no_gl_error("probe_run");
     print_message("evals/s: arith %.3g, 2d fetch 1/2/3 %.3g %.3g %.3g, cube fetch 3 %.3g, ssbo %.3g\n",
                   r.evals_2d[0], r.evals_2d[1], r.evals_2d[2], r.evals_2d[3], r.evals_cube[3], r.evals_ssbo);
     for (int f = 0; f < 4; f++)

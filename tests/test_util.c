@@ -22,12 +22,23 @@ int test_gl_setup(void **state)
     return g_test_gl ? 0 : -1;
 }
 
+/* The first error GL recorded since the last call (GL_NO_ERROR: none); the
+ * others are cleared, so that one failure is reported once. */
+static GLenum take_gl_error(void)
+{
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR)
+        while (glGetError() != GL_NO_ERROR) {
+        }
+    return e;
+}
+
 int test_gl_teardown(void **state)
 {
     (void)state;
     /* The whole group's GL calls, including those outside test_render:
      * an error left recorded fails the group. */
-    GLenum e = g_test_gl ? glGetError() : GL_NO_ERROR;
+    GLenum e = g_test_gl ? take_gl_error() : GL_NO_ERROR;
     if (e != GL_NO_ERROR)
         print_error("GL error 0x%x left recorded by this test program (rtgi render --debug names the call)\n",
                     (unsigned)e);
@@ -144,6 +155,28 @@ void test_mask_textures(const char *albedo_name, const char *alpha_name)
     assert_true(image_write_png8(path, T, T, half));
 }
 
+const char *test_masked_leaf_obj(const char *name)
+{
+    char albedo[128], alpha[128], file[128], mtl[512], obj[1024];
+    snprintf(albedo, sizeof albedo, "%s_albedo.png", name);
+    snprintf(alpha, sizeof alpha, "%s_alpha.png", name);
+    test_mask_textures(albedo, alpha);
+    snprintf(mtl, sizeof mtl, "newmtl leaf\nKd 0.3 0.6 0.3\nmap_Kd %s\nmap_d %s\nnewmtl ground\nKd 0.8 0.8 0.8\n",
+             albedo, alpha);
+    snprintf(file, sizeof file, "%s.mtl", name);
+    test_tmp_file(file, mtl);
+    snprintf(obj, sizeof obj,
+             "mtllib %s.mtl\n"
+             "v -1 0.5 -1\nv 1 0.5 -1\nv 1 0.5 1\nv -1 0.5 1\n"
+             "v -3 0 -3\nv 3 0 -3\nv 3 0 3\nv -3 0 3\n"
+             "vt 0.0625 0.0625\nvt 0.9375 0.0625\nvt 0.9375 0.9375\nvt 0.0625 0.9375\nvn 0 1 0\n"
+             "usemtl leaf\nf 1/1/1 4/4/1 3/3/1 2/2/1\n"
+             "usemtl ground\nf 5/1/1 8/4/1 7/3/1 6/2/1\n",
+             name);
+    snprintf(file, sizeof file, "%s.obj", name);
+    return test_tmp_file(file, obj);
+}
+
 void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
 {
     Renderer r;
@@ -156,13 +189,10 @@ void test_render(const Scene *s, const RenderSettings *rs, ImageF *out)
 
 void test_expect_no_gl_error(const char *where)
 {
-    GLenum e = glGetError();
-    if (e != GL_NO_ERROR) {
-        while (glGetError() != GL_NO_ERROR) { /* clear the rest: one report per failure */
-        }
+    GLenum e = take_gl_error();
+    if (e != GL_NO_ERROR)
         fail_msg("%s: GL error 0x%x (GL_INVALID_OPERATION is 0x502; rtgi render --debug names the call)", where,
                  (unsigned)e);
-    }
 }
 
 static int run_argv(char **out, char **err, const char *exe, const char *first, va_list ap)

@@ -57,6 +57,11 @@ const char *test_tmp_file(const char *name, const char *content);
  * white albedo, and a mask (map_d) opaque on texel columns 0-3 and
  * transparent on 4-7. */
 void test_mask_textures(const char *albedo_name, const char *alpha_name);
+/* Writes NAME.obj, NAME.mtl and the mask textures (test_mask_textures) to
+ * RTGI_TEST_TMP: an alpha-masked 2 m leaf (Kd 0.3 0.6 0.3, transparent on
+ * its x > 0 half) at y = 0.5 over a 6 m ground (Kd 0.8) at y = 0, both
+ * facing +y. Returns the OBJ's path (test_tmp_file's buffer). */
+const char *test_masked_leaf_obj(const char *name);
 /* Fails the test if GL has recorded an error since the last call (the
  * tests' context is not a debug one: glGetError is what reports there);
  * `where` names the step in the failure. */

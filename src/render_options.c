@@ -338,12 +338,12 @@ static GatherRates print_gather_efficiency(const Renderer *r, const RenderStats 
     double bound = probed ? probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list, false) : 0;
     double texel = probed && !st->gather_vpl ? probe_bound(&pr, false, st->gather_cube, st->gather_from_list, true) : 0;
     if (probed) {
-        if (!st->gather_vpl)
-            printf("gather_probe_map_size: %d\n", pr.map_size);
-        if (st->gather_vpl)
+        if (st->gather_vpl) {
             printf("gather_probe_bound: %.4g (ssbo_vpl)\n", bound);
-        else
+        } else {
+            printf("gather_probe_map_size: %d\n", pr.map_size);
             printf("gather_probe_bound: %.4g (%s_fetch2%s)\n", bound, map, list);
+        }
         printf("gather_fraction_of_bound: %.3f\n", rate / bound);
         if (texel > 0) {
             printf("gather_texel_bound: %.4g (%s_texel%s)\n", texel, map, list);

@@ -15,6 +15,15 @@
 
 enum { GRID = 256, SAMPLES = 64, RUNS = 5, MAPS = 4 };
 
+/* A kernel's work is GRID² lanes per layer (each layer reads the maps in the
+ * same pattern, shifted), and its timed dispatch is made of as many layers
+ * as it takes to last MIN_DISPATCH_S: llvmpipe takes tens of ms over one
+ * layer of a fetch kernel, a GPU microseconds, with 65,536 lanes too few to
+ * fill it and its submission latency as long as the work. MAX_LAYERS
+ * layers: 4 M lanes, twice a 1080p gather's. */
+enum { MAX_LAYERS = 64 };
+#define MIN_DISPATCH_S 4e-3
+
 /* A map of plausible RSM data: positions near the receivers, unit normals,
  * flux (maps 0..2, RGBA32F); map 3 the same packed as RSM texels
  * (shaders/common/rsm_texel.glsl, in the unit box: position u, v, 0 at
@@ -53,21 +62,35 @@ static GLuint make_map(GLenum target, int which, int size)
     return tex;
 }
 
-/* Best of RUNS timed dispatches (after a warm-up), in evaluations/s. */
-static double time_kernel(GLuint program)
+/* Wall time of one dispatch of `layers` layers, finished. */
+static double dispatch_seconds(int layers)
+{
+    glFinish();
+    double t0 = util_seconds();
+    glDispatchCompute(GRID / 8, GRID / 8, (GLuint)layers);
+    glFinish();
+    return util_seconds() - t0;
+}
+
+/* Best of RUNS timed dispatches, in evaluations/s, after a warm-up dispatch
+ * (llvmpipe compiles a kernel at its first) and as many doublings of the
+ * layers as it takes for one to last MIN_DISPATCH_S; *lanes: the timed
+ * dispatch's invocations. */
+static double time_kernel(GLuint program, double *lanes)
 {
     glUseProgram(program);
+    int layers = 1;
+    dispatch_seconds(layers);
+    while (dispatch_seconds(layers) < MIN_DISPATCH_S && layers < MAX_LAYERS)
+        layers *= 2;
     double best = 0;
-    for (int run = 0; run <= RUNS; run++) {
-        glFinish();
-        double t0 = util_seconds();
-        glDispatchCompute(GRID / 8, GRID / 8, 1);
-        glFinish();
-        double dt = util_seconds() - t0;
-        double rate = (double)GRID * GRID * SAMPLES / (dt > 1e-9 ? dt : 1e-9);
-        if (run > 0 && rate > best)
+    for (int run = 0; run < RUNS; run++) {
+        double dt = dispatch_seconds(layers);
+        double rate = (double)GRID * GRID * layers * SAMPLES / (dt > 1e-9 ? dt : 1e-9);
+        if (rate > best)
             best = rate;
     }
+    *lanes = (double)GRID * GRID * layers;
     return best;
 }
 
@@ -81,25 +104,38 @@ bool probe_run(ProbeResult *out, int map_size)
     for (int c = 0; c < 2 && ok; c++)
         for (int k = 0; k < MAPS && ok; k++)
             ok = (maps[c][k] = make_map(c ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, k, size)) != 0;
-    GLuint result = ok ? gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, GRID, GRID, "probe.result") : 0;
-    ok = ok && result;
+    /* The kernels' sink: a layer per dispatch layer, one float per lane. */
+    GLuint result = 0;
+    if (ok) {
+        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &result);
+        glTextureStorage3D(result, 1, GL_R32F, GRID, GRID, MAX_LAYERS);
+        glObjectLabel(GL_TEXTURE, result, -1, "probe.result");
+        GLint made = GL_FALSE; /* storage that could not be made leaves the texture mutable */
+        glGetTextureParameteriv(result, GL_TEXTURE_IMMUTABLE_FORMAT, &made);
+        ok = made == GL_TRUE;
+        if (!ok)
+            log_error("probe", "cannot allocate the probe's result image (%dx%dx%d R32F)", GRID, GRID, MAX_LAYERS);
+    }
     ProgramCache pc;
     program_cache_create(&pc);
     for (int c = 0; c < 2 && ok; c++) {
         for (int k = 0; k < MAPS; k++)
             glBindTextureUnit((GLuint)(TEX_PROBE_MAP + k), maps[c][k]);
-        glBindImageTexture(IMG_OUT, result, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+        glBindImageTexture(IMG_OUT, result, 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_R32F);
         for (int f = c ? 1 : 0; f <= 4 && ok; f++) { /* 4: one packed texel */
-            char defs[96];
-            snprintf(defs, sizeof defs, "#define SAMPLES %d\n#define FETCHES %d\n%s%s", SAMPLES, f > 3 ? 1 : f,
-                     c ? "#define CUBE\n" : "", f > 3 ? "#define PACKED\n" : "");
+            char defs[128];
+            snprintf(defs, sizeof defs, "#define GRID %d\n#define SAMPLES %d\n#define FETCHES %d\n%s%s", GRID, SAMPLES,
+                     f > 3 ? 1 : f, c ? "#define CUBE\n" : "", f > 3 ? "#define PACKED\n" : "");
             GLuint prog = program_cache_get(&pc, &(ShaderProgramDesc){.label = "probe", .comp = "probe/probe.comp",
                                                                       .defines = defs});
             if (!prog) {
                 ok = false;
                 break;
             }
-            double rate = time_kernel(prog);
+            double lanes;
+            double rate = time_kernel(prog, &lanes);
+            if (out->lanes == 0 || lanes < out->lanes)
+                out->lanes = lanes;
             if (f > 3)
                 *(c ? &out->evals_texel_cube : &out->evals_texel_2d) = rate;
             else if (c)
@@ -121,13 +157,16 @@ bool probe_run(ProbeResult *out, int map_size)
         glNamedBufferStorage(vpls, (GLsizeiptr)(sizeof(GpuVpl) * SAMPLES), data, 0);
         free(data);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VPL, vpls);
-        char defs[96];
-        snprintf(defs, sizeof defs, "#define SAMPLES %d\n#define FETCHES 0\n#define SSBO\n", SAMPLES);
+        char defs[128];
+        snprintf(defs, sizeof defs, "#define GRID %d\n#define SAMPLES %d\n#define FETCHES 0\n#define SSBO\n", GRID, SAMPLES);
         GLuint prog = program_cache_get(&pc, &(ShaderProgramDesc){.label = "probe", .comp = "probe/probe.comp",
                                                                   .defines = defs});
         ok = prog != 0;
+        double lanes = 0;
         if (ok)
-            out->evals_ssbo = time_kernel(prog);
+            out->evals_ssbo = time_kernel(prog, &lanes);
+        if (ok && lanes < out->lanes)
+            out->lanes = lanes;
         glDeleteBuffers(1, &vpls);
     }
     out->evals_cube[0] = out->evals_2d[0];
@@ -153,6 +192,8 @@ double probe_bound(const ProbeResult *r, bool vpl, bool cube, double from_list, 
 void probe_print(FILE *out, const ProbeResult *r)
 {
     fprintf(out, "probe_map_size: %d\n", r->map_size);
+    if (r->lanes > 0)
+        fprintf(out, "probe_lanes: %.0f\n", r->lanes);
     fprintf(out, "probe_arith_evals_per_s: %.4g\n", r->evals_2d[0]);
     for (int f = 1; f <= 3; f++)
         fprintf(out, "probe_2d_fetch%d_evals_per_s: %.4g\n", f, r->evals_2d[f]);
@@ -173,6 +214,7 @@ bool probe_write_json(const char *path, const ProbeResult *r)
     cJSON_AddNumberToObject(o, "evals_texel_2d", r->evals_texel_2d);
     cJSON_AddNumberToObject(o, "evals_texel_cube", r->evals_texel_cube);
     cJSON_AddNumberToObject(o, "map_size", r->map_size);
+    cJSON_AddNumberToObject(o, "lanes", r->lanes);
     char *text = cJSON_Print(o);
     cJSON_Delete(o);
     if (!text) {
@@ -226,6 +268,8 @@ bool probe_read_json(const char *path, ProbeResult *r)
     const cJSON *t2 = cJSON_GetObjectItemCaseSensitive(o, "evals_texel_2d");
     const cJSON *tc = cJSON_GetObjectItemCaseSensitive(o, "evals_texel_cube");
     const cJSON *ms = cJSON_GetObjectItemCaseSensitive(o, "map_size");
+    const cJSON *ln = cJSON_GetObjectItemCaseSensitive(o, "lanes");
+    r->lanes = cJSON_IsNumber(ln) && ln->valuedouble > 0 && ln->valuedouble < 1e12 ? ln->valuedouble : 0;
     r->evals_texel_2d = cJSON_IsNumber(t2) && t2->valuedouble > 0 ? t2->valuedouble : 0;
     r->evals_texel_cube = cJSON_IsNumber(tc) && tc->valuedouble > 0 ? tc->valuedouble : 0;
     r->map_size = cJSON_IsNumber(ms) && ms->valuedouble >= 1 && ms->valuedouble <= 65536 ? (int)ms->valuedouble

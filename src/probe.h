@@ -26,6 +26,9 @@ typedef struct ProbeResult {
     double evals_texel_2d; /* one packed RSM texel per sample (RGBA32UI, unpacked as the gathers do), 2D */
     double evals_texel_cube; /* the same from a cube map; both 0 in results written before they existed */
     double evals_ssbo;     /* reading one GpuVpl from a storage buffer per sample, the same in every lane */
+    double lanes;          /* the fewest invocations of a kernel's timed dispatch (each grows until one
+                            * lasts 4 ms: 65,536 for llvmpipe's fetch kernels, millions on a GPU); 0 if
+                            * not recorded */
 } ProbeResult;
 
 /* The bound that matches a gather: `vpl` for VPL loops, else RSM texture

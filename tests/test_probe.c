@@ -26,6 +26,9 @@ static void probe_measures_and_round_trips(void **state)
         assert_true(r.evals_2d[f] > 0 && r.evals_cube[f] > 0);
     assert_true(r.evals_ssbo > 0 && r.evals_texel_2d > 0 && r.evals_texel_cube > 0);
     assert_int_equal(r.map_size, 64);
+    /* Each kernel's timed dispatch is at least one 256² layer, at most 64
+     * (a GPU takes more layers, to fill it and outlast its latency). */
+    assert_true(r.lanes >= 65536 && r.lanes <= 64 * 65536);
     /* Which kernel is faster is a measurement, not a test: under load on
      * shared cores the 3-fetch kernel once timed faster than the 1-fetch
      * one. `rtgi probe` prints the rates. */
@@ -40,12 +43,14 @@ static void probe_measures_and_round_trips(void **state)
     assert_true(fabs(back.evals_texel_2d / r.evals_texel_2d - 1) < 1e-12 &&
                 fabs(back.evals_texel_cube / r.evals_texel_cube - 1) < 1e-12);
     assert_int_equal(back.map_size, 64);
+    assert_true(back.lanes == r.lanes);
     /* A result written before the packed-texel kernels still reads: 512²
      * maps, no texel rates (and no texel bound). */
     assert_true(probe_read_json(
         test_tmp_file("old_probe.json", "{\"evals_2d\": [1, 2, 3, 4], \"evals_cube\": [1, 2, 3, 4], \"evals_ssbo\": 5}"),
         &back));
     assert_int_equal(back.map_size, 512);
+    assert_true(back.lanes == 0);
     assert_true(back.evals_texel_2d == 0 && probe_bound(&back, false, false, 0, true) == 0);
     assert_true(probe_bound(&back, false, false, 0, false) == 3);
     assert_false(probe_read_json(test_tmp_file("not_probe.json", "{\"evals_2d\": [1, 2]}"), &back));
@@ -75,6 +80,7 @@ static void timings_state_the_fraction(void **state)
     assert_non_null(strstr(text, "frame_cold_ms: "));
     assert_non_null(strstr(text, "frame_steady_ms: "));
     assert_non_null(strstr(text, "steady_rsm_gather_ms: "));
+    assert_non_null(strstr(text, "steady_gpu_total_ms: "));
     assert_null(strstr(text, "steady_shadow_ms"));
     assert_null(strstr(text, "steady_rsm_ms"));
 }

@@ -34,7 +34,7 @@ layout(binding = TEX_PROBE_MAP) uniform sampler2D t_position;
 layout(binding = TEX_PROBE_MAP + 1) uniform sampler2D t_normal;
 layout(binding = TEX_PROBE_MAP + 2) uniform sampler2D t_flux;
 #endif
-layout(rgba32f, binding = IMG_OUT) uniform writeonly image2D o_result;
+layout(r32f, binding = IMG_OUT) uniform writeonly image2DArray o_result; // a layer per dispatch layer
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 
 // One sample's data as read (the fetch half of a step).
@@ -94,7 +94,10 @@ vec3 probe_eval(Fetched s, vec3 x, vec3 n, RsmTexelFrame f)
 void main()
 {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
-    vec2 uv = (vec2(px) + 0.5) / vec2(imageSize(o_result));
+    int layer = int(gl_GlobalInvocationID.z);
+    // Every layer (src/probe.c grows the dispatch by layers until it lasts
+    // long enough to time) reads in layer 0's pattern, shifted across the map.
+    vec2 uv = fract((vec2(px) + 0.5) / float(GRID) + float(layer) * vec2(0.6180340, 0.3819660));
     vec3 x = vec3(uv, 0.3), n = vec3(0.0, 0.0, 1.0), e = vec3(0.0);
     // The packed maps' frame (src/probe.c writes them in the unit box).
     RsmTexelFrame f;
@@ -116,5 +119,5 @@ void main()
         e += probe_eval(a, x, n, f);
         e += probe_eval(b, x, n, f);
     }
-    imageStore(o_result, px, vec4(e, 1.0));
+    imageStore(o_result, ivec3(px, layer), vec4(e.x + e.y + e.z));
 }

@@ -3,7 +3,8 @@
  * glossy materials, the diffuse BRDF only), the first light of a frame
  * unblended into an uncleared target (issue 11). None of that may change
  * the image: every variant's frame equals the general program's bit for
- * bit, for each light type, shadow mode, filter bias and PCF filter, with
+ * bit on llvmpipe (to 1e-4 on a GPU, whose compiler treats each program's
+ * arithmetic on its own), for each light type, shadow mode, filter bias and PCF filter, with
  * one and with two lights (the second blended onto the first),
  * diffuse-only and glossy. Frames without GI shade forward (no G-buffer);
  * their image equals the deferred one up to the G-buffer's quantisation. */
@@ -16,11 +17,22 @@
 
 #include "test_util.h"
 
-static size_t differing_pixels(const ImageF *a, const ImageF *b)
+/* Pixels whose channels differ at all (tol 0), or by more than tol of the
+ * larger of the two values (absolute below 1e-6); *worst: the largest
+ * relative difference of any channel. */
+static size_t differing_pixels(const ImageF *a, const ImageF *b, double tol, double *worst)
 {
     size_t n = 0;
-    for (int i = 0; i < a->width * a->height; i++)
-        n += memcmp(a->rgb + 3 * i, b->rgb + 3 * i, 3 * sizeof(float)) != 0;
+    *worst = 0;
+    for (int i = 0; i < a->width * a->height; i++) {
+        bool off = false;
+        for (int c = 0; c < 3; c++) {
+            double x = a->rgb[3 * i + c], y = b->rgb[3 * i + c], d = fabs(x - y) / fmax(fmax(fabs(x), fabs(y)), 1e-6);
+            *worst = fmax(*worst, d);
+            off |= tol == 0 ? x != y : d > tol;
+        }
+        n += off;
+    }
     return n;
 }
 
@@ -68,6 +80,15 @@ static void variants_equal_general(void **state)
     /* The last: a point light far enough out for one fitted 2D map
      * (shadow_frame_point_fitted), a variant of its own. */
     const LightType types[] = {LIGHT_DIRECTIONAL, LIGHT_SPOT, LIGHT_POINT, LIGHT_QUAD, LIGHT_POINT};
+    /* llvmpipe (CI) compiles every variant to the same arithmetic: equal bit
+     * for bit. A GPU's compiler may contract and reorder each program's
+     * arithmetic in its own way (GLSL leaves it free to), so there the
+     * variants agree to 1e-4 of each channel but in at most 1% of the pixels
+     * (a shadow test on a depth rounded the other way turns one filter tap),
+     * and the images' squared difference is below 1e-8 of the image's: a
+     * wrong light, BRDF term or filter is off by far more. */
+    const char *renderer = (const char *)glGetString(GL_RENDERER);
+    double tol = gl_renderer_is_software(renderer) ? 0 : 1e-4, worst_all = 0;
     int frames = 0;
     for (int t = 0; t < 5; t++) {
         Scene s;
@@ -97,14 +118,26 @@ static void variants_equal_general(void **state)
                     renderer_frame(&r, &s.camera);
                     assert_true(renderer_read_hdr(&r, &img[g]));
                 }
-                size_t diff = differing_pixels(&img[0], &img[1]);
-                double mean = test_image_mean(&img[0]);
+                double worst;
+                size_t diff = differing_pixels(&img[0], &img[1], tol, &worst);
+                worst_all = fmax(worst_all, worst);
+                double mean = test_image_mean(&img[0]), d2 = 0, v2 = 0;
+                for (int i = 0; i < 3 * img[0].width * img[0].height; i++) {
+                    d2 += (img[0].rgb[i] - img[1].rgb[i]) * (double)(img[0].rgb[i] - img[1].rgb[i]);
+                    v2 += img[1].rgb[i] * (double)img[1].rgb[i];
+                }
                 if (diff)
-                    print_message("light type %d, shadow mode %d, bias %d, filter %d, %s, %s: %zu pixels differ\n",
+                    print_message("light type %d, shadow mode %d, bias %d, filter %d, %s, %s: %zu pixels differ "
+                                  "(largest relative difference %.3g)\n",
                                   types[t], mode, bias, filter, two ? "two lights" : "one light",
-                                  glossy ? "glossy" : "diffuse", diff);
+                                  glossy ? "glossy" : "diffuse", diff, worst);
                 assert_true(mean > 0.0);
-                assert_int_equal(diff, 0);
+                if (tol == 0) {
+                    assert_int_equal(diff, 0);
+                } else {
+                    assert_true(diff <= (size_t)(img[0].width * img[0].height) / 100);
+                    assert_true(d2 <= 1e-8 * v2);
+                }
                 image_free(&img[0]);
                 image_free(&img[1]);
                 frames++;
@@ -112,7 +145,9 @@ static void variants_equal_general(void **state)
         renderer_destroy(&r);
         scene_free(&s);
     }
-    print_message("%d light/shadow configurations: variants equal the general program\n", frames);
+    print_message("%d light/shadow configurations on %s: variants equal the general program %s (largest relative "
+                  "difference %.3g)\n",
+                  frames, renderer, tol == 0 ? "bit for bit" : "to 1e-4", worst_all);
 }
 
 /* Forward and deferred frames of the same settings: the G-buffer keeps

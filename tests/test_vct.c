@@ -847,8 +847,8 @@ static void glossy_cornell(void **state)
 /* ---- Ambient occlusion -------------------------------------------------- */
 
 /* Ambient visibility (the irradiance image's alpha) is in [0, 1], lower in
- * the Cornell box's floor corner than in the middle of its floor; 1 with
- * --vct-ao off. */
+ * the Cornell box's floor corner than in the middle of its floor; 1 (to
+ * 1e-6) with --vct-ao off. */
 static void ambient_occlusion(void **state)
 {
     (void)state;
@@ -882,8 +882,11 @@ static void ambient_occlusion(void **state)
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
     glGetTextureImage(r.irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
+    /* 1 to the division's precision: the upsampling's weighted mean of
+     * 1s (Σw·1 / Σw) is 1 exactly on llvmpipe, 1 − 6e-8 on NVIDIA's
+     * approximate division. */
     for (int i = 0; i < W * W; i++)
-        assert_true(e[4 * i + 3] == 1.f);
+        assert_true(fabsf(e[4 * i + 3] - 1.f) <= 1e-6f);
     renderer_destroy(&r);
     free(e);
     scene_free(&s);

@@ -89,16 +89,20 @@ void main()
     // Depth of the triangle's plane over this pixel (swizzled z).
     vec3 pn = cross(g_t1 - g_t0, g_t2 - g_t0);
     float d = dot(pn, g_t0);
-    float zc = (d - pn.x * f.x - pn.y * f.y) / pn.z;
+    // Within the triangle's depth range, as it is exactly: rounded, the
+    // plane equation of a triangle lying on a voxel boundary (a floor at
+    // z = 16) gave 15.99999 on NVIDIA's division while its vertices say 16,
+    // which emptied the range below and left the whole floor unvoxelized.
+    float zmin = min(g_t0.z, min(g_t1.z, g_t2.z)), zmax = max(g_t0.z, max(g_t1.z, g_t2.z));
+    float zc = clamp((d - pn.x * f.x - pn.y * f.y) / pn.z, zmin, zmax);
     ivec2 px = ivec2(floor(f));
     if (u_vct.conservative == 0) {
         add(ivec3(px, int(floor(zc))), albedo, n);
         return;
     }
     float dz = 0.5 * (abs(pn.x) + abs(pn.y)) / abs(pn.z);
-    int k0 = int(floor(zc - dz)), k1 = int(floor(zc + dz));
-    k0 = max(k0, int(floor(min(g_t0.z, min(g_t1.z, g_t2.z)))));
-    k1 = min(k1, int(floor(max(g_t0.z, max(g_t1.z, g_t2.z)))));
+    // zmin <= zc <= zmax, so k0 <= floor(zc) <= k1.
+    int k0 = int(floor(max(zc - dz, zmin))), k1 = int(floor(min(zc + dz, zmax)));
     for (int k = k0; k <= k1; k++)
         if (overlaps(vec3(vec2(px) + 0.5, float(k) + 0.5), 0.5 + 1e-4))
             add(ivec3(px, k), albedo, n);

@@ -59,7 +59,8 @@ void cmd_bench_help(void)
            "  --shadow LIST      comma-separated shadow techniques (default: pcss)\n"
            "  --spp N            reference samples per pixel (default: 256)\n"
            "  --ref-mode MODE    full|direct|one-bounce|one-bounce-novis|indirect (default: full)\n"
-           "  --frames N         timed frames per technique after one warm-up frame (default: 3)\n"
+           "  --frames N         timed frames per technique after one warm-up frame (on a GPU,\n"
+           "                     warm-up frames for 0.5 s) (default: 3)\n"
            "  --ssaa N           render every technique N x N supersampled, box-filtered to\n"
            "                     WxH (default: 1, off), as `rtgi render --ssaa`\n"
            "  --exposure E       exposure of FLIP and SSIM (default: the scene's)\n"
@@ -284,7 +285,7 @@ static bool bench_render(Renderer *r, bool *created, const Scene *scene, BenchEn
     if (!ok)
         return false;
     renderer_invalidate(r);
-    renderer_frame(r, &scene->camera); /* warm-up: compiles, allocates */
+    renderer_warm_up(r, &scene->camera, 1); /* compiles, allocates; on a GPU, raises the clocks */
     gpu_timer_reset(&r->timer);
     double t0 = util_seconds();
     for (int f = 0; f < frames; f++)

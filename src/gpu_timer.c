@@ -2,6 +2,7 @@
 
 #include <string.h>
 
+#include "gl_context.h"
 #include "util.h"
 
 void gpu_timer_create(GpuTimer *t, bool enabled, bool sync)
@@ -10,6 +11,7 @@ void gpu_timer_create(GpuTimer *t, bool enabled, bool sync)
     t->enabled = enabled;
     t->sync = sync;
     t->open_pass = -1;
+    t->exact = enabled && !gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
     if (enabled)
         glCreateQueries(GL_TIMESTAMP, GPU_TIMER_MAX_QUERIES, t->queries);
 }

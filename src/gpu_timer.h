@@ -39,6 +39,8 @@ typedef struct GpuTimerPass {
 typedef struct GpuTimer {
     bool enabled;
     bool sync;
+    bool exact;  /* a hardware driver's timestamps bound each pass's own work (not a software
+                  * rasterizer's, see gl_renderer_is_software): rates take them, not wall time */
     GLuint queries[GPU_TIMER_MAX_QUERIES]; /* owned */
     int query_pass[GPU_TIMER_MAX_QUERIES / 2]; /* index into passes, or GPU_TIMER_MAX_PASSES + index into once */
     int query_count;                       /* pairs in flight ×2 */
@@ -61,6 +63,9 @@ void gpu_timer_begin(GpuTimer *t, const char *pass);
 void gpu_timer_begin_once(GpuTimer *t, const char *pass);
 /* Closes the open pass: ends its timestamp and pops its debug group. */
 void gpu_timer_end(GpuTimer *t);
+/* The time a rate divides by: the timer queries where they are exact, else
+ * (a software rasterizer) wall time when synchronised. */
+static inline bool gpu_timer_rates_use_wall(const GpuTimer *t) { return t->sync && !t->exact; }
 /* Collects this frame's queries (waits for them). */
 void gpu_timer_end_frame(GpuTimer *t);
 /* Forgets the per-frame passes (not the one-time ones). */

@@ -13,6 +13,7 @@
 #include "gpu_budget.h"
 #include "log.h"
 #include "shared/gpu_types.h"
+#include "util.h"
 
 /* ---- What each part depends on ------------------------------------------ */
 
@@ -273,6 +274,17 @@ static void upload_frame(Renderer *r, const Camera *cam)
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_FRAME, r->frame_ubo);
 }
 
+void renderer_warm_up(Renderer *r, const Camera *cam, int frames)
+{
+    double t0 = util_seconds();
+    for (int f = 0; f < frames; f++)
+        renderer_frame(r, cam);
+    if (!r->timer.exact)
+        return;
+    for (int f = frames; f < 10000 && util_seconds() - t0 < RENDERER_WARMUP_S; f++)
+        renderer_frame(r, cam);
+}
+
 void renderer_frame(Renderer *r, const Camera *cam)
 {
     GpuTimer *t = &r->timer;
@@ -373,7 +385,8 @@ double renderer_gather_ms(const Renderer *r, const RenderStats *st, int pass, bo
         if (pass >= 0 && i != pass)
             continue;
         const char *name = st->gather_passes[i].name;
-        double m = fastest ? gpu_timer_min_ms(t, name, t->sync) : gpu_timer_mean_ms(t, name, t->sync);
+        bool wall = gpu_timer_rates_use_wall(t);
+        double m = fastest ? gpu_timer_min_ms(t, name, wall) : gpu_timer_mean_ms(t, name, wall);
         ms += m > 0 ? m : 0;
     }
     return ms;

@@ -121,6 +121,12 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs);
 void renderer_invalidate(Renderer *r);
 /* Renders one frame from `cam`. */
 void renderer_frame(Renderer *r, const Camera *cam);
+/* Untimed frames before a measurement: `frames` of them and, on a GPU
+ * (exact timer queries), as many more as fill RENDERER_WARMUP_S of wall
+ * time, so that clocks lowered while the CPU worked (bench's metrics of the
+ * previous technique) are up again when the timed frames start. */
+#define RENDERER_WARMUP_S 0.5
+void renderer_warm_up(Renderer *r, const Camera *cam, int frames);
 /* Reads the last frame's GI counters back into r->stats (waits for the GPU). */
 const RenderStats *renderer_collect_stats(Renderer *r);
 /* The time of st's gather passes (pass < 0: all of them summed; else that

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gpu_timer.h"
 #include "probe.h"
 #include "test_util.h"
 #include "util.h"
@@ -26,6 +27,13 @@ static void probe_measures_and_round_trips(void **state)
         assert_true(r.evals_2d[f] > 0 && r.evals_cube[f] > 0);
     assert_true(r.evals_ssbo > 0 && r.evals_texel_2d > 0 && r.evals_texel_cube > 0);
     assert_int_equal(r.map_size, 64);
+    /* Gather rates divide by the timer queries on a GPU, by the synchronised
+     * wall time on a software rasterizer (CI's llvmpipe). */
+    GpuTimer t;
+    gpu_timer_create(&t, true, true);
+    assert_int_equal(t.exact, !gl_renderer_is_software((const char *)glGetString(GL_RENDERER)));
+    assert_int_equal(gpu_timer_rates_use_wall(&t), !t.exact);
+    gpu_timer_destroy(&t);
     /* Each kernel's timed dispatch is at least one 256² layer, at most 64
      * (a GPU takes more layers, to fill it and outlast its latency). */
     assert_true(r.lanes >= 65536 && r.lanes <= 64 * 65536);

@@ -435,5 +435,5 @@ void render_options_print_steady(const Renderer *r, double cold_ms, double stead
     /* The passes' timer queries alone: on a GPU the wall time above adds a
      * glFinish round trip per pass, tens of microseconds of a ms frame. */
     if (t->frames > 0)
-        printf("steady_gpu_total_ms: %.3f\n", gpu);
+        printf("frame_steady_gpu_ms: %.3f\n", gpu);
 }

@@ -88,7 +88,7 @@ static void timings_state_the_fraction(void **state)
     assert_non_null(strstr(text, "frame_cold_ms: "));
     assert_non_null(strstr(text, "frame_steady_ms: "));
     assert_non_null(strstr(text, "steady_rsm_gather_ms: "));
-    assert_non_null(strstr(text, "steady_gpu_total_ms: "));
+    assert_non_null(strstr(text, "frame_steady_gpu_ms: "));
     assert_null(strstr(text, "steady_shadow_ms"));
     assert_null(strstr(text, "steady_rsm_ms"));
 }

@@ -7,7 +7,8 @@
  * bench --frames 1. rtgi view runs under a virtual X server (Xvfb, started
  * once: test_x_display); scripts/crosscheck-cycles.sh at 16x16 and 4 spp
  * where Blender is installed; scripts/shadow-artefacts.sh at 32x32 and 4 spp
- * with two settings. Skipped, saying why: scripts/setup.sh and make
+ * with two settings; scripts/frame-times.sh at 32x32, one frame, for none,
+ * rsm and vct. Skipped, saying why: scripts/setup.sh and make
  * (they install and build), Sponza when ../shared has no Sponza, the Cycles
  * cross-check without Blender or the Cornell box facts. */
 #include <errno.h>
@@ -129,6 +130,13 @@ static void readme_commands_work(void **state)
             argc = argc > 4 ? argc : 4;
             argv[argc] = NULL;
             setenv("SETTINGS", "--shadow hard --bias-slope 0;--shadow pcss", 1); /* two rows, not eleven */
+        } else if (!strcmp(argv[0], "scripts/frame-times.sh")) {
+            static const char *const defaults[] = {"cornell", "32x32", "pcss", "1"}; /* the rewriting rule */
+            for (int k = 1; k <= 4; k++)
+                argv[k] = (char *)(k == 1 && argc > 1 ? argv[1] : k == 3 && argc > 3 ? argv[3] : defaults[k - 1]);
+            argc = argc > 5 ? argc : 5;
+            argv[argc] = NULL;
+            setenv("GI", "none rsm vct", 1); /* three rows, not eleven */
         } else if (strcmp(argv[0], "build/rtgi") != 0)
             fail_msg("README command '%s': the test knows no rule for it (add one to tests/test_readme.c)", shown);
         if (why) {
@@ -149,6 +157,7 @@ static void readme_commands_work(void **state)
         char *out = NULL;
         int rc = run(argv, &out);
         unsetenv("SETTINGS");
+        unsetenv("GI");
         print_message("%s %s\n", rc == 0 ? "ok  " : "FAIL", shown);
         if (rc != 0) {
             print_message("  exit %d:\n%s\n", rc, out ? out : "");

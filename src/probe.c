@@ -74,9 +74,9 @@ static double dispatch_seconds(int layers)
 
 /* Best of RUNS timed dispatches, in evaluations/s, after a warm-up dispatch
  * (llvmpipe compiles a kernel at its first) and as many doublings of the
- * layers as it takes for one to last MIN_DISPATCH_S; *lanes: the timed
- * dispatch's invocations. */
-static double time_kernel(GLuint program, double *lanes)
+ * layers as it takes for one to last MIN_DISPATCH_S; out->lanes keeps the
+ * fewest invocations of a timed dispatch. */
+static double time_kernel(GLuint program, ProbeResult *out)
 {
     glUseProgram(program);
     int layers = 1;
@@ -90,7 +90,9 @@ static double time_kernel(GLuint program, double *lanes)
         if (rate > best)
             best = rate;
     }
-    *lanes = (double)GRID * GRID * layers;
+    double lanes = (double)GRID * GRID * layers;
+    if (out->lanes == 0 || lanes < out->lanes)
+        out->lanes = lanes;
     return best;
 }
 
@@ -132,10 +134,7 @@ bool probe_run(ProbeResult *out, int map_size)
                 ok = false;
                 break;
             }
-            double lanes;
-            double rate = time_kernel(prog, &lanes);
-            if (out->lanes == 0 || lanes < out->lanes)
-                out->lanes = lanes;
+            double rate = time_kernel(prog, out);
             if (f > 3)
                 *(c ? &out->evals_texel_cube : &out->evals_texel_2d) = rate;
             else if (c)
@@ -162,11 +161,8 @@ bool probe_run(ProbeResult *out, int map_size)
         GLuint prog = program_cache_get(&pc, &(ShaderProgramDesc){.label = "probe", .comp = "probe/probe.comp",
                                                                   .defines = defs});
         ok = prog != 0;
-        double lanes = 0;
         if (ok)
-            out->evals_ssbo = time_kernel(prog, &lanes);
-        if (ok && lanes < out->lanes)
-            out->lanes = lanes;
+            out->evals_ssbo = time_kernel(prog, out);
         glDeleteBuffers(1, &vpls);
     }
     out->evals_cube[0] = out->evals_2d[0];

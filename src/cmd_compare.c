@@ -236,8 +236,7 @@ int cmd_compare(int argc, char **argv)
     size_t np = (size_t)t.width * t.height;
     /* FLIP holds about 30 float planes at once (metrics.c): check that
      * they fit before the metrics allocate. */
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    size_t phys = pages > 0 && page > 0 ? (size_t)pages * (size_t)page : 0, need = np * 32 * sizeof(float);
+    size_t phys = util_physical_memory(), need = np * 32 * sizeof(float);
     if (phys && need > phys / 2) {
         log_error("compare", "%s: %dx%d images need %.1f GiB for the metrics, more than the limit of %.1f GiB "
                   "(half of this machine's memory)", files[0], t.width, t.height, need / 1073741824.0,

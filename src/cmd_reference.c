@@ -182,8 +182,7 @@ int cmd_reference(int argc, char **argv)
      * and the variance images: check that they fit before it allocates. */
     size_t npix = (size_t)set.width * (size_t)set.height;
     size_t need = npix * 3 * (2 * sizeof(double) + (var_out ? 2 : 1) * sizeof(float));
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    size_t phys = pages > 0 && page > 0 ? (size_t)pages * (size_t)page : 0;
+    size_t phys = util_physical_memory();
     if (npix > IMAGE_MAX_PIXELS || (phys && need > phys / 2)) {
         log_error("cli", "--size %dx%d: the reference needs %.1f GiB for its image buffers; the limit is %zu "
                   "pixels and %.1f GiB (half of this machine's memory)", set.width, set.height,

@@ -675,8 +675,7 @@ static int run_case(const char *const *argv, long fsize_limit, char **err)
 static void bad_input_case(void **state)
 {
     const Case *c = *state;
-    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
-    double half_gib = pages > 0 && page > 0 ? (double)pages * (double)page / 2 / 1073741824.0 : 0;
+    double half_gib = (double)util_physical_memory() / 2 / 1073741824.0;
     if (c->need_gib > 0 && half_gib > 0 && c->need_gib <= half_gib) {
         print_message("%s: not a refusal on this machine (%.1f GiB needed, half its memory is %.1f GiB)\n", c->name,
                       c->need_gib, half_gib);

@@ -1,7 +1,8 @@
 /* test_vct.c — voxel cone tracing (SPEC §6) on llvmpipe at small grids:
  * the voxelization is watertight (every voxel a triangle touches is
  * filled, checked against an exact triangle–box test on the CPU) with the
- * conservative expansion and leaks without it; injected radiance against
+ * conservative expansion (floors lying on voxel boundaries included) and
+ * leaks without it; injected radiance against
  * Lambert's ρ·E·cosθ/π; the Cornell box against the path tracer's
  * one-bounce and full references; a closed box against the reference's
  * indirect light; voxelization once per technique; alpha-masked texels
@@ -181,6 +182,94 @@ static void voxelization_is_watertight(void **state)
     assert_int_equal(extras[1], 0);
     assert_true(holes[0] > 50); /* without the expansion the rows it grazes and the thin wall leak */
     assert_true(filled[1] > filled[0]);
+    scene_free(&s);
+}
+
+/* Flat floors lying exactly on voxel boundaries: 64 convex quads at odd
+ * integer heights in a grid of 1 m voxels (bounds [-15, 15]³ at N = 32:
+ * origin -16, voxel 1, so a floor at y = Y lies on the boundary z = Y + 16
+ * between two voxel layers). Their corners are irregular, so each
+ * triangle's plane normal is some rounded product, and the plane's depth
+ * over a pixel, d / n.z with d = n.z·z, comes out as z or one ulp under it
+ * depending on the triangle. One ulp under had emptied the conservative
+ * fragment's candidate range (floor(z − ulp) < z) and left the floor out
+ * of the voxels: found on NVIDIA, whose division is inexact; here
+ * llvmpipe's rounding of n.z·z does it for a few triangles (without the
+ * clamp in voxelize.frag, 25 of the 1621 columns below came out empty).
+ * Every voxel column wholly under a floor must hold it in the layer above
+ * or below the boundary, with and without the conservative expansion. */
+#define FLOORS 64
+static void boundary_floors(Scene *s, float height[FLOORS], float box[FLOORS][4])
+{
+    scene_init(s);
+    int white = scene_add_material(s, "white", (vec3){0.8f, 0.8f, 0.8f});
+    uint32_t seed = 12345u;
+#define NEXT() ((seed = seed * 1664525u + 1013904223u), (float)(seed >> 8) / 16777216.f)
+    for (int q = 0; q < FLOORS; q++) {
+        float y = (float)(2 * (q % 14) - 13); /* -13, -11, ..., 13 */
+        float wx = 3.f + 6.f * NEXT(), wz = 3.f + 6.f * NEXT();
+        float x0 = -14.f + (28.f - wx) * NEXT(), z0 = -14.f + (28.f - wz) * NEXT();
+        /* Each corner pushed out by up to 0.9 m: a convex quad whose
+         * inscribed box is [x0, x0 + wx] × [z0, z0 + wz]. */
+        vec3 p[4] = {{x0 - 0.9f * NEXT(), y, z0 - 0.9f * NEXT()},
+                     {x0 - 0.9f * NEXT(), y, z0 + wz + 0.9f * NEXT()},
+                     {x0 + wx + 0.9f * NEXT(), y, z0 + wz + 0.9f * NEXT()},
+                     {x0 + wx + 0.9f * NEXT(), y, z0 - 0.9f * NEXT()}};
+        assert_true(scene_add_quad(s, white, p[0], p[1], p[2], p[3]));
+        height[q] = y;
+        box[q][0] = x0;
+        box[q][1] = z0;
+        box[q][2] = x0 + wx;
+        box[q][3] = z0 + wz;
+    }
+#undef NEXT
+    /* Two specks pin the bounds to [-15, 15]³. */
+    for (int c = 0; c < 2; c++) {
+        float e = c ? 15.f : -15.f, d = c ? -0.01f : 0.01f;
+        assert_true(scene_add_quad(s, white, (vec3){e, e, e}, (vec3){e + d, e, e}, (vec3){e + d, e + d, e},
+                                   (vec3){e, e + d, e}));
+    }
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.2f, -1.f, 0.1f}, .color = {1.f, 1.f, 1.f}};
+    scene_add_light(s, &sun);
+    glm_vec3_copy((vec3){0.f, 40.f, 40.f}, s->camera.position);
+    glm_vec3_normalize_to((vec3){0.f, -1.f, -1.f}, s->camera.forward);
+    glm_vec3_normalize_to((vec3){0.f, 1.f, -1.f}, s->camera.up);
+    scene_finalize(s);
+}
+
+static void floors_on_voxel_boundaries(void **state)
+{
+    (void)state;
+    Scene s;
+    float height[FLOORS], box[FLOORS][4];
+    boundary_floors(&s, height, box);
+    for (int conservative = 0; conservative < 2; conservative++) {
+        GiParams gp = s.gi;
+        gp.vct_size = 32;
+        gp.vct_conservative = conservative;
+        gp.vct_aniso = false;
+        int n;
+        float origin[3], voxel;
+        float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
+        assert_int_equal(n, 32);
+        assert_true(origin[0] == -16.f && origin[1] == -16.f && origin[2] == -16.f && voxel == 1.f);
+        int columns = 0, missing = 0;
+        for (int q = 0; q < FLOORS; q++) {
+            int layer = (int)height[q] + 16; /* the boundary: layers layer - 1 and layer touch it */
+            for (int z = (int)ceilf(box[q][1] + 16.f); z + 1 <= (int)floorf(box[q][3] + 16.f); z++)
+                for (int x = (int)ceilf(box[q][0] + 16.f); x + 1 <= (int)floorf(box[q][2] + 16.f); x++) {
+                    size_t lo = ((size_t)z * n + (size_t)(layer - 1)) * n + (size_t)x;
+                    size_t hi = lo + (size_t)n;
+                    columns++;
+                    missing += vol[4 * lo + 3] == 0.f && vol[4 * hi + 3] == 0.f;
+                }
+        }
+        print_message("floors on voxel boundaries (%s): %d of %d columns under them empty\n",
+                      conservative ? "conservative" : "fragment centres", missing, columns);
+        assert_true(columns > 500);
+        assert_int_equal(missing, 0);
+        free(vol);
+    }
     scene_free(&s);
 }
 
@@ -1078,6 +1167,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(voxelization_is_watertight),
+        cmocka_unit_test(floors_on_voxel_boundaries),
         cmocka_unit_test(injection_matches_lambert),
         cmocka_unit_test(injection_covers_the_opaque_voxels),
         cmocka_unit_test(voxelizes_once),

@@ -349,10 +349,36 @@ float scene_box_dist2(const vec3 p, const vec3 lo, const vec3 hi)
     return d2;
 }
 
+/* The smallest quad light side, as a fraction of the scene's extent,
+ * that both renderers draw and sample in float: the emitter's corners are
+ * its centre ± half its sides (they collapse on the centre below about
+ * 1e-7 of its distance from the origin, and the path tracer then sees no
+ * emitter), and its radiance is its power over its area (it overflowed
+ * below 1e-19). A light that small is a point light to every pixel: size 0. */
+#define QUAD_SIDE_MIN 1e-5f
+
+static bool check_quad_side(const Scene *s, int i, const char *after)
+{
+    const Light *l = &s->lights[i];
+    vec3 ext;
+    glm_vec3_sub((float *)s->bounds_max, (float *)s->bounds_min, ext);
+    float side = l->size * fminf(glm_vec3_norm((float *)l->quad_u), glm_vec3_norm((float *)l->quad_v));
+    float min_side = QUAD_SIDE_MIN * fmaxf(glm_vec3_norm(ext), 1e-3f);
+    if (side >= min_side)
+        return true;
+    log_error("scene", "%s: lights[%d]: the quad light's shorter side is %.3g m (size %g%s), under %g of the "
+              "scene's size: at least %.3g m, or size 0 for a point light",
+              s->source, i, (double)side, (double)l->size, after ? after : "", (double)QUAD_SIDE_MIN,
+              (double)min_side);
+    return false;
+}
+
 bool scene_check_lights(const Scene *s, const char *after)
 {
     for (int i = 0; i < s->light_count; i++) {
         const Light *l = &s->lights[i];
+        if (l->type == LIGHT_QUAD && l->size > 0.f && !check_quad_side(s, i, after))
+            return false;
         if (l->type != LIGHT_POINT || l->size <= 0.f)
             continue;
         float r = 0.5f * l->size;

@@ -230,8 +230,10 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform);
 /* Checks of a finalized scene that parsing cannot make, false after logging
  * one line naming the file and the problem:
  *  - every point light's sphere lies outside every surface (inside it the
- *    renderers cannot agree); `after` names what set the sizes ("" or
- *    ", after --light-scale");
+ *    renderers cannot agree), and every quad light of nonzero size has
+ *    sides of at least 1e-5 of the scene's size (smaller ones are points
+ *    to every pixel and collapse in float); `after` names what set the
+ *    sizes ("" or ", after --light-scale");
  *  - the camera sees some of the scene's bounds: camera.far reaches them,
  *    camera.near starts before their far side, and they are not all behind
  *    it. */

@@ -237,6 +237,18 @@ static const Case k_cases[] = {
     {"point_light_in_surfaces_scaled", SCENE("{" CORNELL ", \"lights\": [{\"type\": \"point\", \"position\": [0.278, 0.45, 0.2795], "
                                              "\"intensity\": 0.2, \"diameter\": 0.05}]}"),
      {RENDER_S, "--light-scale", "10"}, 1, "(diameter 0.5 m, after --light-scale) reaches into"},
+    /* A quad light too small to draw or sample in float (the Cornell light,
+     * 0.13 × 0.105 m, scaled by 1e-6): render had been 1e5× too bright,
+     * the reference black. */
+    {"quad_light_tiny_scaled", SCENE("{" CORNELL "}"), {RENDER_S, "--light-scale", "1e-6"}, 1,
+     "lights[0]: the quad light's shorter side is 1.05e-07 m (size 1e-06, after --light-scale), under 1e-05 of the "
+     "scene's size"},
+    {"quad_light_tiny_reference", SCENE("{" CORNELL "}"), {REF_S, "--light-scale", "1e-12"}, 1,
+     "or size 0 for a point light"},
+    {"quad_light_tiny_size", SCENE("{" CORNELL ", \"lights\": [{\"type\": \"quad\", \"position\": [0.278, 0.548, 0.2795], "
+                                   "\"direction\": [0, -1, 0], \"radiance\": [10, 10, 10], \"u\": [0.13, 0, 0], "
+                                   "\"v\": [0, 0, 0.105], \"size\": 1e-7}]}"),
+     {RENDER_S}, 1, "lights[0]: the quad light's shorter side is 1.05e-08 m (size 1e-07), under 1e-05"},
     {"exposure_negative", SCENE("{" CORNELL ", \"exposure\": -1}"), {RENDER_S}, 1, "exposure: -1 is outside (0"},
     {"exposure_zero", SCENE("{" CORNELL ", \"exposure\": 0}"), {RENDER_S}, 1, "exposure: 0 is outside (0"},
     {"exposure_inf", SCENE("{" CORNELL ", \"exposure\": 1e400}"), {RENDER_S}, 1, "exposure: inf is not a finite"},

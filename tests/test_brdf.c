@@ -896,6 +896,44 @@ static void area_light_direct_matches_reference(void **state)
     }
 }
 
+/* A quad light small against its distance takes the point formula
+ * (common/lights.glsl quad_vector): the Cornell light scaled by 3e-4 and
+ * 1e-2 (0.04 and 1.3 mm across, under 0.03 of every surface's distance)
+ * renders as `--area-light point` does. Through the polygon formula its
+ * edge terms had cancelled to float rounding: 15× too bright at 1e-4,
+ * 1e5× at 1e-6. At 0.09 (11.7 mm across: surfaces nearer than 0.39 m
+ * take the polygon, the rest the point) the two meet: measured relMSE
+ * 3.4e-9 against the point image, mean ratio 1.00003. */
+static void small_quads_take_the_point_formula(void **state)
+{
+    (void)state;
+    static const float scales[] = {3e-4f, 1e-2f, 0.09f};
+    for (int k = 0; k < 3; k++) {
+        Scene s;
+        scene_build_cornell(&s);
+        scene_finalize(&s);
+        scene_rescale_lights(&s, scales[k]);
+        assert_true(scene_check_lights(&s, ""));
+        RenderSettings rs = test_settings(&s, 32, 32, SHADOW_MODE_HARD);
+        ImageF exact, point;
+        test_render(&s, &rs, &exact);
+        rs.shadow_params.area_light = AREA_LIGHT_MODE_POINT;
+        test_render(&s, &rs, &point);
+        double e = metric_relmse(&exact, &point, NULL, NULL);
+        double ratio = test_image_mean(&exact) / test_image_mean(&point);
+        print_message("quad light at size %g: exact against point relMSE %.3g, mean ratio %.5f\n", (double)scales[k],
+                      e, ratio);
+        if (k < 2) {
+            assert_true(e < 1e-10);
+        } else {
+            assert_true(e < 1e-6 && fabs(ratio - 1) < 1e-3);
+        }
+        image_free(&exact);
+        image_free(&point);
+        scene_free(&s);
+    }
+}
+
 /* GGX direct light from a point, a spot and a sun on scenes/cornell_glossy's
  * materials (a metal block, a glossy floor): the rasterizer (hard shadows)
  * against `reference --mode direct` at pixel centres, without the pixels
@@ -953,6 +991,7 @@ int main(void)
         cmocka_unit_test(polygon_irradiance_matches_analytic),
         cmocka_unit_test(gltf_metallic_roughness_is_read),
         cmocka_unit_test(area_light_direct_matches_reference),
+        cmocka_unit_test(small_quads_take_the_point_formula),
         cmocka_unit_test(ggx_direct_matches_reference),
     };
     return cmocka_run_group_tests_name("brdf", tests, test_gl_setup, test_gl_teardown);

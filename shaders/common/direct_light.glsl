@@ -71,10 +71,8 @@ vec3 direct_light(vec3 x, vec3 n, vec3 v, vec3 albedo, vec3 f0, float roughness,
         // One-sided: nothing behind the emitting plane.
         vec3 lc = u_light.position_type.xyz;
         if (dot(x - lc, u_light.direction_width.xyz) > 0.0) {
-            vec3 corners[4];
-            quad_corners(u_light, corners);
             vec3 radiance_l = u_light.color.rgb / u_light.quad_v.w; // L = (L·A) / A
-            vec3 fvec = polygon_vector(x, n, corners);
+            vec3 fvec = quad_vector(u_light, x, n, l);
             vec3 e_poly = radiance_l * dot(fvec, n);
             // The diffuse lobe's Fresnel transmission toward the polygon's
             // mean light direction (the vector irradiance's).

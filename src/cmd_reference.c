@@ -39,7 +39,8 @@ void cmd_reference_help(void)
            "  --verbose          debug lines too\n"
            "Ctrl-C (SIGINT) finishes the current pass (a few samples per pixel) and writes the\n"
            "image with the samples reached ('spp:' line; EXR attribute rtgi_spp); a second\n"
-           "Ctrl-C ends the program at once.\n");
+           "Ctrl-C ends the program at once, or once the outputs being written are whole\n"
+           "(all of them or none; SIGTERM likewise).\n");
 }
 
 /* The options this command knows (for "did you mean"). */
@@ -206,6 +207,9 @@ int cmd_reference(int argc, char **argv)
     sigaction(SIGINT, &old_sa, NULL);
     if (rendered && st.spp < set.spp)
         log_info("reference", "interrupted: writing the partial image with %d of %d spp", st.spp, set.spp);
+    /* All outputs or none, also under a second Ctrl-C or a SIGTERM: the
+     * signal waits until every file is written (ms to seconds). */
+    util_defer_ending_signals();
     if (rendered) {
         float e = exposure >= 0.f ? exposure : scene.exposure;
         image_warn_if_black(&mean, "reference", out);
@@ -240,6 +244,7 @@ int cmd_reference(int argc, char **argv)
             log_info("reference", "wrote %s", out);
         }
     }
+    util_end_deferral();
     image_free(&mean);
     image_free(&var);
     scene_free(&scene);

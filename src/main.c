@@ -1,5 +1,6 @@
 /* main.c — rtgi's entry point: dispatches subcommands; the only place that
  * exits. */
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -30,8 +31,21 @@ static void usage(FILE *f)
             "'--' ends the options\n");
 }
 
+/* A command's results on stdout (compare's metrics, --timings' lines) are
+ * its output: a failed write there (a full disk, a closed pipe) fails the
+ * command, as a failed output file does. */
+static int check_stdout(int rc)
+{
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return rc;
+    log_error("cli", "standard output: write failed (%s)", strerror(errno ? errno : EIO));
+    return rc ? rc : 1;
+}
+
 int main(int argc, char **argv)
 {
+    /* outside `reference`'s render loop, which finishes its pass first */
+    util_handle_ending_signals();
     /* --lenient applies to every command's scene loading: take it out here
      * (before or after the command name) so that the commands' option
      * parsers need not know it. */
@@ -67,7 +81,7 @@ int main(int argc, char **argv)
     for (int i = 0; i < N; i++) {
         if (!strcmp(cmd, commands[i].name)) {
             cli_set_command(cmd); /* usage errors name it */
-            return commands[i].run(argc - 2, argv + 2);
+            return check_stdout(commands[i].run(argc - 2, argv + 2));
         }
         names[i] = commands[i].name;
     }

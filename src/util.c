@@ -2,6 +2,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -334,6 +335,75 @@ bool util_realloc(const char *tag, const char *what, void **p, size_t count, siz
     return true;
 }
 
+/* The temporary files being written, so that a signal that ends the
+ * program (util_remove_temporaries) leaves none of them behind. A slot is
+ * marked used only once its name is complete. */
+enum { LIVE_TEMPORARIES = 16 };
+static char s_live_tmp[LIVE_TEMPORARIES][sizeof(((AtomicFile *)0)->tmp)];
+static volatile sig_atomic_t s_live_used[LIVE_TEMPORARIES];
+
+static void live_add(const char *tmp)
+{
+    for (int i = 0; i < LIVE_TEMPORARIES; i++)
+        if (!s_live_used[i]) {
+            memcpy(s_live_tmp[i], tmp, strlen(tmp) + 1);
+            s_live_used[i] = 1;
+            return;
+        }
+}
+
+static void live_remove(const char *tmp)
+{
+    for (int i = 0; i < LIVE_TEMPORARIES; i++)
+        if (s_live_used[i] && !strcmp(s_live_tmp[i], tmp))
+            s_live_used[i] = 0;
+}
+
+static void remove_temporaries(void)
+{
+    for (int i = 0; i < LIVE_TEMPORARIES; i++)
+        if (s_live_used[i])
+            unlink(s_live_tmp[i]); /* async-signal-safe */
+}
+
+/* An ending signal that came while the outputs were being written: it is
+ * raised again once they are whole (util_end_deferral). Any thread may
+ * take it (Embree's workers too), so a flag rather than a signal mask. */
+static volatile sig_atomic_t s_defer_ending, s_ending_pending;
+
+static void on_ending_signal(int sig)
+{
+    if (s_defer_ending) {
+        s_ending_pending = sig;
+        return;
+    }
+    remove_temporaries();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+void util_handle_ending_signals(void)
+{
+    struct sigaction sa = {0};
+    sa.sa_handler = on_ending_signal;
+    sigemptyset(&sa.sa_mask);
+    const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++)
+        sigaction(sigs[i], &sa, NULL);
+}
+
+void util_defer_ending_signals(void) { s_defer_ending = 1; }
+
+void util_end_deferral(void)
+{
+    s_defer_ending = 0;
+    int sig = s_ending_pending;
+    if (sig) {
+        signal(sig, SIG_DFL);
+        raise(sig);
+    }
+}
+
 bool util_atomic_open(AtomicFile *af, const char *tag, const char *path)
 {
     memset(af, 0, sizeof *af);
@@ -356,6 +426,7 @@ bool util_atomic_open(AtomicFile *af, const char *tag, const char *path)
         af->tmp[0] = 0;
         return false;
     }
+    live_add(af->tmp);
     mode_t mask = umask(0);
     umask(mask);
     fchmod(fd, 0666 & ~mask); /* as fopen would create it */
@@ -364,6 +435,7 @@ bool util_atomic_open(AtomicFile *af, const char *tag, const char *path)
         log_error(tag, "%s: cannot open output file (%s)", path, strerror(errno));
         close(fd);
         unlink(af->tmp);
+        live_remove(af->tmp);
         af->tmp[0] = 0;
         return false;
     }
@@ -389,11 +461,10 @@ bool util_atomic_commit(AtomicFile *af, const char *tag)
     if (e) {
         log_error(tag, "%s: write failed (%s); not written", af->path, strerror(e));
         unlink(af->tmp);
-        af->tmp[0] = 0;
-        return false;
     }
+    live_remove(af->tmp);
     af->tmp[0] = 0;
-    return true;
+    return !e;
 }
 
 void util_atomic_abort(AtomicFile *af)
@@ -401,8 +472,10 @@ void util_atomic_abort(AtomicFile *af)
     if (af->f)
         fclose(af->f);
     af->f = NULL;
-    if (af->tmp[0])
+    if (af->tmp[0]) {
         unlink(af->tmp);
+        live_remove(af->tmp);
+    }
     af->tmp[0] = 0;
 }
 

@@ -68,6 +68,14 @@ bool util_atomic_open(AtomicFile *af, const char *tag, const char *path);
 bool util_atomic_commit(AtomicFile *af, const char *tag);
 /* Closes and removes the temporary file (after an error elsewhere). */
 void util_atomic_abort(AtomicFile *af);
+/* SIGINT, SIGTERM and SIGHUP end the program as by default, but first
+ * remove the temporary file of every AtomicFile being written (main.c
+ * installs this; `reference` takes SIGINT for itself while it renders). */
+void util_handle_ending_signals(void);
+/* Between these two such a signal waits: a command's set of outputs is
+ * written whole (all of them or none), then the signal ends the program. */
+void util_defer_ending_signals(void);
+void util_end_deferral(void);
 
 /* Optimal-string-alignment (restricted Damerau-Levenshtein) distance
  * between a and b: inserting, deleting or substituting one byte, or

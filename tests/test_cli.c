@@ -768,6 +768,28 @@ static void shared_defaults(void **state)
     free(out);
 }
 
+/* A command's stdout lines are its results: when they cannot be written
+ * (a full disk: /dev/full) the command fails with one line saying so,
+ * where `compare` and `probe` had exited 0 with the metrics lost. */
+static void failed_stdout_fails_the_command(void **state)
+{
+    (void)state;
+    char img[512], errpath[512], cmd[2048];
+    snprintf(img, sizeof img, "%s/stdout_full.pfm", RTGI_TEST_TMP);
+    snprintf(errpath, sizeof errpath, "%s/stdout_full.txt", RTGI_TEST_TMP);
+    char *err = NULL;
+    assert_int_equal(test_run_cli(&err, "render", "--size", "8x8", "--out", img, "--quiet", NULL), 0);
+    free(err);
+    snprintf(cmd, sizeof cmd, "'%s' compare '%s' '%s' > /dev/full 2> '%s'", RTGI_BINARY, img, img, errpath);
+    int status = system(cmd);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 1);
+    char *text = util_read_file(errpath, NULL);
+    assert_non_null(text);
+    assert_non_null(strstr(text, "standard output: write failed (No space left on device)"));
+    free(text);
+}
+
 /* Every technique and shadow filter, and a scene with an alpha-masked
  * material (its own depth pre-pass and shadow programs), rendered with a
  * GL debug context (--debug): the driver reports no error. A program that
@@ -831,6 +853,7 @@ int main(void)
         cmocka_unit_test(render_frame_progress_lines),
         cmocka_unit_test(shared_defaults),
         cmocka_unit_test(debug_context_reports_no_gl_errors),
+        cmocka_unit_test(failed_stdout_fails_the_command),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

@@ -2,6 +2,7 @@
  * output) and the reference's Ctrl-C: a SIGINT to a running `rtgi
  * reference` writes the partial image with the samples reached, identical
  * to a render asked for that many samples. */
+#include <dirent.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -225,6 +226,76 @@ static void reference_sigint_writes_partial_image(void **state)
     image_free(&b);
 }
 
+/* Entries of `dir` whose name holds ".tmp-" (an AtomicFile's temporary). */
+static int temporaries_in(const char *dir)
+{
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int n = 0;
+    for (struct dirent *e; (e = readdir(d));)
+        n += strstr(e->d_name, ".tmp-") != NULL;
+    closedir(d);
+    return n;
+}
+
+/* A second signal while the reference writes its outputs (a second
+ * Ctrl-C, or SIGTERM), sent as soon as the first temporary file appears:
+ * the outputs are whole, all three, and no temporary file is left. Before,
+ * the writes ran under the default action, and a second SIGINT left the
+ * temporaries (2 of 8 runs of a review, with no output or with the PFM and
+ * no PNG). */
+static void reference_second_signal_leaves_whole_outputs(void **state)
+{
+    (void)state;
+    char dir[600];
+    snprintf(dir, sizeof dir, "%s/second_signal", RTGI_TEST_TMP);
+    mkdir(dir, 0777);
+    const char *names[3] = {"r.pfm", "p.png", "v.pfm"};
+    for (int k = 0; k < 2; k++) {
+        char paths[3][700];
+        for (int i = 0; i < 3; i++) {
+            snprintf(paths[i], sizeof paths[i], "%s/%s", dir, names[i]);
+            remove(paths[i]);
+        }
+        pid_t pid = fork();
+        assert_true(pid >= 0);
+        if (pid == 0) {
+            if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))
+                _exit(127);
+            execl(RTGI_BINARY, RTGI_BINARY, "reference", "--size", "256x256", "--spp", "1000000", "--threads", "2",
+                  "--out", paths[0], "--png", paths[1], "--variance", paths[2], (char *)NULL);
+            _exit(127);
+        }
+        nanosleep(&(struct timespec){2, 0}, NULL);
+        kill(pid, SIGINT);
+        int status = 0, seen = 0;
+        for (int t = 0; t < 300000 && !seen; t++) { /* up to a minute */
+            seen = temporaries_in(dir);
+            if (!seen && waitpid(pid, &status, WNOHANG) == pid)
+                break;
+            if (!seen)
+                nanosleep(&(struct timespec){0, 200000L}, NULL);
+        }
+        if (seen) {
+            kill(pid, k ? SIGTERM : SIGINT);
+            waitpid(pid, &status, 0);
+        }
+        int present = 0;
+        for (int i = 0; i < 3; i++)
+            present += access(paths[i], F_OK) == 0;
+        int left = temporaries_in(dir);
+        print_message("%s during the writes: %d of 3 outputs, %d temporaries left\n", k ? "SIGTERM" : "second SIGINT",
+                      present, left);
+        assert_true(seen); /* the signal reached the writes */
+        assert_int_equal(left, 0);
+        assert_int_equal(present, 3);
+        ImageF img = {0};
+        assert_true(image_read(paths[0], &img));
+        assert_true(test_image_mean(&img) > 0.0);
+        image_free(&img);
+    }
+}
+
 /* render --half and view --half (its --out capture) write half-float EXR
  * through the same writer: the float render's radiance within half
  * precision. */
@@ -264,6 +335,7 @@ int main(void)
         cmocka_unit_test(cli_writes_and_compares_exr),
         cmocka_unit_test(render_and_view_write_half_exr),
         cmocka_unit_test(reference_sigint_writes_partial_image),
+        cmocka_unit_test(reference_second_signal_leaves_whole_outputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

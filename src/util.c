@@ -275,7 +275,9 @@ void strbuf_printf(StrBuf *b, const char *fmt, ...)
 
 void util_ensure_parent_dir(const char *path)
 {
-    char dir[1024];
+    char dir[UTIL_PATH_MAX];
+    if (strlen(path) >= sizeof dir)
+        return; /* a cut name would make another directory; the open fails */
     util_dirname(path, dir, sizeof dir);
     struct stat st;
     if (stat(dir, &st) != 0)
@@ -415,11 +417,19 @@ bool util_atomic_open(AtomicFile *af, const char *tag, const char *path)
         log_error(tag, "%s: output is %s, not a regular file; not written", path, file_kind(st.st_mode));
         return false;
     }
-    util_ensure_parent_dir(path);
-    if (snprintf(af->tmp, sizeof af->tmp, "%s.tmp-XXXXXX", path) >= (int)sizeof af->tmp) {
-        log_error(tag, "%s: output path is too long", path);
+    if (strlen(path) + sizeof ".tmp-XXXXXX" > sizeof af->tmp) {
+        log_error(tag, "%s: output path is too long (%zu bytes; at most %zu)", path, strlen(path),
+                  sizeof af->tmp - sizeof ".tmp-XXXXXX");
         return false;
     }
+    util_ensure_parent_dir(path);
+    /* NAME.tmp-XXXXXX beside it; where NAME is too long for that (a file
+     * name is at most 255 bytes), .rtgi.tmp-XXXXXX in its directory. */
+    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    if (strlen(base) + sizeof ".tmp-XXXXXX" - 1 <= 255)
+        snprintf(af->tmp, sizeof af->tmp, "%s.tmp-XXXXXX", path);
+    else
+        snprintf(af->tmp, sizeof af->tmp, "%.*s.rtgi.tmp-XXXXXX", (int)(base - path), path);
     int fd = mkstemp(af->tmp);
     if (fd < 0) {
         log_error(tag, "%s: cannot create output file (%s)", path, strerror(errno));

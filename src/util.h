@@ -53,10 +53,12 @@ bool util_realloc(const char *tag, const char *what, void **p, size_t count, siz
  * directory, renamed over `path` only after every write, fflush, fsync and
  * fclose succeeded. An error removes the temporary file and leaves no
  * partial output (an existing file at `path` is untouched). */
+/* The longest path rtgi writes or makes a directory for (Linux's PATH_MAX). */
+#define UTIL_PATH_MAX 4096
 typedef struct AtomicFile {
-    FILE *f;          /* write here between open and commit/abort */
-    const char *path; /* final name (not owned) */
-    char tmp[1100];   /* temporary file's name */
+    FILE *f;                      /* write here between open and commit/abort */
+    const char *path;             /* final name (not owned) */
+    char tmp[UTIL_PATH_MAX + 16]; /* temporary file's name */
     bool failed;      /* set by writers that failed (e.g. a callback) */
 } AtomicFile;
 /* Creates the parent directory if missing (one level) and the temporary

@@ -1,10 +1,13 @@
 /* test_cli.c — the CLI as users script it: bad input gives one clear
  * message naming the file or option and a non-zero exit, never a crash;
  * the default render has the red wall on the left, green on the right. */
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cjson/cJSON.h>
 
@@ -768,6 +771,47 @@ static void shared_defaults(void **state)
     free(out);
 }
 
+/* Long output paths: a 251-byte file name (its NAME.tmp-XXXXXX would be
+ * 262 bytes, over the 255 a name may have: it had been refused) and a
+ * parent directory path of over 1024 bytes (cut to 1024, it had made a
+ * stray directory of that name) are written like any other. */
+static void long_output_paths(void **state)
+{
+    (void)state;
+    char name[252], seg[201], path[2048], dir[1800];
+    memset(name, 'E', 247);
+    strcpy(name + 247, ".png");
+    memset(seg, 'A', 200);
+    seg[200] = 0;
+    snprintf(path, sizeof path, "%s/%s", RTGI_TEST_TMP, name);
+    char *err = NULL;
+    assert_int_equal(test_run_cli(&err, "render", "--size", "8x8", "--out", path, "--quiet", NULL), 0);
+    free(err);
+    assert_int_equal(access(path, F_OK), 0);
+    remove(path);
+    int n = snprintf(dir, sizeof dir, "%s/long_paths", RTGI_TEST_TMP);
+    mkdir(dir, 0777);
+    for (int k = 0; k < 5; k++) {
+        n += snprintf(dir + n, sizeof dir - (size_t)n, "/%s", seg);
+        mkdir(dir, 0777);
+    }
+    assert_true(n > 1024);
+    snprintf(path, sizeof path, "%s/x.png", dir);
+    assert_int_equal(test_run_cli(&err, "render", "--size", "8x8", "--out", path, "--quiet", NULL), 0);
+    free(err);
+    assert_int_equal(access(path, F_OK), 0);
+    /* No directory beside the deepest one: nothing was made of a cut name. */
+    char parent[1800];
+    util_dirname(dir, parent, sizeof parent);
+    DIR *d = opendir(parent);
+    assert_non_null(d);
+    int entries = 0;
+    for (struct dirent *e; (e = readdir(d));)
+        entries += e->d_name[0] != '.';
+    closedir(d);
+    assert_int_equal(entries, 1);
+}
+
 /* A command's stdout lines are its results: when they cannot be written
  * (a full disk: /dev/full) the command fails with one line saying so,
  * where `compare` and `probe` had exited 0 with the metrics lost. */
@@ -854,6 +898,7 @@ int main(void)
         cmocka_unit_test(shared_defaults),
         cmocka_unit_test(debug_context_reports_no_gl_errors),
         cmocka_unit_test(failed_stdout_fails_the_command),
+        cmocka_unit_test(long_output_paths),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

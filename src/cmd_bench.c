@@ -76,9 +76,9 @@ void cmd_bench_help(void)
 
 /* One technique to measure and what was measured. */
 typedef struct BenchEntry {
-    char label[160];        /* "pcss + rsm (samples=100)" */
+    char *label;            /* "pcss + rsm (samples=100)" (owned) */
     char id[48];            /* file-name stem: "e03_pcss_rsm" */
-    char overrides[128];    /* "samples=100" or "" */
+    char *overrides;        /* "samples=100" or "" (owned) */
     int shadow, gi;
     Settings set;           /* settings given for this entry (over the base ones) */
     bool given[64];
@@ -205,47 +205,124 @@ static bool get_reference(const Scene *scene, const PtSettings *ps, const char *
     return image_write_exr(path, ref, false, attrs, 2);
 }
 
-/* Splits "NAME[:key=value...]" and fills the entry's settings. */
+/* A copy of `s` (free it); NULL after logging if memory runs out. */
+static char *copy_text(const char *s)
+{
+    size_t n = strlen(s);
+    char *d = util_malloc("bench", "a copy of an option's value", n + 1, 1);
+    if (d)
+        memcpy(d, s, n + 1);
+    return d;
+}
+
+/* Parses one "key=value" of a --gi item into the entry; `over` collects
+ * "key=value, ..." for the label. false after logging. */
+static bool parse_gi_setting(char *kv, BenchEntry *e, StrBuf *over)
+{
+    char *eq = strchr(kv, '=');
+    if (!eq) {
+        cli_error(NULL, "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
+        return false;
+    }
+    *eq = 0;
+    const SettingDesc *d = settings_find_key("gi", kv);
+    if (!d)
+        d = settings_find_key("shadow", kv);
+    if (!d) {
+        const char *keys[128];
+        settings_keys(NULL, keys, 128);
+        cli_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's keys)", kv);
+        return false;
+    }
+    bool on = !strcmp(eq + 1, "on") || !strcmp(eq + 1, "true") || !strcmp(eq + 1, "1");
+    if (d->type == SETTING_FLAG && !on) {
+        cli_error(NULL, "--gi: %s is a flag: give %s=on", kv, kv);
+        return false;
+    }
+    if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : eq + 1, &e->set))
+        return false;
+    e->given[d - settings_table] = true;
+    strbuf_printf(over, "%s%s=%s", over->len ? ", " : "", kv, eq + 1);
+    return true;
+}
+
+/* Splits "NAME[:key=value...]" (any length) and fills the entry's settings
+ * and its overrides (owned). false after logging. */
 static bool parse_gi_item(const char *item, BenchEntry *e)
 {
-    char buf[256];
-    snprintf(buf, sizeof buf, "%s", item);
+    char *buf = copy_text(item);
+    if (!buf)
+        return false;
+    StrBuf over = {0};
+    strbuf_append(&over, "", 0);
     char *save = NULL, *name = strtok_r(buf, ":", &save);
-    if (!name) {
+    bool ok = name != NULL;
+    if (!ok)
         cli_error(NULL, "--gi: empty technique in the list");
-        return false;
-    }
-    if ((e->gi = cli_choice("--gi", name, gi_technique_names())) < 0)
-        return false;
+    if (ok && (e->gi = cli_choice("--gi", name, gi_technique_names())) < 0)
+        ok = false;
     settings_default(&e->set);
-    for (char *kv; (kv = strtok_r(NULL, ":", &save));) {
-        char *eq = strchr(kv, '=');
-        if (!eq) {
-            cli_error(NULL, "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
-            return false;
+    for (char *kv; ok && (kv = strtok_r(NULL, ":", &save));)
+        ok = parse_gi_setting(kv, e, &over);
+    free(buf);
+    if (ok && over.failed)
+        ok = false; /* logged by strbuf */
+    e->overrides = over.data;
+    return ok;
+}
+
+/* "SHADOW + GI (overrides)" into e->label (owned); false after logging. */
+static bool make_label(BenchEntry *e, const char *shadow)
+{
+    StrBuf b = {0};
+    const char *o = e->overrides;
+    strbuf_printf(&b, "%s + %s%s%s%s", shadow, gi_technique_names()[e->gi], o[0] ? " (" : "", o, o[0] ? ")" : "");
+    e->label = b.data;
+    return !b.failed;
+}
+
+/* Every shadow of `shadow_list` × every item of `gi_list`, in order, into
+ * entries[0..*n). false after logging a usage error; entries[0..*n] then
+ * hold what was made (entries_free). */
+static bool parse_entries(const char *shadow_list, const char *gi_list, BenchEntry *entries, int *n)
+{
+    char *shadows = copy_text(shadow_list), *ss = NULL;
+    bool ok = shadows != NULL;
+    for (char *sh = ok ? strtok_r(shadows, ",", &ss) : NULL; ok && sh; sh = strtok_r(NULL, ",", &ss)) {
+        int shadow = cli_choice("--shadow", sh, k_shadow_names);
+        char *gis = shadow >= 0 ? copy_text(gi_list) : NULL, *gs = NULL;
+        ok = gis != NULL;
+        for (char *gi = ok ? strtok_r(gis, ",", &gs) : NULL; ok && gi; gi = strtok_r(NULL, ",", &gs)) {
+            if (*n == BENCH_MAX_ENTRIES) {
+                cli_error(NULL, "more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
+                ok = false;
+                break;
+            }
+            BenchEntry *e = &entries[*n];
+            memset(e, 0, sizeof *e);
+            e->shadow = shadow;
+            ok = parse_gi_item(gi, e) && make_label(e, sh);
+            if (ok)
+                snprintf(e->id, sizeof e->id, "e%02d_%s_%s", *n, sh, gi_technique_names()[e->gi]);
+            (*n)++; /* counted either way: entries_free frees its strings */
         }
-        *eq = 0;
-        const SettingDesc *d = settings_find_key("gi", kv);
-        if (!d)
-            d = settings_find_key("shadow", kv);
-        if (!d) {
-            const char *keys[128];
-            settings_keys(NULL, keys, 128);
-            cli_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's keys)", kv);
-            return false;
-        }
-        bool on = !strcmp(eq + 1, "on") || !strcmp(eq + 1, "true") || !strcmp(eq + 1, "1");
-        if (d->type == SETTING_FLAG && !on) {
-            cli_error(NULL, "--gi: %s is a flag: give %s=on", kv, kv);
-            return false;
-        }
-        if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : eq + 1, &e->set))
-            return false;
-        e->given[d - settings_table] = true;
-        size_t n = strlen(e->overrides);
-        snprintf(e->overrides + n, sizeof e->overrides - n, "%s%s=%s", n ? ", " : "", kv, eq + 1);
+        free(gis);
     }
-    return true;
+    free(shadows);
+    return ok;
+}
+
+/* Frees what parse_entries and the measurements made of entries[0..n). */
+static void entries_free(BenchEntry *entries, int n)
+{
+    for (int i = 0; i < n; i++) {
+        free(entries[i].label);
+        free(entries[i].overrides);
+        image_free(&entries[i].img);
+        free(entries[i].flip_map);
+        entries[i].label = entries[i].overrides = NULL;
+        entries[i].flip_map = NULL;
+    }
 }
 
 static cJSON *json_num(double v)
@@ -632,33 +709,9 @@ int cmd_bench(int argc, char **argv)
     /* The entries: every shadow × every GI item. */
     static BenchEntry entries[BENCH_MAX_ENTRIES];
     int n = 0;
-    char sbuf[256], gbuf[2048];
-    snprintf(sbuf, sizeof sbuf, "%s", shadow_list);
-    char *ss = NULL;
-    for (char *sh = strtok_r(sbuf, ",", &ss); sh; sh = strtok_r(NULL, ",", &ss)) {
-        int shadow = cli_choice("--shadow", sh, k_shadow_names);
-        if (shadow < 0)
-            return 2;
-        snprintf(gbuf, sizeof gbuf, "%s", gi_list);
-        char *gs = NULL;
-        for (char *gi = strtok_r(gbuf, ",", &gs); gi; gi = strtok_r(NULL, ",", &gs)) {
-            if (n == BENCH_MAX_ENTRIES) {
-                cli_error(NULL, "more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
-                return 2;
-            }
-            BenchEntry *e = &entries[n];
-            memset(e, 0, sizeof *e);
-            if (!parse_gi_item(gi, e))
-                return 2;
-            e->shadow = shadow;
-            const char *gname = gi_technique_names()[e->gi];
-            char overrides[sizeof e->overrides]; /* a copy: GCC's -Wrestrict sees one object */
-            memcpy(overrides, e->overrides, sizeof overrides);
-            snprintf(e->label, sizeof e->label, "%s + %s%s%s%s", sh, gname, overrides[0] ? " (" : "", overrides,
-                     overrides[0] ? ")" : "");
-            snprintf(e->id, sizeof e->id, "e%02d_%s_%s", n, sh, gname);
-            n++;
-        }
+    if (!parse_entries(shadow_list, gi_list, entries, &n)) {
+        entries_free(entries, n);
+        return 2;
     }
     if (n == 0) {
         cli_error(NULL, "--gi and --shadow select no technique");
@@ -666,8 +719,10 @@ int cmd_bench(int argc, char **argv)
     }
 
     Scene scene;
-    if (!scene_load_scaled(&scene, scene_name, -1.f))
+    if (!scene_load_scaled(&scene, scene_name, -1.f)) {
+        entries_free(entries, n);
         return 1;
+    }
     ps.width = width;
     ps.height = height;
     ps.progress = log_get_level() <= LOG_INFO;
@@ -810,11 +865,7 @@ done:
     if (created)
         renderer_destroy(&r);
     gl_context_destroy(gl);
-    for (int i = 0; i < n; i++) {
-        image_free(&entries[i].img);
-        free(entries[i].flip_map);
-        entries[i].flip_map = NULL;
-    }
+    entries_free(entries, n);
     free(text);
     cJSON_Delete(doc);
     free(mask);

@@ -351,6 +351,51 @@ static void bad_options(void **state)
     assert_int_not_equal(access(DIR "/x", F_OK), 0); /* nothing written */
 }
 
+/* A 16x16, 1 spp, one-frame bench of `scene` with `--gi gi` into `out`
+ * (the cache shared); returns the exit status and stderr in *err. */
+static int small_bench(char **err, const char *out, const char *scene, const char *gi)
+{
+    return test_run_cli(err, "bench", "--scene", scene, "--size", "16x16", "--gi", gi, "--spp", "1", "--frames", "1",
+                        "--threads", "2", "--cache", CACHE, "--out", out, NULL);
+}
+
+/* `out`/bench.json parsed (fails the test if it is missing or not JSON). */
+static cJSON *load_bench_json(const char *out)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/bench.json", out);
+    char *text = util_read_file(path, NULL);
+    assert_non_null(text);
+    cJSON *doc = cJSON_Parse(text);
+    free(text);
+    assert_non_null(doc);
+    return doc;
+}
+
+/* A --gi item longer than any fixed buffer is read whole: its last setting
+ * is the one given (cut at 255 bytes, "samples=4096" had become
+ * "samples=4"), and the label and overrides carry it. */
+static void long_gi_item(void **state)
+{
+    (void)state;
+    char item[400] = "rsm:scale=1.";
+    size_t len = strlen(item);
+    while (len < 300)
+        item[len++] = '0';
+    snprintf(item + len, sizeof item - len, ":samples=4096");
+    char *err = NULL;
+    int rc = small_bench(&err, DIR "/long", "cornell", item);
+    if (rc != 0)
+        fail_msg("bench --gi <%zu bytes> failed (%d): %s", strlen(item), rc, err ? err : "");
+    free(err);
+    cJSON *doc = load_bench_json(DIR "/long");
+    const cJSON *e = cJSON_GetArrayItem(field(doc, "techniques", 'a'), 0);
+    assert_string_equal(field(field(e, "settings", 'o'), "gi.samples", 's')->valuestring, "4096");
+    assert_true(util_ends_with(field(e, "overrides", 's')->valuestring, ", samples=4096"));
+    assert_true(util_ends_with(field(e, "label", 's')->valuestring, ", samples=4096)"));
+    cJSON_Delete(doc);
+}
+
 /* The page's default exposure keys on the mean log luminance: the bench's
  * reference thumbnail has its median in a sane sRGB range, and a Sponza-like
  * image (90% dim pixels over two decades, 10% sunlit ones 300x brighter),
@@ -482,6 +527,7 @@ int main(void)
         cmocka_unit_test(csv_matches_json),
         cmocka_unit_test(cache_reused),
         cmocka_unit_test(bad_options),
+        cmocka_unit_test(long_gi_item),
         cmocka_unit_test(ssaa_lowers_the_error),
         cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),

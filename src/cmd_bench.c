@@ -215,10 +215,27 @@ static char *copy_text(const char *s)
     return d;
 }
 
-/* Parses one "key=value" of a --gi item into the entry; `over` collects
- * "key=value, ..." for the label. false after logging. */
-static bool parse_gi_setting(char *kv, BenchEntry *e, StrBuf *over)
+/* The next item of a `sep`-separated list at *cursor, cut off in place
+ * (an empty string for an empty item); *cursor moves past it, to NULL
+ * after the last one. Unlike strtok, keeps empty items so that they can be
+ * refused. */
+static char *next_item(char **cursor, char sep)
 {
+    char *item = *cursor, *end = strchr(item, sep);
+    if (end)
+        *end = 0;
+    *cursor = end ? end + 1 : NULL;
+    return item;
+}
+
+/* Parses one "key=value" of the --gi item `item` into the entry; `over`
+ * collects "key=value, ..." for the label. false after logging. */
+static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *over)
+{
+    if (!*kv) {
+        cli_error(NULL, "--gi: '%s': empty setting (NAME:key=value[:key=value])", item);
+        return false;
+    }
     char *eq = strchr(kv, '=');
     if (!eq) {
         cli_error(NULL, "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
@@ -232,6 +249,10 @@ static bool parse_gi_setting(char *kv, BenchEntry *e, StrBuf *over)
         const char *keys[128];
         settings_keys(NULL, keys, 128);
         cli_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's keys)", kv);
+        return false;
+    }
+    if (e->given[d - settings_table]) {
+        cli_error(NULL, "--gi: '%s': the key '%s' is given twice", item, kv);
         return false;
     }
     bool on = !strcmp(eq + 1, "on") || !strcmp(eq + 1, "true") || !strcmp(eq + 1, "1");
@@ -250,20 +271,18 @@ static bool parse_gi_setting(char *kv, BenchEntry *e, StrBuf *over)
  * and its overrides (owned). false after logging. */
 static bool parse_gi_item(const char *item, BenchEntry *e)
 {
-    char *buf = copy_text(item);
+    char *buf = copy_text(item), *cursor = buf;
     if (!buf)
         return false;
     StrBuf over = {0};
     strbuf_append(&over, "", 0);
-    char *save = NULL, *name = strtok_r(buf, ":", &save);
-    bool ok = name != NULL;
-    if (!ok)
-        cli_error(NULL, "--gi: empty technique in the list");
-    if (ok && (e->gi = cli_choice("--gi", name, gi_technique_names())) < 0)
-        ok = false;
+    const char *name = next_item(&cursor, ':');
+    if (!*name)
+        cli_error(NULL, "--gi: '%s': no technique before the settings", item);
+    bool ok = *name && (e->gi = cli_choice("--gi", name, gi_technique_names())) >= 0;
     settings_default(&e->set);
-    for (char *kv; ok && (kv = strtok_r(NULL, ":", &save));)
-        ok = parse_gi_setting(kv, e, &over);
+    while (ok && cursor)
+        ok = parse_gi_setting(item, next_item(&cursor, ':'), e, &over);
     free(buf);
     if (ok && over.failed)
         ok = false; /* logged by strbuf */
@@ -281,20 +300,33 @@ static bool make_label(BenchEntry *e, const char *shadow)
     return !b.failed;
 }
 
+/* The next item of the comma-separated list `list` of option `opt` at
+ * *cursor (next_item); NULL after logging if it is empty. */
+static const char *next_list_item(const char *opt, const char *list, char **cursor)
+{
+    const char *item = next_item(cursor, ',');
+    if (!*item)
+        cli_error(NULL, "%s: '%s': empty item in the list", opt, list);
+    return *item ? item : NULL;
+}
+
 /* Every shadow of `shadow_list` × every item of `gi_list`, in order, into
- * entries[0..*n). false after logging a usage error; entries[0..*n] then
+ * entries[0..*n). false after logging a usage error; entries[0..*n) then
  * hold what was made (entries_free). */
 static bool parse_entries(const char *shadow_list, const char *gi_list, BenchEntry *entries, int *n)
 {
-    char *shadows = copy_text(shadow_list), *ss = NULL;
+    char *shadows = copy_text(shadow_list), *sc = shadows;
     bool ok = shadows != NULL;
-    for (char *sh = ok ? strtok_r(shadows, ",", &ss) : NULL; ok && sh; sh = strtok_r(NULL, ",", &ss)) {
-        int shadow = cli_choice("--shadow", sh, k_shadow_names);
-        char *gis = shadow >= 0 ? copy_text(gi_list) : NULL, *gs = NULL;
+    while (ok && sc) {
+        const char *sh = next_list_item("--shadow", shadow_list, &sc);
+        int shadow = sh ? cli_choice("--shadow", sh, k_shadow_names) : -1;
+        char *gis = shadow >= 0 ? copy_text(gi_list) : NULL, *gc = gis;
         ok = gis != NULL;
-        for (char *gi = ok ? strtok_r(gis, ",", &gs) : NULL; ok && gi; gi = strtok_r(NULL, ",", &gs)) {
-            if (*n == BENCH_MAX_ENTRIES) {
-                cli_error(NULL, "more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
+        while (ok && gc) {
+            const char *gi = next_list_item("--gi", gi_list, &gc);
+            if (!gi || *n == BENCH_MAX_ENTRIES) {
+                if (gi)
+                    cli_error(NULL, "more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
                 ok = false;
                 break;
             }
@@ -711,10 +743,6 @@ int cmd_bench(int argc, char **argv)
     int n = 0;
     if (!parse_entries(shadow_list, gi_list, entries, &n)) {
         entries_free(entries, n);
-        return 2;
-    }
-    if (n == 0) {
-        cli_error(NULL, "--gi and --shadow select no technique");
         return 2;
     }
 

@@ -351,6 +351,39 @@ static void bad_options(void **state)
     assert_int_not_equal(access(DIR "/x", F_OK), 0); /* nothing written */
 }
 
+/* In --gi and --shadow lists a duplicate key (README: an error, as in
+ * scene files), an empty item and an empty setting are usage errors naming
+ * the option (and the key), not dropped or overridden silently. */
+static void bad_lists(void **state)
+{
+    (void)state;
+    static const char *const bad[][3] = {
+        /* option, value, what the error line must hold besides the option */
+        {"--gi", "rsm:samples=4:samples=8", "'samples' is given twice"},
+        {"--gi", "vct:vct_bounces=2:vct_size=16:vct_bounces=1", "'vct_bounces' is given twice"},
+        {"--gi", "none,,rsm", "empty item"},
+        {"--gi", "none,", "empty item"},
+        {"--gi", ",none", "empty item"},
+        {"--gi", ",", "empty item"},
+        {"--gi", "", "empty item"},
+        {"--gi", "rsm:", "empty setting"},
+        {"--gi", "rsm::", "empty setting"},
+        {"--gi", "rsm::samples=4", "empty setting"},
+        {"--gi", "rsm:samples=4:", "empty setting"},
+        {"--gi", ":samples=4", "no technique"},
+        {"--shadow", "pcf,", "empty item"},
+        {"--shadow", ",pcf", "empty item"},
+        {"--shadow", "pcf,,hard", "empty item"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char *err = NULL, opt[32];
+        int rc = test_run_cli(&err, "bench", "--out", DIR "/x", bad[i][0], bad[i][1], NULL);
+        snprintf(opt, sizeof opt, "bench: %s: ", bad[i][0]);
+        test_expect_cli_error(rc, err, 2, opt, bad[i][2]);
+    }
+    assert_int_not_equal(access(DIR "/x", F_OK), 0); /* nothing written */
+}
+
 /* A 16x16, 1 spp, one-frame bench of `scene` with `--gi gi` into `out`
  * (the cache shared); returns the exit status and stderr in *err. */
 static int small_bench(char **err, const char *out, const char *scene, const char *gi)
@@ -527,6 +560,7 @@ int main(void)
         cmocka_unit_test(csv_matches_json),
         cmocka_unit_test(cache_reused),
         cmocka_unit_test(bad_options),
+        cmocka_unit_test(bad_lists),
         cmocka_unit_test(long_gi_item),
         cmocka_unit_test(ssaa_lowers_the_error),
         cmocka_unit_test(display_exposure),

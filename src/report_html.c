@@ -389,12 +389,15 @@ static void put_base64(FILE *f, const uint8_t *p, size_t n)
     }
 }
 
-/* The JSON inside a <script>: "</" would end it. */
+/* The JSON inside a <script>, with every '<' written as \u003c (JSON has
+ * '<' only inside strings, where the escape means the same): "</script"
+ * would end the block, and "<!--" followed by "<script" would make the
+ * parser skip the block's "</script>", leaving the page one broken script. */
 static void put_script_json(FILE *f, const char *json)
 {
     for (const char *c = json; *c; c++) {
-        if (c[0] == '<' && c[1] == '/')
-            fputs("<\\", f);
+        if (*c == '<')
+            fputs("\\u003c", f);
         else
             fputc(*c, f);
     }

@@ -481,10 +481,11 @@ static void display_exposure(void **state)
     image_free(&sponza);
 }
 
-/* The page in headless Chromium: no errors, one scatter point per technique. */
-static void report_in_chromium(void **state)
+/* The DOM of `dir`/report.html after headless Chromium ran its scripts
+ * (free it), its console log in RTGI_TEST_TMP/bench_chromium.log; skips the
+ * test where Chromium is not installed. */
+static char *chromium_dom(const char *dir)
 {
-    (void)state;
     const char *chromium = access("/usr/bin/chromium", X_OK) == 0 ? "/usr/bin/chromium" : NULL;
     if (!chromium) {
         print_message("SKIP: /usr/bin/chromium is not installed (scripts/install-deps.sh installs it)\n");
@@ -493,8 +494,8 @@ static void report_in_chromium(void **state)
     char cmd[2048];
     snprintf(cmd, sizeof cmd,
              "%s --headless --disable-gpu --no-sandbox --user-data-dir=%s/bench_chromium --enable-logging=stderr "
-             "--virtual-time-budget=20000 --dump-dom file://%s/report.html 2>%s/bench_chromium.log",
-             chromium, RTGI_TEST_TMP, DIR, RTGI_TEST_TMP);
+             "--virtual-time-budget=20000 --dump-dom 'file://%s/report.html' 2>%s/bench_chromium.log",
+             chromium, RTGI_TEST_TMP, dir, RTGI_TEST_TMP);
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
     char *dom = NULL;
@@ -513,6 +514,14 @@ static void report_in_chromium(void **state)
     int rc = pclose(p);
     assert_int_equal(rc, 0);
     assert_non_null(dom);
+    return dom;
+}
+
+/* The page in headless Chromium: no errors, one scatter point per technique. */
+static void report_in_chromium(void **state)
+{
+    (void)state;
+    char *dom = chromium_dom(DIR);
     char *title = strstr(dom, "<title>");
     assert_non_null(title);
     print_message("%.60s\n", title);
@@ -546,6 +555,40 @@ static void report_in_chromium(void **state)
     }
 }
 
+/* A scene path holding "<!--<script>" (HTML's "script data double escaped"
+ * state: the page's first "</script>" then no longer ends the JSON's
+ * block, and the page drew nothing) leaves no '<' in the page's embedded
+ * JSON, the JSON still names the scene, and the page draws its point. */
+static void report_scene_name_is_script_safe(void **state)
+{
+    (void)state;
+    const char *scene = test_tmp_file("<!--<script>x.json", "{\"builtin\": \"cornell\"}\n");
+    char *err = NULL;
+    int rc = small_bench(&err, DIR "/html", scene, "none");
+    if (rc != 0)
+        fail_msg("bench --scene '%s' failed (%d): %s", scene, rc, err ? err : "");
+    free(err);
+    char *page = util_read_file(DIR "/html/report.html", NULL);
+    assert_non_null(page);
+    char *json = strstr(page, "const BENCH = "), *end = json ? strstr(json, ";\nconst IMAGES") : NULL;
+    assert_non_null(end);
+    json += strlen("const BENCH = ");
+    *end = 0;
+    assert_null(strchr(json, '<'));
+    assert_non_null(strstr(json, "\\u003c!--\\u003cscript>"));
+    cJSON *doc = cJSON_Parse(json);
+    assert_non_null(doc);
+    assert_non_null(strstr(field(doc, "scene", 's')->valuestring, "<!--<script>x.json"));
+    cJSON_Delete(doc);
+    free(page);
+    char *dom = chromium_dom(DIR "/html");
+    char *title = strstr(dom, "<title>");
+    assert_non_null(title);
+    print_message("%.20s\n", title);
+    assert_true(strncmp(title, "<title>ok:1</title>", 19) == 0);
+    free(dom);
+}
+
 static int teardown(void **state)
 {
     (void)state;
@@ -565,6 +608,7 @@ int main(void)
         cmocka_unit_test(ssaa_lowers_the_error),
         cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),
+        cmocka_unit_test(report_scene_name_is_script_safe),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

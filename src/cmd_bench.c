@@ -357,6 +357,20 @@ static void entries_free(BenchEntry *entries, int n)
     }
 }
 
+/* Adds `s` to o under `key` with the bytes that are not UTF-8 as U+FFFD,
+ * as `compare --json` writes them (util_json_string): for paths and driver
+ * strings, so that bench.json, bench.csv and the page stay UTF-8. false
+ * after logging if memory runs out. */
+static bool add_text(cJSON *o, const char *key, const char *s)
+{
+    char *t = util_utf8_sanitize(s);
+    bool ok = t && cJSON_AddStringToObject(o, key, t);
+    if (t && !ok)
+        log_error("bench", "out of memory building bench.json");
+    free(t);
+    return ok;
+}
+
 static cJSON *json_num(double v)
 {
     return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
@@ -848,9 +862,9 @@ int cmd_bench(int argc, char **argv)
             cJSON_AddStringToObject(doc, "date", date);
             char dev[256];
             device_name(dev, sizeof dev);
-            cJSON_AddStringToObject(doc, "device", dev);
-            cJSON_AddStringToObject(doc, "gl_renderer", gl_context_renderer(gl));
-            cJSON_AddStringToObject(doc, "scene", scene.source);
+            if (!add_text(doc, "device", dev) || !add_text(doc, "gl_renderer", gl_context_renderer(gl)) ||
+                !add_text(doc, "scene", scene.source))
+                goto done;
             cJSON_AddNumberToObject(doc, "width", width);
             cJSON_AddNumberToObject(doc, "height", height);
             cJSON_AddNumberToObject(doc, "frames", frames);
@@ -858,7 +872,8 @@ int cmd_bench(int argc, char **argv)
             cJSON *rj = cJSON_AddObjectToObject(doc, "reference");
             cJSON_AddStringToObject(rj, "mode", pt_mode_names[ps.mode]);
             cJSON_AddNumberToObject(rj, "spp", ps.spp);
-            cJSON_AddStringToObject(rj, "cache", ref_path);
+            if (!add_text(rj, "cache", ref_path))
+                goto done;
             cJSON_AddBoolToObject(rj, "reused", reused);
             cJSON_AddStringToObject(rj, "png", "images/reference.png");
             cJSON_AddStringToObject(rj, "exr", "images/reference.exr");

@@ -535,6 +535,37 @@ const char *util_nearest(const char *s, const char *const *names)
     return best_d <= limit ? best : NULL;
 }
 
+/* Length of the UTF-8 sequence at p (p[0] >= 0x80) if it is one that
+ * util_json_string and util_utf8_sanitize pass through (a lead byte
+ * 0xc2..0xf4 and its continuation bytes), else 0. */
+static int utf8_sequence_length(const unsigned char *p)
+{
+    int len = (*p & 0xe0) == 0xc0 ? 2 : (*p & 0xf0) == 0xe0 ? 3 : (*p & 0xf8) == 0xf0 ? 4 : 0;
+    int k = 1;
+    while (len && k < len && (p[k] & 0xc0) == 0x80)
+        k++;
+    return len && k == len && *p >= 0xc2 && *p <= 0xf4 ? len : 0;
+}
+
+char *util_utf8_sanitize(const char *s)
+{
+    StrBuf b = {0};
+    strbuf_append(&b, "", 0);
+    for (const unsigned char *p = (const unsigned char *)s; *p;) {
+        int len = *p < 0x80 ? 1 : utf8_sequence_length(p);
+        if (len)
+            strbuf_append(&b, (const char *)p, (size_t)len);
+        else
+            strbuf_append(&b, "\xef\xbf\xbd", 3); /* U+FFFD */
+        p += len ? len : 1;
+    }
+    if (b.failed) {
+        free(b.data);
+        return NULL;
+    }
+    return b.data;
+}
+
 void util_json_string(FILE *f, const char *s)
 {
     fputc('"', f);
@@ -551,11 +582,8 @@ void util_json_string(FILE *f, const char *s)
             } else if (*p < 0x80) {
                 fputc(*p, f);
             } else { /* valid UTF-8 passes through, anything else is U+FFFD */
-                int len = (*p & 0xe0) == 0xc0 ? 2 : (*p & 0xf0) == 0xe0 ? 3 : (*p & 0xf8) == 0xf0 ? 4 : 0;
-                int k = 1;
-                while (len && k < len && (p[k] & 0xc0) == 0x80)
-                    k++;
-                if (len && k == len && *p >= 0xc2 && *p <= 0xf4) {
+                int len = utf8_sequence_length(p);
+                if (len) {
                     fwrite(p, 1, (size_t)len, f);
                     p += len - 1;
                 } else {

@@ -88,8 +88,14 @@ int util_edit_distance(const char *a, const char *b);
  * or NULL when none is near enough to be a likely typo (distance more than
  * 1 for names up to 4 bytes, else max(2, strlen(s)/3)). For "unknown key 'x', did you mean 'y'?". */
 const char *util_nearest(const char *s, const char *const *names);
-/* Writes `s` as a JSON string literal (quotes, escapes) to f. */
+/* Writes `s` as a JSON string literal (quotes, escapes) to f; bytes that
+ * do not start valid UTF-8 are written as \ufffd. */
 void util_json_string(FILE *f, const char *s);
+/* A copy of `s` (free it) with every byte that util_json_string writes as
+ * \ufffd replaced by U+FFFD's UTF-8, for text that goes into JSON through
+ * cJSON (which copies bytes as they are); NULL after logging if memory runs
+ * out. */
+char *util_utf8_sanitize(const char *s);
 char *util_strndup(const char *s, size_t n);
 /* Directory part of `path` ("." if none) into `dir`. */
 void util_dirname(const char *path, char *dir, size_t cap);

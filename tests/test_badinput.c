@@ -832,6 +832,28 @@ static void compare_json_is_valid(void **state)
 
 /* ---------------------------------------------- the helpers, in-process */
 
+/* util_utf8_sanitize keeps valid UTF-8 and replaces what util_json_string
+ * writes as \ufffd (a stray or truncated sequence, one U+FFFD a byte). */
+static void utf8_sanitize(void **state)
+{
+    (void)state;
+    static const char *const cases[][2] = {
+        {"plain/path.json", "plain/path.json"},
+        {"caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80", "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"},
+        {"na\xffme", "na\xef\xbf\xbdme"},
+        {"\xc3", "\xef\xbf\xbd"},
+        {"\xe2\x82x", "\xef\xbf\xbd\xef\xbf\xbdx"},
+        {"\xc0\xaf", "\xef\xbf\xbd\xef\xbf\xbd"}, /* overlong '/' */
+        {"", ""},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char *t = util_utf8_sanitize(cases[i][0]);
+        assert_non_null(t);
+        assert_string_equal(t, cases[i][1]);
+        free(t);
+    }
+}
+
 static void writers_refuse_nonfinite(void **state)
 {
     (void)state;
@@ -956,7 +978,7 @@ int main(void)
     remove_tree(g_root);
     mkdir(g_root, 0700);
     enum { N = sizeof k_cases / sizeof k_cases[0] };
-    struct CMUnitTest tests[N + 7];
+    struct CMUnitTest tests[N + 8];
     for (int i = 0; i < N; i++)
         tests[i] = (struct CMUnitTest){k_cases[i].name, bad_input_case, NULL, NULL, (void *)&k_cases[i]};
     tests[N + 0] = (struct CMUnitTest)cmocka_unit_test(lenient_unknown_key_is_warning);
@@ -966,7 +988,8 @@ int main(void)
     tests[N + 4] = (struct CMUnitTest)cmocka_unit_test(nearest_and_keys);
     tests[N + 5] = (struct CMUnitTest)cmocka_unit_test(valid_glb_loads);
     tests[N + 6] = (struct CMUnitTest)cmocka_unit_test(black_image_is_reported);
-    int failed = _cmocka_run_group_tests("badinput", tests, N + 7, NULL, NULL);
+    tests[N + 7] = (struct CMUnitTest)cmocka_unit_test(utf8_sanitize);
+    int failed = _cmocka_run_group_tests("badinput", tests, N + 8, NULL, NULL);
     if (!failed)
         remove_tree(g_root);
     return failed;

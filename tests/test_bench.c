@@ -589,6 +589,55 @@ static void report_scene_name_is_script_safe(void **state)
     free(dom);
 }
 
+/* true if s is valid UTF-8 (RFC 3629: no overlong forms, no surrogates,
+ * nothing over U+10FFFF). */
+static bool valid_utf8(const char *s)
+{
+    for (const unsigned char *p = (const unsigned char *)s; *p;) {
+        int len = *p < 0x80 ? 1 : *p >= 0xc2 && *p <= 0xdf ? 2 : *p >= 0xe0 && *p <= 0xef ? 3
+                : *p >= 0xf0 && *p <= 0xf4 ? 4 : 0;
+        if (!len)
+            return false;
+        unsigned cp = len == 1 ? *p : *p & (0x7f >> len);
+        for (int k = 1; k < len; k++) {
+            if ((p[k] & 0xc0) != 0x80)
+                return false;
+            cp = cp << 6 | (p[k] & 0x3f);
+        }
+        if ((len == 3 && (cp < 0x800 || (cp >= 0xd800 && cp <= 0xdfff))) || (len == 4 && (cp < 0x10000 || cp > 0x10ffff)))
+            return false;
+        p += len;
+    }
+    return true;
+}
+
+/* A scene named with a byte that is not UTF-8 (0xff) gives a bench.json,
+ * bench.csv and page that are UTF-8, the byte as U+FFFD, as `compare
+ * --json` writes it. */
+static void scene_name_not_utf8(void **state)
+{
+    (void)state;
+    const char *scene = test_tmp_file("na\xffme.json", "{\"builtin\": \"cornell\"}\n");
+    char *err = NULL;
+    int rc = small_bench(&err, DIR "/utf8", scene, "none");
+    if (rc != 0)
+        fail_msg("bench --scene 'na\\xffme.json' failed (%d): %s", rc, err ? err : "");
+    free(err);
+    static const char *const files[] = {"bench.json", "bench.csv", "report.html"};
+    for (int i = 0; i < 3; i++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", DIR "/utf8", files[i]);
+        char *text = util_read_file(path, NULL);
+        assert_non_null(text);
+        if (!valid_utf8(text))
+            fail_msg("%s is not valid UTF-8", files[i]);
+        free(text);
+    }
+    cJSON *doc = load_bench_json(DIR "/utf8");
+    assert_true(util_ends_with(field(doc, "scene", 's')->valuestring, "/na\xef\xbf\xbdme.json"));
+    cJSON_Delete(doc);
+}
+
 static int teardown(void **state)
 {
     (void)state;
@@ -609,6 +658,7 @@ int main(void)
         cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),
         cmocka_unit_test(report_scene_name_is_script_safe),
+        cmocka_unit_test(scene_name_not_utf8),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -169,7 +169,8 @@ static bool make_dir(const char *path)
     return true;
 }
 
-/* The cached reference, or a new one rendered and cached. */
+/* The cached reference, or a new one rendered and cached; the directory
+ * `cache` exists (made by the caller before any output). */
 static bool get_reference(const Scene *scene, const PtSettings *ps, const char *cache, ImageF *ref, char *path,
                           size_t cap, bool *reused)
 {
@@ -194,8 +195,10 @@ static bool get_reference(const Scene *scene, const PtSettings *ps, const char *
         image_free(ref);
         log_info("bench", "%s: unusable cached reference; rendering it again", path);
     }
-    if (!make_dir(cache))
+    if (access(cache, W_OK) != 0) { /* before minutes of rendering */
+        log_error("bench", "%s: cannot write the reference there (%s)", cache, strerror(errno));
         return false;
+    }
     log_info("bench", "rendering the reference (%s, %d spp, %dx%d) into %s", pt_mode_names[ps->mode], ps->spp,
              ps->width, ps->height, path);
     PtStats st = {0};
@@ -778,7 +781,7 @@ int cmd_bench(int argc, char **argv)
     bool created = false, reused = false;
     cJSON *doc = NULL;
     char *text = NULL;
-    if (!make_dir(out) || !make_dir(images_dir))
+    if (!make_dir(cache) || !make_dir(out) || !make_dir(images_dir)) /* a bad --cache leaves no DIR */
         goto done;
     if (!get_reference(&scene, &ps, cache, &ref, ref_path, sizeof ref_path, &reused))
         goto done;

@@ -429,6 +429,19 @@ static void long_gi_item(void **state)
     cJSON_Delete(doc);
 }
 
+/* A --cache that is a regular file is refused before DIR and DIR/images
+ * are made (they were left behind, empty). */
+static void bad_cache_leaves_no_dir(void **state)
+{
+    (void)state;
+    const char *file = test_tmp_file("bench_cache_file", "not a directory\n");
+    char *err = NULL;
+    int rc = test_run_cli(&err, "bench", "--size", "16x16", "--gi", "none", "--spp", "1", "--frames", "1", "--cache",
+                          file, "--out", DIR "/badcache", "--quiet", NULL);
+    test_expect_cli_error(rc, err, 1, file, "not a directory");
+    assert_int_not_equal(access(DIR "/badcache", F_OK), 0);
+}
+
 /* The page's default exposure keys on the mean log luminance: the bench's
  * reference thumbnail has its median in a sane sRGB range, and a Sponza-like
  * image (90% dim pixels over two decades, 10% sunlit ones 300x brighter),
@@ -654,6 +667,7 @@ int main(void)
         cmocka_unit_test(bad_options),
         cmocka_unit_test(bad_lists),
         cmocka_unit_test(long_gi_item),
+        cmocka_unit_test(bad_cache_leaves_no_dir),
         cmocka_unit_test(ssaa_lowers_the_error),
         cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),

@@ -2,13 +2,16 @@
  * of one scene rendered in-process with per-pass timings, measured against a
  * cached path-traced reference with the emitters masked out, written as
  * DIR/bench.json (schema in the README, "Benchmarks") and the self-contained
- * DIR/report.html (report_html.c).
+ * DIR/report.html (report_html.c). Every output is written into a staging
+ * directory DIR/.bench-XXXXXX and moved into DIR only when all of them are
+ * written: a failed run leaves DIR as it was.
  *
  * References are cached in --cache DIR (default out/ref-cache) as EXR files
  * named by a hash of what decides their pixels: the scene's content
  * (geometry, materials, textures, lights, camera), the size, the mode, the
  * samples per pixel and BENCH_REF_VERSION (raise it when the path tracer's
  * light transport changes). */
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -38,6 +41,9 @@
  * then no longer match. */
 #define BENCH_REF_VERSION 1
 #define BENCH_MAX_ENTRIES 64
+/* --out's longest: DIR/.bench-XXXXXX/images/<id>_flip.png.tmp-XXXXXX then
+ * fits every path buffer (and AtomicFile's 1100 bytes). */
+#define BENCH_MAX_DIR 900
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
 static const char *const k_default_gi =
@@ -167,6 +173,93 @@ static bool make_dir(const char *path)
         return false;
     }
     return true;
+}
+
+typedef enum DrainMode {
+    DRAIN_CHECK,  /* that no target in `to` is a directory */
+    DRAIN_MOVE,   /* rename each file into `to` (one file system) */
+    DRAIN_REMOVE, /* unlink each file */
+} DrainMode;
+
+/* Does `mode` to every file of `dir` (subdirectories left alone). false
+ * after logging. */
+static bool drain_dir(const char *dir, const char *to, DrainMode mode)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        log_error("bench", "%s: cannot read the staging directory (%s)", dir, strerror(errno));
+        return false;
+    }
+    bool ok = true;
+    for (struct dirent *de; ok && (de = readdir(d));) {
+        char src[1400], dst[1400];
+        struct stat st;
+        snprintf(src, sizeof src, "%s/%s", dir, de->d_name);
+        if (lstat(src, &st) != 0 || S_ISDIR(st.st_mode))
+            continue; /* ".", "..", images/ */
+        snprintf(dst, sizeof dst, "%s/%s", to ? to : "", de->d_name);
+        if (mode == DRAIN_CHECK && stat(dst, &st) == 0 && S_ISDIR(st.st_mode)) {
+            log_error("bench", "%s: is a directory; no output of this run is moved into %s", dst, to);
+            ok = false;
+        } else if (mode == DRAIN_MOVE && rename(src, dst) != 0) {
+            log_error("bench", "%s: cannot move the output into place (%s)", dst, strerror(errno));
+            ok = false;
+        } else if (mode == DRAIN_REMOVE) {
+            unlink(src);
+        }
+    }
+    closedir(d);
+    return ok;
+}
+
+/* Removes the staging directory `stage` and what is in it. */
+static void stage_remove(const char *stage)
+{
+    char images[1100];
+    snprintf(images, sizeof images, "%s/images", stage);
+    drain_dir(images, NULL, DRAIN_REMOVE);
+    rmdir(images);
+    drain_dir(stage, NULL, DRAIN_REMOVE);
+    rmdir(stage);
+}
+
+/* Makes the staging directory DIR/.bench-XXXXXX (into `stage`) and its
+ * images/: the run writes there, stage_commit moves it into DIR. false
+ * after logging. */
+static bool stage_open(const char *out, char *stage, size_t cap)
+{
+    snprintf(stage, cap, "%s/.bench-XXXXXX", out);
+    if (!mkdtemp(stage)) {
+        log_error("bench", "%s: cannot create a staging directory there (%s)", out, strerror(errno));
+        stage[0] = 0;
+        return false;
+    }
+    char images[1100];
+    snprintf(images, sizeof images, "%s/images", stage);
+    if (mkdir(images, 0777) != 0) {
+        log_error("bench", "%s: cannot create directory (%s)", images, strerror(errno));
+        return false;
+    }
+    return true;
+}
+
+/* Moves every staged file into DIR and DIR/images, after checking that
+ * none would land on a directory (a rename that then fails is an I/O error
+ * of the same file system). false after logging. */
+static bool stage_commit(const char *stage, const char *out)
+{
+    char from[1100], to[1100];
+    snprintf(from, sizeof from, "%s/images", stage);
+    snprintf(to, sizeof to, "%s/images", out);
+    return drain_dir(from, to, DRAIN_CHECK) && drain_dir(stage, out, DRAIN_CHECK) && drain_dir(from, to, DRAIN_MOVE) &&
+           drain_dir(stage, out, DRAIN_MOVE);
+}
+
+/* true if something (even a dangling link) is at `path`. */
+static bool path_exists(const char *path)
+{
+    struct stat st;
+    return lstat(path, &st) == 0;
 }
 
 /* The cached reference, or a new one rendered and cached; the directory
@@ -752,6 +845,10 @@ int cmd_bench(int argc, char **argv)
         cli_error(NULL, "--out DIR is required");
         return 2;
     }
+    if (strlen(out) > BENCH_MAX_DIR) {
+        cli_error(NULL, "--out: DIR is longer than %d bytes", BENCH_MAX_DIR);
+        return 2;
+    }
     if (!render_options_ssaa_fits(width, height, ssaa))
         return 2;
 
@@ -771,8 +868,11 @@ int cmd_bench(int argc, char **argv)
     ps.width = width;
     ps.height = height;
     ps.progress = log_get_level() <= LOG_INFO;
-    char images_dir[1100], ref_path[1400];
-    snprintf(images_dir, sizeof images_dir, "%s/images", out);
+    /* DIR/images, what is written into the staging directory, and whether
+     * this run made DIR and DIR/images (a failed one removes them). */
+    char out_images[1100], stage[1100] = "", images_dir[1100], ref_path[1400];
+    snprintf(out_images, sizeof out_images, "%s/images", out);
+    bool made_out = !path_exists(out), made_images = !path_exists(out_images);
     int rc = 1;
     ImageF ref = {0};
     uint8_t *mask = NULL;
@@ -781,8 +881,9 @@ int cmd_bench(int argc, char **argv)
     bool created = false, reused = false;
     cJSON *doc = NULL;
     char *text = NULL;
-    if (!make_dir(cache) || !make_dir(out) || !make_dir(images_dir)) /* a bad --cache leaves no DIR */
-        goto done;
+    if (!make_dir(cache) || !make_dir(out) || !make_dir(out_images) || !stage_open(out, stage, sizeof stage))
+        goto done; /* a bad --cache leaves no DIR */
+    snprintf(images_dir, sizeof images_dir, "%s/images", stage);
     if (!get_reference(&scene, &ps, cache, &ref, ref_path, sizeof ref_path, &reused))
         goto done;
     size_t np = (size_t)width * height;
@@ -892,22 +993,30 @@ int cmd_bench(int argc, char **argv)
         cJSON_AddItemToArray(cJSON_GetObjectItem(doc, "techniques"), entry_json(e, &r));
     }
     text = cJSON_Print(doc);
-    if (!text || !write_text(out, "bench.json", text) || !write_csv(out, doc))
+    if (!text || !write_text(stage, "bench.json", text) || !write_csv(stage, doc))
         goto done;
     {
         ReportImage imgs[BENCH_MAX_ENTRIES + 1];
         imgs[0] = (ReportImage){"reference", &ref, NULL};
         for (int i = 0; i < n; i++)
             imgs[i + 1] = (ReportImage){entries[i].id, &entries[i].img, entries[i].flip_map};
-        snprintf(p, sizeof p, "%s/report.html", out);
+        snprintf(p, sizeof p, "%s/report.html", stage);
         if (!report_html_write(p, doc, imgs, n + 1))
             goto done;
     }
+    if (!stage_commit(stage, out))
+        goto done;
     if (markdown)
         print_markdown(doc);
     rc = 0;
     log_info("bench", "wrote %s/bench.json, %s/report.html and %s/bench.csv (%d techniques)", out, out, out, n);
 done:
+    if (stage[0])
+        stage_remove(stage);
+    if (rc != 0 && made_images)
+        rmdir(out_images);
+    if (rc != 0 && made_out)
+        rmdir(out);
     if (created)
         renderer_destroy(&r);
     gl_context_destroy(gl);

@@ -8,7 +8,10 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <dirent.h>
+#include <signal.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -17,6 +20,8 @@
 #include "report_html.h"
 #include "test_util.h"
 #include "util.h"
+
+typedef DIR DirStream; /* DIR is the output directory below */
 
 #define DIR RTGI_TEST_TMP "/bench_out"
 #define CACHE RTGI_TEST_TMP "/bench_cache"
@@ -442,6 +447,124 @@ static void bad_cache_leaves_no_dir(void **state)
     assert_int_not_equal(access(DIR "/badcache", F_OK), 0);
 }
 
+/* Size of `dir`/name in bytes (-1 if missing). */
+static long file_size(const char *dir, const char *name)
+{
+    char path[1024];
+    struct stat st;
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+/* `dir`/name's bytes (free them), NULL if missing. */
+static char *file_bytes(const char *dir, const char *name, size_t *n)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return util_read_file(path, n);
+}
+
+/* The entries of `dir` and `dir`/images, sorted, as "a,b,images/c,...",
+ * hidden ones included (at most 64). */
+static void list_dir(const char *dir, char *out, size_t cap)
+{
+    char names[64][288];
+    int n = 0;
+    for (int level = 0; level < 2; level++) {
+        char path[1024];
+        snprintf(path, sizeof path, level ? "%s/images" : "%s", dir);
+        DirStream *d = opendir(path);
+        for (struct dirent *de; d && (de = readdir(d)) && n < 64;)
+            if (strcmp(de->d_name, ".") && strcmp(de->d_name, ".."))
+                snprintf(names[n++], sizeof names[0], "%s%s", level ? "images/" : "", de->d_name);
+        if (d)
+            closedir(d);
+    }
+    for (int i = 0; i < n; i++)
+        for (int k = i + 1; k < n; k++)
+            if (strcmp(names[k], names[i]) < 0) {
+                char t[288];
+                memcpy(t, names[i], sizeof t);
+                memcpy(names[i], names[k], sizeof t);
+                memcpy(names[k], t, sizeof t);
+            }
+    out[0] = 0;
+    for (int i = 0; i < n; i++)
+        snprintf(out + strlen(out), cap - strlen(out), "%s,", names[i]);
+}
+
+/* A 40x40 bench into `out` with writes over `limit` bytes failing (EFBIG:
+ * RLIMIT_FSIZE, as a full disk); returns the exit status and stderr. */
+static int bench_with_file_limit(char **err, const char *out, long limit)
+{
+    struct rlimit old, rl;
+    assert_int_equal(getrlimit(RLIMIT_FSIZE, &old), 0);
+    rl = old;
+    rl.rlim_cur = (rlim_t)limit;
+    void (*old_handler)(int) = signal(SIGXFSZ, SIG_IGN); /* inherited: writes fail instead of killing */
+    assert_int_equal(setrlimit(RLIMIT_FSIZE, &rl), 0);
+    int rc = test_run_cli(err, "bench", "--size", "40x40", "--gi", "none", "--spp", "1", "--frames", "1",
+                          "--threads", "2", "--cache", CACHE, "--out", out, "--quiet", NULL);
+    setrlimit(RLIMIT_FSIZE, &old);
+    signal(SIGXFSZ, old_handler);
+    return rc;
+}
+
+/* A run that fails while writing its outputs (the page, the largest file,
+ * over a file-size limit the images are under) leaves DIR as it was: the
+ * previous run's bench.json, page and images byte for byte, no file more
+ * or less, no staging directory; into a new DIR it leaves no DIR. */
+static void failed_run_leaves_dir_as_it_was(void **state)
+{
+    (void)state;
+    const char *old = DIR "/atomic", *fresh = DIR "/atomic_fresh", *sizes = DIR "/atomic_40";
+    char *err = NULL;
+    int rc = small_bench(&err, old, "cornell", "none"); /* 16x16 */
+    assert_int_equal(rc, 0);
+    free(err);
+    rc = test_run_cli(&err, "bench", "--size", "40x40", "--gi", "none", "--spp", "1", "--frames", "1", "--threads",
+                      "2", "--cache", CACHE, "--out", sizes, "--quiet", NULL); /* caches the 40x40 reference */
+    assert_int_equal(rc, 0);
+    free(err);
+    long image_max = 0, page = file_size(sizes, "report.html");
+    static const char *const images[] = {"images/reference.exr", "images/reference.png", "images/e00_pcss_none.exr",
+                                         "images/e00_pcss_none.png", "images/e00_pcss_none_flip.png",
+                                         "bench.json", "bench.csv", "bench_passes.csv"};
+    for (int i = 0; i < 8; i++)
+        if (file_size(sizes, images[i]) > image_max)
+            image_max = file_size(sizes, images[i]);
+    print_message("40x40: largest image or table %ld bytes, report.html %ld\n", image_max, page);
+    assert_true(page > image_max);
+
+    char before[4096], after[4096];
+    list_dir(old, before, sizeof before);
+    size_t n_json = 0, n_page = 0, n_ref = 0;
+    char *json = file_bytes(old, "bench.json", &n_json), *html = file_bytes(old, "report.html", &n_page),
+         *ref = file_bytes(old, "images/reference.exr", &n_ref);
+    assert_true(json && html && ref);
+    rc = bench_with_file_limit(&err, old, image_max + 1);
+    test_expect_cli_error(rc, err, 1, "report.html", "not written");
+    list_dir(old, after, sizeof after);
+    assert_string_equal(after, before); /* no .bench-XXXXXX, nothing new */
+    size_t n = 0;
+    char *now = file_bytes(old, "bench.json", &n);
+    assert_true(now && n == n_json && !memcmp(now, json, n));
+    free(now);
+    now = file_bytes(old, "report.html", &n);
+    assert_true(now && n == n_page && !memcmp(now, html, n));
+    free(now);
+    now = file_bytes(old, "images/reference.exr", &n);
+    assert_true(now && n == n_ref && !memcmp(now, ref, n));
+    free(now);
+    free(json);
+    free(html);
+    free(ref);
+
+    rc = bench_with_file_limit(&err, fresh, image_max + 1);
+    test_expect_cli_error(rc, err, 1, "report.html", "not written");
+    assert_int_not_equal(access(fresh, F_OK), 0);
+}
+
 /* The page's default exposure keys on the mean log luminance: the bench's
  * reference thumbnail has its median in a sane sRGB range, and a Sponza-like
  * image (90% dim pixels over two decades, 10% sunlit ones 300x brighter),
@@ -668,6 +791,7 @@ int main(void)
         cmocka_unit_test(bad_lists),
         cmocka_unit_test(long_gi_item),
         cmocka_unit_test(bad_cache_leaves_no_dir),
+        cmocka_unit_test(failed_run_leaves_dir_as_it_was),
         cmocka_unit_test(ssaa_lowers_the_error),
         cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),

@@ -245,14 +245,21 @@ static bool stage_open(const char *out, char *stage, size_t cap)
 
 /* Moves every staged file into DIR and DIR/images, after checking that
  * none would land on a directory (a rename that then fails is an I/O error
- * of the same file system). false after logging. */
-static bool stage_commit(const char *stage, const char *out)
+ * of the same file system), and removes the emptied staging directory
+ * (`stage` is then ""); a Ctrl-C or SIGTERM meanwhile waits for the whole
+ * move. false after logging. */
+static bool stage_commit(char *stage, const char *out)
 {
     char from[1100], to[1100];
     snprintf(from, sizeof from, "%s/images", stage);
     snprintf(to, sizeof to, "%s/images", out);
-    return drain_dir(from, to, DRAIN_CHECK) && drain_dir(stage, out, DRAIN_CHECK) && drain_dir(from, to, DRAIN_MOVE) &&
-           drain_dir(stage, out, DRAIN_MOVE);
+    util_defer_ending_signals();
+    bool ok = drain_dir(from, to, DRAIN_CHECK) && drain_dir(stage, out, DRAIN_CHECK) &&
+              drain_dir(from, to, DRAIN_MOVE) && drain_dir(stage, out, DRAIN_MOVE);
+    if (ok && rmdir(from) == 0 && rmdir(stage) == 0)
+        stage[0] = 0;
+    util_end_deferral();
+    return ok;
 }
 
 /* true if something (even a dangling link) is at `path`. */

@@ -338,7 +338,7 @@ bool util_realloc(const char *tag, const char *what, void **p, size_t count, siz
 }
 
 /* The temporary files being written, so that a signal that ends the
- * program (util_remove_temporaries) leaves none of them behind. A slot is
+ * program (on_ending_signal) leaves none of them behind. A slot is
  * marked used only once its name is complete. */
 enum { LIVE_TEMPORARIES = 16 };
 static char s_live_tmp[LIVE_TEMPORARIES][sizeof(((AtomicFile *)0)->tmp)];

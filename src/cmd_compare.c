@@ -292,6 +292,8 @@ int cmd_compare(int argc, char **argv)
             fprintf(txt, "%s: %.6g\n", k_metrics[k], val[k]);
     double ratio[4];
     ratio[0] = metric_mean_ratio(&t, &r, mask, ratio + 1);
+    if (metric == 4 && isnan(ratio[0]))
+        log_warn("compare", "%s is black on the pixels compared: mean_ratio is undefined (nan)", files[1]);
     /* The same over block averages: what survives them is bias. */
     double block_val[2] = {NAN, NAN};
     if (block > 1 && (want[0] || want[1])) {

@@ -168,9 +168,17 @@ static void on_cursor(GLFWwindow *w, double x, double y)
     v->last_y = y;
 }
 
+/* GLFW's last error while the window is being made (the failure's one
+ * line says it); afterwards each error is logged as it comes. */
+static char s_glfw_error[256];
+static bool s_glfw_window_up;
+
 static void on_glfw_error(int code, const char *msg)
 {
-    log_error("view", "GLFW error %d: %s", code, msg);
+    if (s_glfw_window_up)
+        log_error("view", "GLFW error %d: %s", code, msg);
+    else
+        snprintf(s_glfw_error, sizeof s_glfw_error, "%s", msg);
 }
 
 /* Shader errors (and other errors) of the window go to the panel's status. */
@@ -219,7 +227,8 @@ int cmd_view(int argc, char **argv)
 
     glfwSetErrorCallback(on_glfw_error);
     if (!glfwInit()) {
-        log_error("view", "cannot open a window (no display?); use 'rtgi render' for headless images");
+        log_error("view", "cannot open a window (%s); use 'rtgi render' for headless images",
+                  s_glfw_error[0] ? s_glfw_error : "no display?");
         scene_free(&scene);
         return 1;
     }
@@ -230,11 +239,13 @@ int cmd_view(int argc, char **argv)
     glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, o.debug ? GLFW_TRUE : GLFW_FALSE);
     GLFWwindow *win = glfwCreateWindow(o.width, o.height, "rtgi", NULL, NULL);
     if (!win) {
-        log_error("view", "cannot create a window with an OpenGL 4.5 core context");
+        log_error("view", "cannot create a window with an OpenGL 4.5 core context%s%s", s_glfw_error[0] ? ": " : "",
+                  s_glfw_error);
         glfwTerminate();
         scene_free(&scene);
         return 1;
     }
+    s_glfw_window_up = true;
     glfwMakeContextCurrent(win);
     glfwSwapInterval(o.frames > 0 || o.ui_test ? 0 : 1);
     if (o.debug)

@@ -1,5 +1,7 @@
 #include "image.h"
 
+#include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,20 +127,33 @@ bool image_read_pfm(const char *path, ImageF *img)
     char *data = util_read_input("image", "image", path, UTIL_MAX_INPUT_BYTES, &size);
     if (!data)
         return false;
-    int w = 0, h = 0, off = 0;
-    float scale = 0;
-    char magic[3] = {0};
-    if (sscanf(data, "%2s %d %d %f%n", magic, &w, &h, &scale, &off) != 4 || strcmp(magic, "PF") != 0 ||
-        w <= 0 || h <= 0 || w > 65536 || h > 65536 || !isfinite(scale) || scale == 0.f) {
-        log_error("image", "%s: not an RGB PFM file (want \"PF\", width, height, scale)", path);
+    /* "PF", width, height, scale, each after whitespace, parsed whole
+     * (sscanf's %d had wrapped a width of 4294967297 to 1). */
+    char *p = data, *end;
+    long dims[2] = {0, 0};
+    bool ok = size >= 2 && p[0] == 'P' && p[1] == 'F' && isspace((unsigned char)p[2]);
+    p += 2;
+    for (int k = 0; ok && k < 2; k++) {
+        errno = 0;
+        dims[k] = strtol(p, &end, 10);
+        ok = end != p && errno == 0 && dims[k] > 0 && dims[k] <= 65536 && isspace((unsigned char)*end);
+        p = end;
+    }
+    double scale = ok ? strtod(p, &end) : 0;
+    if (!ok || end == p || !isfinite(scale) || scale == 0 || !isspace((unsigned char)*end)) {
+        log_error("image", "%s: not an RGB PFM file (want \"PF\", width and height in [1, 65536], scale)", path);
         free(data);
         return false;
     }
-    off++; /* single whitespace after the scale */
+    int w = (int)dims[0], h = (int)dims[1];
+    size_t off = (size_t)(end - data) + 1; /* single whitespace after the scale */
     size_t need = (size_t)w * (size_t)h * 3 * sizeof(float);
-    if ((size_t)off > size || need > size - (size_t)off) {
-        log_error("image", "%s: PFM data truncated (%zu of %zu bytes)", path, size - ((size_t)off > size ? size : (size_t)off),
-                  need);
+    if (off > size || need != size - off) {
+        if (off <= size && size - off > need)
+            log_error("image", "%s: %zu bytes after the PFM's %dx%d pixels (a wrong size in its header?)", path,
+                      size - off - need, w, h);
+        else
+            log_error("image", "%s: PFM data truncated (%zu of %zu bytes)", path, off > size ? 0 : size - off, need);
         free(data);
         return false;
     }
@@ -199,6 +214,17 @@ bool image_write_png(const char *path, const ImageF *img, float exposure)
     return ok;
 }
 
+/* Why stb_image refused a file that starts as a PNG or JPEG: its terse
+ * reasons ("IDA", "", "bad huffman code") said nothing to a user. */
+static const char *stb_reason(bool png)
+{
+    static char text[160];
+    const char *r = stbi_failure_reason();
+    snprintf(text, sizeof text, "corrupt or truncated %s data; stb_image: %s", png ? "PNG" : "JPEG",
+             r && r[0] ? r : "no detail");
+    return text;
+}
+
 bool image_read(const char *path, ImageF *img)
 {
     if (util_ends_with(path, ".pfm"))
@@ -222,7 +248,7 @@ bool image_read(const char *path, ImageF *img)
     }
     int w = 0, h = 0, n;
     if (size > INT32_MAX || !stbi_info_from_memory((const unsigned char *)data, (int)size, &w, &h, &n)) {
-        log_error("image", "%s: cannot read image (%s)", path, size > INT32_MAX ? "too large" : stbi_failure_reason());
+        log_error("image", "%s: cannot read image (%s)", path, size > INT32_MAX ? "too large" : stb_reason(png));
         free(data);
         return false;
     }
@@ -235,7 +261,7 @@ bool image_read(const char *path, ImageF *img)
     unsigned char *px = stbi_load_from_memory((const unsigned char *)data, (int)size, &w, &h, &n, 3);
     free(data);
     if (!px) {
-        log_error("image", "%s: cannot read image (%s)", path, stbi_failure_reason());
+        log_error("image", "%s: cannot read image (%s)", path, stb_reason(png));
         return false;
     }
     bool ok = image_alloc(img, w, h);

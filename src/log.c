@@ -30,12 +30,33 @@ void log_msg(LogLevel level, const char *tag, const char *fmt, ...)
     }
     if (level < g_level || level >= LOG_QUIET)
         return;
-    va_list ap;
+    va_list ap, ap2;
     va_start(ap, fmt);
-    fprintf(stderr, "rtgi: %s [%s] ", names[level], tag);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    va_copy(ap2, ap);
+    int n = vsnprintf(NULL, 0, fmt, ap);
     va_end(ap);
+    char small[512], *text = n >= 0 && (size_t)n < sizeof small ? small : malloc(n >= 0 ? (size_t)n + 1 : 1);
+    if (text)
+        vsnprintf(text, n >= 0 ? (size_t)n + 1 : 1, fmt, ap2);
+    va_end(ap2);
+    fprintf(stderr, "rtgi: %s [%s] ", names[level], tag);
+    /* One message, one line: a control character (a newline in a file
+     * name, say) is written as an escape, so that it cannot end the line
+     * or forge another one. */
+    for (const char *c = text ? text : "(message lost: out of memory)"; *c; c++) {
+        unsigned char u = (unsigned char)*c;
+        if (u == '\n')
+            fputs("\\n", stderr);
+        else if (u == '\r')
+            fputs("\\r", stderr);
+        else if (u < 0x20 || u == 0x7f)
+            fprintf(stderr, "\\x%02x", u);
+        else
+            fputc(u, stderr);
+    }
+    fputc('\n', stderr);
+    if (text != small)
+        free(text);
 }
 
 void log_progress(const char *fmt, ...)

@@ -237,41 +237,69 @@ bool probe_write_json(const char *path, const ProbeResult *r)
     return ok;
 }
 
+/* A rate read from a probe result: a number of evaluations per second in
+ * [1, 1e18] (inf, 0 or a denormal would print as a bound of inf or 0).
+ * `required` refuses a missing key; a missing optional one reads as 0. */
+static bool read_rate(const char *path, const cJSON *o, const char *key, int index, bool required, double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (index >= 0)
+        v = cJSON_IsArray(v) && cJSON_GetArraySize(v) == 4 ? cJSON_GetArrayItem(v, index) : NULL;
+    *out = 0;
+    if (!v && !required)
+        return true;
+    char name[64];
+    snprintf(name, sizeof name, index >= 0 ? "%s[%d]" : "%s", key, index);
+    if (!cJSON_IsNumber(v)) {
+        log_error("probe", "%s: not a probe result: %s: %s (write one with rtgi probe --json FILE)", path, name,
+                  index >= 0 && !v ? "must be an array of 4 rates" : "missing or not a number");
+        return false;
+    }
+    if (!(v->valuedouble >= 1 && v->valuedouble <= 1e18)) {
+        log_error("probe", "%s: not a probe result: %s: %g is not a rate (1 to 1e18 evaluations/s)", path, name,
+                  v->valuedouble);
+        return false;
+    }
+    *out = v->valuedouble;
+    return true;
+}
+
 bool probe_read_json(const char *path, ProbeResult *r)
 {
     char *text = util_read_input("probe", "probe result", path, (size_t)1 << 20, NULL);
     if (!text)
         return false;
-    cJSON *o = cJSON_Parse(text);
+    cJSON *o = cJSON_ParseWithOpts(text, NULL, true); /* nothing after the object */
     free(text);
-    const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, "evals_2d");
-    const cJSON *b = cJSON_GetObjectItemCaseSensitive(o, "evals_cube");
-    bool ok = cJSON_IsArray(a) && cJSON_IsArray(b) && cJSON_GetArraySize(a) == 4 && cJSON_GetArraySize(b) == 4;
-    for (int i = 0; ok && i < 4; i++) {
-        const cJSON *x = cJSON_GetArrayItem(a, i), *y = cJSON_GetArrayItem(b, i);
-        ok = cJSON_IsNumber(x) && cJSON_IsNumber(y) && x->valuedouble > 0 && y->valuedouble > 0;
-        if (ok) {
-            r->evals_2d[i] = x->valuedouble;
-            r->evals_cube[i] = y->valuedouble;
-        }
+    if (!cJSON_IsObject(o)) {
+        log_error("probe", "%s: not a probe result: not one JSON object (write one with rtgi probe --json FILE)",
+                  path);
+        cJSON_Delete(o);
+        return false;
     }
-    const cJSON *c = cJSON_GetObjectItemCaseSensitive(o, "evals_ssbo");
-    ok = ok && cJSON_IsNumber(c) && c->valuedouble > 0;
-    if (ok)
-        r->evals_ssbo = c->valuedouble;
-    /* Added later: optional (an older result has no packed-texel rates and
-     * was measured on 512² maps). */
-    const cJSON *t2 = cJSON_GetObjectItemCaseSensitive(o, "evals_texel_2d");
-    const cJSON *tc = cJSON_GetObjectItemCaseSensitive(o, "evals_texel_cube");
+    bool ok = true;
+    for (int i = 0; ok && i < 4; i++)
+        ok = read_rate(path, o, "evals_2d", i, true, &r->evals_2d[i]) &&
+             read_rate(path, o, "evals_cube", i, true, &r->evals_cube[i]);
+    /* Added later, so optional: an older result has no packed-texel rates
+     * and lanes, and was measured on 512² maps. */
+    double lanes = 0;
+    ok = ok && read_rate(path, o, "evals_ssbo", -1, true, &r->evals_ssbo) &&
+         read_rate(path, o, "evals_texel_2d", -1, false, &r->evals_texel_2d) &&
+         read_rate(path, o, "evals_texel_cube", -1, false, &r->evals_texel_cube) &&
+         read_rate(path, o, "lanes", -1, false, &lanes);
+    r->lanes = lanes;
     const cJSON *ms = cJSON_GetObjectItemCaseSensitive(o, "map_size");
-    const cJSON *ln = cJSON_GetObjectItemCaseSensitive(o, "lanes");
-    r->lanes = cJSON_IsNumber(ln) && ln->valuedouble > 0 && ln->valuedouble < 1e12 ? ln->valuedouble : 0;
-    r->evals_texel_2d = cJSON_IsNumber(t2) && t2->valuedouble > 0 ? t2->valuedouble : 0;
-    r->evals_texel_cube = cJSON_IsNumber(tc) && tc->valuedouble > 0 ? tc->valuedouble : 0;
-    r->map_size = cJSON_IsNumber(ms) && ms->valuedouble >= 1 && ms->valuedouble <= 65536 ? (int)ms->valuedouble
-                                                                                           : PROBE_MAP_DEFAULT;
+    r->map_size = PROBE_MAP_DEFAULT;
+    if (ok && ms) {
+        ok = cJSON_IsNumber(ms) && ms->valuedouble >= 64 && ms->valuedouble <= PROBE_MAP_MAX &&
+             ms->valuedouble == (int)ms->valuedouble;
+        if (ok)
+            r->map_size = (int)ms->valuedouble;
+        else
+            log_error("probe", "%s: not a probe result: map_size: must be a whole number of texels in [64, %d]", path,
+                      PROBE_MAP_MAX);
+    }
     cJSON_Delete(o);
-    if (!ok)
-        log_error("probe", "%s: not a probe result (write one with rtgi probe --json FILE)", path);
     return ok;
 }

@@ -406,6 +406,17 @@ static const Case k_cases[] = {
      "nope.json: cannot read probe result: it does not exist"},
     {"probe_file_not_a_result", {{"p.json", K_TEXT, "{\"evals_2d\": 1}"}},
      {"render", "--size", "8x8", "--timings", "--probe", "@p.json", "--out", "@out/r.pfm"}, 2, "p.json: not a probe result"},
+    /* Rates that would print as a bound of inf or 0, and text after the
+     * object, had been taken. */
+    {"probe_file_infinite_rate", {{"p.json", K_TEXT, "{\"evals_2d\": [1e999, 1, 1, 1], \"evals_cube\": [1, 1, 1, 1], \"evals_ssbo\": 1}"}},
+     {"render", "--size", "8x8", "--timings", "--probe", "@p.json", "--out", "@out/r.pfm"}, 2,
+     "p.json: not a probe result: evals_2d[0]: inf is not a rate (1 to 1e18 evaluations/s)"},
+    {"probe_file_denormal_rate", {{"p.json", K_TEXT, "{\"evals_2d\": [1, 1, 1, 1], \"evals_cube\": [1, 1, 1, 1], \"evals_ssbo\": 1e-320}"}},
+     {"render", "--size", "8x8", "--timings", "--probe", "@p.json", "--out", "@out/r.pfm"}, 2,
+     "evals_ssbo: 9.99989e-321 is not a rate"},
+    {"probe_file_trailing_text", {{"p.json", K_TEXT, "{\"evals_2d\": [1, 1, 1, 1], \"evals_cube\": [1, 1, 1, 1], \"evals_ssbo\": 1} x"}},
+     {"render", "--size", "8x8", "--timings", "--probe", "@p.json", "--out", "@out/r.pfm"}, 2,
+     "p.json: not a probe result: not one JSON object"},
     {"probe_json_fifo", {{"p.json", K_FIFO}}, {"probe", "--map-size", "64", "--json", "@p.json"}, 1,
      "p.json: output is a FIFO, not a regular file"},
     {"compare_exposure_zero", {{"a.pfm", K_PFM8}, {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm", "--exposure", "0"}, 2,
@@ -457,6 +468,12 @@ static const Case k_cases[] = {
     {"pfm_big_endian", {{"a.pfm", K_TEXT, BIN("PF\n1 1\n1.0\n\0\0\0\0\0\0\0\0\0\0\0\0")}, {"b.pfm", K_PFM8}},
      {"compare", "@a.pfm", "@b.pfm"}, 1, "big-endian PFM is not supported"},
     {"pfm_empty", {{"a.pfm", K_TEXT, ""}, {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm"}, 1, "a.pfm: not an RGB PFM"},
+    /* sscanf's %d had wrapped 4294967297 to 1 and read a 1x1 image */
+    {"pfm_width_overflow", {{"a.pfm", K_TEXT, BIN("PF\n4294967297 1\n-1.0\n\0\0\x80?\0\0\x80?\0\0\x80?")},
+                            {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm"}, 1, "a.pfm: not an RGB PFM file"},
+    {"pfm_trailing_bytes", {{"a.pfm", K_TEXT, BIN("PF\n1 1\n-1.0\n\0\0\x80?\0\0\x80?\0\0\x80?\0\0\0\0")},
+                            {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm"}, 1,
+     "a.pfm: 4 bytes after the PFM's 1x1 pixels (a wrong size in its header?)"},
     {"png_garbage", {{"a.png", K_TEXT, "not a png"}, {"b.pfm", K_PFM8}}, {"compare", "@a.png", "@b.pfm"}, 1,
      "a.png: cannot read image"},
     {"png_huge", {{"a.png", K_PNG_HUGE}, {"b.pfm", K_PFM8}}, {"compare", "@a.png", "@b.pfm"}, 1,
@@ -464,6 +481,14 @@ static const Case k_cases[] = {
     /* stb_image read these 20 bytes as a TGA of 2^27 pixels (fuzz_image timeout) */
     {"image_headerless_bomb", {{"a.png", K_TEXT, BIN("\x00\x00\x0b\x0b\x96\x0b\x0b\x0b\x0b\x0b\x0b\xf5\x7b\xf4\xfc\x0b\x0f\x0b\x96")},
                                {"b.pfm", K_PFM8}}, {"compare", "@a.png", "@b.pfm"}, 1, "a.png: cannot read image (not a PNG or JPEG"},
+    /* a PNG cut after its signature and IHDR's start: stb_image's own reason
+     * ("IDA", "") had been all the line said */
+    {"png_truncated", {{"a.png", K_TEXT, BIN("\x89PNG\r\n\x1a\n\0\0\0\rIHDR\0\0\0\x08")}, {"b.pfm", K_PFM8}},
+     {"compare", "@a.png", "@b.pfm"}, 1, "a.png: cannot read image (corrupt or truncated PNG data; stb_image: "},
+    /* a newline in a path is escaped: one error, one line (it had split
+     * the line and could forge another) */
+    {"out_name_with_newline", {{"f", K_TEXT, "x"}}, {"render", "--size", "8x8", "--out", "@f/a\nrtgi: info b.pfm"}, 1,
+     "f/a\\nrtgi: info b.pfm: cannot create output file (Not a directory)"},
     {"compare_missing", {{"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm"}, 1, "a.pfm: cannot read image: it does not exist"},
     /* ---- outputs: never partial, never "wrote" after a failure ---- */
     {"render_out_full_device", {{"full.pfm", K_SYMLINK, "/dev/full"}},

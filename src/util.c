@@ -406,10 +406,36 @@ void util_end_deferral(void)
     }
 }
 
+/* Where an output at `path` is written: `path`, or, when it is a symbolic
+ * link, the file the link names, followed through up to 16 links (as the
+ * shell's > writes it; renaming over the link had replaced it with a plain
+ * file and left its target as it was). A dangling link names a file that
+ * does not exist yet. A name too long to follow stays as it is. */
+static void output_target(const char *path, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s", path);
+    struct stat st;
+    for (int hops = 0; hops < 16 && lstat(out, &st) == 0 && S_ISLNK(st.st_mode); hops++) {
+        char link[UTIL_PATH_MAX], next[UTIL_PATH_MAX];
+        ssize_t n = readlink(out, link, sizeof link - 1);
+        if (n <= 0)
+            return;
+        link[n] = 0;
+        const char *slash = strrchr(out, '/');
+        int dir_len = link[0] == '/' || !slash ? 0 : (int)(slash - out) + 1; /* a relative link: from its directory */
+        if ((size_t)dir_len + (size_t)n >= sizeof next)
+            return;
+        memcpy(next, out, (size_t)dir_len);
+        memcpy(next + dir_len, link, (size_t)n + 1);
+        snprintf(out, cap, "%s", next);
+    }
+}
+
 bool util_atomic_open(AtomicFile *af, const char *tag, const char *path)
 {
     memset(af, 0, sizeof *af);
     af->path = path;
+    output_target(path, af->target, sizeof af->target);
     struct stat st;
     if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
         /* Renaming over a device or FIFO would replace it; writing into it
@@ -417,19 +443,20 @@ bool util_atomic_open(AtomicFile *af, const char *tag, const char *path)
         log_error(tag, "%s: output is %s, not a regular file; not written", path, file_kind(st.st_mode));
         return false;
     }
-    if (strlen(path) + sizeof ".tmp-XXXXXX" > sizeof af->tmp) {
-        log_error(tag, "%s: output path is too long (%zu bytes; at most %zu)", path, strlen(path),
+    const char *target = af->target;
+    if (strlen(target) + sizeof ".tmp-XXXXXX" > sizeof af->tmp) {
+        log_error(tag, "%s: output path is too long (%zu bytes; at most %zu)", path, strlen(target),
                   sizeof af->tmp - sizeof ".tmp-XXXXXX");
         return false;
     }
-    util_ensure_parent_dir(path);
+    util_ensure_parent_dir(target);
     /* NAME.tmp-XXXXXX beside it; where NAME is too long for that (a file
      * name is at most 255 bytes), .rtgi.tmp-XXXXXX in its directory. */
-    const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+    const char *slash = strrchr(target, '/'), *base = slash ? slash + 1 : target;
     if (strlen(base) + sizeof ".tmp-XXXXXX" - 1 <= 255)
-        snprintf(af->tmp, sizeof af->tmp, "%s.tmp-XXXXXX", path);
+        snprintf(af->tmp, sizeof af->tmp, "%s.tmp-XXXXXX", target);
     else
-        snprintf(af->tmp, sizeof af->tmp, "%.*s.rtgi.tmp-XXXXXX", (int)(base - path), path);
+        snprintf(af->tmp, sizeof af->tmp, "%.*s.rtgi.tmp-XXXXXX", (int)(base - target), target);
     int fd = mkstemp(af->tmp);
     if (fd < 0) {
         log_error(tag, "%s: cannot create output file (%s)", path, strerror(errno));
@@ -466,7 +493,7 @@ bool util_atomic_commit(AtomicFile *af, const char *tag)
     if (fclose(af->f) != 0 && !e)
         e = errno;
     af->f = NULL;
-    if (!e && rename(af->tmp, af->path) != 0)
+    if (!e && rename(af->tmp, af->target) != 0)
         e = errno;
     if (e) {
         log_error(tag, "%s: write failed (%s); not written", af->path, strerror(e));

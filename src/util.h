@@ -49,16 +49,19 @@ void *util_calloc(const char *tag, const char *what, size_t count, size_t size);
 /* realloc that keeps `*p` on failure: false after logging as above. */
 bool util_realloc(const char *tag, const char *what, void **p, size_t count, size_t size);
 
+/* The longest path rtgi writes or makes a directory for (Linux's PATH_MAX). */
+#define UTIL_PATH_MAX 4096
+
 /* Output files are written atomically: to a temporary file in the same
  * directory, renamed over `path` only after every write, fflush, fsync and
  * fclose succeeded. An error removes the temporary file and leaves no
- * partial output (an existing file at `path` is untouched). */
-/* The longest path rtgi writes or makes a directory for (Linux's PATH_MAX). */
-#define UTIL_PATH_MAX 4096
+ * partial output (an existing file at `path` is untouched). A `path` that
+ * is a symbolic link is written where the link points. */
 typedef struct AtomicFile {
     FILE *f;                      /* write here between open and commit/abort */
     const char *path;             /* final name (not owned) */
-    char tmp[UTIL_PATH_MAX + 16]; /* temporary file's name */
+    char target[UTIL_PATH_MAX];   /* where it goes: `path`, or the file a link there names */
+    char tmp[UTIL_PATH_MAX + 16]; /* temporary file's name, beside `target` */
     bool failed;      /* set by writers that failed (e.g. a callback) */
 } AtomicFile;
 /* Creates the parent directory if missing (one level) and the temporary

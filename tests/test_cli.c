@@ -812,6 +812,47 @@ static void long_output_paths(void **state)
     assert_int_equal(entries, 1);
 }
 
+/* An output that is a symbolic link is written where it points, through
+ * a chain of links and to a dangling link's target, and the links stay
+ * links (the rename had replaced a link with a plain file, leaving its
+ * target as it was). */
+static void output_symlinks_are_followed(void **state)
+{
+    (void)state;
+    char dir[600], target[700], link[700], link2[700], dangling[700], missing[700];
+    snprintf(dir, sizeof dir, "%s/out_links", RTGI_TEST_TMP);
+    mkdir(dir, 0777);
+    snprintf(target, sizeof target, "%s/target.pfm", dir);
+    snprintf(link, sizeof link, "%s/link.pfm", dir);
+    snprintf(link2, sizeof link2, "%s/link2.pfm", dir);
+    snprintf(dangling, sizeof dangling, "%s/dangling.pfm", dir);
+    snprintf(missing, sizeof missing, "%s/missing.pfm", dir);
+    const char *paths[] = {target, link, link2, dangling, missing};
+    for (int i = 0; i < 5; i++)
+        remove(paths[i]);
+    FILE *f = fopen(target, "w");
+    assert_non_null(f);
+    fputs("old", f);
+    fclose(f);
+    assert_int_equal(symlink("target.pfm", link), 0);
+    assert_int_equal(symlink(link, link2), 0);
+    assert_int_equal(symlink("missing.pfm", dangling), 0);
+    const char *outs[] = {link2, dangling};
+    for (int i = 0; i < 2; i++) {
+        char *err = NULL;
+        assert_int_equal(test_run_cli(&err, "render", "--size", "8x8", "--out", outs[i], "--quiet", NULL), 0);
+        free(err);
+    }
+    struct stat st;
+    for (int i = 1; i < 4; i++)
+        assert_true(lstat(paths[i], &st) == 0 && S_ISLNK(st.st_mode));
+    ImageF img = {0};
+    assert_true(image_read(target, &img)); /* "old" replaced by the image */
+    image_free(&img);
+    assert_true(image_read(missing, &img));
+    image_free(&img);
+}
+
 /* A command's stdout lines are its results: when they cannot be written
  * (a full disk: /dev/full) the command fails with one line saying so,
  * where `compare` and `probe` had exited 0 with the metrics lost. */
@@ -899,6 +940,7 @@ int main(void)
         cmocka_unit_test(debug_context_reports_no_gl_errors),
         cmocka_unit_test(failed_stdout_fails_the_command),
         cmocka_unit_test(long_output_paths),
+        cmocka_unit_test(output_symlinks_are_followed),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

@@ -42,7 +42,7 @@
 #define BENCH_REF_VERSION 1
 #define BENCH_MAX_ENTRIES 64
 /* --out's longest: DIR/.bench-XXXXXX/images/<id>_flip.png.tmp-XXXXXX then
- * fits every path buffer (and AtomicFile's 1100 bytes). */
+ * fits every path buffer of this file (1100 bytes and more). */
 #define BENCH_MAX_DIR 900
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};

@@ -55,7 +55,7 @@ bool cli_float(const char *opt, const char *v, float lo, float hi, float *out)
     char *end = NULL;
     errno = 0;
     double d = strtod(v, &end);
-    if (end == v || *end || errno || !isfinite(d)) {
+    if (!util_decimal_text(v) || end == v || *end || errno || !isfinite(d)) {
         cli_error(NULL, "%s: '%s' is not a number", opt, v);
         return false;
     }

@@ -233,6 +233,16 @@ int cmd_compare(int argc, char **argv)
             goto done;
         }
     }
+    /* Radiance is never negative: such pixels (a difference image given as
+     * an input, a filter's ringing) are compared as they are, but said. */
+    for (int k = 0; k < 2; k++) {
+        const ImageF *img = k == 0 ? &t : &r;
+        size_t neg = 0, n3 = (size_t)img->width * img->height * 3;
+        for (size_t i = 0; i < n3; i++)
+            neg += img->rgb[i] < 0.f;
+        if (neg)
+            log_warn("compare", "%s: %zu pixel values are negative (radiance is not)", files[k], neg);
+    }
     size_t np = (size_t)t.width * t.height;
     /* FLIP holds about 30 float planes at once (metrics.c): check that
      * they fit before the metrics allocate. */

@@ -260,7 +260,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         return 2;
     const char *const opts[] = {"--out", "--png", "--emitter-mask", "--out-ao", "--window-out", "--scene", "--probe",
                                 "--compare"};
-    const char *const paths[] = {o->view ? NULL : o->out, o->png, o->emitter_mask, o->out_ao, o->window_out, o->scene,
+    const char *const paths[] = {o->out, o->png, o->emitter_mask, o->out_ao, o->window_out, o->scene,
                                  o->probe && strcmp(o->probe, "run") ? o->probe : NULL, o->compare};
     int files = cli_check_files(8, 5, opts, paths);
     if (files)

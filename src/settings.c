@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "cli.h"
 #include "json_util.h"
@@ -276,7 +277,11 @@ static bool fail(const char *where, const SettingDesc *d, const char *value, con
 
 static bool parse_strict_number(const char *text, double *out)
 {
-    if (!text || !*text)
+    /* Decimal only, but "nan" and "inf" reach strtod to be refused as not
+     * finite, which says more. */
+    const char *word = text && (*text == '+' || *text == '-') ? text + 1 : text;
+    bool special = word && (!strcasecmp(word, "nan") || !strcasecmp(word, "inf") || !strcasecmp(word, "infinity"));
+    if (!util_decimal_text(text) && !special)
         return false;
     char *end;
     errno = 0;

@@ -197,6 +197,16 @@ void util_join_path(const char *base_dir, const char *rel, char *out, size_t cap
         snprintf(out, cap, "%s/%s", base_dir, rel);
 }
 
+bool util_decimal_text(const char *s)
+{
+    if (!s || !*s)
+        return false;
+    for (; *s; s++)
+        if (!strchr("0123456789.eE+-", *s))
+            return false;
+    return true;
+}
+
 bool util_ends_with(const char *s, const char *suffix)
 {
     size_t a = strlen(s), b = strlen(suffix);

@@ -104,6 +104,10 @@ char *util_strndup(const char *s, size_t n);
 void util_dirname(const char *path, char *dir, size_t cap);
 /* Joins a path relative to `base_dir` (absolute paths are kept). */
 void util_join_path(const char *base_dir, const char *rel, char *out, size_t cap);
+/* Whether `s` is written as a decimal number may be: digits, '.', 'e',
+ * signs and nothing else (strtod also takes hex, "inf", "nan" and leading
+ * blanks, which the options refuse, as --spp always has). */
+bool util_decimal_text(const char *s);
 bool util_ends_with(const char *s, const char *suffix);
 /* Creates the parent directory of `path` if it is missing (one level). */
 void util_ensure_parent_dir(const char *path);

@@ -433,6 +433,26 @@ static void out_by_extension(void **state)
     assert_non_null(err);
     assert_non_null(strstr(err, "/nonexistent/ref.pfm"));
     free(err);
+    /* A reference with a NaN pixel is refused, as compare refuses it (it
+     * had been shown, and had made the panel's RMSE nan). */
+    char nan_ref[1024];
+    snprintf(nan_ref, sizeof nan_ref, "%s/view_nan_ref.pfm", RTGI_TEST_TMP);
+    ImageF bad;
+    assert_true(image_alloc(&bad, 2, 2));
+    memset(bad.rgb, 0, sizeof(float) * 12);
+    assert_true(image_write_pfm(nan_ref, &bad));
+    FILE *f = fopen(nan_ref, "r+b");
+    assert_non_null(f);
+    float nan = NAN;
+    fseek(f, -4, SEEK_END);
+    fwrite(&nan, sizeof nan, 1, f);
+    fclose(f);
+    image_free(&bad);
+    rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "1", "--compare", nan_ref, NULL);
+    test_expect_cli_error(rc, err, 1, "view_nan_ref.pfm: 1 of 4 pixels are NaN or infinite", NULL);
+    /* An unwritable --out fails before the window opens, as render's does. */
+    rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "1", "--out", "/proc/view.png", NULL);
+    test_expect_cli_error(rc, err, 1, "/proc/view.png: cannot create output file", NULL);
 }
 
 int main(void)

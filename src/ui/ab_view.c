@@ -23,6 +23,14 @@ bool ab_view_create(AbView *v, const char *path)
     v->diff_scale = 0.1f;
     if (!image_read(path, &v->reference)) /* logs "<path>: <problem>" */
         return false;
+    int bx, by;
+    size_t bad = image_count_nonfinite(&v->reference, &bx, &by);
+    if (bad) { /* they would show as black or white, and poison the RMSE */
+        log_error("view", "--compare %s: %zu of %zu pixels are NaN or infinite (first at x=%d y=%d)", path, bad,
+                  (size_t)v->reference.width * v->reference.height, bx, by);
+        image_free(&v->reference);
+        return false;
+    }
     v->display = !util_ends_with(path, ".pfm") && !util_ends_with(path, ".exr");
     int w = v->reference.width, h = v->reference.height;
     float *rows = malloc(sizeof(float) * 3 * (size_t)w * h);

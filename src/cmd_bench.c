@@ -3,8 +3,9 @@
  * cached path-traced reference with the emitters masked out, written as
  * DIR/bench.json (schema in the README, "Benchmarks") and the self-contained
  * DIR/report.html (report_html.c). Every output is written into a staging
- * directory DIR/.bench-XXXXXX and moved into DIR only when all of them are
- * written: a failed run leaves DIR as it was.
+ * directory DIR/.bench-PID-XXXXXX and moved into DIR only when all of them
+ * are written: a failed run leaves DIR as it was (a killed one leaves its
+ * staging directory, which the next run removes).
  *
  * References are cached in --cache DIR (default out/ref-cache) as EXR files
  * named by a hash of what decides their pixels: the scene's content
@@ -14,6 +15,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,7 +43,7 @@
  * then no longer match. */
 #define BENCH_REF_VERSION 1
 #define BENCH_MAX_ENTRIES 64
-/* --out's longest: DIR/.bench-XXXXXX/images/<id>_flip.png.tmp-XXXXXX then
+/* --out's longest: DIR/.bench-PID-XXXXXX/images/<id>_flip.png.tmp-XXXXXX then
  * fits every path buffer of this file (1100 bytes and more). */
 #define BENCH_MAX_DIR 900
 
@@ -223,12 +225,35 @@ static void stage_remove(const char *stage)
     rmdir(stage);
 }
 
-/* Makes the staging directory DIR/.bench-XXXXXX (into `stage`) and its
- * images/: the run writes there, stage_commit moves it into DIR. false
- * after logging. */
+/* Removes the staging directories DIR/.bench-PID-XXXXXX of runs that
+ * ended without cleaning up (killed): those whose process is gone. A
+ * running bench's own is left alone. */
+static void stage_remove_stale(const char *out)
+{
+    DIR *d = opendir(out);
+    if (!d)
+        return;
+    for (struct dirent *de; (de = readdir(d));) {
+        int pid = 0, end = 0;
+        if (sscanf(de->d_name, ".bench-%d-%*6c%n", &pid, &end) != 1 || end == 0 || de->d_name[end] || pid <= 0)
+            continue;
+        if (kill((pid_t)pid, 0) == 0 || errno != ESRCH)
+            continue;
+        char stale[1100];
+        snprintf(stale, sizeof stale, "%s/%s", out, de->d_name);
+        stage_remove(stale);
+        log_info("bench", "%s: removed the staging directory of an earlier run that was killed", stale);
+    }
+    closedir(d);
+}
+
+/* Makes the staging directory DIR/.bench-PID-XXXXXX (into `stage`) and
+ * its images/: the run writes there, stage_commit moves it into DIR.
+ * false after logging. */
 static bool stage_open(const char *out, char *stage, size_t cap)
 {
-    snprintf(stage, cap, "%s/.bench-XXXXXX", out);
+    stage_remove_stale(out);
+    snprintf(stage, cap, "%s/.bench-%d-XXXXXX", out, (int)getpid());
     if (!mkdtemp(stage)) {
         log_error("bench", "%s: cannot create a staging directory there (%s)", out, strerror(errno));
         stage[0] = 0;

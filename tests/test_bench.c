@@ -13,6 +13,7 @@
 #include <string.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
@@ -510,6 +511,43 @@ static int bench_with_file_limit(char **err, const char *out, long limit)
     return rc;
 }
 
+/* A killed run's staging directory (its process gone) is removed by the
+ * next run into DIR; a running one's (this test's own PID) is left. */
+static void killed_runs_staging_is_removed(void **state)
+{
+    (void)state;
+    const char *out = DIR "/stale";
+    mkdir(out, 0777);
+    pid_t child = fork(); /* a PID that has certainly ended */
+    assert_true(child >= 0);
+    if (child == 0)
+        _exit(0);
+    waitpid(child, NULL, 0);
+    char dead[600], live[600], file[700];
+    snprintf(dead, sizeof dead, "%s/.bench-%d-abcdef", out, (int)child);
+    snprintf(live, sizeof live, "%s/.bench-%d-ghijkl", out, (int)getpid());
+    const char *dirs[2] = {dead, live};
+    for (int i = 0; i < 2; i++) {
+        mkdir(dirs[i], 0777);
+        snprintf(file, sizeof file, "%s/images", dirs[i]);
+        mkdir(file, 0777);
+        static const char *const names[] = {"images/e00_pcss_none.exr", "bench.json"};
+        for (int k = 0; k < 2; k++) {
+            snprintf(file, sizeof file, "%s/%s", dirs[i], names[k]);
+            FILE *f = fopen(file, "w");
+            assert_non_null(f);
+            fputs("partial", f);
+            fclose(f);
+        }
+    }
+    char *err = NULL;
+    assert_int_equal(small_bench(&err, out, "cornell", "none"), 0);
+    free(err);
+    struct stat st;
+    assert_int_not_equal(stat(dead, &st), 0);
+    assert_int_equal(stat(live, &st), 0);
+}
+
 /* A run that fails while writing its outputs (the page, the largest file,
  * over a file-size limit the images are under) leaves DIR as it was: the
  * previous run's bench.json, page and images byte for byte, no file more
@@ -792,6 +830,7 @@ int main(void)
         cmocka_unit_test(long_gi_item),
         cmocka_unit_test(bad_cache_leaves_no_dir),
         cmocka_unit_test(failed_run_leaves_dir_as_it_was),
+        cmocka_unit_test(killed_runs_staging_is_removed),
         cmocka_unit_test(ssaa_lowers_the_error),
         cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),

@@ -333,16 +333,6 @@ static bool get_reference(const Scene *scene, const PtSettings *ps, const char *
     return image_write_exr(path, ref, false, attrs, 2);
 }
 
-/* A copy of `s` (free it); NULL after logging if memory runs out. */
-static char *copy_text(const char *s)
-{
-    size_t n = strlen(s);
-    char *d = util_malloc("bench", "a copy of an option's value", n + 1, 1);
-    if (d)
-        memcpy(d, s, n + 1);
-    return d;
-}
-
 /* The next item of a `sep`-separated list at *cursor, cut off in place
  * (an empty string for an empty item); *cursor moves past it, to NULL
  * after the last one. Unlike strtok, keeps empty items so that they can be
@@ -399,7 +389,7 @@ static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *
  * and its overrides (owned). false after logging. */
 static bool parse_gi_item(const char *item, BenchEntry *e)
 {
-    char *buf = copy_text(item), *cursor = buf;
+    char *buf = util_strndup(item, strlen(item)), *cursor = buf;
     if (!buf)
         return false;
     StrBuf over = {0};
@@ -443,12 +433,12 @@ static const char *next_list_item(const char *opt, const char *list, char **curs
  * hold what was made (entries_free). */
 static bool parse_entries(const char *shadow_list, const char *gi_list, BenchEntry *entries, int *n)
 {
-    char *shadows = copy_text(shadow_list), *sc = shadows;
+    char *shadows = util_strndup(shadow_list, strlen(shadow_list)), *sc = shadows;
     bool ok = shadows != NULL;
     while (ok && sc) {
         const char *sh = next_list_item("--shadow", shadow_list, &sc);
         int shadow = sh ? cli_choice("--shadow", sh, k_shadow_names) : -1;
-        char *gis = shadow >= 0 ? copy_text(gi_list) : NULL, *gc = gis;
+        char *gis = shadow >= 0 ? util_strndup(gi_list, strlen(gi_list)) : NULL, *gc = gis;
         ok = gis != NULL;
         while (ok && gc) {
             const char *gi = next_list_item("--gi", gi_list, &gc);

@@ -172,9 +172,11 @@ char *util_read_input(const char *tag, const char *what, const char *path, size_
 
 char *util_strndup(const char *s, size_t n)
 {
-    char *d = malloc(n + 1);
-    memcpy(d, s, n);
-    d[n] = 0;
+    char *d = util_malloc("util", "a copy of a string", n + 1, 1);
+    if (d) {
+        memcpy(d, s, n);
+        d[n] = 0;
+    }
     return d;
 }
 

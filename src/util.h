@@ -99,6 +99,8 @@ void util_json_string(FILE *f, const char *s);
  * cJSON (which copies bytes as they are); NULL after logging if memory runs
  * out. */
 char *util_utf8_sanitize(const char *s);
+/* The first n bytes of s as a string (free it); NULL after logging if
+ * memory runs out. */
 char *util_strndup(const char *s, size_t n);
 /* Directory part of `path` ("." if none) into `dir`. */
 void util_dirname(const char *path, char *dir, size_t cap);

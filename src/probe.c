@@ -237,10 +237,12 @@ bool probe_write_json(const char *path, const ProbeResult *r)
     return ok;
 }
 
-/* A rate read from a probe result: a number of evaluations per second in
- * [1, 1e18] (inf, 0 or a denormal would print as a bound of inf or 0).
- * `required` refuses a missing key; a missing optional one reads as 0. */
-static bool read_rate(const char *path, const cJSON *o, const char *key, int index, bool required, double *out)
+/* A count read from a probe result, `what` in `unit`s (a rate in
+ * evaluations/s, a lane count in lanes): a number in [1, 1e18] (inf, 0 or
+ * a denormal would print as a bound of inf or 0). `required` refuses a
+ * missing key; a missing optional one reads as 0. */
+static bool read_count(const char *path, const cJSON *o, const char *key, int index, bool required, const char *what,
+                       const char *unit, double *out)
 {
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
     if (index >= 0)
@@ -256,8 +258,8 @@ static bool read_rate(const char *path, const cJSON *o, const char *key, int ind
         return false;
     }
     if (!(v->valuedouble >= 1 && v->valuedouble <= 1e18)) {
-        log_error("probe", "%s: not a probe result: %s: %g is not a rate (1 to 1e18 evaluations/s)", path, name,
-                  v->valuedouble);
+        log_error("probe", "%s: not a probe result: %s: %g is not %s (1 to 1e18 %s)", path, name, v->valuedouble,
+                  what, unit);
         return false;
     }
     *out = v->valuedouble;
@@ -279,16 +281,14 @@ bool probe_read_json(const char *path, ProbeResult *r)
     }
     bool ok = true;
     for (int i = 0; ok && i < 4; i++)
-        ok = read_rate(path, o, "evals_2d", i, true, &r->evals_2d[i]) &&
-             read_rate(path, o, "evals_cube", i, true, &r->evals_cube[i]);
+        ok = read_count(path, o, "evals_2d", i, true, "a rate", "evaluations/s", &r->evals_2d[i]) &&
+             read_count(path, o, "evals_cube", i, true, "a rate", "evaluations/s", &r->evals_cube[i]);
     /* Added later, so optional: an older result has no packed-texel rates
      * and lanes, and was measured on 512² maps. */
-    double lanes = 0;
-    ok = ok && read_rate(path, o, "evals_ssbo", -1, true, &r->evals_ssbo) &&
-         read_rate(path, o, "evals_texel_2d", -1, false, &r->evals_texel_2d) &&
-         read_rate(path, o, "evals_texel_cube", -1, false, &r->evals_texel_cube) &&
-         read_rate(path, o, "lanes", -1, false, &lanes);
-    r->lanes = lanes;
+    ok = ok && read_count(path, o, "evals_ssbo", -1, true, "a rate", "evaluations/s", &r->evals_ssbo) &&
+         read_count(path, o, "evals_texel_2d", -1, false, "a rate", "evaluations/s", &r->evals_texel_2d) &&
+         read_count(path, o, "evals_texel_cube", -1, false, "a rate", "evaluations/s", &r->evals_texel_cube) &&
+         read_count(path, o, "lanes", -1, false, "a lane count", "lanes", &r->lanes);
     const cJSON *ms = cJSON_GetObjectItemCaseSensitive(o, "map_size");
     r->map_size = PROBE_MAP_DEFAULT;
     if (ok && ms) {

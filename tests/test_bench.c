@@ -398,6 +398,16 @@ static int small_bench(char **err, const char *out, const char *scene, const cha
                         "--threads", "2", "--cache", CACHE, "--out", out, NULL);
 }
 
+/* small_bench that must succeed: fails the test with its stderr if not. */
+static void small_bench_ok(const char *out, const char *scene, const char *gi)
+{
+    char *err = NULL;
+    int rc = small_bench(&err, out, scene, gi);
+    if (rc != 0)
+        fail_msg("bench --scene '%s' --gi '%s' --out %s failed (%d): %s", scene, gi, out, rc, err ? err : "");
+    free(err);
+}
+
 /* `out`/bench.json parsed (fails the test if it is missing or not JSON). */
 static cJSON *load_bench_json(const char *out)
 {
@@ -422,11 +432,7 @@ static void long_gi_item(void **state)
     while (len < 300)
         item[len++] = '0';
     snprintf(item + len, sizeof item - len, ":samples=4096");
-    char *err = NULL;
-    int rc = small_bench(&err, DIR "/long", "cornell", item);
-    if (rc != 0)
-        fail_msg("bench --gi <%zu bytes> failed (%d): %s", strlen(item), rc, err ? err : "");
-    free(err);
+    small_bench_ok(DIR "/long", "cornell", item);
     cJSON *doc = load_bench_json(DIR "/long");
     const cJSON *e = cJSON_GetArrayItem(field(doc, "techniques", 'a'), 0);
     assert_string_equal(field(field(e, "settings", 'o'), "gi.samples", 's')->valuestring, "4096");
@@ -540,9 +546,7 @@ static void killed_runs_staging_is_removed(void **state)
             fclose(f);
         }
     }
-    char *err = NULL;
-    assert_int_equal(small_bench(&err, out, "cornell", "none"), 0);
-    free(err);
+    small_bench_ok(out, "cornell", "none");
     struct stat st;
     assert_int_not_equal(stat(dead, &st), 0);
     assert_int_equal(stat(live, &st), 0);
@@ -737,11 +741,7 @@ static void report_scene_name_is_script_safe(void **state)
 {
     (void)state;
     const char *scene = test_tmp_file("<!--<script>x.json", "{\"builtin\": \"cornell\"}\n");
-    char *err = NULL;
-    int rc = small_bench(&err, DIR "/html", scene, "none");
-    if (rc != 0)
-        fail_msg("bench --scene '%s' failed (%d): %s", scene, rc, err ? err : "");
-    free(err);
+    small_bench_ok(DIR "/html", scene, "none");
     char *page = util_read_file(DIR "/html/report.html", NULL);
     assert_non_null(page);
     char *json = strstr(page, "const BENCH = "), *end = json ? strstr(json, ";\nconst IMAGES") : NULL;
@@ -792,11 +792,7 @@ static void scene_name_not_utf8(void **state)
 {
     (void)state;
     const char *scene = test_tmp_file("na\xffme.json", "{\"builtin\": \"cornell\"}\n");
-    char *err = NULL;
-    int rc = small_bench(&err, DIR "/utf8", scene, "none");
-    if (rc != 0)
-        fail_msg("bench --scene 'na\\xffme.json' failed (%d): %s", rc, err ? err : "");
-    free(err);
+    small_bench_ok(DIR "/utf8", scene, "none");
     static const char *const files[] = {"bench.json", "bench.csv", "report.html"};
     for (int i = 0; i < 3; i++) {
         char path[1024];

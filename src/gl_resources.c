@@ -2,6 +2,9 @@
 
 #include "log.h"
 
+#include <stddef.h>
+#include <stdint.h>
+
 int gl_mip_levels(int w, int h, int d)
 {
     int m = w > h ? w : h;
@@ -62,6 +65,40 @@ void gl_texture3d_destroy(GLuint *tex)
     if (*tex)
         glDeleteTextures(1, tex);
     *tex = 0;
+}
+
+GLuint gl_buffer_make(uint64_t bytes, const void *data, GLbitfield flags, const char *label)
+{
+    if (bytes < 1 || bytes > (uint64_t)PTRDIFF_MAX) {
+        log_error("gl", "buffer %s: size %llu bytes outside 1..%lld", label, (unsigned long long)bytes,
+                  (long long)PTRDIFF_MAX);
+        return 0;
+    }
+    GLuint b;
+    glCreateBuffers(1, &b);
+    glNamedBufferStorage(b, (GLsizeiptr)bytes, data, flags);
+    /* As for textures, the object is asked rather than glGetError, which
+     * would also swallow other code's errors: a failed store leaves it
+     * mutable or of size 0 (Mesa marks it immutable first). */
+    GLint immutable = GL_FALSE;
+    GLint64 size = 0;
+    glGetNamedBufferParameteriv(b, GL_BUFFER_IMMUTABLE_STORAGE, &immutable);
+    glGetNamedBufferParameteri64v(b, GL_BUFFER_SIZE, &size);
+    if (!immutable || size != (GLint64)bytes) {
+        log_error("gl", "buffer %s: no store of %llu MiB (out of GPU memory?)", label,
+                  (unsigned long long)((bytes + (1u << 20) - 1) >> 20));
+        glDeleteBuffers(1, &b);
+        return 0;
+    }
+    glObjectLabel(GL_BUFFER, b, -1, label);
+    return b;
+}
+
+void gl_buffer_destroy(GLuint *buf)
+{
+    if (*buf)
+        glDeleteBuffers(1, buf);
+    *buf = 0;
 }
 
 void gl_texture_level_size(GLuint tex, int level, int size[3])

@@ -76,6 +76,18 @@ GLuint gl_fbo_empty_make(int width, int height, int layers, int samples, const c
 /* Deletes the framebuffer and zeroes *fbo (0 is fine). */
 void gl_fbo_destroy(GLuint *fbo);
 
+/* --- Buffers ------------------------------------------------------------ */
+
+/* An immutable buffer of `bytes` (at least 1) with glNamedBufferStorage's
+ * `data` (NULL: undefined contents) and `flags`, labelled. Returns 0 after
+ * logging one line if the size does not fit a GLsizeiptr or the driver
+ * gives no store of that size (out of memory): GL raises an error then and
+ * leaves the buffer without one, which rendering from it would read as
+ * zeros. Caller frees with gl_buffer_destroy. */
+GLuint gl_buffer_make(uint64_t bytes, const void *data, GLbitfield flags, const char *label);
+/* Deletes the buffer and zeroes *buf (0 is fine). */
+void gl_buffer_destroy(GLuint *buf);
+
 /* --- GPU memory --------------------------------------------------------- */
 
 /* Bytes a texture's levels hold, from what GL reports of it: every level's

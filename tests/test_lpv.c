@@ -599,6 +599,58 @@ static void bad_lpv_settings(void **state)
     const char *path = test_tmp_file("badlpv.json", "{ \"builtin\": \"cornell\", \"gi\": { \"lpv_size\": 0 } }\n");
     rc = test_run_cli(&err, "render", "--scene", path, NULL);
     test_expect_cli_error(rc, err, 1, "badlpv.json", "gi.lpv_size");
+    /* In range, but about 14 GiB of volumes: refused by the GPU memory
+     * budget (4 GiB by default) before anything is made, naming the
+     * settings; it had gone on to allocate them. */
+    unsetenv("RTGI_GPU_BUDGET_MIB");
+    rc = test_run_cli(&err, "render", "--gi", "lpv", "--lpv-size", "256", "--lpv-cascades", "3", "--size", "8x8", NULL);
+    test_expect_cli_error(rc, err, 1, "--lpv-size 256 with --lpv-cascades 3", "budget");
+}
+
+/* gi_memory_mib of `render --gi lpv --timings` as the settings call for
+ * (the figure the budget check adds up before it makes them): per cascade
+ * the injected and summed volumes, three RGBA32F N³ per colour set (cascades
+ * past the first keep a second set without the finer cascade's cells), and
+ * the geometry volume's two RGBA32F (N+1)³; the propagation's two RGBA32F
+ * 3N·N·N; with occlusion the faces' RGBA32F 8N·N·N; with compute injection
+ * the fixed-point sums, 12 words a cell and 6 a geometry corner; the
+ * parameter block and the 16-byte indirect command. */
+static void memory_as_the_settings_say(void **state)
+{
+    (void)state;
+    static const struct {
+        int n, cascades;
+        const char *occlusion, *inject;
+    } runs[] = {{8, 1, "on", "compute"}, {8, 2, "off", "points"}, {6, 3, "on", "points"}};
+    char img[512];
+    snprintf(img, sizeof img, "%s/lpv_memory.pfm", RTGI_TEST_TMP);
+    for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
+        char nb[16], cb[16];
+        snprintf(nb, sizeof nb, "%d", runs[k].n);
+        snprintf(cb, sizeof cb, "%d", runs[k].cascades);
+        char *out = NULL, *err = NULL;
+        int rc = test_run_cli_out(&out, &err, "render", "--gi", "lpv", "--lpv-size", nb, "--lpv-cascades", cb,
+                                  "--lpv-occlusion", runs[k].occlusion, "--lpv-inject", runs[k].inject, "--size",
+                                  "16x16", "--timings", "--out", img, "--quiet", NULL);
+        if (rc != 0)
+            fail_msg("render --gi lpv --timings: exit %d: %s", rc, err ? err : "");
+        free(err);
+        double n = runs[k].n, n3 = n * n * n, g3 = (n + 1) * (n + 1) * (n + 1);
+        double sets = 1 + 2 * (runs[k].cascades - 1);
+        double bytes = 16 * (sets * 2 * 3 * n3 + runs[k].cascades * 2 * g3 + 2 * 3 * n3);
+        if (strcmp(runs[k].occlusion, "on") == 0)
+            bytes += 16 * 8 * n3;
+        if (strcmp(runs[k].inject, "compute") == 0)
+            bytes += 4 * (12 * n3 + 6 * g3);
+        double want = (bytes + sizeof(GpuLpvParams) + 16) / (1024.0 * 1024.0), mib = -1;
+        const char *m = out ? strstr(out, "\ngi_memory_mib: ") : NULL;
+        assert_non_null(m);
+        assert_int_equal(sscanf(m, "\ngi_memory_mib: %lf", &mib), 1);
+        print_message("lpv N=%d, %d cascades, occlusion %s, %s injection: gi_memory_mib %.4f, from the settings %.4f\n",
+                      runs[k].n, runs[k].cascades, runs[k].occlusion, runs[k].inject, mib, want);
+        assert_true(fabs(mib - want) < 0.0006);
+        free(out);
+    }
 }
 
 int main(void)
@@ -612,6 +664,7 @@ int main(void)
         cmocka_unit_test(leak_scene),
         cmocka_unit_test(cascades_snap),
         cmocka_unit_test(bad_lpv_settings),
+        cmocka_unit_test(memory_as_the_settings_say),
     };
     return cmocka_run_group_tests_name("lpv", tests, test_gl_setup, test_gl_teardown);
 }

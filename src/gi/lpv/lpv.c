@@ -45,6 +45,7 @@
 
 #include "gi/gi.h"
 #include "gl_resources.h"
+#include "gpu_budget.h"
 #include "log.h"
 #include "shader.h"
 #include "util.h"
@@ -161,8 +162,29 @@ static GLuint program(LpvGi *l, const char *label, const char *vert, const char 
                                         .defines = defines});
 }
 
+/* The bytes lpv_create asks for: per cascade the injected and summed SH
+ * volumes (three RGBA32F N³ per set; finer cascades keep two sets) and the
+ * geometry volume's two (N+1)³; the propagation's two 3N·N·N ping-pong
+ * volumes; with occlusion the 8N·N·N face factors; with compute injection
+ * the fixed-point sums (12 words per cell, 6 per geometry corner). */
+static uint64_t lpv_bytes(const GiParams *p)
+{
+    uint64_t n = (uint64_t)p->lpv_size, n3 = n * n * n, g3 = (n + 1) * (n + 1) * (n + 1), texel = 16;
+    uint64_t sets = 1 + 2 * (uint64_t)(p->lpv_cascades - 1);
+    uint64_t bytes = sets * 2 * 3 * n3 * texel + (uint64_t)p->lpv_cascades * 2 * g3 * texel + 2 * 3 * n3 * texel;
+    if (p->lpv_occlusion)
+        bytes += 8 * n3 * texel;
+    if (p->lpv_inject == LPV_INJECT_COMPUTE)
+        bytes += 4 * (12 * n3 + 6 * g3);
+    return bytes;
+}
+
 static void *lpv_create(const GiCreateInfo *ci)
 {
+    char what[64];
+    snprintf(what, sizeof what, "--lpv-size %d with --lpv-cascades %d", ci->params->lpv_size, ci->params->lpv_cascades);
+    if (!gpu_budget_check(lpv_bytes(ci->params), what))
+        return NULL;
     LpvGi *l = calloc(1, sizeof *l);
     if (!l) {
         log_error("lpv", "out of memory");
@@ -200,7 +222,7 @@ static void *lpv_create(const GiCreateInfo *ci)
     char cascades_def[48];
     snprintf(cascades_def, sizeof cascades_def, "#define LPV_CASCADES %d\n", l->cascades);
     l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", cascades_def);
-    ok = l->inject && l->geom_rsm[0] && l->geom_rsm[1] && l->geom_gbuf && l->propagate && l->lookup;
+    ok = ok && l->inject && l->geom_rsm[0] && l->geom_rsm[1] && l->geom_gbuf && l->propagate && l->lookup;
     if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
         l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
         l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
@@ -213,12 +235,8 @@ static void *lpv_create(const GiCreateInfo *ci)
         ok = l->inject_fixed && l->inject_resolve && l->geom_fixed_rsm[0] && l->geom_fixed_rsm[1] && l->geom_fixed_gbuf &&
              l->geom_resolve;
         size_t n3 = (size_t)l->n * l->n * l->n, g3 = (size_t)(l->n + 1) * (l->n + 1) * (l->n + 1);
-        glCreateBuffers(1, &l->fixed);
-        glNamedBufferStorage(l->fixed, (GLsizeiptr)(sizeof(int32_t) * 12 * n3), NULL, GL_DYNAMIC_STORAGE_BIT);
-        glObjectLabel(GL_BUFFER, l->fixed, -1, "lpv.fixed");
-        glCreateBuffers(1, &l->gv_fixed);
-        glNamedBufferStorage(l->gv_fixed, (GLsizeiptr)(sizeof(int32_t) * 6 * g3), NULL, GL_DYNAMIC_STORAGE_BIT);
-        glObjectLabel(GL_BUFFER, l->gv_fixed, -1, "lpv.geometry_fixed");
+        ok = ok && (l->fixed = gl_buffer_make(sizeof(int32_t) * 12 * n3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.fixed")) &&
+             (l->gv_fixed = gl_buffer_make(sizeof(int32_t) * 6 * g3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.geometry_fixed"));
     }
     /* What the RSMs can reflect at most: every light's power into the scene. */
     vec3 ext;

@@ -92,24 +92,10 @@ void cmd_render_help(void)
  * PNG. */
 static bool write_ao(Renderer *r, const char *path)
 {
-    int w = 0, h = 0;
-    glGetTextureLevelParameteriv(r->irradiance, 0, GL_TEXTURE_WIDTH, &w);
-    glGetTextureLevelParameteriv(r->irradiance, 0, GL_TEXTURE_HEIGHT, &h);
-    float *rgba = malloc(sizeof(float) * 4 * (size_t)w * (size_t)h);
     ImageF img = {0};
-    if (!rgba || !image_alloc(&img, w, h)) {
-        log_error("render", "%s: out of memory for a %dx%d image", path, w, h);
-        free(rgba);
+    if (!renderer_read_gi_alpha(r, &img))
         return false;
-    }
-    glGetTextureImage(r->irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * (size_t)w * (size_t)h), rgba);
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            float a = rgba[4 * ((size_t)y * w + x) + 3];
-            float *p = image_px(&img, x, h - 1 - y);
-            p[0] = p[1] = p[2] = a;
-        }
-    free(rgba);
+    int w = img.width, h = img.height;
     bool ok;
     if (util_ends_with(path, ".pfm")) {
         ok = image_write_pfm(path, &img);
@@ -184,9 +170,8 @@ int cmd_render(int argc, char **argv)
         ImageF hdr = {0};
         size_t bad = 0;
         int x = 0, y = 0;
-        bool ok = hdr_out ? renderer_read_hdr(&r, &hdr) : renderer_count_nonfinite(&r, &bad, &x, &y);
-        if (!ok)
-            log_error("render", "cannot read back the %dx%d HDR image", rs.width, rs.height);
+        bool ok = renderer_programs_built(&r);
+        ok = ok && (hdr_out ? renderer_read_hdr(&r, &hdr) : renderer_count_nonfinite(&r, &bad, &x, &y));
         if (ok && hdr_out)
             bad = image_count_nonfinite(&hdr, &x, &y);
         if (ok && bad) {

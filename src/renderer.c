@@ -411,25 +411,61 @@ RenderMemory renderer_gpu_memory(const Renderer *r)
 
 uint64_t render_memory_total(const RenderMemory *m) { return m->gi + m->lights + m->frame + m->scene; }
 
+bool renderer_programs_built(const Renderer *r)
+{
+    return program_cache_failed(&r->programs) == 0;
+}
+
+/* Texture `tex`'s level 0 (w×h, RGBA) into `out`, rows flipped to row 0 =
+ * top: its RGB, or (ao) its alpha in all three channels. Read in bands of
+ * rows, so that a band's byte count fits glGetTextureSubImage's GLsizei
+ * whatever the size (16 bytes a pixel pass 2^31 at 11586²) and the staging
+ * buffer stays small. false after logging. */
+static bool read_texture(GLuint tex, int w, int h, bool alpha, ImageF *out)
+{
+    if (!image_alloc(out, w, h)) /* logs */
+        return false;
+    int band = (int)((64u << 20) / (16u * (unsigned)w));
+    band = band < 1 ? 1 : band > h ? h : band;
+    float *rgba = malloc(sizeof(float) * 4 * (size_t)w * (size_t)band);
+    if (!rgba) {
+        log_error("render", "out of memory reading back a %dx%d image", w, h);
+        image_free(out);
+        return false;
+    }
+    for (int y0 = 0; y0 < h; y0 += band) {
+        int rows = h - y0 < band ? h - y0 : band;
+        glGetTextureSubImage(tex, 0, 0, y0, 0, w, rows, 1, GL_RGBA, GL_FLOAT,
+                             (GLsizei)(sizeof(float) * 4 * (size_t)w * (size_t)rows), rgba);
+        for (int y = 0; y < rows; y++) /* GL rows are bottom-up */
+            for (int x = 0; x < w; x++) {
+                const float *src = rgba + 4 * ((size_t)y * w + x);
+                float *dst = image_px(out, x, h - 1 - (y0 + y));
+                if (alpha)
+                    dst[0] = dst[1] = dst[2] = src[3];
+                else
+                    memcpy(dst, src, 3 * sizeof(float));
+            }
+    }
+    free(rgba);
+    return true;
+}
+
 bool renderer_read_hdr(Renderer *r, ImageF *out)
 {
     if (!r->radiance_kept) {
         log_error("render", "the last frame kept no radiance (a display-only frame): nothing to read back");
         return false;
     }
-    int w = r->hdr.width, h = r->hdr.height;
-    float *rgba = malloc(sizeof(float) * 4 * (size_t)w * h);
-    if (!rgba || !image_alloc(out, w, h)) {
-        log_error("render", "out of memory reading back a %dx%d image", w, h);
-        free(rgba);
-        return false;
-    }
-    glGetTextureImage(r->hdr.texture, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * (size_t)w * h), rgba);
-    for (int y = 0; y < h; y++) /* GL rows are bottom-up */
-        for (int x = 0; x < w; x++)
-            memcpy(image_px(out, x, h - 1 - y), rgba + 4 * ((size_t)y * w + x), 3 * sizeof(float));
-    free(rgba);
-    return true;
+    return read_texture(r->hdr.texture, r->hdr.width, r->hdr.height, false, out);
+}
+
+bool renderer_read_gi_alpha(Renderer *r, ImageF *out)
+{
+    int w = 0, h = 0;
+    glGetTextureLevelParameteriv(r->irradiance, 0, GL_TEXTURE_WIDTH, &w);
+    glGetTextureLevelParameteriv(r->irradiance, 0, GL_TEXTURE_HEIGHT, &h);
+    return read_texture(r->irradiance, w, h, true, out);
 }
 
 /* The final image as GL holds it (RGBA, rows bottom-up); caller frees.

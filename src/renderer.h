@@ -154,9 +154,21 @@ int renderer_ssaa(const RenderSettings *rs);
  * G-buffer); SHADING_AUTO picks forward where the scene has fewer
  * triangles than shading pixels / 64 (see renderer.c). */
 bool renderer_forward(const Renderer *r);
+/* Whether every program the frames so far asked for was built. Where one
+ * was not (a shader under --shader-dir that does not compile, say), the
+ * frame drew on without it, or with the general program where a specialised
+ * one failed, which gives the same image more slowly: the window goes on
+ * like that, a command that writes images must not. Where false, each
+ * failure was logged as it happened (one line each, naming the file, line
+ * and program); nothing more is. */
+bool renderer_programs_built(const Renderer *r);
 /* Reads back radiance at the output size (row 0 = top). false after
  * logging where the last frame kept none (display_only). */
 bool renderer_read_hdr(Renderer *r, ImageF *out);
+/* Reads back the GI irradiance image's alpha (--gi vct: ambient visibility)
+ * at the shading size, grey in all three channels (row 0 = top). false
+ * after logging. */
+bool renderer_read_gi_alpha(Renderer *r, ImageF *out);
 /* The last frame's pixels of NaN or infinite radiance (*x, *y: the first,
  * row 0 = top), from its radiance or, where it kept none, from the forward
  * draw's count. false after logging if it cannot be read back. */

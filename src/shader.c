@@ -257,11 +257,39 @@ static bool desc_valid(const ShaderProgramDesc *d, const char *label)
     return true;
 }
 
+/* `defines` ("#define A\n#define B 2\n") as "A, B 2", for the debug line. */
+static void defines_text(const char *defines, char *out, size_t size)
+{
+    size_t len = 0;
+    out[0] = '\0';
+    for (const char *p = defines; p && *p && len + 1 < size;) {
+        const char *end = strchr(p, '\n');
+        size_t n = end ? (size_t)(end - p) : strlen(p);
+        const char *name = p;
+        if (n > 8 && strncmp(p, "#define ", 8) == 0) {
+            name += 8;
+            n -= 8;
+        }
+        int w = snprintf(out + len, size - len, "%s%.*s", len ? ", " : "", (int)n, name);
+        if (w < 0)
+            break;
+        len += (size_t)w < size - len ? (size_t)w : size - len - 1;
+        p = end ? end + 1 : p + strlen(p);
+    }
+}
+
 GLuint shader_program_build(const ShaderProgramDesc *d)
 {
     const char *label = desc_label(d);
     if (!desc_valid(d, label))
         return 0;
+    if (log_get_level() <= LOG_DEBUG) { /* --verbose: which programs a run builds */
+        char defs[256];
+        defines_text(d->defines, defs, sizeof defs);
+        log_debug("shader", "building %s:%s%s%s%s%s%s%s%s [%s]", label, d->vert ? " " : "", d->vert ? d->vert : "",
+                  d->geom ? " " : "", d->geom ? d->geom : "", d->frag ? " " : "", d->frag ? d->frag : "",
+                  d->comp ? " " : "", d->comp ? d->comp : "", defs);
+    }
     GLuint st[4];
     int n = 0;
     if (!compile_stages(d, label, st, &n))
@@ -408,3 +436,11 @@ bool program_cache_reload(ProgramCache *c)
 }
 
 int program_cache_count(const ProgramCache *c) { return c->count; }
+
+int program_cache_failed(const ProgramCache *c)
+{
+    int failed = 0;
+    for (int i = 0; i < c->count; i++)
+        failed += c->entries[i].program == 0;
+    return failed;
+}

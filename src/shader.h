@@ -86,5 +86,7 @@ GLuint program_cache_get(ProgramCache *cache, const ShaderProgramDesc *desc);
 bool program_cache_reload(ProgramCache *cache);
 /* Number of keys in the cache. */
 int program_cache_count(const ProgramCache *cache);
+/* Number of keys whose last build failed (each logged when it failed). */
+int program_cache_failed(const ProgramCache *cache);
 
 #endif

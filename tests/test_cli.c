@@ -163,6 +163,47 @@ static void shader_error_names_file_and_line(void **state)
     free(err);
 }
 
+/* A program that does not build fails the command, whichever program it
+ * is: one the technique makes at its creation but after others (LPV's face
+ * factors, whose failure lpv_create had overwritten), and the specialised
+ * variants that fall back to a general program (the direct light per light
+ * type, VCT's bounce over its opaque-voxel list), which drew the right
+ * image, more slowly, with an error line and exit 0. Each is broken alone,
+ * under the define only its variant has; `render --verbose` names the
+ * variants a run builds (scripts/shader-failure-sweep.py breaks them all). */
+static void every_program_failure_fails(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file, *guard, *program;
+        const char *args[8];
+    } cases[] = {
+        {"gi/lpv/propagate.comp", "MODE_FACES", "lpv_propagate_faces", {"--gi", "lpv", "--lpv-size", "8", NULL}},
+        {"frame/direct.frag", "LIGHT_FIXED_TYPE", "direct", {"--gi", "none", NULL}},
+        {"gi/vct/bounce.comp", "OPAQUE_LIST", "vct_bounce_list",
+         {"--gi", "vct", "--vct-size", "16", "--vct-bounces", "2", NULL}},
+    };
+    char dir[512], out[512], cmd[2048];
+    snprintf(dir, sizeof dir, "%s/shaders_guarded", RTGI_TEST_TMP);
+    snprintf(out, sizeof out, "%s/guarded.pfm", RTGI_TEST_TMP);
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(cmd, sizeof cmd,
+                 "rm -rf '%s' && cp -r '%s/shaders' '%s' && printf '\n#ifdef %s\n#error broken by the test\n#endif\n' >> '%s/%s'",
+                 dir, RTGI_SOURCE_DIR, dir, cases[i].guard, dir, cases[i].file);
+        assert_int_equal(system(cmd), 0);
+        const char *const *a = cases[i].args; /* NULL after its last: the list ends there */
+        remove(out);
+        char *err = NULL;
+        int rc = test_run_cli(&err, "render", "--size", "16x16", "--shader-dir", dir, "--out", out, a[0], a[1], a[2],
+                              a[3], a[4], a[5], a[6], NULL);
+        char want[128];
+        snprintf(want, sizeof want, "(program %s)", cases[i].program);
+        print_message("%s under %s: exit %d\n", cases[i].file, cases[i].guard, rc);
+        test_expect_cli_error(rc, err, 1, want, "#error broken by the test");
+        assert_int_not_equal(access(out, F_OK), 0);
+    }
+}
+
 /* --out FILE.pfm --png FILE.png writes one frame twice: the PNG is the PFM
  * through exposure, clamp and sRGB (the GPU's tone map and the CPU's agree
  * to rounding); the reference does the same on the CPU. */
@@ -922,6 +963,7 @@ int main(void)
         cmocka_unit_test(default_png_red_left_green_right),
         cmocka_unit_test(unsupported_gl_version),
         cmocka_unit_test(shader_error_names_file_and_line),
+        cmocka_unit_test(every_program_failure_fails),
         cmocka_unit_test(png_beside_pfm),
         cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(compare_json_and_mask),

@@ -271,8 +271,7 @@ static void *lpv_create(const GiCreateInfo *ci)
     glNamedBufferStorage(l->indirect, sizeof cmd, cmd, GL_DYNAMIC_STORAGE_BIT);
     glObjectLabel(GL_BUFFER, l->indirect, -1, "lpv.indirect");
     glCreateVertexArrays(1, &l->vao);
-    if (!ok) {
-        log_error("lpv", "could not make the %d^3 grids (%d cascades)", n, l->cascades);
+    if (!ok) { /* what failed logged its line */
         lpv_destroy(l);
         return NULL;
     }

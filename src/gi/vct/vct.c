@@ -176,11 +176,7 @@ static bool make_low_images(VctGi *v)
     int lw = (v->width + v->scale - 1) / v->scale, lh = (v->height + v->scale - 1) / v->scale;
     v->low_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, lw, lh, "vct.low_irradiance");
     v->low_specular = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, lw, lh, "vct.low_specular");
-    if (!v->low_irradiance || !v->low_specular) {
-        log_error("vct", "could not make the %dx%d images of --vct-trace-scale %d", lw, lh, v->scale);
-        return false;
-    }
-    return true;
+    return v->low_irradiance && v->low_specular; /* gl_texture_make logs a failure */
 }
 
 static bool vct_resize(void *state, int w, int h)
@@ -299,8 +295,7 @@ static void *vct_create(const GiCreateInfo *ci)
         glNamedBufferStorage(v->opaque, (GLsizeiptr)(4u * (4u + (uint64_t)opaque_capacity)), NULL, GL_DYNAMIC_STORAGE_BIT);
         glObjectLabel(GL_BUFFER, v->opaque, -1, "vct.opaque");
     }
-    if (!ok) {
-        log_error("vct", "could not make the %d^3 voxel volumes", n);
+    if (!ok) { /* what failed logged its line */
         vct_destroy(v);
         return NULL;
     }

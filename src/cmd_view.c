@@ -342,10 +342,12 @@ int cmd_view(int argc, char **argv)
         ui_frame_begin();
         view_panel_draw(&v, fw, fh);
         ui_frame_end();
-        if (o.window_out && o.frames > 0 && frame == o.frames - 1)
-            v.window_shot = true; /* scripted: the last frame's window */
-        if (v.window_shot) {
-            view_save_window(&v, v.window_path, fw, fh);
+        bool scripted_shot = o.window_out && o.frames > 0 && frame == o.frames - 1; /* the last frame's window */
+        if (v.window_shot || scripted_shot) {
+            /* A key's shot that fails is logged and the window goes on; the
+             * scripted one is an output of the command. */
+            if (!view_save_window(&v, v.window_path, fw, fh) && scripted_shot)
+                ok = false;
             v.window_shot = false;
         }
         if (v.screenshot) {
@@ -380,8 +382,11 @@ int cmd_view(int argc, char **argv)
     }
     log_set_hook(NULL, NULL);
     rc = ok ? 0 : 1;
-    if (ok && o.out && o.frames > 0 && !view_save_image(&v, o.out))
+    if (ok && o.out && o.frames > 0 && !view_save_image(&v, o.out)) {
         rc = 1;
+        if (o.window_out)
+            remove(o.window_out); /* all outputs or none */
+    }
     if (have_renderer)
         renderer_destroy(&r);
     if (have_ab)

@@ -101,14 +101,14 @@ void render_options_init(RenderOptions *o, bool view)
 }
 
 /* The options only one of the two commands takes. */
-static const char *const k_render_only[] = {"--emitter-mask", "--png", "--probe", "--timings", "--warmup", NULL};
+static const char *const k_render_only[] = {"--emitter-mask", "--out-ao", "--png", "--probe", "--timings", "--warmup", NULL};
 static const char *const k_view_only[] = {"--compare", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
 
 /* The options `render` (view false) or `view` knows, the settings table's
  * included (for "did you mean"). */
 static const char *const *known_options(bool view)
 {
-    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--half", "--help", "--light-scale", "--out", "--out-ao", "--quiet", "--scene", "--shader-dir", "--shading", "--shadow", "--size", "--ssaa", "--verbose", NULL};
+    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--half", "--help", "--light-scale", "--out", "--quiet", "--scene", "--shader-dir", "--shading", "--shadow", "--size", "--ssaa", "--verbose", NULL};
     static const char *all[2][128];
     const char **list = all[view];
     if (!list[0]) {

@@ -457,6 +457,9 @@ static void cli_conventions(void **state)
     test_expect_cli_error(rc, err, 2, "--window-out", ".png");
     rc = test_run_cli(&err, "render", "--compare", "ref.pfm", NULL);
     test_expect_cli_error(rc, err, 2, "--compare", "option of 'rtgi view'");
+    /* view had taken --out-ao and written nothing for it, with exit 0. */
+    rc = test_run_cli(&err, "view", "--out-ao", "ao.pfm", NULL);
+    test_expect_cli_error(rc, err, 2, "--out-ao", "option of 'rtgi render'");
     rc = test_run_cli(&err, "render", "--timing", NULL);
     test_expect_cli_error(rc, err, 2, "render: unknown option", "did you mean '--timings'");
     rc = test_run_cli(&err, "reference", "--sppp", "4", NULL);

@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "metrics.h"
 #include "test_util.h"
@@ -405,6 +406,37 @@ static void help_and_options(void **state)
     test_expect_cli_error(rc, err, 2, "--compare", "needs a value");
 }
 
+/* --frames N --window-out FILE: the capture is an output of the command, so
+ * a capture that cannot be written fails it (exit 1, the write's one error
+ * line, no file), where it had exited 0. Files may not grow here (ulimit -f
+ * 0, SIGXFSZ ignored), which fails the write even for root. */
+static void window_out_failure_fails(void **state)
+{
+    (void)state;
+    test_x_display();
+    char png[1024], cmd[3072];
+    snprintf(png, sizeof png, "%s/view_window_fsize.png", RTGI_TEST_TMP);
+    remove(png);
+    snprintf(cmd, sizeof cmd,
+             "trap '' XFSZ; ulimit -f 0; '%s' view --size 32x32 --frames 1 --window-out '%s' 2>&1; echo \"exit $?\"",
+             RTGI_BINARY, png);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    static char out[8192];
+    size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    pclose(p);
+    print_message("%s", out);
+    assert_non_null(strstr(out, "exit 1\n"));
+    assert_non_null(strstr(out, "write failed"));
+    assert_non_null(strstr(out, png));
+    int lines = 0;
+    for (const char *c = out; *c; c++)
+        lines += *c == '\n';
+    assert_int_equal(lines, 2); /* the error and the exit line */
+    assert_int_not_equal(access(png, F_OK), 0);
+}
+
 /* --out x.pfm: linear radiance, not PNG bytes; a bad --compare file is one
  * clear error. */
 static void out_by_extension(void **state)
@@ -460,6 +492,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(help_and_options),
         cmocka_unit_test(out_by_extension),
+        cmocka_unit_test(window_out_failure_fails),
         cmocka_unit_test(panel_script),
         cmocka_unit_test(png_reference),
         cmocka_unit_test(timings_match_render),

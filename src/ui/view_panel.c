@@ -64,15 +64,19 @@ void view_cycle_gi(View *v, int step)
 
 void view_status(View *v, bool error, const char *fmt, ...)
 {
+    /* Formatted apart from v->status: the window's log hook rewrites that
+     * while the line is logged (it had printed "[view] [view] ..."). */
+    char msg[sizeof v->status];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(v->status, sizeof v->status, fmt, ap);
+    vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    v->status_error = error;
     if (error)
-        log_error("view", "%s", v->status);
+        log_error("view", "%s", msg);
     else
-        log_info("view", "%s", v->status);
+        log_info("view", "%s", msg);
+    snprintf(v->status, sizeof v->status, "%s", msg);
+    v->status_error = error;
 }
 
 void view_camera_json(const View *v, char *out, size_t cap)
@@ -155,8 +159,7 @@ bool view_save_image(View *v, const char *path)
     }
     if (ok)
         view_status(v, false, "wrote %s", path);
-    else
-        view_status(v, true, "%s: not written (see the terminal)", path);
+    /* else what failed logged why, and the log hook put it on the panel */
     return ok;
 }
 
@@ -164,7 +167,7 @@ bool view_save_image(View *v, const char *path)
 bool view_save_window(View *v, const char *path, int fw, int fh)
 {
     uint8_t *rgb = malloc(3 * (size_t)fw * fh), *row = malloc(3 * (size_t)fw);
-    bool ok = rgb && row;
+    bool allocated = rgb && row, ok = allocated;
     if (ok) {
         glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
         glReadBuffer(GL_BACK);
@@ -182,8 +185,9 @@ bool view_save_window(View *v, const char *path, int fw, int fh)
     free(row);
     if (ok)
         view_status(v, false, "wrote %s", path);
-    else
-        view_status(v, true, "%s: window capture not written", path);
+    else if (!allocated)
+        view_status(v, true, "%s: out of memory for the window capture", path);
+    /* else image_write_png8 logged why, and the log hook put it on the panel */
     return ok;
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Renders every --shadow and --gi value on the Cornell box and Sponza into
-# DIR as linear PFM, for before/after comparisons of a change that must not
-# alter images (compare two directories with --compare DIR_A DIR_B).
+# Renders every --shadow and --gi value on the Cornell box and Sponza, and
+# the glossy Cornell box with and without VCT, into DIR as linear PFM, for
+# before/after comparisons of a change that must not alter images (compare
+# two directories with --compare DIR_A DIR_B).
 # Usage: scripts/render-matrix.sh DIR [RTGI]
 #        scripts/render-matrix.sh --compare DIR_A DIR_B [RTGI]
 set -euo pipefail
@@ -35,8 +36,13 @@ for s in "${scenes[@]}"; do
   done
   $RTGI render --scene "$scene" --size "$size" --gi rsm --rsm-exhaustive --rsm-size 16 --out "$DIR/${tag}_gi_rsm-exhaustive.pfm" --quiet
   $RTGI render --scene "$scene" --size "$size" --gi lpv --lpv-size 16 --out "$DIR/${tag}_gi_lpv.pfm" --quiet
+  $RTGI render --scene "$scene" --size "$size" --gi vct --vct-size 32 --out "$DIR/${tag}_gi_vct.pfm" --quiet
   for gi in vpl-all vpl-clamped vpl-slc vpl-interleaved vpl-metalights; do
     $RTGI render --scene "$scene" --size "$size" --gi "$gi" --vpls 4096 --out "$DIR/${tag}_gi_$gi.pfm" --quiet
   done
+done
+# Glossy materials: the direct light's GGX lobe and VCT's specular cone.
+for gi in none vct; do
+  $RTGI render --scene scenes/cornell_glossy.json --size 96x96 --gi "$gi" --vct-size 32 --out "$DIR/glossy_gi_$gi.pfm" --quiet
 done
 echo "render-matrix: $(ls "$DIR"/*.pfm | wc -l) images in $DIR"

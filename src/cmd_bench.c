@@ -536,7 +536,7 @@ static bool bench_render(Renderer *r, bool *created, const Scene *scene, BenchEn
     e->gpu_ms = 0;
     for (int i = 0; i < r->timer.pass_count; i++)
         e->gpu_ms += r->timer.passes[i].gpu_ms / (r->timer.frames > 0 ? r->timer.frames : 1);
-    if (!renderer_programs_built(r) || !renderer_read_hdr(r, &e->img))
+    if (!renderer_frames_whole(r) || !renderer_read_hdr(r, &e->img))
         return false;
     return image_check_finite(&e->img, e->label);
 }

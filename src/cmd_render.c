@@ -170,7 +170,7 @@ int cmd_render(int argc, char **argv)
         ImageF hdr = {0};
         size_t bad = 0;
         int x = 0, y = 0;
-        bool ok = renderer_programs_built(&r);
+        bool ok = renderer_frames_whole(&r);
         ok = ok && (hdr_out ? renderer_read_hdr(&r, &hdr) : renderer_count_nonfinite(&r, &bad, &x, &y));
         if (ok && hdr_out)
             bad = image_count_nonfinite(&hdr, &x, &y);

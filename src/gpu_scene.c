@@ -8,7 +8,10 @@
 #include <string.h>
 
 #include "gl_resources.h"
+#include "gpu_budget.h"
+#include "log.h"
 #include "shared/gpu_types.h"
+#include "targets.h"
 #include "util.h"
 
 /* ---- clusters ---------------------------------------------------------- */
@@ -112,9 +115,23 @@ typedef struct GpuDrawItem {
     int cluster;
 } DrawItem;
 
+/* GPU bytes of the scene's buffers and textures (each with its mip chain,
+ * at most 4/3 of its top level). */
+static uint64_t scene_bytes(const Scene *s)
+{
+    uint64_t bytes = sizeof(Vertex) * (uint64_t)s->vertex_count + sizeof(uint32_t) * (uint64_t)s->index_count;
+    for (int i = 0; i < s->texture_count; i++)
+        bytes += 4u * (uint64_t)s->textures[i].width * (uint64_t)s->textures[i].height * 4u / 3u;
+    return bytes;
+}
+
 bool gpu_scene_create(GpuScene *g, const Scene *s)
 {
     *g = (GpuScene){0};
+    char what[600];
+    snprintf(what, sizeof what, "%s (%u triangles, %d textures)", s->source, (unsigned)(s->index_count / 3), s->texture_count);
+    if (!gpu_budget_check(scene_bytes(s), what))
+        return false;
     uint32_t *indices = util_malloc("gpu_scene", "index buffer", s->index_count + 1, sizeof(uint32_t));
     if (!indices || !build_clusters(g, s, indices) ||
         !(g->draw_items = util_malloc("gpu_scene", "draw list", (size_t)g->cluster_count + 1, sizeof(DrawItem)))) {
@@ -123,13 +140,18 @@ bool gpu_scene_create(GpuScene *g, const Scene *s)
         *g = (GpuScene){0};
         return false;
     }
-    glCreateBuffers(1, &g->vbo);
-    glNamedBufferStorage(g->vbo, (GLsizeiptr)(sizeof(Vertex) * s->vertex_count), s->vertices, 0);
-    glObjectLabel(GL_BUFFER, g->vbo, -1, "scene.vertices");
-    glCreateBuffers(1, &g->ibo);
-    glNamedBufferStorage(g->ibo, (GLsizeiptr)(sizeof(uint32_t) * s->index_count), indices, 0);
-    glObjectLabel(GL_BUFFER, g->ibo, -1, "scene.indices");
+    /* An empty scene still gets a (1-byte, undefined) buffer of each. */
+    uint64_t vb = sizeof(Vertex) * (uint64_t)s->vertex_count, ib = sizeof(uint32_t) * (uint64_t)s->index_count;
+    g->vbo = gl_buffer_make(vb ? vb : 1, vb ? s->vertices : NULL, 0, "scene.vertices");
+    g->ibo = gl_buffer_make(ib ? ib : 1, ib ? indices : NULL, 0, "scene.indices");
     free(indices);
+    g->textures = calloc((size_t)s->texture_count + 1, sizeof(GLuint));
+    if (!g->vbo || !g->ibo || !g->textures) { /* gl_buffer_make logs its failure */
+        if (!g->textures)
+            log_error("gpu_scene", "out of memory for %d texture names", s->texture_count);
+        gpu_scene_destroy(g);
+        return false;
+    }
 
     glCreateVertexArrays(1, &g->vao);
     glVertexArrayVertexBuffer(g->vao, 0, g->vbo, 0, sizeof(Vertex));
@@ -143,21 +165,20 @@ bool gpu_scene_create(GpuScene *g, const Scene *s)
     }
 
     g->texture_count = s->texture_count;
-    g->textures = calloc((size_t)s->texture_count + 1, sizeof(GLuint));
     for (int i = 0; i < s->texture_count; i++) {
         const Texture *t = &s->textures[i];
-        int levels = 1;
-        for (int m = t->width > t->height ? t->width : t->height; m > 1; m >>= 1)
-            levels++;
-        glCreateTextures(GL_TEXTURE_2D, 1, &g->textures[i]);
-        glTextureStorage2D(g->textures[i], levels, t->linear ? GL_RGBA8 : GL_SRGB8_ALPHA8, t->width, t->height);
+        g->textures[i] = gl_texture_make_levels(GL_TEXTURE_2D, t->linear ? GL_RGBA8 : GL_SRGB8_ALPHA8, t->width,
+                                                t->height, 1, 0, t->name);
+        if (!g->textures[i]) { /* logged */
+            gpu_scene_destroy(g);
+            return false;
+        }
         glTextureSubImage2D(g->textures[i], 0, 0, 0, t->width, t->height, GL_RGBA, GL_UNSIGNED_BYTE, t->rgba);
         glGenerateTextureMipmap(g->textures[i]);
         glTextureParameteri(g->textures[i], GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
         glTextureParameteri(g->textures[i], GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         glTextureParameteri(g->textures[i], GL_TEXTURE_WRAP_S, GL_REPEAT);
         glTextureParameteri(g->textures[i], GL_TEXTURE_WRAP_T, GL_REPEAT);
-        glObjectLabel(GL_TEXTURE, g->textures[i], -1, t->name);
     }
     return true;
 }

@@ -148,6 +148,7 @@ static bool technique_create(Renderer *r)
 {
     const RenderSettings *rs = &r->settings;
     r->gi = gi_techniques[rs->gi];
+    r->gi_failed = false;
     if (!r->gi->create)
         return true;
     int n = renderer_ssaa(rs);
@@ -339,7 +340,8 @@ void renderer_frame(Renderer *r, const Camera *cam)
             .specular = r->specular,
             .brdf_albedo = r->brdf_albedo,
         };
-        r->gi->run(r->gi_state, &f);
+        if (!r->gi->run(r->gi_state, &f))
+            r->gi_failed = true;
         r->last_frame = f;
         gpu_timer_begin(t, "composite");
         pass_composite_run(&r->pass_composite, &r->gbuffer, r->irradiance,
@@ -411,9 +413,9 @@ RenderMemory renderer_gpu_memory(const Renderer *r)
 
 uint64_t render_memory_total(const RenderMemory *m) { return m->gi + m->lights + m->frame + m->scene; }
 
-bool renderer_programs_built(const Renderer *r)
+bool renderer_frames_whole(const Renderer *r)
 {
-    return program_cache_failed(&r->programs) == 0;
+    return program_cache_failed(&r->programs) == 0 && !r->gi_failed;
 }
 
 /* Texture `tex`'s level 0 (w×h, RGBA) into `out`, rows flipped to row 0 =

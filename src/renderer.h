@@ -95,6 +95,7 @@ typedef struct Renderer {
     GLuint empty_vao;          /* for the full-screen passes */
     const GiTechnique *gi;     /* the selected row */
     void *gi_state;            /* its state (NULL for "none") */
+    bool gi_failed;            /* a frame's technique run failed (logged); see renderer_frames_whole */
     RenderStats stats;         /* filled by renderer_collect_stats */
     GiFrame last_frame;        /* what the technique saw last (for its stats) */
     PassGbuffer pass_gbuffer;
@@ -154,14 +155,15 @@ int renderer_ssaa(const RenderSettings *rs);
  * G-buffer); SHADING_AUTO picks forward where the scene has fewer
  * triangles than shading pixels / 64 (see renderer.c). */
 bool renderer_forward(const Renderer *r);
-/* Whether every program the frames so far asked for was built. Where one
- * was not (a shader under --shader-dir that does not compile, say), the
- * frame drew on without it, or with the general program where a specialised
- * one failed, which gives the same image more slowly: the window goes on
- * like that, a command that writes images must not. Where false, each
- * failure was logged as it happened (one line each, naming the file, line
- * and program); nothing more is. */
-bool renderer_programs_built(const Renderer *r);
+/* Whether the frames so far were drawn as asked: every program they asked
+ * for was built and every technique run succeeded. Where a program was not
+ * (a shader under --shader-dir that does not compile, say), the frame drew
+ * on without it, or with the general program where a specialised one
+ * failed, which gives the same image more slowly: the window goes on like
+ * that, a command that writes images must not. Where false, each failure
+ * was logged as it happened (one line each; a program's names its file,
+ * line and program); nothing more is. */
+bool renderer_frames_whole(const Renderer *r);
 /* Reads back radiance at the output size (row 0 = top). false after
  * logging where the last frame kept none (display_only). */
 bool renderer_read_hdr(Renderer *r, ImageF *out);

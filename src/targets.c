@@ -4,14 +4,31 @@
 
 GLuint gl_texture_make(GLenum target, GLenum fmt, int w, int h, const char *label)
 {
+    return gl_texture_make_levels(target, fmt, w, h, 1, 1, label);
+}
+
+GLuint gl_texture_make_levels(GLenum target, GLenum fmt, int w, int h, int layers, int levels, const char *label)
+{
+    GLint max_size = 0;
+    glGetIntegerv(target == GL_TEXTURE_CUBE_MAP ? GL_MAX_CUBE_MAP_TEXTURE_SIZE : GL_MAX_TEXTURE_SIZE, &max_size);
+    if (w < 1 || h < 1 || w > max_size || h > max_size) {
+        log_error("gl", "texture %s: %dx%d is outside this driver's 1..%d", label, w, h, max_size);
+        return 0;
+    }
+    if (levels == 0)
+        for (int m = w > h ? w : h; m >= 1; m >>= 1)
+            levels++;
     GLuint t;
     glCreateTextures(target, 1, &t);
-    glTextureStorage2D(t, 1, fmt, w, h);
+    if (target == GL_TEXTURE_2D_ARRAY)
+        glTextureStorage3D(t, levels, fmt, w, h, layers);
+    else
+        glTextureStorage2D(t, levels, fmt, w, h);
     GLint ok = GL_FALSE; /* storage that could not be made leaves the texture mutable */
     glGetTextureParameteriv(t, GL_TEXTURE_IMMUTABLE_FORMAT, &ok);
     if (!ok) {
-        log_error("gl", "cannot allocate texture %s (%dx%d%s, format 0x%x)", label, w, h,
-                  target == GL_TEXTURE_CUBE_MAP ? " x 6 faces" : "", fmt);
+        log_error("gl", "cannot allocate texture %s (%dx%d%s, %d levels, format 0x%x)", label, w, h,
+                  target == GL_TEXTURE_CUBE_MAP ? " x 6 faces" : "", levels, fmt);
         glDeleteTextures(1, &t);
         return 0;
     }

@@ -22,8 +22,12 @@ typedef struct ColorTarget {
 
 /* An immutable texture (2D or cube) with nearest filtering and clamped
  * edges, labelled for debuggers. Caller deletes it. 0 after logging if the
- * device could not allocate it. */
+ * size is over the driver's largest or the device could not allocate it. */
 GLuint gl_texture_make(GLenum target, GLenum format, int width, int height, const char *label);
+/* The same with `levels` mip levels (0: the full chain) and, for
+ * GL_TEXTURE_2D_ARRAY, `layers` layers (else 1). */
+GLuint gl_texture_make_levels(GLenum target, GLenum format, int width, int height, int layers, int levels,
+                              const char *label);
 
 /* Attaches `tex` to `fbo`: the whole 2D texture, or face `face` of a cube. */
 void fbo_attach(GLuint fbo, GLenum attachment, GLuint tex, bool cube, int face);

@@ -7,6 +7,8 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "gl_resources.h"
+
 const GiTechnique *const gi_techniques[] = {
     &gi_none,
     &gi_rsm,
@@ -93,11 +95,7 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
 
 GLuint gi_ubo_make(GLsizeiptr size, const char *label)
 {
-    GLuint b;
-    glCreateBuffers(1, &b);
-    glNamedBufferStorage(b, size, NULL, GL_DYNAMIC_STORAGE_BIT);
-    glObjectLabel(GL_BUFFER, b, -1, label);
-    return b;
+    return gl_buffer_make((uint64_t)size, NULL, GL_DYNAMIC_STORAGE_BIT, label);
 }
 
 /* ---- none: direct light only --------------------------------------------- */

@@ -99,7 +99,10 @@ typedef struct GiTechnique {
     unsigned (*needs)(const GiParams *p);
     void *(*create)(const GiCreateInfo *ci); /* NULL after logging */
     bool (*resize)(void *state, int width, int height);
-    void (*run)(void *state, const GiFrame *f);
+    /* One frame's GI into f->irradiance (and f->specular). false after
+     * logging where it could not be made as asked (the frame is then not
+     * whole: renderer_frames_whole). */
+    bool (*run)(void *state, const GiFrame *f);
     void (*stats)(void *state, const GiFrame *f, GiStats *out);
     void (*destroy)(void *state);
 } GiTechnique;

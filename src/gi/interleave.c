@@ -42,7 +42,7 @@ bool gi_interleave_create(GiInterleave *g, ProgramCache *pc, int n, int m, int w
     g->merge_blur = program_cache_get(pc, &(ShaderProgramDesc){.label = "interleave_merge_blur", .comp = "gi/interleave.comp", .defines = defs[3]});
     g->di_surface = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32UI, g->di_w, g->di_h, "gi.di_surface");
     g->di_irradiance = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->di_w, g->di_h, "gi.di_irradiance");
-    return g->split && g->merge && g->merge_blur;
+    return g->split && g->merge && g->merge_blur && g->di_surface && g->di_irradiance; /* each logs its failure */
 }
 
 void gi_interleave_destroy(GiInterleave *g)

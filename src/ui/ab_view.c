@@ -8,6 +8,7 @@
 #include "metrics.h"
 #include "shader.h"
 #include "shared/gpu_types.h"
+#include "targets.h"
 #include "util.h"
 
 static GLuint build_program(void)
@@ -33,6 +34,14 @@ bool ab_view_create(AbView *v, const char *path)
     }
     v->display = !util_ends_with(path, ".pfm") && !util_ends_with(path, ".exr");
     int w = v->reference.width, h = v->reference.height;
+    GLint max_size = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if (w > max_size || h > max_size) { /* it had been drawn black */
+        log_error("view", "--compare %s: %dx%d is larger than this driver's largest texture, %d per side", path, w,
+                  h, max_size);
+        ab_view_destroy(v);
+        return false;
+    }
     float *rows = malloc(sizeof(float) * 3 * (size_t)w * h);
     if (!rows) {
         log_error("view", "--compare %s: out of memory for a %dx%d image", path, w, h);
@@ -41,16 +50,16 @@ bool ab_view_create(AbView *v, const char *path)
     }
     for (int y = 0; y < h; y++) /* GL rows are bottom-up */
         memcpy(rows + 3 * (size_t)(h - 1 - y) * w, image_px(&v->reference, 0, y), sizeof(float) * 3 * (size_t)w);
-    glCreateTextures(GL_TEXTURE_2D, 1, &v->texture);
-    glTextureStorage2D(v->texture, 1, GL_RGB32F, w, h);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(v->texture, 0, 0, 0, w, h, GL_RGB, GL_FLOAT, rows);
-    glTextureParameteri(v->texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(v->texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(v->texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(v->texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glObjectLabel(GL_TEXTURE, v->texture, -1, "ui.reference");
+    v->texture = gl_texture_make(GL_TEXTURE_2D, GL_RGB32F, w, h, "ui.reference"); /* logs a failure */
+    if (v->texture) {
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTextureSubImage2D(v->texture, 0, 0, 0, w, h, GL_RGB, GL_FLOAT, rows);
+    }
     free(rows);
+    if (!v->texture) {
+        ab_view_destroy(v);
+        return false;
+    }
     glCreateVertexArrays(1, &v->vao);
     v->program = build_program();
     if (!v->program) {

@@ -523,7 +523,7 @@ static void lookup(LpvGi *l, const GiFrame *f)
     gi_dispatch_pixels(l->width, l->height);
 }
 
-static void lpv_run(void *state, const GiFrame *f)
+static bool lpv_run(void *state, const GiFrame *f)
 {
     LpvGi *l = state;
     GpuTimer *t = f->timer;
@@ -540,7 +540,7 @@ static void lpv_run(void *state, const GiFrame *f)
         gpu_timer_begin(t, "lpv_lookup");
         lookup(l, f);
         gpu_timer_end(t);
-        return;
+        return true;
     }
     l->built_for = key;
     l->builds++;
@@ -571,6 +571,7 @@ static void lpv_run(void *state, const GiFrame *f)
     gpu_timer_begin(t, "lpv_lookup");
     lookup(l, f);
     gpu_timer_end(t);
+    return true;
 }
 
 static void lpv_stats(void *state, const GiFrame *f, GiStats *st)

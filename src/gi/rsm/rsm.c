@@ -98,10 +98,9 @@ static bool rsm_resize(void *state, int w, int h)
     glNamedBufferSubData(g->ubo, 0, sizeof g->gpu, &g->gpu);
     if (g->variant == RSM_INTERP) {
         g->lowres = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32F, g->gpu.low_width, g->gpu.low_height, "gi.lowres");
-        glCreateBuffers(1, &g->list);
-        glNamedBufferStorage(g->list, (GLsizeiptr)(sizeof(uint32_t) * (PIXEL_LIST_HEADER + (size_t)w * h)), NULL,
-                             GL_DYNAMIC_STORAGE_BIT);
-        glObjectLabel(GL_BUFFER, g->list, -1, "gi.pixel_list");
+        g->list = gl_buffer_make(sizeof(uint32_t) * (PIXEL_LIST_HEADER + (uint64_t)w * h), NULL,
+                                 GL_DYNAMIC_STORAGE_BIT, "gi.pixel_list");
+        return g->lowres && g->list; /* each logs its failure */
     } else if (g->variant == RSM_INTERLEAVED) {
         return gi_interleave_create(&g->il, g->pc, g->params.interleave_n, g->params.interleave_m, w, h, true);
     }
@@ -164,14 +163,12 @@ static bool importance_create(RsmGi *g, const LightStage *ls)
             levels++;
         }
         g->pyramid_levels[i] = levels;
-        glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &g->pyramid[i]);
-        glTextureStorage3D(g->pyramid[i], levels - 1, GL_R32F, p / 2, p / 2, m->cube ? 6 : 1);
+        g->pyramid[i] = gl_texture_make_levels(GL_TEXTURE_2D_ARRAY, GL_R32F, p / 2, p / 2, m->cube ? 6 : 1, levels - 1,
+                                               "rsm.importance_pyramid");
+        g->samples[i] = gl_buffer_make(sizeof(GpuVpl) * (uint64_t)list, NULL, 0, "rsm.importance_samples");
+        if (!g->pyramid[i] || !g->samples[i]) /* each logs its failure */
+            return false;
         glTextureParameteri(g->pyramid[i], GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
-        glTextureParameteri(g->pyramid[i], GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glObjectLabel(GL_TEXTURE, g->pyramid[i], -1, "rsm.importance_pyramid");
-        glCreateBuffers(1, &g->samples[i]);
-        glNamedBufferStorage(g->samples[i], (GLsizeiptr)(sizeof(GpuVpl) * list), NULL, 0);
-        glObjectLabel(GL_BUFFER, g->samples[i], -1, "rsm.importance_samples");
     }
     return true;
 }
@@ -302,7 +299,7 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
     }
 }
 
-static void rsm_run(void *state, const GiFrame *f)
+static bool rsm_run(void *state, const GiFrame *f)
 {
     RsmGi *g = state;
     GpuTimer *t = f->timer;
@@ -362,6 +359,7 @@ static void rsm_run(void *state, const GiFrame *f)
         gpu_timer_end(t);
         break;
     }
+    return true;
 }
 
 static void rsm_stats(void *state, const GiFrame *f, GiStats *st)

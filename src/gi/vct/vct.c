@@ -509,7 +509,7 @@ static void bind_volumes(const VctGi *v, GLuint radiance)
         glBindTextureUnit(TEX_VCT_ANISO + a, v->gpu.aniso ? v->aniso[a] : radiance);
 }
 
-static void vct_run(void *state, const GiFrame *f)
+static bool vct_run(void *state, const GiFrame *f)
 {
     VctGi *v = state;
     GpuTimer *t = f->timer;
@@ -572,7 +572,7 @@ static void vct_run(void *state, const GiFrame *f)
     gi_dispatch_pixels((v->width + v->scale - 1) / v->scale, (v->height + v->scale - 1) / v->scale);
     gpu_timer_end(t);
     if (!low)
-        return;
+        return true;
     gpu_timer_begin(t, "vct_upsample");
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glUseProgram(v->upsample);
@@ -584,6 +584,7 @@ static void vct_run(void *state, const GiFrame *f)
     glBindImageTexture(IMG_OUT2, f->specular, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     gi_dispatch_pixels(v->width, v->height);
     gpu_timer_end(t);
+    return true;
 }
 
 static void vct_stats(void *state, const GiFrame *f, GiStats *st)

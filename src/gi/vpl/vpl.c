@@ -336,7 +336,7 @@ static bool subsets(VplGi *v, const GiFrame *f)
     return true;
 }
 
-static void vpl_run(void *state, const GiFrame *f)
+static bool vpl_run(void *state, const GiFrame *f)
 {
     VplGi *v = state;
     const GiParams *gp = &v->params;
@@ -352,8 +352,10 @@ static void vpl_run(void *state, const GiFrame *f)
         gpu_timer_end(t);
     } else if (interleaved(v)) {
         gpu_timer_begin(t, v->method == VPL_METALIGHTS ? "metalights_group" : "vpl_subsets");
-        subsets(v, f);
+        bool grouped = subsets(v, f); /* logs a failure */
         gpu_timer_end(t);
+        if (!grouped)
+            return false; /* its subsets would be last frame's, or undefined */
     }
     bool blur = interleaved(v) && gp->interleave_blur;
     GLuint out = blur ? v->il.merged : f->irradiance;
@@ -377,6 +379,7 @@ static void vpl_run(void *state, const GiFrame *f)
         gi_interleave_blur(&v->il, f->gbuffer, v->il.merged, f->irradiance);
         gpu_timer_end(t);
     }
+    return true;
 }
 
 static void vpl_stats(void *state, const GiFrame *f, GiStats *st)

@@ -187,6 +187,24 @@ static void bad_scene_settings(void **state)
     test_expect_cli_error(rc, err, 1, "gi.rsm_size 4096", "budget");
     rc = test_run_cli(&err, "render", "--size", "16384x16384", NULL);
     test_expect_cli_error(rc, err, 1, "--size 16384x16384", "budget");
+    /* The scene's own textures and buffers count too (a 2048² texture and
+     * its mips: 21 MiB, over a 16 MiB budget), named by the scene file. */
+    enum { T = 2048 };
+    uint8_t *grey = malloc(3u * T * T);
+    assert_non_null(grey);
+    memset(grey, 128, 3u * T * T);
+    char png[512];
+    snprintf(png, sizeof png, "%s/budget_albedo.png", RTGI_TEST_TMP);
+    assert_true(image_write_png8(png, T, T, grey));
+    free(grey);
+    test_tmp_file("budget_quad.mtl", "newmtl m\nKd 1 1 1\nmap_Kd budget_albedo.png\n");
+    const char *obj = test_tmp_file("budget_quad.obj", "mtllib budget_quad.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\n"
+                                                       "vt 0 0\nvt 1 0\nvt 1 1\nvn 0 1 0\nusemtl m\n"
+                                                       "f 1/1/1 3/3/1 2/2/1\n");
+    setenv("RTGI_GPU_BUDGET_MIB", "16", 1);
+    rc = test_run_cli(&err, "render", "--quiet", "--size", "8x8", "--scene", obj, NULL); /* --quiet: no "added a default sun" */
+    unsetenv("RTGI_GPU_BUDGET_MIB");
+    test_expect_cli_error(rc, err, 1, "budget_quad.obj (1 triangles, 1 textures) needs 21 MiB", "budget of 16 MiB");
 }
 
 /* `--help` and the README come from (or agree with) the table. */

@@ -482,6 +482,18 @@ static void out_by_extension(void **state)
     image_free(&bad);
     rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "1", "--compare", nan_ref, NULL);
     test_expect_cli_error(rc, err, 1, "view_nan_ref.pfm: 1 of 4 pixels are NaN or infinite", NULL);
+    /* A reference wider than the driver's largest texture (16384 on
+     * llvmpipe) is refused; it had been accepted and drawn black. */
+    char wide_ref[1024];
+    snprintf(wide_ref, sizeof wide_ref, "%s/view_wide_ref.pfm", RTGI_TEST_TMP);
+    ImageF wide;
+    assert_true(image_alloc(&wide, 40000, 1));
+    for (size_t i = 0; i < 3 * 40000; i++)
+        wide.rgb[i] = 0.5f;
+    assert_true(image_write_pfm(wide_ref, &wide));
+    image_free(&wide);
+    rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "1", "--compare", wide_ref, NULL);
+    test_expect_cli_error(rc, err, 1, "view_wide_ref.pfm: 40000x1 is larger than this driver's largest texture", NULL);
     /* An unwritable --out fails before the window opens, as render's does. */
     rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "1", "--out", "/proc/view.png", NULL);
     test_expect_cli_error(rc, err, 1, "/proc/view.png: cannot create output file", NULL);

@@ -71,6 +71,22 @@ float gi_grid_around(const float bmin[3], const float bmax[3], int n, float corn
     return cell;
 }
 
+float gi_clipmap_extent(const float bmin[3], const float bmax[3], const float cam[3], int n)
+{
+    float half = 0.f;
+    for (int a = 0; a < 3; a++)
+        half = fmaxf(half, fmaxf(fabsf(bmin[a] - cam[a]), fabsf(bmax[a] - cam[a])));
+    return 2.f * half * (float)n / (float)(n > 4 ? n - 4 : n);
+}
+
+void gi_clipmap_level(float coarsest, int n, int levels, int k, const float cam[3], float corner_cell[4])
+{
+    float cell = coarsest / (float)n / (float)(1 << (levels - 1 - k));
+    for (int a = 0; a < 3; a++)
+        corner_cell[a] = (floorf(cam[a] / cell) - (float)(n / 2)) * cell;
+    corner_cell[3] = cell;
+}
+
 void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
 {
     memset(u, 0, sizeof *u);

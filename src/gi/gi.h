@@ -171,5 +171,14 @@ double gi_cost_seconds(int gi, const GiParams *p, const Scene *s, double px, dou
  * grid's low corner and returns the cell size (LPV's single cascade, VCT's
  * single volume). */
 float gi_grid_around(const float bmin[3], const float bmax[3], int n, float corner[3]);
+/* Nested grids around the camera (LPV's cascades, VCT's clipmap), n cells
+ * per side. The side the coarsest needs to hold the box [bmin, bmax] from
+ * `cam`: twice the box's farthest extent from cam along an axis, plus two
+ * cells each side for the snapping (n > 4; else no margin). */
+float gi_clipmap_extent(const float bmin[3], const float bmax[3], const float cam[3], int n);
+/* Level k of `levels` such grids, the coarsest (k = levels − 1) `coarsest`
+ * wide and each finer one half the cell of the next: its low corner snapped
+ * to whole cells with cam in its middle cell, and its cell size in [3]. */
+void gi_clipmap_level(float coarsest, int n, int levels, int k, const float cam[3], float corner_cell[4]);
 
 #endif

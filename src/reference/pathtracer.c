@@ -439,22 +439,6 @@ static void draw_progress(Job *j, double frac, double elapsed, bool last)
     fflush(stderr);
 }
 
-/* An image allocated here, so that a failure says what the reference
- * needed (image_alloc logs under its own tag). */
-static bool alloc_image(ImageF *img, int w, int h, const char *what)
-{
-    size_t bytes = (size_t)w * (size_t)h * 3 * sizeof(float);
-    img->width = w;
-    img->height = h;
-    img->rgb = calloc((size_t)w * (size_t)h * 3, sizeof(float));
-    if (!img->rgb) {
-        log_error("reference", "cannot allocate the %dx%d %s image (%.2f GiB)", w, h, what,
-                  (double)bytes / (1u << 30));
-        return false;
-    }
-    return true;
-}
-
 bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *variance, PtStats *stats)
 {
     sampler_init();
@@ -464,9 +448,9 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
     /* The outputs first: a size that cannot be held fails before the BVH
      * build and the render. Tiles write their pixels' mean and variance
      * straight into them. */
-    if (!alloc_image(mean, set->width, set->height, "mean"))
+    if (!image_alloc(mean, set->width, set->height)) /* logs */
         return false;
-    if (variance && !alloc_image(variance, set->width, set->height, "variance")) {
+    if (variance && !image_alloc(variance, set->width, set->height)) {
         image_free(mean);
         return false;
     }

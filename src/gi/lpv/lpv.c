@@ -290,19 +290,10 @@ static void place_grids(LpvGi *l, const Camera *cam)
         /* The bounds plus one cell of margin on each side. */
         u->cascade[0][3] = gi_grid_around(l->bmin, l->bmax, l->n, u->cascade[0]);
     } else {
-        /* The coarsest holds the whole scene around the camera, with a cell
-         * of margin (and its snapping) on each side. */
-        float half = 0.f;
-        for (int a = 0; a < 3; a++)
-            half = fmaxf(half, fmaxf(fabsf(l->bmin[a] - cam->position[a]), fabsf(l->bmax[a] - cam->position[a])));
-        float coarsest = 2.f * half * (float)l->n / (float)(l->n > 4 ? l->n - 4 : l->n);
-        for (int k = 0; k < l->cascades; k++) {
-            float extent = coarsest / (float)(1 << (l->cascades - 1 - k));
-            float cell = extent / (float)l->n;
-            for (int a = 0; a < 3; a++)
-                u->cascade[k][a] = (floorf(cam->position[a] / cell) - (float)(l->n / 2)) * cell;
-            u->cascade[k][3] = cell;
-        }
+        /* The coarsest holds the whole scene around the camera. */
+        float coarsest = gi_clipmap_extent(l->bmin, l->bmax, cam->position, l->n);
+        for (int k = 0; k < l->cascades; k++)
+            gi_clipmap_level(coarsest, l->n, l->cascades, k, cam->position, u->cascade[k]);
     }
     glNamedBufferSubData(l->ubo, 0, sizeof *u, u);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_LPV, l->ubo);

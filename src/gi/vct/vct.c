@@ -337,20 +337,14 @@ static void place_levels(VctGi *v, const Camera *cam)
     if (v->clip == 1)
         return;
     GpuVctParams *u = &v->gpu;
-    float half = 0.f;
-    for (int a = 0; a < 3; a++)
-        half = fmaxf(half, fmaxf(fabsf(v->bmin[a] - cam->position[a]), fabsf(v->bmax[a] - cam->position[a])));
-    float need = 2.f * half * (float)v->n / (float)(v->n - 4); /* two voxels of margin and snapping */
-    if (v->coarsest < need) {
+    float need = gi_clipmap_extent(v->bmin, v->bmax, cam->position, v->n);
+    if (v->coarsest < need) { /* grown with a quarter to spare, so that a moving camera rarely regrows it */
         v->coarsest = 1.25f * need;
         v->voxelized = false;
     }
     for (int k = 0; k < v->clip; k++) {
-        float voxel = v->coarsest / (float)v->n / (float)(1 << (v->clip - 1 - k));
         vec4 o;
-        for (int a = 0; a < 3; a++)
-            o[a] = (floorf(cam->position[a] / voxel) - (float)(v->n / 2)) * voxel;
-        o[3] = voxel;
+        gi_clipmap_level(v->coarsest, v->n, v->clip, k, cam->position, o);
         if (memcmp(o, u->level[k], sizeof o)) {
             glm_vec4_copy(o, u->level[k]);
             v->voxelized = false;

@@ -94,13 +94,6 @@ GLuint gl_buffer_make(uint64_t bytes, const void *data, GLbitfield flags, const 
     return b;
 }
 
-void gl_buffer_destroy(GLuint *buf)
-{
-    if (*buf)
-        glDeleteBuffers(1, buf);
-    *buf = 0;
-}
-
 void gl_texture_level_size(GLuint tex, int level, int size[3])
 {
     glGetTextureLevelParameteriv(tex, level, GL_TEXTURE_WIDTH, &size[0]);

@@ -83,10 +83,8 @@ void gl_fbo_destroy(GLuint *fbo);
  * logging one line if the size does not fit a GLsizeiptr or the driver
  * gives no store of that size (out of memory): GL raises an error then and
  * leaves the buffer without one, which rendering from it would read as
- * zeros. Caller frees with gl_buffer_destroy. */
+ * zeros. Caller deletes it (glDeleteBuffers). */
 GLuint gl_buffer_make(uint64_t bytes, const void *data, GLbitfield flags, const char *label);
-/* Deletes the buffer and zeroes *buf (0 is fine). */
-void gl_buffer_destroy(GLuint *buf);
 
 /* --- GPU memory --------------------------------------------------------- */
 

@@ -52,7 +52,7 @@ static bool shadow_map_create(ShadowMap *m, bool cube, int size)
     m->cube = cube;
     m->texture = gl_texture_make(cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, size, size,
                                  cube ? "shadow.cube" : "shadow.2d");
-    return fbo_make(&m->fbo, NULL, 0, m->texture, cube, "shadow map");
+    return m->texture && fbo_make(&m->fbo, NULL, 0, m->texture, cube, "shadow map"); /* a texture logs its failure */
 }
 
 static void shadow_map_destroy(ShadowMap *m)
@@ -69,7 +69,7 @@ static bool rsm_map_create(RsmMap *m, bool cube, int size)
     m->cube = cube;
     m->texel = gl_texture_make(target, GL_RGBA32UI, size, size, "rsm.texel");
     m->depth = gl_texture_make(target, GL_DEPTH_COMPONENT32F, size, size, "rsm.depth");
-    return fbo_make(&m->fbo, &m->texel, 1, m->depth, cube, "rsm");
+    return m->texel && m->depth && fbo_make(&m->fbo, &m->texel, 1, m->depth, cube, "rsm"); /* as above */
 }
 
 static void rsm_map_destroy(RsmMap *m)
@@ -80,15 +80,13 @@ static void rsm_map_destroy(RsmMap *m)
     *m = (RsmMap){0};
 }
 
-static void vpl_buffer_create(VplBuffer *b, uint32_t capacity)
+/* false after logging (gl_buffer_make logs). */
+static bool vpl_buffer_create(VplBuffer *b, uint32_t capacity)
 {
     b->capacity = capacity;
-    glCreateBuffers(1, &b->vpls);
-    glNamedBufferStorage(b->vpls, (GLsizeiptr)sizeof(GpuVpl) * (capacity ? capacity : 1), NULL, 0);
-    glObjectLabel(GL_BUFFER, b->vpls, -1, "vpls");
-    glCreateBuffers(1, &b->counters);
-    glNamedBufferStorage(b->counters, 2 * sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT); /* count, seed */
-    glObjectLabel(GL_BUFFER, b->counters, -1, "vpl.counters");
+    b->vpls = gl_buffer_make(sizeof(GpuVpl) * (uint64_t)(capacity ? capacity : 1), NULL, 0, "vpls");
+    b->counters = gl_buffer_make(2 * sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT, "vpl.counters"); /* count, seed */
+    return b->vpls && b->counters;
 }
 
 static void vpl_buffer_destroy(VplBuffer *b)
@@ -174,7 +172,7 @@ static bool make_products(LightStage *ls)
             total += (uint32_t)size * (uint32_t)size * (cube ? 6u : 1u);
         }
         if (ok && (d->needs & LIGHT_NEEDS_VPLS))
-            vpl_buffer_create(&ls->vpls, total);
+            ok = vpl_buffer_create(&ls->vpls, total);
     }
     return ok;
 }

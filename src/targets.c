@@ -106,7 +106,8 @@ bool gbuffer_create(GBuffer *g, int w, int h)
     g->material = gl_texture_make(GL_TEXTURE_2D, GL_RGBA32UI, w, h, "gbuffer.material");
     g->depth = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, w, h, "gbuffer.depth");
     const GLuint colors[2] = {g->surface, g->material};
-    return fbo_make(&g->fbo, colors, 2, g->depth, false, "gbuffer");
+    /* A texture that failed logged its line: no second about the framebuffer. */
+    return g->surface && g->material && g->depth && fbo_make(&g->fbo, colors, 2, g->depth, false, "gbuffer");
 }
 
 void gbuffer_destroy(GBuffer *g)
@@ -121,8 +122,8 @@ bool color_target_create(ColorTarget *t, GLenum fmt, int w, int h, const char *l
 {
     t->width = w;
     t->height = h;
-    t->texture = gl_texture_make(GL_TEXTURE_2D, fmt, w, h, label);
-    return fbo_make(&t->fbo, &t->texture, 1, 0, false, label);
+    t->texture = gl_texture_make(GL_TEXTURE_2D, fmt, w, h, label); /* logs a failure */
+    return t->texture && fbo_make(&t->fbo, &t->texture, 1, 0, false, label);
 }
 
 void color_target_destroy(ColorTarget *t)

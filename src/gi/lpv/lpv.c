@@ -179,6 +179,95 @@ static uint64_t lpv_bytes(const GiParams *p)
     return bytes;
 }
 
+/* Every program the settings call for; false after one failed (it logged). */
+static bool lpv_programs(LpvGi *l)
+{
+    l->inject = program(l, "lpv_inject", "gi/lpv/inject.vert", "gi/lpv/layer.geom", "gi/lpv/accumulate.frag", NULL,
+                        NULL);
+    for (int cube = 0; cube < 2; cube++)
+        l->geom_rsm[cube] = program(l, "lpv_geometry", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
+                                    "gi/lpv/accumulate.frag", NULL, light_stage_rsm_kind(cube));
+    l->geom_gbuf = program(l, "lpv_geometry_gbuffer", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
+                           "gi/lpv/accumulate.frag", NULL, "#define GBUFFER\n");
+    /* Occlusion is compiled in: the faces' factors are then read from
+     * `faces`, else they are constants (llvmpipe runs a branch's both arms). */
+    const char *occlusion = l->params.lpv_occlusion ? "#define OCCLUSION\n" : NULL;
+    l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", occlusion);
+    if (l->params.lpv_occlusion && !(l->propagate_faces = program(l, "lpv_propagate_faces", NULL, NULL, NULL,
+                                                                  "gi/lpv/propagate.comp",
+                                                                  "#define OCCLUSION\n#define MODE_FACES\n")))
+        return false;
+    /* The cascade count is compiled in: with it known, every cascade's
+     * fetches name their samplers (gi/lpv/lookup.comp). */
+    char cascades_def[48];
+    snprintf(cascades_def, sizeof cascades_def, "#define LPV_CASCADES %d\n", l->cascades);
+    l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", cascades_def);
+    if (!l->inject || !l->geom_rsm[0] || !l->geom_rsm[1] || !l->geom_gbuf || !l->propagate || !l->lookup)
+        return false;
+    if (l->params.lpv_inject != LPV_INJECT_COMPUTE)
+        return true;
+    l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
+    l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
+    for (int cube = 0; cube < 2; cube++)
+        l->geom_fixed_rsm[cube] = program(l, "lpv_geometry_fixed", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
+                                          light_stage_rsm_kind(cube));
+    l->geom_fixed_gbuf = program(l, "lpv_geometry_fixed_gbuffer", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
+                                 "#define GBUFFER\n");
+    l->geom_resolve = program(l, "lpv_geometry_resolve", NULL, NULL, NULL, "gi/lpv/geometry_resolve.comp", NULL);
+    return l->inject_fixed && l->inject_resolve && l->geom_fixed_rsm[0] && l->geom_fixed_rsm[1] &&
+           l->geom_fixed_gbuf && l->geom_resolve;
+}
+
+/* Every volume and buffer lpv_bytes counts, the parameter block and the
+ * indirect command; false after one failed (it logged). */
+static bool lpv_volumes(LpvGi *l)
+{
+    int n = l->n;
+    bool ok = true;
+    if (l->params.lpv_occlusion)
+        ok = (l->faces = gl_texture3d_make(GL_RGBA32F, 8 * n, n, n, 1, TEX_FILTER_NEAREST, "lpv.faces")) != 0;
+    if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
+        size_t n3 = (size_t)n * n * n, g3 = (size_t)(n + 1) * (n + 1) * (n + 1);
+        ok = (l->fixed = gl_buffer_make(sizeof(int32_t) * 12 * n3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.fixed")) &&
+             (l->gv_fixed = gl_buffer_make(sizeof(int32_t) * 6 * g3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.geometry_fixed"));
+    }
+    for (int k = 0; ok && k < l->cascades; k++) {
+        LpvCascade *c = &l->c[k];
+        for (int set = 0; ok && set < (k > 0 ? SETS : 1); set++) {
+            for (int i = 0; ok && i < 3; i++)
+                ok = (c->inject[set][i] = volume(GL_RGBA32F, n, "lpv.inject")) &&
+                     (c->sum[set][i] = volume(GL_RGBA32F, n, "lpv.sum"));
+            ok = ok && (c->fbo_inject[set] = layered_fbo(c->inject[set], 3, "lpv.inject"));
+        }
+        for (int i = 0; ok && i < 2; i++)
+            ok = (c->gv[i] = volume(GL_RGBA32F, n + 1, "lpv.geometry")) != 0;
+        ok = ok && (c->fbo_gv = layered_fbo(c->gv, 2, "lpv.geometry"));
+    }
+    for (int i = 0; ok && i < 2; i++)
+        ok = (l->pp[i] = gl_texture3d_make(GL_RGBA32F, 3 * n, n, n, 1, TEX_FILTER_NEAREST, "lpv.propagate")) != 0;
+    const GLuint cmd[4] = {0, 1, 0, 0};
+    return ok && (l->ubo = gi_ubo_make(sizeof(GpuLpvParams), "lpv.params")) &&
+           (l->indirect = gl_buffer_make(sizeof cmd, cmd, GL_DYNAMIC_STORAGE_BIT, "lpv.indirect"));
+}
+
+/* What the RSMs can reflect at most: every light's power into the scene
+ * (directional: E over the bounds' diagonal squared; others: the on-axis
+ * intensity, their largest, over the whole sphere). */
+static float scene_power(const Scene *s)
+{
+    vec3 ext;
+    glm_vec3_sub((float *)s->bounds_max, (float *)s->bounds_min, ext);
+    float power = 0.f;
+    for (int i = 0; i < s->light_count; i++) {
+        const Light *li = &s->lights[i];
+        vec3 on_axis;
+        light_intensity(li, (float *)li->direction, on_axis);
+        power += li->type == LIGHT_DIRECTIONAL ? glm_vec3_max((float *)li->color) * glm_vec3_norm2(ext)
+                                               : glm_vec3_max(on_axis) * 4.f * GLM_PIf;
+    }
+    return power;
+}
+
 static void *lpv_create(const GiCreateInfo *ci)
 {
     char what[64];
@@ -199,79 +288,9 @@ static void *lpv_create(const GiCreateInfo *ci)
     glm_vec3_copy((float *)ci->scene->bounds_max, l->bmax);
     l->width = ci->width;
     l->height = ci->height;
-    bool ok = true;
-    l->inject = program(l, "lpv_inject", "gi/lpv/inject.vert", "gi/lpv/layer.geom", "gi/lpv/accumulate.frag", NULL,
-                        NULL);
-    for (int cube = 0; cube < 2; cube++)
-        l->geom_rsm[cube] = program(l, "lpv_geometry", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
-                                    "gi/lpv/accumulate.frag", NULL, light_stage_rsm_kind(cube));
-    l->geom_gbuf = program(l, "lpv_geometry_gbuffer", "gi/lpv/geometry.vert", "gi/lpv/layer.geom",
-                           "gi/lpv/accumulate.frag", NULL, "#define GBUFFER\n");
-    /* Occlusion is compiled in: the faces' factors are then read from
-     * `faces`, else they are constants (llvmpipe runs a branch's both arms). */
-    const char *occlusion = l->params.lpv_occlusion ? "#define OCCLUSION\n" : NULL;
-    l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", occlusion);
-    if (l->params.lpv_occlusion) {
-        l->propagate_faces = program(l, "lpv_propagate_faces", NULL, NULL, NULL, "gi/lpv/propagate.comp",
-                                     "#define OCCLUSION\n#define MODE_FACES\n");
-        ok = ok && l->propagate_faces;
-        ok = ok && (l->faces = gl_texture3d_make(GL_RGBA32F, 8 * l->n, l->n, l->n, 1, TEX_FILTER_NEAREST, "lpv.faces")) != 0;
-    }
-    /* The cascade count is compiled in: with it known, every cascade's
-     * fetches name their samplers (gi/lpv/lookup.comp). */
-    char cascades_def[48];
-    snprintf(cascades_def, sizeof cascades_def, "#define LPV_CASCADES %d\n", l->cascades);
-    l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", cascades_def);
-    ok = ok && l->inject && l->geom_rsm[0] && l->geom_rsm[1] && l->geom_gbuf && l->propagate && l->lookup;
-    if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
-        l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
-        l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
-        for (int cube = 0; cube < 2; cube++)
-            l->geom_fixed_rsm[cube] = program(l, "lpv_geometry_fixed", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
-                                              light_stage_rsm_kind(cube));
-        l->geom_fixed_gbuf = program(l, "lpv_geometry_fixed_gbuffer", NULL, NULL, NULL, "gi/lpv/geometry_fixed.comp",
-                                     "#define GBUFFER\n");
-        l->geom_resolve = program(l, "lpv_geometry_resolve", NULL, NULL, NULL, "gi/lpv/geometry_resolve.comp", NULL);
-        ok = l->inject_fixed && l->inject_resolve && l->geom_fixed_rsm[0] && l->geom_fixed_rsm[1] && l->geom_fixed_gbuf &&
-             l->geom_resolve;
-        size_t n3 = (size_t)l->n * l->n * l->n, g3 = (size_t)(l->n + 1) * (l->n + 1) * (l->n + 1);
-        ok = ok && (l->fixed = gl_buffer_make(sizeof(int32_t) * 12 * n3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.fixed")) &&
-             (l->gv_fixed = gl_buffer_make(sizeof(int32_t) * 6 * g3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.geometry_fixed"));
-    }
-    /* What the RSMs can reflect at most: every light's power into the scene. */
-    vec3 ext;
-    glm_vec3_sub(l->bmax, l->bmin, ext);
-    for (int i = 0; i < ci->scene->light_count; i++) {
-        /* Directional: E over the bounds' diagonal squared; others: the
-         * on-axis intensity (their largest) over the whole sphere. */
-        const Light *li = &ci->scene->lights[i];
-        vec3 on_axis;
-        light_intensity(li, (float *)li->direction, on_axis);
-        l->scene_power += li->type == LIGHT_DIRECTIONAL ? glm_vec3_max((float *)li->color) * glm_vec3_norm2(ext)
-                                                        : glm_vec3_max(on_axis) * 4.f * GLM_PIf;
-    }
-    int n = l->n;
-    for (int k = 0; ok && k < l->cascades; k++) {
-        LpvCascade *c = &l->c[k];
-        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
-            for (int i = 0; ok && i < 3; i++)
-                ok = (c->inject[set][i] = volume(GL_RGBA32F, n, "lpv.inject")) &&
-                     (c->sum[set][i] = volume(GL_RGBA32F, n, "lpv.sum"));
-            ok = ok && (c->fbo_inject[set] = layered_fbo(c->inject[set], 3, "lpv.inject"));
-        }
-        for (int i = 0; ok && i < 2; i++)
-            ok = (c->gv[i] = volume(GL_RGBA32F, n + 1, "lpv.geometry")) != 0;
-        ok = ok && (c->fbo_gv = layered_fbo(c->gv, 2, "lpv.geometry"));
-    }
-    for (int i = 0; ok && i < 2; i++)
-        ok = (l->pp[i] = gl_texture3d_make(GL_RGBA32F, 3 * n, n, n, 1, TEX_FILTER_NEAREST, "lpv.propagate")) != 0;
-    l->ubo = gi_ubo_make(sizeof(GpuLpvParams), "lpv.params");
-    const GLuint cmd[4] = {0, 1, 0, 0};
-    glCreateBuffers(1, &l->indirect);
-    glNamedBufferStorage(l->indirect, sizeof cmd, cmd, GL_DYNAMIC_STORAGE_BIT);
-    glObjectLabel(GL_BUFFER, l->indirect, -1, "lpv.indirect");
+    l->scene_power = scene_power(ci->scene);
     glCreateVertexArrays(1, &l->vao);
-    if (!ok) { /* what failed logged its line */
+    if (!lpv_programs(l) || !lpv_volumes(l)) { /* what failed logged its line */
         lpv_destroy(l);
         return NULL;
     }

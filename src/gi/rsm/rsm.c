@@ -237,7 +237,7 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
         ok = make_gather(g, GATHER_INTERLEAVED);
         break;
     }
-    g->ubo = gi_ubo_make(sizeof(GpuGiParams), "gi.params");
+    ok = ok && (g->ubo = gi_ubo_make(sizeof(GpuGiParams), "gi.params")) != 0;
     if (ok && importance_on(g))
         ok = importance_create(g, ci->lights);
     if (!ok || !rsm_resize(g, ci->width, ci->height)) {

@@ -290,16 +290,13 @@ static void *vct_create(const GiCreateInfo *ci)
         ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
     ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
-    if (ok) {
-        glCreateBuffers(1, &v->opaque);
-        glNamedBufferStorage(v->opaque, (GLsizeiptr)(4u * (4u + (uint64_t)opaque_capacity)), NULL, GL_DYNAMIC_STORAGE_BIT);
-        glObjectLabel(GL_BUFFER, v->opaque, -1, "vct.opaque");
-    }
+    ok = ok && (v->opaque = gl_buffer_make(4u * (4u + (uint64_t)opaque_capacity), NULL, GL_DYNAMIC_STORAGE_BIT,
+                                           "vct.opaque"));
+    ok = ok && (v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params"));
     if (!ok) { /* what failed logged its line */
         vct_destroy(v);
         return NULL;
     }
-    v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params");
 
     /* One level: a cube around the bounds with a voxel of margin each side
      * (placed here); a clipmap is placed per frame around the camera. */
@@ -375,10 +372,9 @@ static bool voxelize(VctGi *v, const GiFrame *f)
     size_t n3 = (size_t)v->n * v->n * v->n * (size_t)v->clip;
     glFinish(); /* once per technique: its wall time is worth the wait */
     double t0 = util_seconds();
-    GLuint sums;
-    glCreateBuffers(1, &sums);
-    glNamedBufferStorage(sums, (GLsizeiptr)(n3 * 8 * sizeof(uint32_t)), NULL, GL_DYNAMIC_STORAGE_BIT);
-    glObjectLabel(GL_BUFFER, sums, -1, "vct.voxel_sums");
+    GLuint sums = gl_buffer_make(n3 * 8 * sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT, "vct.voxel_sums");
+    if (!sums) /* logged */
+        return false;
     glClearNamedBufferData(sums, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, sums);
 
@@ -513,6 +509,8 @@ static bool vct_run(void *state, const GiFrame *f)
         gpu_timer_begin_once(t, "vct_voxelize"); /* in the warm-up frame: kept apart from the means */
         v->voxelized = voxelize(v, f);
         gpu_timer_end(t);
+        if (!v->voxelized)
+            return false;
     }
     /* The radiance volumes (injection, mips, the second bounce) depend on
      * the voxels and the light products alone: kept while both stand. */

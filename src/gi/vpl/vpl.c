@@ -103,12 +103,11 @@ static bool vpl_resize(void *state, int w, int h)
         v->tile_capacity = all;
     shade_groups(v, &v->groups_x, &v->groups_y);
     v->groups = v->groups_x * v->groups_y;
-    glCreateBuffers(1, &v->tiles);
     size_t tile_words = tiled(v) ? VPL_TILE_LIST_BASE(ntiles) + (size_t)ntiles * v->tile_capacity : 1;
-    glNamedBufferStorage(v->tiles, (GLsizeiptr)(sizeof(uint32_t) * tile_words), NULL, GL_DYNAMIC_STORAGE_BIT);
-    glObjectLabel(GL_BUFFER, v->tiles, -1, "vpl.tiles");
-    glCreateBuffers(1, &v->evals);
-    glNamedBufferStorage(v->evals, (GLsizeiptr)(sizeof(uint32_t) * 2 * (size_t)v->groups), NULL, 0);
+    v->tiles = gl_buffer_make(sizeof(uint32_t) * (uint64_t)tile_words, NULL, GL_DYNAMIC_STORAGE_BIT, "vpl.tiles");
+    v->evals = gl_buffer_make(sizeof(uint32_t) * 2 * (uint64_t)v->groups, NULL, 0, "vpl.evaluations");
+    if (!v->tiles || !v->evals) /* logged */
+        return false;
     GpuGiParams g;
     gi_params_to_gpu(&v->params, w, h, &g);
     glNamedBufferSubData(v->gi_ubo, 0, sizeof g, &g);
@@ -166,11 +165,10 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
     }
     v->ubo = gi_ubo_make(sizeof(GpuVplParams), "vpl.params");
     v->gi_ubo = gi_ubo_make(sizeof(GpuGiParams), "gi.params");
-    glCreateBuffers(1, &v->ranges);
-    glNamedBufferStorage(v->ranges, (GLsizeiptr)(sizeof(float) * 2 * (tiled(v) ? v->vpl_capacity : 1)), NULL, 0);
-    glCreateBuffers(1, &v->subsets);
+    v->ranges = gl_buffer_make(sizeof(float) * 2 * (uint64_t)(tiled(v) ? v->vpl_capacity : 1), NULL, 0, "vpl.ranges");
     size_t subset_bytes = interleaved(v) ? sizeof(GpuVpl) * ((size_t)v->vpl_capacity + 256) : 16; /* K ≤ 256 */
-    glNamedBufferStorage(v->subsets, (GLsizeiptr)subset_bytes, NULL, GL_DYNAMIC_STORAGE_BIT);
+    v->subsets = gl_buffer_make(subset_bytes, NULL, GL_DYNAMIC_STORAGE_BIT, "vpl.subsets");
+    ok = ok && v->ubo && v->gi_ubo && v->ranges && v->subsets; /* each logs its failure */
     if (!ok || !vpl_resize(v, ci->width, ci->height)) {
         vpl_destroy(v);
         return NULL;

@@ -56,47 +56,79 @@ static void json_number(FILE *f, double v)
         fputs("null", f);
 }
 
+/* What the command line asked for. */
+typedef struct CompareArgs {
+    const char *files[2];   /* TEST, REFERENCE */
+    const char *heatmap;    /* --heatmap FILE.png, or NULL */
+    const char *mask_path;  /* --mask or --mask-emitters FILE, or NULL */
+    const char *json;       /* --json FILE or "-", or NULL */
+    const char *unshadowed; /* --unshadowed FILE, or NULL */
+    int metric;             /* index into k_metrics; 4: all */
+    int block;              /* --block N (0, 1: no block averages) */
+    float exposure, ppd;    /* for SSIM and FLIP */
+    bool allow_nonfinite;
+} CompareArgs;
+
+/* The images, checked (compare_inputs_free frees them). */
+typedef struct CompareInputs {
+    ImageF test, ref;     /* equal sizes */
+    ImageF unshadowed;    /* with --unshadowed, else empty */
+    uint8_t *mask;        /* a byte per pixel, non-zero: counts; NULL: all count (owned) */
+} CompareInputs;
+
+/* Every result, computed before any of it is printed or written
+ * (compare_results_free frees the map). */
+typedef struct CompareResults {
+    int width, height;    /* of the images */
+    bool want[4];         /* which of k_metrics[0..3] were asked for */
+    double val[4];        /* those metrics */
+    int block;            /* block size of the block averages; 0: none */
+    double block_val[2];  /* rmse, relmse of the block averages (NaN: not asked) */
+    double ratio[4];      /* mean ratio of luminance, then of r, g, b */
+    ShadowArtefacts sa;   /* with --unshadowed */
+    float *map;           /* with --heatmap: per-pixel values in [0,1] (owned), else NULL */
+} CompareResults;
+
 /* The results as one JSON object; strings escaped, non-finite numbers as
  * null. To stdout for "-", else atomically to the file. */
-static bool write_json(const char *json, const char *const files[2], const ImageF *t, const double val[4],
-                       const bool want[4], int block, const double block_val[2], const double ratio[4],
-                       const char *unshadowed, const ShadowArtefacts *sa)
+static bool write_json(const CompareArgs *args, const CompareResults *res)
 {
     AtomicFile af = {0};
     FILE *f = stdout;
-    if (strcmp(json, "-") != 0) {
-        if (!util_atomic_open(&af, "compare", json))
+    if (strcmp(args->json, "-") != 0) {
+        if (!util_atomic_open(&af, "compare", args->json))
             return false;
         f = af.f;
     }
     fputs("{\"test\": ", f);
-    util_json_string(f, files[0]);
+    util_json_string(f, args->files[0]);
     fputs(", \"reference\": ", f);
-    util_json_string(f, files[1]);
-    fprintf(f, ", \"width\": %d, \"height\": %d", t->width, t->height);
+    util_json_string(f, args->files[1]);
+    fprintf(f, ", \"width\": %d, \"height\": %d", res->width, res->height);
     for (int k = 0; k < 4; k++) {
-        if (!want[k])
+        if (!res->want[k])
             continue;
         fprintf(f, ", \"%s\": ", k_metrics[k]);
-        json_number(f, val[k]);
+        json_number(f, res->val[k]);
     }
-    if (block > 0) {
-        fprintf(f, ", \"block\": %d", block);
+    if (res->block > 0) {
+        fprintf(f, ", \"block\": %d", res->block);
         for (int k = 0; k < 2; k++)
-            if (want[k]) {
+            if (res->want[k]) {
                 fprintf(f, ", \"%s_block\": ", k_metrics[k]);
-                json_number(f, block_val[k]);
+                json_number(f, res->block_val[k]);
             }
     }
     /* ratio: luminance, then r, g, b */
     fputs(", \"mean_ratio\": ", f);
     for (int c = 0; c < 4; c++) {
-        json_number(f, ratio[c]);
+        json_number(f, res->ratio[c]);
         fputs(c == 0 ? ", \"mean_ratio_rgb\": [" : c < 3 ? ", " : "]", f);
     }
-    if (unshadowed) {
+    if (args->unshadowed) {
+        const ShadowArtefacts *sa = &res->sa;
         fputs(", \"shadow\": {\"unshadowed\": ", f);
-        util_json_string(f, unshadowed);
+        util_json_string(f, args->unshadowed);
         fprintf(f, ", \"lit_pixels\": %zu, \"shadowed_pixels\": %zu", sa->lit, sa->shadowed);
         fputs(", \"false_shadow\": ", f);
         json_number(f, sa->false_shadow);
@@ -113,6 +145,27 @@ static bool write_json(const char *json, const char *const files[2], const Image
         return true;
     }
     return util_atomic_commit(&af, "compare");
+}
+
+/* The 'metric: value' lines to `txt`, in the order scripts read them by. */
+static void print_results(FILE *txt, const CompareArgs *args, const CompareResults *res)
+{
+    for (int k = 0; k < 4; k++)
+        if (res->want[k])
+            fprintf(txt, "%s: %.6g\n", k_metrics[k], res->val[k]);
+    if (args->metric == 4 && isnan(res->ratio[0]))
+        log_warn("compare", "%s is black on the pixels compared: mean_ratio is undefined (nan)", args->files[1]);
+    for (int k = 0; k < 2; k++)
+        if (res->block > 0 && res->want[k])
+            fprintf(txt, "%s_block: %.6g\n", k_metrics[k], res->block_val[k]);
+    if (args->metric == 4) { /* after the older lines, which scripts may read by position */
+        fprintf(txt, "mean_ratio: %.6g\n", res->ratio[0]);
+        fprintf(txt, "mean_ratio_rgb: %.6g %.6g %.6g\n", res->ratio[1], res->ratio[2], res->ratio[3]);
+    }
+    if (args->unshadowed) {
+        fprintf(txt, "shadow_lit_pixels: %zu\nshadow_shadowed_pixels: %zu\n", res->sa.lit, res->sa.shadowed);
+        fprintf(txt, "false_shadow: %.6g\nfalse_lit: %.6g\n", res->sa.false_shadow, res->sa.false_lit);
+    }
 }
 
 /* Reads `path` (what: how errors name it) into *out, which must be the
@@ -132,13 +185,13 @@ static bool read_matching(const char *path, const char *what, const ImageF *like
 /* The options this command knows (for "did you mean"). */
 static const char *const k_compare_options[] = {"--allow-nonfinite", "--block", "--exposure", "--heatmap", "--help", "--json", "--mask", "--mask-emitters", "--metric", "--ppd", "--unshadowed", NULL};
 
-int cmd_compare(int argc, char **argv)
+/* Parses argv into *args. 0: go on; -1: --help was shown; else an exit
+ * status (2 for usage, 1 for an output that cannot be written:
+ * cli_check_files), after logging. */
+static int compare_parse_args(int argc, char **argv, CompareArgs *args)
 {
-    int block = 8;
-    const char *files[2] = {NULL, NULL}, *heatmap = NULL, *mask_path = NULL, *json = NULL, *unshadowed = NULL;
-    int metric = 4, nfiles = 0;
-    float exposure = 1.f, ppd = FLIP_DEFAULT_PPD;
-    bool allow_nonfinite = false;
+    *args = (CompareArgs){.metric = 4, .block = 8, .exposure = 1.f, .ppd = FLIP_DEFAULT_PPD};
+    int nfiles = 0;
     CliArgs a = {.argc = argc, .argv = argv, .operands = true};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
@@ -147,13 +200,13 @@ int cmd_compare(int argc, char **argv)
                 cli_error(NULL, "takes two images, got a third: '%s'", opt);
                 return 2;
             }
-            files[nfiles++] = opt;
+            args->files[nfiles++] = opt;
         } else if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_compare_help();
-            return 0;
+            return -1;
         } else if (!strcmp(opt, "--metric")) {
             CLI_VALUE(&a, v);
-            if ((metric = cli_choice(opt, v, k_metrics)) < 0)
+            if ((args->metric = cli_choice(opt, v, k_metrics)) < 0)
                 return 2;
         } else if (!strcmp(opt, "--heatmap")) {
             CLI_VALUE(&a, v);
@@ -161,33 +214,33 @@ int cmd_compare(int argc, char **argv)
                 cli_error(NULL, "--heatmap: '%s' must end in .png", v);
                 return 2;
             }
-            heatmap = v;
+            args->heatmap = v;
         } else if (!strcmp(opt, "--block")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 0, 4096, &block))
+            if (!cli_int(opt, v, 0, 4096, &args->block))
                 return 2;
         } else if (!strcmp(opt, "--mask") || !strcmp(opt, "--mask-emitters")) {
-            if (mask_path) {
+            if (args->mask_path) {
                 cli_error(NULL, "%s: give one of --mask and --mask-emitters", opt);
                 return 2;
             }
             CLI_VALUE(&a, v);
-            mask_path = v;
+            args->mask_path = v;
         } else if (!strcmp(opt, "--json")) {
             CLI_VALUE(&a, v);
-            json = v;
+            args->json = v;
         } else if (!strcmp(opt, "--unshadowed")) {
             CLI_VALUE(&a, v);
-            unshadowed = v;
+            args->unshadowed = v;
         } else if (!strcmp(opt, "--allow-nonfinite")) {
-            allow_nonfinite = true;
+            args->allow_nonfinite = true;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &exposure))
+            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &args->exposure))
                 return 2;
         } else if (!strcmp(opt, "--ppd")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 1.f, 1000.f, &ppd))
+            if (!cli_float(opt, v, 1.f, 1000.f, &args->ppd))
                 return 2;
         } else {
             cli_unknown_option(opt, k_compare_options);
@@ -201,162 +254,213 @@ int cmd_compare(int argc, char **argv)
         return 2;
     }
     const char *const opts[] = {"--heatmap", "--json", "TEST", "REFERENCE", "--mask", "--unshadowed"};
-    const char *const paths[] = {heatmap, json, files[0], files[1], mask_path, unshadowed};
-    int checked = cli_check_files(6, 2, opts, paths);
-    if (checked)
-        return checked;
-    ImageF t = {0}, r = {0}, m = {0}, u = {0};
-    uint8_t *mask = NULL;
-    float *map = NULL;
-    int rc = 1;
-    if (!image_read(files[0], &t) || !image_read(files[1], &r))
-        goto done;
-    log_debug("compare", "test %s: %dx%d; reference %s: %dx%d", files[0], t.width, t.height, files[1], r.width,
-              r.height);
-    if (t.width != r.width || t.height != r.height) {
-        log_error("compare", "%s is %dx%d but %s is %dx%d: sizes must match", files[0], t.width, t.height, files[1],
-                  r.width, r.height);
-        goto done;
-    }
-    if (unshadowed && !read_matching(unshadowed, "--unshadowed image", &t, &u))
-        goto done;
-    for (int k = 0; k < 3 && !allow_nonfinite; k++) {
-        const ImageF *img = k == 0 ? &t : k == 1 ? &r : &u;
-        const char *name = k < 2 ? files[k] : unshadowed;
-        if (!img->rgb)
+    const char *const paths[] = {args->heatmap, args->json, args->files[0], args->files[1], args->mask_path,
+                                 args->unshadowed};
+    return cli_check_files(6, 2, opts, paths);
+}
+
+static void compare_inputs_free(CompareInputs *in)
+{
+    image_free(&in->test);
+    image_free(&in->ref);
+    image_free(&in->unshadowed);
+    free(in->mask);
+    in->mask = NULL;
+}
+
+/* false after logging if one of t, r, u (u may be empty) has a NaN or
+ * infinite pixel; names: their paths. */
+static bool check_finite(const ImageF *const img[3], const char *const names[3])
+{
+    for (int k = 0; k < 3; k++) {
+        if (!img[k]->rgb)
             continue;
         int x = 0, y = 0;
-        size_t bad = image_count_nonfinite(img, &x, &y);
+        size_t bad = image_count_nonfinite(img[k], &x, &y);
         if (bad) {
             log_error("compare", "%s: %zu of %zu pixels are NaN or infinite (first at x=%d y=%d); "
-                      "--allow-nonfinite compares anyway", name, bad, (size_t)img->width * img->height, x, y);
-            goto done;
+                      "--allow-nonfinite compares anyway", names[k], bad, (size_t)img[k]->width * img[k]->height, x,
+                      y);
+            return false;
         }
     }
+    return true;
+}
+
+/* Reads the mask image at `path` (the size of `like`) into a byte per
+ * pixel (*mask, caller frees): luminance > 0.5 counts. false after logging,
+ * also when it selects no pixel. */
+static bool read_mask(const char *path, const ImageF *like, uint8_t **mask)
+{
+    ImageF m = {0};
+    size_t np = (size_t)like->width * like->height, selected = 0;
+    bool ok = read_matching(path, "mask", like, &m) && (*mask = util_malloc("compare", "the mask", np, 1));
+    for (size_t i = 0; ok && i < np; i++)
+        selected += (*mask)[i] = luminance(m.rgb + 3 * i) > 0.5f;
+    if (ok && selected == 0) {
+        log_error("compare", "%s: the mask selects no pixel (luminance > 0.5 nowhere): nothing to compare", path);
+        ok = false;
+    }
+    image_free(&m);
+    return ok;
+}
+
+/* Reads TEST, REFERENCE, the --unshadowed image and the mask into *in and
+ * checks them: equal sizes, finite pixels (unless --allow-nonfinite), room
+ * for the metrics; negative values are only said. false after logging; *in
+ * then holds what was read (compare_inputs_free). */
+static bool compare_load_inputs(const CompareArgs *args, CompareInputs *in)
+{
+    const char *const *files = args->files;
+    ImageF *t = &in->test, *r = &in->ref;
+    if (!image_read(files[0], t) || !image_read(files[1], r))
+        return false;
+    log_debug("compare", "test %s: %dx%d; reference %s: %dx%d", files[0], t->width, t->height, files[1], r->width,
+              r->height);
+    if (t->width != r->width || t->height != r->height) {
+        log_error("compare", "%s is %dx%d but %s is %dx%d: sizes must match", files[0], t->width, t->height,
+                  files[1], r->width, r->height);
+        return false;
+    }
+    if (args->unshadowed && !read_matching(args->unshadowed, "--unshadowed image", t, &in->unshadowed))
+        return false;
+    const ImageF *const imgs[3] = {t, r, &in->unshadowed};
+    const char *const names[3] = {files[0], files[1], args->unshadowed};
+    if (!args->allow_nonfinite && !check_finite(imgs, names))
+        return false;
     /* Radiance is never negative: such pixels (a difference image given as
      * an input, a filter's ringing) are compared as they are, but said. */
     for (int k = 0; k < 2; k++) {
-        const ImageF *img = k == 0 ? &t : &r;
-        size_t neg = 0, n3 = (size_t)img->width * img->height * 3;
+        size_t neg = 0, n3 = (size_t)imgs[k]->width * imgs[k]->height * 3;
         for (size_t i = 0; i < n3; i++)
-            neg += img->rgb[i] < 0.f;
+            neg += imgs[k]->rgb[i] < 0.f;
         if (neg)
             log_warn("compare", "%s: %zu pixel values are negative (radiance is not)", files[k], neg);
     }
-    size_t np = (size_t)t.width * t.height;
     /* FLIP holds about 30 float planes at once (metrics.c): check that
      * they fit before the metrics allocate. */
+    size_t np = (size_t)t->width * t->height;
     size_t phys = util_physical_memory(), need = np * 32 * sizeof(float);
     if (phys && need > phys / 2) {
         log_error("compare", "%s: %dx%d images need %.1f GiB for the metrics, more than the limit of %.1f GiB "
-                  "(half of this machine's memory)", files[0], t.width, t.height, need / 1073741824.0,
+                  "(half of this machine's memory)", files[0], t->width, t->height, need / 1073741824.0,
                   phys / 2 / 1073741824.0);
-        goto done;
+        return false;
     }
-    if (mask_path) {
-        if (!read_matching(mask_path, "mask", &t, &m))
-            goto done;
-        if (!(mask = util_malloc("compare", "the mask", np, 1)))
-            goto done;
-        size_t selected = 0;
+    return !args->mask_path || read_mask(args->mask_path, t, &in->mask);
+}
+
+static void compare_results_free(CompareResults *res)
+{
+    free(res->map);
+    res->map = NULL;
+}
+
+/* rmse and relmse (those `want`ed) of the block×block averages of t and r
+ * into block_val. false after logging if memory runs out. */
+static bool block_metrics(const ImageF *t, const ImageF *r, const uint8_t *mask, int block, const bool want[2],
+                          double block_val[2])
+{
+    ImageF tb = {0}, rb = {0};
+    uint8_t *mt = NULL, *mr = NULL;
+    bool ok = metric_block_average(t, mask, block, &tb, &mt) && metric_block_average(r, mask, block, &rb, &mr);
+    if (ok && want[0])
+        block_val[0] = metric_rmse(&tb, &rb, mt, NULL);
+    if (ok && want[1])
+        block_val[1] = metric_relmse(&tb, &rb, mt, NULL);
+    image_free(&tb);
+    image_free(&rb);
+    free(mt);
+    free(mr);
+    return ok;
+}
+
+/* Scales the heat map of metric `k` to [0,1] with 1 the worst: RMSE by
+ * its maximum, SSIM as 1 − SSIM; relMSE and FLIP as they are. */
+static void heatmap_normalise(float *map, size_t np, int k)
+{
+    if (k == 0) {
+        float mx = 0;
         for (size_t i = 0; i < np; i++)
-            selected += mask[i] = luminance(m.rgb + 3 * i) > 0.5f;
-        if (selected == 0) {
-            log_error("compare", "%s: the mask selects no pixel (luminance > 0.5 nowhere): nothing to compare",
-                      mask_path);
-            goto done;
-        }
+            mx = map[i] > mx ? map[i] : mx;
+        for (size_t i = 0; mx > 0 && i < np; i++)
+            map[i] /= mx;
+    } else if (k == 2) {
+        for (size_t i = 0; i < np; i++)
+            map[i] = 1.f - map[i];
     }
-    if (heatmap && !(map = util_calloc("compare", "the heat map", np, sizeof(float))))
-        goto done;
-    double val[4] = {0};
-    bool want[4];
+}
+
+/* Every metric asked for, the block averages', the mean ratios, the
+ * shadow artefacts and the heat map into *res, before anything is printed:
+ * a failed run prints no result. false after logging; *res then holds what
+ * was made (compare_results_free). */
+static bool compare_metrics(const CompareArgs *args, const CompareInputs *in, CompareResults *res)
+{
+    const ImageF *t = &in->test, *r = &in->ref;
+    const uint8_t *mask = in->mask;
+    size_t np = (size_t)t->width * t->height;
+    *res = (CompareResults){.width = t->width, .height = t->height, .block = args->block > 1 ? args->block : 0,
+                            .block_val = {NAN, NAN}};
+    if (args->heatmap && !(res->map = util_calloc("compare", "the heat map", np, sizeof(float))))
+        return false;
     for (int k = 0; k < 4; k++)
-        want[k] = metric == 4 || metric == k;
+        res->want[k] = args->metric == 4 || args->metric == k;
     /* The heat map shows the first metric computed, or FLIP for "all". */
-    int map_metric = metric == 4 ? 3 : metric;
-    if (want[0])
-        val[0] = metric_rmse(&t, &r, mask, map_metric == 0 ? map : NULL);
-    if (want[1])
-        val[1] = metric_relmse(&t, &r, mask, map_metric == 1 ? map : NULL);
-    if (want[2])
-        val[2] = metric_ssim(&t, &r, exposure, mask, map_metric == 2 ? map : NULL);
-    if (want[3])
-        val[3] = metric_flip(&t, &r, exposure, ppd, mask, map_metric == 3 ? map : NULL);
+    int mm = args->metric == 4 ? 3 : args->metric;
+    float *map = res->map;
+    if (res->want[0])
+        res->val[0] = metric_rmse(t, r, mask, mm == 0 ? map : NULL);
+    if (res->want[1])
+        res->val[1] = metric_relmse(t, r, mask, mm == 1 ? map : NULL);
+    if (res->want[2])
+        res->val[2] = metric_ssim(t, r, args->exposure, mask, mm == 2 ? map : NULL);
+    if (res->want[3])
+        res->val[3] = metric_flip(t, r, args->exposure, args->ppd, mask, mm == 3 ? map : NULL);
     if (metric_alloc_failures())
-        goto done; /* logged, with the size */
-    /* Checked before any line is printed: a failed run prints no result. */
-    ShadowArtefacts sa = {0};
-    if (unshadowed) {
-        sa = metric_shadow_artefacts(&t, &r, &u, mask);
-        if (sa.lit + sa.shadowed == 0) {
+        return false; /* logged, with the size */
+    if (args->unshadowed) {
+        res->sa = metric_shadow_artefacts(t, r, &in->unshadowed, mask);
+        if (res->sa.lit + res->sa.shadowed == 0) {
             log_error("compare", "--unshadowed %s: no pixel is fully lit or fully shadowed in %s (are they direct "
-                      "light, and is %s the same view without shadows?)", unshadowed, files[1], unshadowed);
-            goto done;
+                      "light, and is %s the same view without shadows?)", args->unshadowed, args->files[1],
+                      args->unshadowed);
+            return false;
         }
     }
-    /* With --json - the JSON alone goes to stdout, the lines to stderr. */
-    FILE *txt = json && !strcmp(json, "-") ? stderr : stdout;
-    for (int k = 0; k < 4; k++)
-        if (want[k])
-            fprintf(txt, "%s: %.6g\n", k_metrics[k], val[k]);
-    double ratio[4];
-    ratio[0] = metric_mean_ratio(&t, &r, mask, ratio + 1);
-    if (metric == 4 && isnan(ratio[0]))
-        log_warn("compare", "%s is black on the pixels compared: mean_ratio is undefined (nan)", files[1]);
+    res->ratio[0] = metric_mean_ratio(t, r, mask, res->ratio + 1);
     /* The same over block averages: what survives them is bias. */
-    double block_val[2] = {NAN, NAN};
-    if (block > 1 && (want[0] || want[1])) {
-        ImageF tb = {0}, rb = {0};
-        uint8_t *mt = NULL, *mr = NULL;
-        bool ok = metric_block_average(&t, mask, block, &tb, &mt) && metric_block_average(&r, mask, block, &rb, &mr);
-        if (ok) {
-            if (want[0])
-                fprintf(txt, "rmse_block: %.6g\n", block_val[0] = metric_rmse(&tb, &rb, mt, NULL));
-            if (want[1])
-                fprintf(txt, "relmse_block: %.6g\n", block_val[1] = metric_relmse(&tb, &rb, mt, NULL));
-        }
-        image_free(&tb);
-        image_free(&rb);
-        free(mt);
-        free(mr);
-        if (!ok)
-            goto done;
-    }
-    if (metric == 4) { /* after the older lines, which scripts may read by position */
-        fprintf(txt, "mean_ratio: %.6g\n", ratio[0]);
-        fprintf(txt, "mean_ratio_rgb: %.6g %.6g %.6g\n", ratio[1], ratio[2], ratio[3]);
-    }
-    if (unshadowed) {
-        fprintf(txt, "shadow_lit_pixels: %zu\nshadow_shadowed_pixels: %zu\n", sa.lit, sa.shadowed);
-        fprintf(txt, "false_shadow: %.6g\nfalse_lit: %.6g\n", sa.false_shadow, sa.false_lit);
-    }
-    if (map) {
-        if (map_metric == 0) { /* normalise RMSE by its maximum */
-            float mx = 0;
-            for (size_t i = 0; i < np; i++)
-                mx = map[i] > mx ? map[i] : mx;
-            for (size_t i = 0; mx > 0 && i < np; i++)
-                map[i] /= mx;
-        } else if (map_metric == 2) {
-            for (size_t i = 0; i < np; i++)
-                map[i] = 1.f - map[i];
-        }
-        if (!metric_write_heatmap(heatmap, map, t.width, t.height))
-            goto done;
-    }
-    if (json && !write_json(json, files, &t, val, want, block > 1 ? block : 0, block_val, ratio, unshadowed, &sa)) {
-        if (heatmap)
-            remove(heatmap); /* all outputs or none */
+    if (res->block && (res->want[0] || res->want[1]) &&
+        !block_metrics(t, r, mask, res->block, res->want, res->block_val))
+        return false;
+    if (map)
+        heatmap_normalise(map, np, mm);
+    return true;
+}
+
+int cmd_compare(int argc, char **argv)
+{
+    CompareArgs args;
+    int rc = compare_parse_args(argc, argv, &args);
+    if (rc != 0)
+        return rc < 0 ? 0 : rc;
+    CompareInputs in = {0};
+    CompareResults res = {0};
+    rc = 1;
+    if (!compare_load_inputs(&args, &in) || !compare_metrics(&args, &in, &res))
+        goto done;
+    /* With --json - the JSON alone goes to stdout, the lines to stderr. */
+    print_results(args.json && !strcmp(args.json, "-") ? stderr : stdout, &args, &res);
+    if (res.map && !metric_write_heatmap(args.heatmap, res.map, res.width, res.height))
+        goto done;
+    if (args.json && !write_json(&args, &res)) {
+        if (args.heatmap)
+            remove(args.heatmap); /* all outputs or none */
         goto done;
     }
     rc = 0;
 done:
-    free(map);
-    free(mask);
-    image_free(&t);
-    image_free(&r);
-    image_free(&m);
-    image_free(&u);
+    compare_results_free(&res);
+    compare_inputs_free(&in);
     return rc;
 }

@@ -64,106 +64,121 @@ static bool write_mean(const char *out, const ImageF *mean, float exposure, bool
     return image_write_exr(out, mean, half, attrs, 2);
 }
 
-int cmd_reference(int argc, char **argv)
+/* What the command line asked for. */
+typedef struct ReferenceArgs {
+    PtSettings set;           /* the path tracer's settings (progress and stop: cmd_reference's) */
+    const char *scene_name;   /* --scene */
+    const char *out;          /* --out: the mean image */
+    const char *png;          /* --png, or NULL */
+    const char *var_out;      /* --variance, or NULL */
+    const char *emitter_mask; /* --emitter-mask, or NULL */
+    float exposure;           /* --exposure for PNG output; < 0: the scene's */
+    float light_scale;        /* --light-scale; < 0: the scene's lights as they are */
+    bool half;                /* --half: EXR output as half floats */
+} ReferenceArgs;
+
+/* Parses argv into *args. 0: go on; -1: --help was shown; else an exit
+ * status (2 for usage, 1 for an output that cannot be written:
+ * cli_check_files), after logging. */
+static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
 {
-    PtSettings set;
-    pt_settings_default(&set);
+    *args = (ReferenceArgs){.scene_name = "cornell", .out = "out/reference.pfm", .exposure = -1.f,
+                            .light_scale = -1.f};
+    PtSettings *set = &args->set;
+    pt_settings_default(set);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    set.threads = cores > 0 ? (int)cores : 1;
-    const char *scene_name = "cornell", *out = "out/reference.pfm", *var_out = NULL, *png = NULL, *emitter_mask = NULL;
-    float exposure = -1.f, light_scale = -1.f;
-    bool half = false;
+    set->threads = cores > 0 ? (int)cores : 1;
     CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_reference_help();
-            return 0;
+            return -1;
         } else if (!strcmp(opt, "--scene")) {
             CLI_VALUE(&a, v);
             if (!cli_scene(opt, v))
                 return 2;
-            scene_name = v;
+            args->scene_name = v;
         } else if (!strcmp(opt, "--mode")) {
             CLI_VALUE(&a, v);
             int m = cli_choice(opt, v, pt_mode_names);
             if (m < 0)
                 return 2;
-            set.mode = (PtMode)m;
+            set->mode = (PtMode)m;
         } else if (!strcmp(opt, "--sampler")) {
             CLI_VALUE(&a, v);
             int k = cli_choice(opt, v, pt_sampler_names);
             if (k < 0)
                 return 2;
-            set.sampler = (PtSampler)k;
+            set->sampler = (PtSampler)k;
         } else if (!strcmp(opt, "--spp")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1 << 24, &set.spp))
+            if (!cli_int(opt, v, 1, 1 << 24, &set->spp))
                 return 2;
         } else if (!strcmp(opt, "--seed")) {
             CLI_VALUE(&a, v);
             int s;
             if (!cli_int(opt, v, 0, 2147483647, &s))
                 return 2;
-            set.seed = (uint64_t)s;
+            set->seed = (uint64_t)s;
         } else if (!strcmp(opt, "--threads")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1024, &set.threads))
+            if (!cli_int(opt, v, 1, 1024, &set->threads))
                 return 2;
         } else if (!strcmp(opt, "--size")) {
             CLI_VALUE(&a, v);
-            if (!cli_size(opt, v, 16384, &set.width, &set.height))
+            if (!cli_size(opt, v, 16384, &set->width, &set->height))
                 return 2;
         } else if (!strcmp(opt, "--out")) {
             CLI_VALUE(&a, v);
-            out = v;
+            args->out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
                 cli_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--png")) {
             CLI_VALUE(&a, v);
-            png = v;
+            args->png = v;
             if (!util_ends_with(v, ".png")) {
                 cli_error(NULL, "--png: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--emitter-mask")) {
             CLI_VALUE(&a, v);
-            emitter_mask = v;
+            args->emitter_mask = v;
             if (!util_ends_with(v, ".png")) {
                 cli_error(NULL, "--emitter-mask: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--variance")) {
             CLI_VALUE(&a, v);
-            var_out = v;
+            args->var_out = v;
             if (!util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
                 cli_error(NULL, "--variance: '%s' must end in .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &exposure))
+            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &args->exposure))
                 return 2;
         } else if (!strcmp(opt, "--light-scale")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e3f, &light_scale))
+            if (!cli_float(opt, v, 0.f, 1e3f, &args->light_scale))
                 return 2;
         } else if (!strcmp(opt, "--max-depth")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 100000, &set.max_depth))
+            if (!cli_int(opt, v, 1, 100000, &set->max_depth))
                 return 2;
         } else if (!strcmp(opt, "--rr-depth")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 0, 100000, &set.rr_depth))
+            if (!cli_int(opt, v, 0, 100000, &set->rr_depth))
                 return 2;
         } else if (!strcmp(opt, "--half")) {
-            half = true;
+            args->half = true;
         } else if (!strcmp(opt, "--no-rr")) {
-            set.russian_roulette = false;
+            set->russian_roulette = false;
         } else if (!strcmp(opt, "--no-jitter")) {
-            set.pixel_jitter = false;
+            set->pixel_jitter = false;
         } else {
             cli_unknown_option(opt, k_reference_options);
             return 2;
@@ -172,77 +187,95 @@ int cmd_reference(int argc, char **argv)
     if (cli_failed(&a))
         return 2;
     const char *const opts[] = {"--out", "--png", "--variance", "--emitter-mask", "--scene"};
-    const char *const paths[] = {out, png, var_out, emitter_mask, scene_name};
-    int files = cli_check_files(5, 4, opts, paths);
-    if (files)
-        return files;
-    set.progress = log_get_level() <= LOG_INFO; /* --quiet: none */
-    set.stop = &g_interrupted;
+    const char *const paths[] = {args->out, args->png, args->var_out, args->emitter_mask, args->scene_name};
+    return cli_check_files(5, 4, opts, paths);
+}
+
+/* Writes --out, --png, --variance and --emitter-mask: all of them or none
+ * (a failure removes the ones written before it). false after logging. */
+static bool reference_write_outputs(const ReferenceArgs *args, const Scene *scene, const ImageF *mean,
+                                    const ImageF *var, const PtStats *st)
+{
+    const PtSettings *set = &args->set;
+    float e = args->exposure >= 0.f ? args->exposure : scene->exposure;
+    image_warn_if_black(mean, "reference", args->out);
+    const char *written[3];
+    int n = 0;
+    bool ok = write_mean(args->out, mean, e, args->half, st->spp, set->spp);
+    if (ok)
+        written[n++] = args->out;
+    if (ok && args->png && (ok = image_write_png(args->png, mean, e)))
+        written[n++] = args->png;
+    if (ok && args->var_out && (ok = write_mean(args->var_out, var, 1.f, false, st->spp, set->spp)))
+        written[n++] = args->var_out;
+    if (ok && args->emitter_mask)
+        ok = pt_write_emitter_mask(scene, set->width, set->height, args->emitter_mask);
+    for (int i = 0; !ok && i < n; i++)
+        remove(written[i]);
+    return ok;
+}
+
+/* The result lines on stdout (scripts read them). */
+static void reference_print(const ReferenceArgs *args, const Scene *scene, const PtStats *st)
+{
+    const PtSettings *set = &args->set;
+    printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene->source,
+           pt_mode_names[set->mode], set->width, set->height, st->spp, set->threads,
+           (unsigned long long)set->seed);
+    printf("spp: %d\n", st->spp);
+    if (st->spp < set->spp)
+        printf("interrupted: %d of %d spp\n", st->spp, set->spp);
+    printf("sampler: %s\n", pt_sampler_names[set->sampler]);
+    printf("time_s: %.3f\n", st->seconds);
+    printf("rays: %llu\n", (unsigned long long)st->rays);
+    printf("rays_per_s: %.0f\n", st->seconds > 0 ? st->rays / st->seconds : 0.0);
+    log_info("reference", "wrote %s", args->out);
+}
+
+int cmd_reference(int argc, char **argv)
+{
+    ReferenceArgs args;
+    int rc = reference_parse_args(argc, argv, &args);
+    if (rc != 0)
+        return rc < 0 ? 0 : rc;
+    PtSettings *set = &args.set;
+    set->progress = log_get_level() <= LOG_INFO; /* --quiet: none */
+    set->stop = &g_interrupted;
 
     /* The path tracer holds two double sums per channel and pixel, the mean
      * and the variance images: check that they fit before it allocates. */
-    size_t npix = (size_t)set.width * (size_t)set.height;
-    size_t need = npix * 3 * (2 * sizeof(double) + (var_out ? 2 : 1) * sizeof(float));
+    size_t npix = (size_t)set->width * (size_t)set->height;
+    size_t need = npix * 3 * (2 * sizeof(double) + (args.var_out ? 2 : 1) * sizeof(float));
     size_t phys = util_physical_memory();
     if (npix > IMAGE_MAX_PIXELS || (phys && need > phys / 2)) {
         log_error("cli", "--size %dx%d: the reference needs %.1f GiB for its image buffers; the limit is %zu "
-                  "pixels and %.1f GiB (half of this machine's memory)", set.width, set.height,
+                  "pixels and %.1f GiB (half of this machine's memory)", set->width, set->height,
                   need / 1073741824.0, (size_t)IMAGE_MAX_PIXELS, phys / 2 / 1073741824.0);
         return 1;
     }
 
     Scene scene;
-    if (!scene_load_scaled(&scene, scene_name, light_scale))
+    if (!scene_load_scaled(&scene, args.scene_name, args.light_scale))
         return 1;
     ImageF mean = {0}, var = {0};
     PtStats st = {0};
-    int rc = 1;
     /* Ctrl-C: finish the pass, write what was reached; a second one kills. */
     struct sigaction sa = {0}, old_sa;
     sa.sa_handler = on_sigint;
     sa.sa_flags = SA_RESETHAND;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &old_sa);
-    bool rendered = pt_render(&scene, &set, &mean, var_out ? &var : NULL, &st);
+    bool rendered = pt_render(&scene, set, &mean, args.var_out ? &var : NULL, &st);
     sigaction(SIGINT, &old_sa, NULL);
-    if (rendered && st.spp < set.spp)
-        log_info("reference", "interrupted: writing the partial image with %d of %d spp", st.spp, set.spp);
+    if (rendered && st.spp < set->spp)
+        log_info("reference", "interrupted: writing the partial image with %d of %d spp", st.spp, set->spp);
     /* All outputs or none, also under a second Ctrl-C or a SIGTERM: the
      * signal waits until every file is written (ms to seconds). */
     util_defer_ending_signals();
-    if (rendered) {
-        float e = exposure >= 0.f ? exposure : scene.exposure;
-        image_warn_if_black(&mean, "reference", out);
-        /* All outputs or none: a later failure removes the earlier ones. */
-        bool ok = write_mean(out, &mean, e, half, st.spp, set.spp);
-        if (ok && png && !(ok = image_write_png(png, &mean, e)))
-            remove(out);
-        if (ok && var_out && !(ok = write_mean(var_out, &var, 1.f, false, st.spp, set.spp))) {
-            remove(out);
-            if (png)
-                remove(png);
-        }
-        if (ok && emitter_mask && !(ok = pt_write_emitter_mask(&scene, set.width, set.height, emitter_mask))) {
-            remove(out);
-            if (png)
-                remove(png);
-            if (var_out)
-                remove(var_out);
-        }
-        if (ok) {
-            rc = 0;
-            printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene.source,
-                   pt_mode_names[set.mode], set.width, set.height, st.spp, set.threads,
-                   (unsigned long long)set.seed);
-            printf("spp: %d\n", st.spp);
-            if (st.spp < set.spp)
-                printf("interrupted: %d of %d spp\n", st.spp, set.spp);
-            printf("sampler: %s\n", pt_sampler_names[set.sampler]);
-            printf("time_s: %.3f\n", st.seconds);
-            printf("rays: %llu\n", (unsigned long long)st.rays);
-            printf("rays_per_s: %.0f\n", st.seconds > 0 ? st.rays / st.seconds : 0.0);
-            log_info("reference", "wrote %s", out);
-        }
+    rc = 1;
+    if (rendered && reference_write_outputs(&args, &scene, &mean, &var, &st)) {
+        reference_print(&args, &scene, &st);
+        rc = 0;
     }
     util_end_deferral();
     image_free(&mean);

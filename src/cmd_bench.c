@@ -766,24 +766,39 @@ static bool write_csv(const char *dir, const cJSON *doc)
 
 static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--ssaa", "--threads", NULL};
 
-int cmd_bench(int argc, char **argv)
+/* What the command line asked for. */
+typedef struct BenchArgs {
+    const char *out;         /* --out DIR (required) */
+    const char *scene_name;  /* --scene */
+    const char *gi_list;     /* --gi: comma-separated NAME[:key=value...] */
+    const char *shadow_list; /* --shadow: comma-separated */
+    const char *cache;       /* --cache DIR */
+    int width, height;       /* --size */
+    int frames;              /* --frames: timed frames per technique */
+    int ssaa;                /* --ssaa */
+    float exposure;          /* --exposure of FLIP and SSIM; < 0: the scene's */
+    bool markdown;           /* --markdown */
+    PtSettings ps;           /* the reference's settings */
+    Settings base;           /* the technique settings every entry starts from ... */
+    bool base_given[64];     /* ... and which of them were given, by settings-table row */
+} BenchArgs;
+
+/* Parses argv into *args. 0: go on; -1: --help was shown; else an exit
+ * status (2 for usage), after logging. */
+static int bench_parse_args(int argc, char **argv, BenchArgs *args)
 {
-    const char *out = NULL, *scene_name = "cornell", *gi_list = k_default_gi, *shadow_list = "pcss";
-    const char *cache = "out/ref-cache";
-    int width = 256, height = 256, frames = 3, ssaa = 1;
-    float exposure = -1.f;
-    bool markdown = false;
-    PtSettings ps;
-    pt_settings_default(&ps);
-    ps.spp = 256;
+    *args = (BenchArgs){.scene_name = "cornell", .gi_list = k_default_gi, .shadow_list = "pcss",
+                        .cache = "out/ref-cache", .width = 256, .height = 256, .frames = 3, .ssaa = 1,
+                        .exposure = -1.f};
+    PtSettings *ps = &args->ps;
+    pt_settings_default(ps);
+    ps->spp = 256;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    ps.threads = cores > 0 ? (int)cores : 1;
-    Settings base;
-    settings_default(&base);
-    bool base_given[64] = {false};
+    ps->threads = cores > 0 ? (int)cores : 1;
+    settings_default(&args->base);
     const SettingDesc *vpls = settings_find_key("gi", "vpls");
-    base.gi.vpl_count = 16384; /* what the benchmarks use */
-    base_given[vpls - settings_table] = true;
+    args->base.gi.vpl_count = 16384; /* what the benchmarks use */
+    args->base_given[vpls - settings_table] = true;
 
     CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v = NULL;
@@ -791,62 +806,62 @@ int cmd_bench(int argc, char **argv)
         const SettingDesc *d;
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_bench_help();
-            return 0;
+            return -1;
         } else if (!strcmp(opt, "--out")) {
             CLI_VALUE(&a, v);
-            out = v;
+            args->out = v;
         } else if (!strcmp(opt, "--scene")) {
             CLI_VALUE(&a, v);
             if (!cli_scene(opt, v))
                 return 2;
-            scene_name = v;
+            args->scene_name = v;
         } else if (!strcmp(opt, "--size")) {
             CLI_VALUE(&a, v);
-            if (!cli_size(opt, v, 8192, &width, &height))
+            if (!cli_size(opt, v, 8192, &args->width, &args->height))
                 return 2;
         } else if (!strcmp(opt, "--gi")) {
             CLI_VALUE(&a, v);
-            gi_list = v;
+            args->gi_list = v;
         } else if (!strcmp(opt, "--shadow")) {
             CLI_VALUE(&a, v);
-            shadow_list = v;
+            args->shadow_list = v;
         } else if (!strcmp(opt, "--spp")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1 << 20, &ps.spp))
+            if (!cli_int(opt, v, 1, 1 << 20, &ps->spp))
                 return 2;
         } else if (!strcmp(opt, "--ref-mode")) {
             CLI_VALUE(&a, v);
             int m = cli_choice(opt, v, pt_mode_names);
             if (m < 0)
                 return 2;
-            ps.mode = (PtMode)m;
+            ps->mode = (PtMode)m;
         } else if (!strcmp(opt, "--frames")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1000, &frames))
+            if (!cli_int(opt, v, 1, 1000, &args->frames))
                 return 2;
         } else if (!strcmp(opt, "--ssaa")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 8, &ssaa))
+            if (!cli_int(opt, v, 1, 8, &args->ssaa))
                 return 2;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &exposure))
+            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &args->exposure))
                 return 2;
         } else if (!strcmp(opt, "--cache")) {
             CLI_VALUE(&a, v);
-            cache = v;
+            args->cache = v;
         } else if (!strcmp(opt, "--threads")) {
             CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1024, &ps.threads))
+            if (!cli_int(opt, v, 1, 1024, &ps->threads))
                 return 2;
         } else if (!strcmp(opt, "--markdown")) {
-            markdown = true;
+            args->markdown = true;
         } else if ((d = settings_find_option(opt))) {
             if (d->type != SETTING_FLAG)
                 CLI_VALUE(&a, v);
-            if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : v, &base))
+            if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : v, &args->base))
                 return 2;
-            base_given[d - settings_table] = true;
+            args->base_given[d - settings_table] = true;
         } else {
             const char *known[128];
             int n = 0;
@@ -861,172 +876,241 @@ int cmd_bench(int argc, char **argv)
     }
     if (cli_failed(&a))
         return 2;
-    if (!out) {
+    if (!args->out) {
         cli_error(NULL, "--out DIR is required");
         return 2;
     }
-    if (strlen(out) > BENCH_MAX_DIR) {
+    if (strlen(args->out) > BENCH_MAX_DIR) {
         cli_error(NULL, "--out: DIR is longer than %d bytes", BENCH_MAX_DIR);
         return 2;
     }
-    if (!render_options_ssaa_fits(width, height, ssaa))
+    if (!render_options_ssaa_fits(args->width, args->height, args->ssaa))
         return 2;
+    ps->width = args->width;
+    ps->height = args->height;
+    ps->progress = log_get_level() <= LOG_INFO;
+    return 0;
+}
 
+/* What every entry is measured against (bench_reference_free frees it). */
+typedef struct BenchReference {
+    ImageF img;              /* the path-traced reference */
+    char path[1400];         /* its file in the cache */
+    bool reused;             /* read from the cache, not rendered */
+    uint8_t *mask;           /* a byte per pixel, non-zero where no emitter is seen: the pixels measured */
+    size_t masked;           /* pixels left out (they see an emitter) */
+    float metric_exposure;   /* of FLIP and SSIM */
+    double display_exposure; /* of the PNGs and the page */
+} BenchReference;
+
+static void bench_reference_free(BenchReference *ref)
+{
+    image_free(&ref->img);
+    free(ref->mask);
+    ref->mask = NULL;
+}
+
+/* The reference (cached or rendered), the emitter mask and the exposures
+ * into *ref, and the reference's EXR and PNG into images_dir. false after
+ * logging; *ref then holds what was made (bench_reference_free). */
+static bool bench_prepare_reference(const BenchArgs *args, const Scene *scene, const char *images_dir,
+                                    BenchReference *ref)
+{
+    if (!get_reference(scene, &args->ps, args->cache, &ref->img, ref->path, sizeof ref->path, &ref->reused))
+        return false;
+    size_t np = (size_t)args->width * args->height;
+    if (!(ref->mask = util_malloc("bench", "the emitter mask", np, 1)) ||
+        !pt_emitter_mask(scene, args->width, args->height, ref->mask))
+        return false;
+    size_t selected = 0;
+    for (size_t i = 0; i < np; i++)
+        selected += ref->mask[i] != 0;
+    if (!selected) {
+        log_error("bench", "%s: every pixel sees an emitter: nothing to measure", scene->source);
+        return false;
+    }
+    ref->masked = np - selected;
+    ref->metric_exposure = args->exposure >= 0.f ? args->exposure : scene->exposure;
+    ref->display_exposure = report_display_exposure(&ref->img, ref->mask);
+    if (!(ref->display_exposure > 0))
+        ref->display_exposure = ref->metric_exposure;
+    char p[1400];
+    snprintf(p, sizeof p, "%s/reference.exr", images_dir);
+    if (!image_write_exr(p, &ref->img, false, NULL, 0))
+        return false;
+    snprintf(p, sizeof p, "%s/reference.png", images_dir);
+    return image_write_png(p, &ref->img, (float)ref->display_exposure);
+}
+
+/* The entry's render settings: the scene's, the command line's base
+ * settings over them, the entry's own over those. */
+static void entry_render_settings(const BenchArgs *args, const Scene *scene, BenchEntry *e)
+{
+    RenderOptions o;
+    render_options_init(&o, false);
+    o.width = args->width;
+    o.height = args->height;
+    o.ssaa = args->ssaa;
+    o.shadow = e->shadow;
+    o.gi = e->gi;
+    o.timings = true;
+    o.set = args->base;
+    memcpy(o.given, args->base_given, sizeof o.given);
+    for (int k = 0; k < settings_count; k++)
+        if (e->given[k]) {
+            settings_copy(&settings_table[k], &o.set, &e->set);
+            o.given[k] = true;
+        }
+    render_options_settings(&o, scene, &e->rs);
+}
+
+/* Renders one entry (bench_render), measures it against the reference and
+ * writes its EXR, PNG and FLIP map into images_dir. false after logging. */
+static bool bench_run_entry(Renderer *r, bool *created, const BenchArgs *args, const Scene *scene,
+                            const BenchReference *ref, const char *images_dir, BenchEntry *e)
+{
+    size_t np = (size_t)args->width * args->height;
+    const uint8_t *mask = ref->mask;
+    entry_render_settings(args, scene, e);
+    if (!bench_render(r, created, scene, e, args->frames))
+        return false;
+    if (!(e->flip_map = util_malloc("bench", "the FLIP map", np, sizeof(float))))
+        return false;
+    e->rmse = metric_rmse(&e->img, &ref->img, mask, NULL);
+    e->relmse = metric_relmse(&e->img, &ref->img, mask, NULL);
+    e->ssim = metric_ssim(&e->img, &ref->img, ref->metric_exposure, mask, NULL);
+    e->flip = metric_flip(&e->img, &ref->img, ref->metric_exposure, FLIP_DEFAULT_PPD, mask, e->flip_map);
+    e->mean_ratio = metric_mean_ratio(&e->img, &ref->img, mask, NULL);
+    if (metric_alloc_failures())
+        return false;
+    for (size_t k = 0; k < np; k++) /* the masked pixels show as zero error */
+        if (!mask[k])
+            e->flip_map[k] = 0.f;
+    char p[1400];
+    snprintf(p, sizeof p, "%s/%s.exr", images_dir, e->id);
+    if (!image_write_exr(p, &e->img, false, NULL, 0))
+        return false;
+    snprintf(p, sizeof p, "%s/%s.png", images_dir, e->id);
+    if (!image_write_png(p, &e->img, (float)ref->display_exposure))
+        return false;
+    snprintf(p, sizeof p, "%s/%s_flip.png", images_dir, e->id);
+    if (!metric_write_heatmap(p, e->flip_map, args->width, args->height))
+        return false;
+    log_info("bench", "  %.2f ms/frame (GPU %.2f ms), relmse %.5f, flip %.4f, mean ratio %.3f", e->frame_ms,
+             e->gpu_ms, e->relmse, e->flip, e->mean_ratio);
+    return true;
+}
+
+/* bench.json's facts of the run, with an empty "techniques" array for
+ * entry_json's objects. NULL after logging. */
+static cJSON *bench_doc_create(const BenchArgs *args, const Scene *scene, const GlContext *gl,
+                               const BenchReference *ref)
+{
+    cJSON *doc = cJSON_CreateObject();
+    cJSON_AddNumberToObject(doc, "schema", 1);
+    cJSON_AddStringToObject(doc, "commit", RTGI_VERSION);
+    char date[64];
+    time_t now = time(NULL);
+    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
+    cJSON_AddStringToObject(doc, "date", date);
+    char dev[256];
+    device_name(dev, sizeof dev);
+    if (!add_text(doc, "device", dev) || !add_text(doc, "gl_renderer", gl_context_renderer(gl)) ||
+        !add_text(doc, "scene", scene->source)) {
+        cJSON_Delete(doc);
+        return NULL;
+    }
+    cJSON_AddNumberToObject(doc, "width", args->width);
+    cJSON_AddNumberToObject(doc, "height", args->height);
+    cJSON_AddNumberToObject(doc, "frames", args->frames);
+    cJSON_AddNumberToObject(doc, "ssaa", args->ssaa);
+    cJSON *rj = cJSON_AddObjectToObject(doc, "reference");
+    cJSON_AddStringToObject(rj, "mode", pt_mode_names[args->ps.mode]);
+    cJSON_AddNumberToObject(rj, "spp", args->ps.spp);
+    if (!add_text(rj, "cache", ref->path)) {
+        cJSON_Delete(doc);
+        return NULL;
+    }
+    cJSON_AddBoolToObject(rj, "reused", ref->reused);
+    cJSON_AddStringToObject(rj, "png", "images/reference.png");
+    cJSON_AddStringToObject(rj, "exr", "images/reference.exr");
+    cJSON_AddNumberToObject(doc, "spp", args->ps.spp);
+    cJSON_AddNumberToObject(doc, "metric_exposure", ref->metric_exposure);
+    cJSON_AddNumberToObject(doc, "display_exposure", ref->display_exposure);
+    cJSON_AddNumberToObject(doc, "masked_pixels", (double)ref->masked);
+    cJSON_AddStringToObject(doc, "timing",
+                            "gpu_ms: timer queries; wall_ms: glFinish around each pass; frame_ms: wall "
+                            "time per frame; means over the timed frames after one warm-up frame");
+    cJSON_AddArrayToObject(doc, "techniques");
+    return doc;
+}
+
+/* bench.json, bench.csv, bench_passes.csv and report.html into the
+ * staging directory `stage`. false after logging. */
+static bool bench_write_outputs(const char *stage, const cJSON *doc, const BenchReference *ref,
+                                const BenchEntry *entries, int n)
+{
+    char *text = cJSON_Print(doc);
+    bool ok = text && write_text(stage, "bench.json", text) && write_csv(stage, doc);
+    free(text);
+    if (!ok)
+        return false;
+    ReportImage imgs[BENCH_MAX_ENTRIES + 1];
+    imgs[0] = (ReportImage){"reference", &ref->img, NULL};
+    for (int i = 0; i < n; i++)
+        imgs[i + 1] = (ReportImage){entries[i].id, &entries[i].img, entries[i].flip_map};
+    char p[1400];
+    snprintf(p, sizeof p, "%s/report.html", stage);
+    return report_html_write(p, doc, imgs, n + 1);
+}
+
+int cmd_bench(int argc, char **argv)
+{
+    BenchArgs args;
+    int rc = bench_parse_args(argc, argv, &args);
+    if (rc != 0)
+        return rc < 0 ? 0 : rc;
     /* The entries: every shadow × every GI item. */
     static BenchEntry entries[BENCH_MAX_ENTRIES];
     int n = 0;
-    if (!parse_entries(shadow_list, gi_list, entries, &n)) {
+    if (!parse_entries(args.shadow_list, args.gi_list, entries, &n)) {
         entries_free(entries, n);
         return 2;
     }
-
     Scene scene;
-    if (!scene_load_scaled(&scene, scene_name, -1.f)) {
+    if (!scene_load_scaled(&scene, args.scene_name, -1.f)) {
         entries_free(entries, n);
         return 1;
     }
-    ps.width = width;
-    ps.height = height;
-    ps.progress = log_get_level() <= LOG_INFO;
     /* DIR/images, what is written into the staging directory, and whether
      * this run made DIR and DIR/images (a failed one removes them). */
-    char out_images[1100], stage[1100] = "", images_dir[1100], ref_path[1400];
+    const char *out = args.out;
+    char out_images[1100], stage[1100] = "", images_dir[1100];
     snprintf(out_images, sizeof out_images, "%s/images", out);
     bool made_out = !path_exists(out), made_images = !path_exists(out_images);
-    int rc = 1;
-    ImageF ref = {0};
-    uint8_t *mask = NULL;
+    rc = 1;
+    BenchReference ref = {0};
     GlContext *gl = NULL;
     Renderer r;
-    bool created = false, reused = false;
+    bool created = false;
     cJSON *doc = NULL;
-    char *text = NULL;
-    if (!make_dir(cache) || !make_dir(out) || !make_dir(out_images) || !stage_open(out, stage, sizeof stage))
+    if (!make_dir(args.cache) || !make_dir(out) || !make_dir(out_images) || !stage_open(out, stage, sizeof stage))
         goto done; /* a bad --cache leaves no DIR */
     snprintf(images_dir, sizeof images_dir, "%s/images", stage);
-    if (!get_reference(&scene, &ps, cache, &ref, ref_path, sizeof ref_path, &reused))
-        goto done;
-    size_t np = (size_t)width * height;
-    if (!(mask = util_malloc("bench", "the emitter mask", np, 1)) || !pt_emitter_mask(&scene, width, height, mask))
-        goto done;
-    size_t selected = 0;
-    for (size_t i = 0; i < np; i++)
-        selected += mask[i] != 0;
-    if (!selected) {
-        log_error("bench", "%s: every pixel sees an emitter: nothing to measure", scene.source);
-        goto done;
-    }
-    float metric_exposure = exposure >= 0.f ? exposure : scene.exposure;
-    double display_exposure = report_display_exposure(&ref, mask);
-    if (!(display_exposure > 0))
-        display_exposure = metric_exposure;
-    char p[1400];
-    snprintf(p, sizeof p, "%s/reference.exr", images_dir);
-    if (!image_write_exr(p, &ref, false, NULL, 0))
-        goto done;
-    snprintf(p, sizeof p, "%s/reference.png", images_dir);
-    if (!image_write_png(p, &ref, (float)display_exposure))
-        goto done;
-
-    if (!(gl = gl_context_create(false)))
+    if (!bench_prepare_reference(&args, &scene, images_dir, &ref) || !(gl = gl_context_create(false)) ||
+        !(doc = bench_doc_create(&args, &scene, gl, &ref)))
         goto done;
     for (int i = 0; i < n; i++) {
-        BenchEntry *e = &entries[i];
-        RenderOptions o;
-        render_options_init(&o, false);
-        o.width = width;
-        o.height = height;
-        o.ssaa = ssaa;
-        o.shadow = e->shadow;
-        o.gi = e->gi;
-        o.timings = true;
-        o.set = base;
-        memcpy(o.given, base_given, sizeof o.given);
-        for (int k = 0; k < settings_count; k++)
-            if (e->given[k]) {
-                settings_copy(&settings_table[k], &o.set, &e->set);
-                o.given[k] = true;
-            }
-        render_options_settings(&o, &scene, &e->rs);
-        log_info("bench", "[%d/%d] %s", i + 1, n, e->label);
-        if (!bench_render(&r, &created, &scene, e, frames))
+        log_info("bench", "[%d/%d] %s", i + 1, n, entries[i].label);
+        if (!bench_run_entry(&r, &created, &args, &scene, &ref, images_dir, &entries[i]))
             goto done;
-        if (!(e->flip_map = util_malloc("bench", "the FLIP map", np, sizeof(float))))
-            goto done;
-        e->rmse = metric_rmse(&e->img, &ref, mask, NULL);
-        e->relmse = metric_relmse(&e->img, &ref, mask, NULL);
-        e->ssim = metric_ssim(&e->img, &ref, metric_exposure, mask, NULL);
-        e->flip = metric_flip(&e->img, &ref, metric_exposure, FLIP_DEFAULT_PPD, mask, e->flip_map);
-        e->mean_ratio = metric_mean_ratio(&e->img, &ref, mask, NULL);
-        if (metric_alloc_failures())
-            goto done;
-        for (size_t k = 0; k < np; k++) /* the masked pixels show as zero error */
-            if (!mask[k])
-                e->flip_map[k] = 0.f;
-        snprintf(p, sizeof p, "%s/%s.exr", images_dir, e->id);
-        if (!image_write_exr(p, &e->img, false, NULL, 0))
-            goto done;
-        snprintf(p, sizeof p, "%s/%s.png", images_dir, e->id);
-        if (!image_write_png(p, &e->img, (float)display_exposure))
-            goto done;
-        snprintf(p, sizeof p, "%s/%s_flip.png", images_dir, e->id);
-        if (!metric_write_heatmap(p, e->flip_map, width, height))
-            goto done;
-        log_info("bench", "  %.2f ms/frame (GPU %.2f ms), relmse %.5f, flip %.4f, mean ratio %.3f", e->frame_ms,
-                 e->gpu_ms, e->relmse, e->flip, e->mean_ratio);
         /* The timings of this entry go into the JSON now: the renderer's
          * timer is reset by the next one. */
-        if (!doc) {
-            doc = cJSON_CreateObject();
-            cJSON_AddNumberToObject(doc, "schema", 1);
-            cJSON_AddStringToObject(doc, "commit", RTGI_VERSION);
-            char date[64];
-            time_t now = time(NULL);
-            strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
-            cJSON_AddStringToObject(doc, "date", date);
-            char dev[256];
-            device_name(dev, sizeof dev);
-            if (!add_text(doc, "device", dev) || !add_text(doc, "gl_renderer", gl_context_renderer(gl)) ||
-                !add_text(doc, "scene", scene.source))
-                goto done;
-            cJSON_AddNumberToObject(doc, "width", width);
-            cJSON_AddNumberToObject(doc, "height", height);
-            cJSON_AddNumberToObject(doc, "frames", frames);
-            cJSON_AddNumberToObject(doc, "ssaa", ssaa);
-            cJSON *rj = cJSON_AddObjectToObject(doc, "reference");
-            cJSON_AddStringToObject(rj, "mode", pt_mode_names[ps.mode]);
-            cJSON_AddNumberToObject(rj, "spp", ps.spp);
-            if (!add_text(rj, "cache", ref_path))
-                goto done;
-            cJSON_AddBoolToObject(rj, "reused", reused);
-            cJSON_AddStringToObject(rj, "png", "images/reference.png");
-            cJSON_AddStringToObject(rj, "exr", "images/reference.exr");
-            cJSON_AddNumberToObject(doc, "spp", ps.spp);
-            cJSON_AddNumberToObject(doc, "metric_exposure", metric_exposure);
-            cJSON_AddNumberToObject(doc, "display_exposure", display_exposure);
-            cJSON_AddNumberToObject(doc, "masked_pixels", (double)(np - selected));
-            cJSON_AddStringToObject(doc, "timing",
-                                    "gpu_ms: timer queries; wall_ms: glFinish around each pass; frame_ms: wall "
-                                    "time per frame; means over the timed frames after one warm-up frame");
-            cJSON_AddArrayToObject(doc, "techniques");
-        }
-        cJSON_AddItemToArray(cJSON_GetObjectItem(doc, "techniques"), entry_json(e, &r));
+        cJSON_AddItemToArray(cJSON_GetObjectItem(doc, "techniques"), entry_json(&entries[i], &r));
     }
-    text = cJSON_Print(doc);
-    if (!text || !write_text(stage, "bench.json", text) || !write_csv(stage, doc))
+    if (!bench_write_outputs(stage, doc, &ref, entries, n) || !stage_commit(stage, out))
         goto done;
-    {
-        ReportImage imgs[BENCH_MAX_ENTRIES + 1];
-        imgs[0] = (ReportImage){"reference", &ref, NULL};
-        for (int i = 0; i < n; i++)
-            imgs[i + 1] = (ReportImage){entries[i].id, &entries[i].img, entries[i].flip_map};
-        snprintf(p, sizeof p, "%s/report.html", stage);
-        if (!report_html_write(p, doc, imgs, n + 1))
-            goto done;
-    }
-    if (!stage_commit(stage, out))
-        goto done;
-    if (markdown)
+    if (args.markdown)
         print_markdown(doc);
     rc = 0;
     log_info("bench", "wrote %s/bench.json, %s/report.html and %s/bench.csv (%d techniques)", out, out, out, n);
@@ -1041,10 +1125,8 @@ done:
         renderer_destroy(&r);
     gl_context_destroy(gl);
     entries_free(entries, n);
-    free(text);
     cJSON_Delete(doc);
-    free(mask);
-    image_free(&ref);
+    bench_reference_free(&ref);
     scene_free(&scene);
     return rc;
 }

@@ -279,7 +279,9 @@ static bool stage_commit(char *stage, const char *out)
     snprintf(from, sizeof from, "%s/images", stage);
     snprintf(to, sizeof to, "%s/images", out);
     util_defer_ending_signals();
-    bool ok = drain_dir(from, to, DRAIN_CHECK) && drain_dir(stage, out, DRAIN_CHECK) &&
+    /* DIR/images is made here, not before the run: a run killed earlier
+     * leaves DIR only with its hidden staging directory. */
+    bool ok = make_dir(to) && drain_dir(from, to, DRAIN_CHECK) && drain_dir(stage, out, DRAIN_CHECK) &&
               drain_dir(from, to, DRAIN_MOVE) && drain_dir(stage, out, DRAIN_MOVE);
     if (ok && rmdir(from) == 0 && rmdir(stage) == 0)
         stage[0] = 0;
@@ -1094,7 +1096,7 @@ int cmd_bench(int argc, char **argv)
     Renderer r;
     bool created = false;
     cJSON *doc = NULL;
-    if (!make_dir(args.cache) || !make_dir(out) || !make_dir(out_images) || !stage_open(out, stage, sizeof stage))
+    if (!make_dir(args.cache) || !make_dir(out) || !stage_open(out, stage, sizeof stage))
         goto done; /* a bad --cache leaves no DIR */
     snprintf(images_dir, sizeof images_dir, "%s/images", stage);
     if (!bench_prepare_reference(&args, &scene, images_dir, &ref) || !(gl = gl_context_create(false)) ||

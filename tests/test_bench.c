@@ -14,6 +14,7 @@
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cjson/cJSON.h>
@@ -552,6 +553,62 @@ static void killed_runs_staging_is_removed(void **state)
     assert_int_equal(stat(live, &st), 0);
 }
 
+/* Entries of directory `path` whose names start with `prefix` ("" for
+ * all), . and .. left out. */
+static int count_entries(const char *path, const char *prefix)
+{
+    struct dirent **list = NULL;
+    int n = scandir(path, &list, NULL, NULL), count = 0;
+    for (int i = 0; i < n; i++) {
+        const char *name = list[i]->d_name;
+        count += strcmp(name, ".") && strcmp(name, "..") && strncmp(name, prefix, strlen(prefix)) == 0;
+        free(list[i]);
+    }
+    free(list);
+    return count;
+}
+
+/* A bench killed by SIGTERM while it renders leaves in a new DIR only its
+ * staging directory (DIR/images had been made up front and left behind),
+ * which the next run removes. */
+static void killed_run_leaves_only_staging(void **state)
+{
+    (void)state;
+    const char *out = DIR "/killed";
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", out);
+    assert_int_equal(system(cmd), 0);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        if (!freopen("/dev/null", "w", stderr))
+            _exit(127);
+        execl(RTGI_BINARY, RTGI_BINARY, "bench", "--out", out, "--cache", DIR "/cache", "--size", "32x32", "--spp",
+              "64", "--gi", "none,rsm,vct", "--quiet", (char *)NULL);
+        _exit(127);
+    }
+    /* Until its staging directory appears (it is made before the reference
+     * renders, seconds before any output is moved). */
+    bool staged = false;
+    for (int i = 0; i < 2000 && !staged; i++) {
+        staged = count_entries(out, ".bench-") > 0;
+        if (!staged)
+            nanosleep(&(struct timespec){0, 5000000}, NULL);
+    }
+    assert_true(staged);
+    kill(pid, SIGTERM);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    assert_true(WIFSIGNALED(status) || WEXITSTATUS(status) != 0);
+    int entries = count_entries(out, "");
+    if (entries != 1)
+        system("ls -la " DIR "/killed >&2");
+    assert_int_equal(entries, 1);
+    assert_int_equal(count_entries(out, ".bench-"), 1);
+    small_bench_ok(out, "cornell", "none");
+    assert_int_equal(count_entries(out, ".bench-"), 0);
+}
+
 /* A run that fails while writing its outputs (the page, the largest file,
  * over a file-size limit the images are under) leaves DIR as it was: the
  * previous run's bench.json, page and images byte for byte, no file more
@@ -827,6 +884,7 @@ int main(void)
         cmocka_unit_test(bad_cache_leaves_no_dir),
         cmocka_unit_test(failed_run_leaves_dir_as_it_was),
         cmocka_unit_test(killed_runs_staging_is_removed),
+        cmocka_unit_test(killed_run_leaves_only_staging),
         cmocka_unit_test(ssaa_lowers_the_error),
         cmocka_unit_test(display_exposure),
         cmocka_unit_test(report_in_chromium),

@@ -4,6 +4,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 
 int gl_mip_levels(int w, int h, int d)
 {
@@ -19,6 +20,8 @@ int gl_mip_levels(int w, int h, int d)
 
 GLuint gl_texture3d_make(GLenum format, int w, int h, int d, int levels, TexFilter filter, const char *label)
 {
+    if (gl_make_refused("3D texture", label))
+        return 0;
     GLint max_size = 0;
     glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max_size);
     if (w < 1 || h < 1 || d < 1 || w > max_size || h > max_size || d > max_size) {
@@ -67,8 +70,36 @@ void gl_texture3d_destroy(GLuint *tex)
     *tex = 0;
 }
 
+static long g_fail_countdown = -1; /* makes until the armed failure; 0: none armed */
+static bool g_fail_fired;
+
+bool gl_make_fail_at(long k)
+{
+    bool fired = g_fail_fired;
+    g_fail_countdown = k > 0 ? k : 0;
+    g_fail_fired = false;
+    return fired;
+}
+
+bool gl_make_refused(const char *what, const char *label)
+{
+    if (g_fail_countdown < 0) { /* first make: the environment may arm it */
+        const char *env = getenv("RTGI_FAIL_GL_MAKE");
+        g_fail_countdown = env ? strtol(env, NULL, 10) : 0;
+        if (g_fail_countdown < 0)
+            g_fail_countdown = 0;
+    }
+    if (g_fail_countdown == 0 || --g_fail_countdown > 0)
+        return false;
+    g_fail_fired = true;
+    log_error("gl", "%s %s: refused (fault injection)", what, label);
+    return true;
+}
+
 GLuint gl_buffer_make(uint64_t bytes, const void *data, GLbitfield flags, const char *label)
 {
+    if (gl_make_refused("buffer", label))
+        return 0;
     if (bytes < 1 || bytes > (uint64_t)PTRDIFF_MAX) {
         log_error("gl", "buffer %s: size %llu bytes outside 1..%lld", label, (unsigned long long)bytes,
                   (long long)PTRDIFF_MAX);
@@ -132,6 +163,8 @@ void gl_texture3d_build_mips(GLuint tex, GLuint program, GLenum format, int loca
 
 GLuint gl_fbo_empty_make(int w, int h, int layers, int samples, const char *label)
 {
+    if (gl_make_refused("framebuffer", label))
+        return 0;
     GLint max_w = 0, max_h = 0, max_layers = 0, max_samples = 0;
     glGetIntegerv(GL_MAX_FRAMEBUFFER_WIDTH, &max_w);
     glGetIntegerv(GL_MAX_FRAMEBUFFER_HEIGHT, &max_h);

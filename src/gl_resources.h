@@ -76,6 +76,19 @@ GLuint gl_fbo_empty_make(int width, int height, int layers, int samples, const c
 /* Deletes the framebuffer and zeroes *fbo (0 is fine). */
 void gl_fbo_destroy(GLuint *fbo);
 
+/* --- Fault injection (tests) -------------------------------------------- */
+
+/* Every make of this file and targets.h (textures, buffers, framebuffers)
+ * asks this first. After gl_make_fail_at(k), the k-th make from then on
+ * fails as an allocation the driver refuses would: it logs one line naming
+ * what and returns 0. The environment's RTGI_FAIL_GL_MAKE=k arms it at the
+ * first make of the process. Tests sweep k over every make of a frame to
+ * see that each failure is reported and frees what was made. */
+bool gl_make_refused(const char *what, const char *label);
+/* Arms the k-th make from now to fail (0: none). Returns whether the
+ * previous arming fired. */
+bool gl_make_fail_at(long k);
+
 /* --- Buffers ------------------------------------------------------------ */
 
 /* An immutable buffer of `bytes` (at least 1) with glNamedBufferStorage's

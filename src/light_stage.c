@@ -110,8 +110,7 @@ static void free_products(LightStage *ls)
     free(ls->rsm);
     ls->shadow = NULL;
     ls->rsm = NULL;
-    if (ls->vpls.vpls)
-        vpl_buffer_destroy(&ls->vpls);
+    vpl_buffer_destroy(&ls->vpls); /* what a failed create made too */
     ls->vpl_key = 0;
 }
 
@@ -209,13 +208,13 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &align);
     ls->slot_stride = (int)((sizeof(GpuLight) + (size_t)align - 1) / (size_t)align * (size_t)align);
     int slots = SLOTS_PER_LIGHT * (ls->light_count > 0 ? ls->light_count : 1);
-    glCreateBuffers(1, &ls->light_array);
-    glNamedBufferStorage(ls->light_array, (GLsizeiptr)ls->slot_stride * slots, NULL, GL_DYNAMIC_STORAGE_BIT);
-    const uint32_t zero = 0; /* a scene without lights reads slot 0 as a zero light */
-    glClearNamedBufferData(ls->light_array, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-    glObjectLabel(GL_BUFFER, ls->light_array, -1, "lights");
+    ls->light_array = gl_buffer_make((uint64_t)ls->slot_stride * (uint64_t)slots, NULL, GL_DYNAMIC_STORAGE_BIT, "lights");
     ls->dummy_2d = gl_texture_make(GL_TEXTURE_2D, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummy2d");
     ls->dummy_cube = gl_texture_make(GL_TEXTURE_CUBE_MAP, GL_DEPTH_COMPONENT32F, 1, 1, "shadow.dummycube");
+    if (!ls->light_array || !ls->dummy_2d || !ls->dummy_cube) /* each logs its failure */
+        return false;
+    const uint32_t zero = 0; /* a scene without lights reads slot 0 as a zero light */
+    glClearNamedBufferData(ls->light_array, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
     /* The grid PCF's taps (common/shadow.glsl): a bilinear blend of four
      * depth tests, lit where reference <= stored. Off the map, lit: a 2D
      * map's outermost texels are never drawn (shadow_face), so they hold

@@ -69,15 +69,13 @@ static void targets_destroy(Renderer *r)
 {
     gbuffer_destroy(&r->gbuffer);
     color_target_destroy(&r->hdr);
-    if (r->hdr_ss.fbo)
-        color_target_destroy(&r->hdr_ss);
+    color_target_destroy(&r->hdr_ss); /* a half-made one too (its texture without its framebuffer) */
     color_target_destroy(&r->ldr);
     glDeleteFramebuffers(1, &r->forward_fbo);
     glDeleteFramebuffers(1, &r->forward_display_fbo);
     glDeleteFramebuffers(1, &r->forward_ldr_fbo);
     r->forward_fbo = r->forward_display_fbo = r->forward_ldr_fbo = 0;
-    if (r->ldr_pre.fbo)
-        color_target_destroy(&r->ldr_pre);
+    color_target_destroy(&r->ldr_pre);
     GLuint t[2] = {r->irradiance, r->specular};
     glDeleteTextures(2, t);
     r->irradiance = r->specular = 0;
@@ -193,7 +191,7 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
         return false;
     r->frame_ubo = gi_ubo_make(sizeof(GpuFrame), "frame");
     r->brdf_albedo = brdf_albedo_texture_make();
-    if (!r->brdf_albedo)
+    if (!r->frame_ubo || !r->brdf_albedo) /* each logs its failure */
         return false;
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
     return technique_create(r);

@@ -1,5 +1,6 @@
 #include "targets.h"
 
+#include "gl_resources.h"
 #include "log.h"
 
 GLuint gl_texture_make(GLenum target, GLenum fmt, int w, int h, const char *label)
@@ -9,6 +10,8 @@ GLuint gl_texture_make(GLenum target, GLenum fmt, int w, int h, const char *labe
 
 GLuint gl_texture_make_levels(GLenum target, GLenum fmt, int w, int h, int layers, int levels, const char *label)
 {
+    if (gl_make_refused("texture", label))
+        return 0;
     GLint max_size = 0;
     glGetIntegerv(target == GL_TEXTURE_CUBE_MAP ? GL_MAX_CUBE_MAP_TEXTURE_SIZE : GL_MAX_TEXTURE_SIZE, &max_size);
     if (w < 1 || h < 1 || w > max_size || h > max_size) {
@@ -81,6 +84,10 @@ bool fbo_check(GLuint fbo, const char *label)
 
 bool fbo_make(GLuint *fbo, const GLuint *colors, int n, GLuint depth, bool cube, const char *label)
 {
+    if (gl_make_refused("framebuffer", label)) {
+        *fbo = 0;
+        return false;
+    }
     GLenum bufs[8];
     glCreateFramebuffers(1, fbo);
     for (int i = 0; i < n && i < 8; i++) {

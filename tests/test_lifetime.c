@@ -306,6 +306,92 @@ static void quad_light_skips_the_face_behind(void **state)
     scene_free(&s);
 }
 
+/* Fault injection (gl_make_fail_at): each make of a texture, buffer or
+ * framebuffer that a renderer and two frames of a technique ask for fails
+ * in turn. Every failure is reported (renderer_create false, or the frames
+ * not whole) and frees what was made (live objects after destroy as
+ * before), and the sweep ends where k passes the last make. */
+static void every_make_failure_is_reported_and_freed(void **state)
+{
+    (void)state;
+    Scene s;
+    assert_true(scene_load(&s, "cornell"));
+    for (int m = 0; m < GI_MODE_COUNT + 1; m++) { /* every technique, then none shaded forward */
+        RenderSettings rs = settings_for(&s, m < GI_MODE_COUNT ? (GiMode)m : GI_NONE, 16, 16);
+        rs.gi_params.lpv_size = 8;
+        rs.gi_params.vct_size = 16;
+        rs.gi_params.vct_bounces = 2;
+        rs.ssaa = m == GI_RSM ? 2 : 1; /* the resolve's targets */
+        rs.aa = m == GI_VCT ? AA_FXAA : AA_NONE;
+        rs.shading = m == GI_MODE_COUNT ? SHADING_FORWARD : SHADING_DEFERRED;
+        GlObjectCounts before = gl_count_live_objects(MAX_NAME);
+        int k = 1;
+        for (;; k++) {
+            gl_make_fail_at(k);
+            Renderer r;
+            bool created = renderer_create(&r, &s, &rs), whole = false;
+            if (created) {
+                renderer_frame(&r, &s.camera);
+                renderer_frame(&r, &s.camera);
+                whole = renderer_frames_whole(&r);
+            }
+            renderer_destroy(&r);
+            bool fired = gl_make_fail_at(0);
+            if (!fired) {
+                assert_true(created && whole);
+                break;
+            }
+            if (created && whole)
+                fail_msg("%s: make %d failed, and the renderer and its frames went on as whole",
+                         gi_techniques[rs.gi]->name, k);
+            GlObjectCounts after = gl_count_live_objects(MAX_NAME);
+            if (resources(&after) != resources(&before))
+                fail_msg("%s: make %d failed: %d live resources after destroy, %d before", gi_techniques[rs.gi]->name,
+                         k, resources(&after), resources(&before));
+        }
+        print_message("%-16s %d makes, each failure reported and freed\n", gi_techniques[rs.gi]->name, k - 1);
+    }
+    /* The window's path: a switch (renderer_apply) from none to a technique,
+     * at another size with supersampling and FXAA, whose k-th make fails;
+     * switching back then works and the renderer frees everything. */
+    const GiMode switches[] = {GI_RSM_INTERLEAVED, GI_VPL_SLC, GI_LPV, GI_VCT};
+    for (size_t m = 0; m < sizeof switches / sizeof switches[0]; m++) {
+        RenderSettings base = settings_for(&s, GI_NONE, 16, 16), to = settings_for(&s, switches[m], 24, 16);
+        to.gi_params.lpv_size = 8;
+        to.gi_params.vct_size = 16;
+        to.ssaa = 2;
+        to.aa = AA_FXAA;
+        GlObjectCounts before = gl_count_live_objects(MAX_NAME);
+        int k = 1;
+        for (;; k++) {
+            Renderer r;
+            assert_true(renderer_create(&r, &s, &base));
+            renderer_frame(&r, &s.camera);
+            gl_make_fail_at(k);
+            bool applied = renderer_apply(&r, &to), whole = false;
+            if (applied) {
+                renderer_frame(&r, &s.camera);
+                whole = renderer_frames_whole(&r);
+            }
+            bool fired = gl_make_fail_at(0);
+            if (fired && applied && whole)
+                fail_msg("switch to %s: make %d failed, and the frame went on as whole", gi_techniques[to.gi]->name, k);
+            assert_true(renderer_apply(&r, &base));
+            renderer_frame(&r, &s.camera);
+            assert_true(renderer_frames_whole(&r));
+            renderer_destroy(&r);
+            GlObjectCounts after = gl_count_live_objects(MAX_NAME);
+            if (resources(&after) != resources(&before))
+                fail_msg("switch to %s: make %d failed: %d live resources after destroy, %d before",
+                         gi_techniques[to.gi]->name, k, resources(&after), resources(&before));
+            if (!fired)
+                break;
+        }
+        print_message("switch to %-16s %d makes, each failure reported and freed\n", gi_techniques[to.gi]->name, k - 1);
+    }
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -314,6 +400,7 @@ int main(void)
         cmocka_unit_test(cached_light_products),
         cmocka_unit_test(cached_gi_volumes),
         cmocka_unit_test(quad_light_skips_the_face_behind),
+        cmocka_unit_test(every_make_failure_is_reported_and_freed),
     };
     return cmocka_run_group_tests_name("lifetime", tests, test_gl_setup, test_gl_teardown);
 }

@@ -212,6 +212,206 @@ static void view_move(View *v, GLFWwindow *w, float dt)
             glm_vec3_muladds(moves[i].axis, moves[i].sign * step, v->camera.position);
 }
 
+/* ---- The window -------------------------------------------------------------- */
+
+/* GLFW, and a window of --size with an OpenGL 4.5 core context made
+ * current; NULL after logging why (GLFW is terminated then). */
+static GLFWwindow *view_window_open(const RenderOptions *o)
+{
+    glfwSetErrorCallback(on_glfw_error);
+    if (!glfwInit()) {
+        log_error("view", "cannot open a window (%s); use 'rtgi render' for headless images",
+                  s_glfw_error[0] ? s_glfw_error : "no display?");
+        return NULL;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, o->debug ? GLFW_TRUE : GLFW_FALSE);
+    GLFWwindow *win = glfwCreateWindow(o->width, o->height, "rtgi", NULL, NULL);
+    if (!win) {
+        log_error("view", "cannot create a window with an OpenGL 4.5 core context%s%s", s_glfw_error[0] ? ": " : "",
+                  s_glfw_error);
+        glfwTerminate();
+        return NULL;
+    }
+    s_glfw_window_up = true;
+    glfwMakeContextCurrent(win);
+    glfwSwapInterval(o->frames > 0 || o->ui_test ? 0 : 1);
+    if (o->debug)
+        gl_install_debug_callback();
+    return win;
+}
+
+/* The view's state from the options and the scene (needs the context:
+ * the timer's mode depends on the GL renderer). */
+static void view_init(View *v, const RenderOptions *o, const Scene *scene, Renderer *r)
+{
+    memset(v, 0, sizeof *v);
+    v->scene = scene;
+    v->renderer = r;
+    v->slow_ms = o->slow_ms;
+    v->half = o->half;
+    v->pending_gi = -1;
+    v->ab_rmse = -1;
+    v->show_panel = !o->no_panel;
+    snprintf(v->shot_path, sizeof v->shot_path, "%s", o->out ? o->out : "out/view.png");
+    snprintf(v->window_path, sizeof v->window_path, "%s", o->window_out ? o->window_out : "out/window.png");
+    render_options_settings(o, scene, &v->settings);
+    v->settings.timings = true;
+    v->settings.cache = true; /* the window's common case: lights still, camera moving */
+    /* Per-pass times as `render --timings` measures them: on a software
+     * rasterizer only with glFinish around each pass (see
+     * gl_renderer_is_software); a GPU's timestamps need no stall. */
+    v->settings.timing_sync = gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
+    v->edit.shadow = v->settings.shadow_params;
+    v->edit.gi = v->settings.gi_params;
+    v->camera = v->home = scene->camera;
+    view_set_angles(v, &v->camera);
+    v->speed = 0.25f * glm_vec3_distance((float *)scene->bounds_min, (float *)scene->bounds_max);
+}
+
+/* The window's input callbacks, ImGui and, with --compare, the A/B view
+ * (*have_ab: `ab` was made and needs ab_view_destroy). False after a
+ * failure (it logged). */
+static bool view_ui_open(GLFWwindow *win, View *v, const RenderOptions *o, AbView *ab, bool *have_ab)
+{
+    glfwSetWindowUserPointer(win, v);
+    /* Ours first: ImGui's callbacks chain to them. */
+    glfwSetKeyCallback(win, on_key);
+    glfwSetMouseButtonCallback(win, on_button);
+    glfwSetCursorPosCallback(win, on_cursor);
+    *have_ab = false;
+    if (!ui_create(win))
+        return false;
+    if (!o->compare)
+        return true;
+    *have_ab = ab_view_create(ab, o->compare);
+    v->ab = *have_ab ? ab : NULL;
+    if (*have_ab && v->show_panel) /* the split starts mid-way across the image beside the panel */
+        ab->split = 0.5f + (6.f + view_panel_width(o->width)) / (2.f * (float)o->width);
+    return *have_ab;
+}
+
+/* ---- The loop ------------------------------------------------------------------ */
+
+/* What the loop carries from one frame to the next. */
+typedef struct ViewLoop {
+    GLFWwindow *win;
+    ViewScript script;      /* --ui-test: its state (dir NULL: none) */
+    int frame;              /* frames drawn */
+    int interval_frames;    /* frames in the timing interval */
+    bool interval_clean;    /* no remake, reload or first frame in the interval: its time is a cost */
+    double last;            /* when the last frame began (glfwGetTime) */
+    double interval_start;  /* when the interval began */
+    bool capture_failed;    /* the scripted --window-out capture failed: the command fails */
+} ViewLoop;
+
+/* The window's size, a shader reload and changed settings, applied
+ * before a frame. False when the renderer could not take them (it logged). */
+static bool view_apply_changes(View *v, ViewLoop *l, int fw, int fh)
+{
+    Renderer *r = v->renderer;
+    if (fw > 0 && fh > 0 && (fw != v->settings.width || fh != v->settings.height)) {
+        v->settings.width = fw;
+        v->settings.height = fh;
+        v->dirty = true;
+    }
+    if (v->reload) {
+        view_reload_shaders(v);
+        v->reload = false;
+        l->interval_clean = false;
+    }
+    if (v->dirty) {
+        l->interval_clean = false;
+        const RenderSettings *was = &r->settings, *want = &v->settings;
+        if (memcmp(&was->gi_params, &want->gi_params, sizeof was->gi_params) ||
+            memcmp(&was->shadow_params, &want->shadow_params, sizeof was->shadow_params) ||
+            was->shadow != want->shadow || was->ssaa != want->ssaa || was->aa != want->aa)
+            memset(v->measured_px, 0, sizeof v->measured_px); /* the measured costs were for other settings */
+        /* Remakes only what the change touches (nothing for exposure). */
+        bool applied = renderer_apply(r, &v->settings);
+        v->dirty = false;
+        if (!applied)
+            return false;
+    }
+    /* The window shows the final image; the A/B view reads the radiance. */
+    v->settings.display_only = v->ab == NULL;
+    return r->settings.display_only == v->settings.display_only || renderer_apply(r, &v->settings);
+}
+
+/* One frame: input and camera, the changes applied, the image (or the A/B
+ * view), the panel, the captures, the script's step, the swap. False when
+ * the changes could not be applied (it logged): the frame was abandoned. */
+static bool view_frame_step(View *v, ViewLoop *l, const RenderOptions *o)
+{
+    Renderer *r = v->renderer;
+    glfwPollEvents();
+    double now = glfwGetTime();
+    view_move(v, l->win, (float)(now - l->last));
+    l->last = now;
+    view_update_camera(v);
+    int fw, fh;
+    glfwGetFramebufferSize(l->win, &fw, &fh);
+    if (!view_apply_changes(v, l, fw, fh))
+        return false;
+    renderer_frame(r, &v->camera);
+    if (v->ab)
+        ab_view_draw(v->ab, r, fw, fh);
+    else
+        glBlitNamedFramebuffer(r->ldr.fbo, 0, 0, 0, r->ldr.width, r->ldr.height, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT,
+                               GL_NEAREST);
+    ui_frame_begin();
+    view_panel_draw(v, fw, fh);
+    ui_frame_end();
+    bool scripted_shot = o->window_out && o->frames > 0 && l->frame == o->frames - 1; /* the last frame's window */
+    if (v->window_shot || scripted_shot) {
+        /* A key's shot that fails is logged and the window goes on; the
+         * scripted one is an output of the command. */
+        if (!view_save_window(v, v->window_path, fw, fh) && scripted_shot)
+            l->capture_failed = true;
+        v->window_shot = false;
+    }
+    if (v->screenshot) {
+        view_save_image(v, v->shot_path);
+        v->screenshot = false;
+    }
+    if (l->script.dir && !view_script_step(&l->script, v, l->frame, fw, fh))
+        glfwSetWindowShouldClose(l->win, GLFW_TRUE);
+    glfwSwapBuffers(l->win);
+    l->frame++;
+    l->interval_frames++;
+    return true;
+}
+
+/* After a frame: the timings table on T, and every half second (or 30
+ * frames) the interval's timings recorded and the window's title. */
+static void view_interval_update(View *v, ViewLoop *l)
+{
+    Renderer *r = v->renderer;
+    double end = glfwGetTime();
+    if (v->print_timings) {
+        /* Before the first interval is measured: this frame's wall time. */
+        render_options_print_timings(r, (const char *)glGetString(GL_RENDERER),
+                                     v->frame_ms > 0 ? v->frame_ms : 1e3 * (end - l->last));
+        v->print_timings = false;
+    }
+    bool script_timing = l->script.dir && l->frame < 3; /* the script's table holds frames 1-2 */
+    if ((end - l->interval_start > 0.5 || l->interval_frames >= 30) && r->timer.frames > 0 && !script_timing) {
+        view_record_timings(v, 1e3 * (end - l->interval_start) / l->interval_frames, l->interval_clean);
+        char title[768];
+        snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms/frame — H: panel", v->scene->source,
+                 (const char *[]){"none", "hard", "pcf", "pcss"}[v->settings.shadow],
+                 gi_techniques[v->settings.gi]->name, v->frame_ms);
+        glfwSetWindowTitle(l->win, title);
+        gpu_timer_reset(&r->timer);
+        l->interval_start = end;
+        l->interval_frames = 0;
+        l->interval_clean = true;
+    }
+}
+
 /* ---- The command ------------------------------------------------------------- */
 
 int cmd_view(int argc, char **argv)
@@ -224,163 +424,31 @@ int cmd_view(int argc, char **argv)
     Scene scene;
     if (!render_options_load_scene(&o, &scene))
         return 1;
-
-    glfwSetErrorCallback(on_glfw_error);
-    if (!glfwInit()) {
-        log_error("view", "cannot open a window (%s); use 'rtgi render' for headless images",
-                  s_glfw_error[0] ? s_glfw_error : "no display?");
-        scene_free(&scene);
-        return 1;
-    }
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, o.debug ? GLFW_TRUE : GLFW_FALSE);
-    GLFWwindow *win = glfwCreateWindow(o.width, o.height, "rtgi", NULL, NULL);
+    GLFWwindow *win = view_window_open(&o);
     if (!win) {
-        log_error("view", "cannot create a window with an OpenGL 4.5 core context%s%s", s_glfw_error[0] ? ": " : "",
-                  s_glfw_error);
-        glfwTerminate();
         scene_free(&scene);
         return 1;
     }
-    s_glfw_window_up = true;
-    glfwMakeContextCurrent(win);
-    glfwSwapInterval(o.frames > 0 || o.ui_test ? 0 : 1);
-    if (o.debug)
-        gl_install_debug_callback();
 
     Renderer r;
     View v;
-    memset(&v, 0, sizeof v);
-    v.scene = &scene;
-    v.renderer = &r;
-    v.slow_ms = o.slow_ms;
-    v.half = o.half;
-    v.pending_gi = -1;
-    v.ab_rmse = -1;
-    v.show_panel = !o.no_panel;
-    snprintf(v.shot_path, sizeof v.shot_path, "%s", o.out ? o.out : "out/view.png");
-    snprintf(v.window_path, sizeof v.window_path, "%s", o.window_out ? o.window_out : "out/window.png");
-    render_options_settings(&o, &scene, &v.settings);
-    v.settings.timings = true;
-    v.settings.cache = true; /* the window's common case: lights still, camera moving */
-    /* Per-pass times as `render --timings` measures them: on a software
-     * rasterizer only with glFinish around each pass (see
-     * gl_renderer_is_software); a GPU's timestamps need no stall. */
-    v.settings.timing_sync = gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
-    v.edit.shadow = v.settings.shadow_params;
-    v.edit.gi = v.settings.gi_params;
-    v.camera = v.home = scene.camera;
-    view_set_angles(&v, &v.camera);
-    v.speed = 0.25f * glm_vec3_distance(scene.bounds_min, scene.bounds_max);
-    glfwSetWindowUserPointer(win, &v);
-    /* Ours first: ImGui's callbacks chain to them. */
-    glfwSetKeyCallback(win, on_key);
-    glfwSetMouseButtonCallback(win, on_button);
-    glfwSetCursorPosCallback(win, on_cursor);
-
+    view_init(&v, &o, &scene, &r);
     AbView ab;
-    bool ok = ui_create(win);
-    bool have_ab = false;
-    if (ok && o.compare) {
-        ok = have_ab = ab_view_create(&ab, o.compare);
-        v.ab = have_ab ? &ab : NULL;
-        if (have_ab && v.show_panel) /* the split starts mid-way across the image beside the panel */
-            ab.split = 0.5f + (6.f + view_panel_width(o.width)) / (2.f * (float)o.width);
-    }
+    bool have_ab;
+    bool ok = view_ui_open(win, &v, &o, &ab, &have_ab);
     bool have_renderer = ok; /* a failed create is destroyed too */
     if (ok)
         ok = renderer_create(&r, &scene, &v.settings);
     log_set_hook(on_log, &v);
-    ViewScript script = {.dir = o.ui_test};
-    int frame = 0, interval_frames = 0;
-    bool interval_clean = false; /* no remake, reload or first frame in the interval: its time is a cost */
-    double last = glfwGetTime(), interval_start = last;
-    while (ok && !glfwWindowShouldClose(win) && (o.frames == 0 || frame < o.frames)) {
-        glfwPollEvents();
-        double now = glfwGetTime();
-        view_move(&v, win, (float)(now - last));
-        last = now;
-        view_update_camera(&v);
-        int fw, fh;
-        glfwGetFramebufferSize(win, &fw, &fh);
-        if (fw > 0 && fh > 0 && (fw != v.settings.width || fh != v.settings.height)) {
-            v.settings.width = fw;
-            v.settings.height = fh;
-            v.dirty = true;
-        }
-        if (v.reload) {
-            view_reload_shaders(&v);
-            v.reload = false;
-            interval_clean = false;
-        }
-        if (v.dirty) {
-            interval_clean = false;
-            const RenderSettings *was = &r.settings, *now_s = &v.settings;
-            if (memcmp(&was->gi_params, &now_s->gi_params, sizeof was->gi_params) ||
-                memcmp(&was->shadow_params, &now_s->shadow_params, sizeof was->shadow_params) ||
-                was->shadow != now_s->shadow || was->ssaa != now_s->ssaa || was->aa != now_s->aa)
-                memset(v.measured_px, 0, sizeof v.measured_px); /* the measured costs were for other settings */
-            /* Remakes only what the change touches (nothing for exposure). */
-            ok = renderer_apply(&r, &v.settings);
-            v.dirty = false;
-            if (!ok)
-                break;
-        }
-        /* The window shows the final image; the A/B view reads the radiance. */
-        v.settings.display_only = v.ab == NULL;
-        if (r.settings.display_only != v.settings.display_only && !(ok = renderer_apply(&r, &v.settings)))
-            break;
-        renderer_frame(&r, &v.camera);
-        if (v.ab)
-            ab_view_draw(v.ab, &r, fw, fh);
-        else
-            glBlitNamedFramebuffer(r.ldr.fbo, 0, 0, 0, r.ldr.width, r.ldr.height, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT,
-                                   GL_NEAREST);
-        ui_frame_begin();
-        view_panel_draw(&v, fw, fh);
-        ui_frame_end();
-        bool scripted_shot = o.window_out && o.frames > 0 && frame == o.frames - 1; /* the last frame's window */
-        if (v.window_shot || scripted_shot) {
-            /* A key's shot that fails is logged and the window goes on; the
-             * scripted one is an output of the command. */
-            if (!view_save_window(&v, v.window_path, fw, fh) && scripted_shot)
-                ok = false;
-            v.window_shot = false;
-        }
-        if (v.screenshot) {
-            view_save_image(&v, v.shot_path);
-            v.screenshot = false;
-        }
-        if (script.dir && !view_script_step(&script, &v, frame, fw, fh))
-            glfwSetWindowShouldClose(win, GLFW_TRUE);
-        glfwSwapBuffers(win);
-        frame++;
-        interval_frames++;
-        double end = glfwGetTime();
-        if (v.print_timings) {
-            /* Before the first interval is measured: this frame's wall time. */
-            render_options_print_timings(&r, (const char *)glGetString(GL_RENDERER),
-                                         v.frame_ms > 0 ? v.frame_ms : 1e3 * (end - now));
-            v.print_timings = false;
-        }
-        bool script_timing = script.dir && frame < 3; /* the script's table holds frames 1-2 */
-        if ((end - interval_start > 0.5 || interval_frames >= 30) && r.timer.frames > 0 && !script_timing) {
-            view_record_timings(&v, 1e3 * (end - interval_start) / interval_frames, interval_clean);
-            char title[768];
-            snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms/frame — H: panel", scene.source,
-                     (const char *[]){"none", "hard", "pcf", "pcss"}[v.settings.shadow],
-                     gi_techniques[v.settings.gi]->name, v.frame_ms);
-            glfwSetWindowTitle(win, title);
-            gpu_timer_reset(&r.timer);
-            interval_start = end;
-            interval_frames = 0;
-            interval_clean = true;
-        }
+    ViewLoop loop = {.win = win, .script = {.dir = o.ui_test}};
+    loop.last = loop.interval_start = glfwGetTime();
+    while (ok && !loop.capture_failed && !glfwWindowShouldClose(win) && (o.frames == 0 || loop.frame < o.frames)) {
+        ok = view_frame_step(&v, &loop, &o);
+        if (ok)
+            view_interval_update(&v, &loop);
     }
     log_set_hook(NULL, NULL);
+    ok = ok && !loop.capture_failed;
     rc = ok ? 0 : 1;
     if (ok && o.out && o.frames > 0 && !view_save_image(&v, o.out)) {
         rc = 1;

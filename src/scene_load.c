@@ -521,13 +521,17 @@ static void log_import_error(const char *path)
         log_error("scene", "%s: cannot import mesh (%s)", path, e);
 }
 
-bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
+/* The mesh file imported: rtgi's checks of the file, assimp's import with
+ * its validation, the checks of what that misses, then post-processing
+ * (triangulated, smooth normals, node transforms applied). NULL after
+ * logging; release it with aiReleaseImport. */
+static const struct aiScene *mesh_import(const char *path)
 {
     /* assimp would block on a FIFO and read a directory as garbage. */
     if (!util_check_input("scene", "mesh file", path, MESH_MAX_BYTES, NULL))
-        return false;
+        return NULL;
     if (!mesh_check_ply(path) || !mesh_check_glb(path))
-        return false;
+        return NULL;
     /* Import and validate first, check what assimp's own checks miss, then
      * post-process: its steps assert (abort) on inconsistent meshes. */
     MeshIo io = {.io = {.OpenProc = mesh_io_open, .CloseProc = mesh_io_close}};
@@ -538,11 +542,11 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
             log_import_error(path);
         if (ai)
             aiReleaseImport(ai);
-        return false;
+        return NULL;
     }
     if (!mesh_check_raw(path, (struct aiScene *)ai)) {
         aiReleaseImport(ai);
-        return false;
+        return NULL;
     }
     unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
                      aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
@@ -551,8 +555,152 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
         log_import_error(path);
         if (ai)
             aiReleaseImport(ai);
+        return NULL;
+    }
+    return ai;
+}
+
+/* Where a mesh file's meshes go and what they added so far. */
+typedef struct MeshAppend {
+    Scene *s;
+    const char *path;  /* the mesh file, for messages */
+    vec4 *transform;   /* borrowed: positions' mesh_scale/translate */
+    mat3 normal_m;     /* normals': its 3×3's inverse transpose */
+    const int *mat_map;/* assimp's material index → the scene's */
+    unsigned tris;     /* triangles appended */
+    bool area;         /* one of them has an area */
+} MeshAppend;
+
+/* Appends mesh `mi`'s vertices, transformed, with unit normals (0,1,0
+ * where there are none or one is degenerate) and finite UVs; false after
+ * logging a position out of range or a failed allocation. */
+static bool append_vertices(MeshAppend *m, const struct aiMesh *am, unsigned mi)
+{
+    Scene *s = m->s;
+    if (!util_realloc("scene", "mesh vertices", (void **)&s->vertices, (size_t)s->vertex_count + am->mNumVertices,
+                      sizeof(Vertex)))
+        return false;
+    for (unsigned v = 0; v < am->mNumVertices; v++) {
+        Vertex *vx = &s->vertices[s->vertex_count];
+        vec4 p = {am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z, 1};
+        glm_mat4_mulv(m->transform, p, p);
+        for (int k = 0; k < 3; k++)
+            if (!(fabsf(p[k]) <= 1e6f)) { /* SCENE_MAX_COORD, NaN and Inf too */
+                log_error("scene", "%s: vertex %u of mesh %u is at %g (after mesh_scale/translate): "
+                          "not finite or beyond the limit of 1e6 m", m->path, v, mi, (double)p[k]);
+                return false;
+            }
+        memcpy(vx->position, p, sizeof vx->position);
+        vec3 n = {0, 1, 0};
+        if (am->mNormals) {
+            glm_vec3_copy((vec3){am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z}, n);
+            glm_mat3_mulv(m->normal_m, n, n);
+            if (isfinite(n[0]) && isfinite(n[1]) && isfinite(n[2]) && glm_vec3_norm(n) > 1e-20f)
+                glm_vec3_normalize(n);
+            else
+                glm_vec3_copy((vec3){0, 1, 0}, n); /* a degenerate normal: any unit vector */
+        }
+        memcpy(vx->normal, n, sizeof vx->normal);
+        float u = am->mTextureCoords[0] ? am->mTextureCoords[0][v].x : 0.f;
+        float w = am->mTextureCoords[0] ? am->mTextureCoords[0][v].y : 0.f;
+        vx->uv[0] = isfinite(u) ? u : 0.f;
+        vx->uv[1] = isfinite(w) ? w : 0.f;
+        s->vertex_count++;
+    }
+    return true;
+}
+
+/* Mesh `mi`'s triangles as indices into the scene's vertices (its own
+ * plus `base`) into idx, *n of them; false after logging an index out of
+ * range. */
+static bool triangle_indices(const MeshAppend *m, const struct aiMesh *am, unsigned mi, uint32_t base,
+                             uint32_t *idx, uint32_t *n)
+{
+    *n = 0;
+    for (unsigned f = 0; f < am->mNumFaces; f++) {
+        if (am->mFaces[f].mNumIndices != 3)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            unsigned i = am->mFaces[f].mIndices[k];
+            if (i >= am->mNumVertices) { /* ValidateDataStructure should have caught it */
+                log_error("scene", "%s: face %u of mesh %u uses vertex %u of %u", m->path, f, mi, i,
+                          am->mNumVertices);
+                return false;
+            }
+            idx[(*n)++] = base + i;
+        }
+    }
+    return true;
+}
+
+/* Whether one of the n/3 triangles in idx has an area. */
+static bool any_area(const Scene *s, const uint32_t *idx, uint32_t n)
+{
+    for (uint32_t t = 0; t < n; t += 3) {
+        const float *a = s->vertices[idx[t]].position, *b = s->vertices[idx[t + 1]].position,
+                    *c = s->vertices[idx[t + 2]].position;
+        vec3 e1 = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2 = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, x;
+        glm_vec3_cross(e1, e2, x);
+        if (glm_vec3_norm2(x) > 0.f)
+            return true;
+    }
+    return false;
+}
+
+/* Appends mesh `mi`'s triangles (its vertices start at `base`) as one
+ * submesh of its material; false after logging. */
+static bool append_triangles(MeshAppend *m, const struct aiMesh *am, unsigned mi, uint32_t base)
+{
+    Scene *s = m->s;
+    uint32_t *idx = util_malloc("scene", "mesh indices", 3 * (size_t)am->mNumFaces + 1, sizeof(uint32_t));
+    if (!idx)
+        return false;
+    uint32_t n;
+    bool ok = triangle_indices(m, am, mi, base, idx, &n) &&
+              util_realloc("scene", "mesh indices", (void **)&s->indices, (size_t)s->index_count + n,
+                           sizeof(uint32_t)) &&
+              util_realloc("scene", "submeshes", (void **)&s->submeshes, (size_t)s->submesh_count + 1,
+                           sizeof(Submesh));
+    if (ok) {
+        memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
+        m->area = m->area || any_area(s, idx, n);
+        s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, m->mat_map[am->mMaterialIndex]};
+        s->index_count += n;
+        m->tris += n / 3;
+    }
+    free(idx);
+    return ok;
+}
+
+/* Appends mesh `mi` of the import if it has triangles: its vertices, then
+ * its triangles as a submesh; false after logging a bad material index,
+ * the scene's limits exceeded or what the steps logged. */
+static bool append_mesh(MeshAppend *m, const struct aiScene *ai, unsigned mi)
+{
+    const struct aiMesh *am = ai->mMeshes[mi];
+    if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
+        return true;
+    if (am->mMaterialIndex >= ai->mNumMaterials) {
+        log_error("scene", "%s: mesh %u names material %u of %u", m->path, mi, am->mMaterialIndex,
+                  ai->mNumMaterials);
         return false;
     }
+    const Scene *s = m->s;
+    if ((uint64_t)s->vertex_count + am->mNumVertices > MESH_MAX_VERTICES ||
+        (uint64_t)s->index_count + 3ull * am->mNumFaces > MESH_MAX_INDICES) {
+        log_error("scene", "%s: more than %u vertices or %u indices (the limit)", m->path, MESH_MAX_VERTICES,
+                  MESH_MAX_INDICES);
+        return false;
+    }
+    uint32_t base = s->vertex_count;
+    return append_vertices(m, am, mi) && append_triangles(m, am, mi, base);
+}
+
+bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
+{
+    const struct aiScene *ai = mesh_import(path);
+    if (!ai)
+        return false;
     char dir[1024];
     util_dirname(path, dir, sizeof dir);
     int *mat_map = util_malloc("scene", "the material map", (size_t)ai->mNumMaterials + 1, sizeof(int));
@@ -560,116 +708,24 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
     bool gltf = util_ends_with(path, ".gltf") || util_ends_with(path, ".glb");
     for (unsigned i = 0; ok && i < ai->mNumMaterials; i++)
         ok = load_material(s, ai, ai->mMaterials[i], path, dir, gltf, &mat_map[i]);
-    mat3 nrm_m;
-    glm_mat4_pick3((vec4 *)transform, nrm_m);
-    glm_mat3_inv(nrm_m, nrm_m);
-    glm_mat3_transpose(nrm_m);
-    unsigned tris = 0, area_tris = 0; /* area_tris: with an area (counted up to the first) */
-    for (unsigned mi = 0; mi < ai->mNumMeshes && ok; mi++) {
-        const struct aiMesh *am = ai->mMeshes[mi];
-        if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
-            continue;
-        if (am->mMaterialIndex >= ai->mNumMaterials) {
-            log_error("scene", "%s: mesh %u names material %u of %u", path, mi, am->mMaterialIndex,
-                      ai->mNumMaterials);
-            ok = false;
-            break;
-        }
-        if ((uint64_t)s->vertex_count + am->mNumVertices > MESH_MAX_VERTICES ||
-            (uint64_t)s->index_count + 3ull * am->mNumFaces > MESH_MAX_INDICES) {
-            log_error("scene", "%s: more than %u vertices or %u indices (the limit)", path, MESH_MAX_VERTICES,
-                      MESH_MAX_INDICES);
-            ok = false;
-            break;
-        }
-        uint32_t base = s->vertex_count;
-        if (!util_realloc("scene", "mesh vertices", (void **)&s->vertices,
-                          (size_t)s->vertex_count + am->mNumVertices, sizeof(Vertex))) {
-            ok = false;
-            break;
-        }
-        for (unsigned v = 0; v < am->mNumVertices && ok; v++) {
-            Vertex *vx = &s->vertices[s->vertex_count++];
-            vec4 p = {am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z, 1};
-            glm_mat4_mulv((vec4 *)transform, p, p);
-            for (int k = 0; k < 3; k++)
-                if (!(fabsf(p[k]) <= 1e6f)) { /* SCENE_MAX_COORD, NaN and Inf too */
-                    log_error("scene", "%s: vertex %u of mesh %u is at %g (after mesh_scale/translate): "
-                              "not finite or beyond the limit of 1e6 m", path, v, mi, (double)p[k]);
-                    ok = false;
-                    break;
-                }
-            memcpy(vx->position, p, sizeof vx->position);
-            vec3 n = {0, 1, 0};
-            if (am->mNormals) {
-                glm_vec3_copy((vec3){am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z}, n);
-                glm_mat3_mulv(nrm_m, n, n);
-                if (isfinite(n[0]) && isfinite(n[1]) && isfinite(n[2]) && glm_vec3_norm(n) > 1e-20f)
-                    glm_vec3_normalize(n);
-                else
-                    glm_vec3_copy((vec3){0, 1, 0}, n); /* a degenerate normal: any unit vector */
-            }
-            memcpy(vx->normal, n, sizeof vx->normal);
-            float u = am->mTextureCoords[0] ? am->mTextureCoords[0][v].x : 0.f;
-            float w = am->mTextureCoords[0] ? am->mTextureCoords[0][v].y : 0.f;
-            vx->uv[0] = isfinite(u) ? u : 0.f;
-            vx->uv[1] = isfinite(w) ? w : 0.f;
-        }
-        if (!ok)
-            break;
-        uint32_t *idx = util_malloc("scene", "mesh indices", 3 * (size_t)am->mNumFaces + 1, sizeof(uint32_t));
-        if (!idx) {
-            ok = false;
-            break;
-        }
-        uint32_t n = 0;
-        for (unsigned f = 0; f < am->mNumFaces && ok; f++) {
-            if (am->mFaces[f].mNumIndices != 3)
-                continue;
-            for (int k = 0; k < 3; k++) {
-                unsigned i = am->mFaces[f].mIndices[k];
-                if (i >= am->mNumVertices) { /* ValidateDataStructure should have caught it */
-                    log_error("scene", "%s: face %u of mesh %u uses vertex %u of %u", path, f, mi, i,
-                              am->mNumVertices);
-                    ok = false;
-                    break;
-                }
-                idx[n++] = base + i;
-            }
-        }
-        /* Append this mesh's triangles as one submesh of its material. */
-        if (ok && (!util_realloc("scene", "mesh indices", (void **)&s->indices, (size_t)s->index_count + n,
-                                 sizeof(uint32_t)) ||
-                   !util_realloc("scene", "submeshes", (void **)&s->submeshes, (size_t)s->submesh_count + 1,
-                                 sizeof(Submesh))))
-            ok = false;
-        if (ok) {
-            memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
-            for (uint32_t t = 0; t < n && !area_tris; t += 3) {
-                const float *a = s->vertices[idx[t]].position, *b = s->vertices[idx[t + 1]].position,
-                            *c = s->vertices[idx[t + 2]].position;
-                vec3 e1 = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2 = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, x;
-                glm_vec3_cross(e1, e2, x);
-                area_tris += glm_vec3_norm2(x) > 0.f;
-            }
-            s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, mat_map[am->mMaterialIndex]};
-            s->index_count += n;
-            tris += n / 3;
-        }
-        free(idx);
-    }
+    MeshAppend m = {.s = s, .path = path, .transform = (vec4 *)transform, .mat_map = mat_map};
+    glm_mat4_pick3((vec4 *)transform, m.normal_m);
+    glm_mat3_inv(m.normal_m, m.normal_m);
+    glm_mat3_transpose(m.normal_m);
+    for (unsigned mi = 0; ok && mi < ai->mNumMeshes; mi++)
+        ok = append_mesh(&m, ai, mi);
     free(mat_map);
     aiReleaseImport(ai);
-    if (ok && tris == 0) {
+    if (ok && m.tris == 0) {
         log_error("scene", "%s: mesh file has no triangles", path);
         ok = false;
-    } else if (ok && area_tris == 0) {
+    } else if (ok && !m.area) {
         log_error("scene", "%s: all %u triangles have zero area (after mesh_scale/translate): nothing to draw", path,
-                  tris);
+                  m.tris);
         ok = false;
     }
     if (ok)
-        log_debug("scene", "%s: %u triangles, %d materials, %d textures", path, tris, s->material_count,
+        log_debug("scene", "%s: %u triangles, %d materials, %d textures", path, m.tris, s->material_count,
                   s->texture_count);
     return ok;
 }

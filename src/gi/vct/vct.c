@@ -227,6 +227,101 @@ static uint64_t box_bytes(int w, int h, int d, int levels)
     return b;
 }
 
+/* Entries of the opaque-voxel list: N³·L / VCT_OPAQUE_SHARE. */
+static uint32_t opaque_capacity(int n, int clip)
+{
+    return (uint32_t)((uint64_t)clip * n * n * n / VCT_OPAQUE_SHARE);
+}
+
+/* GPU memory the settings' volumes and opaque list hold (vct_stats'
+ * figure); the voxelization's sums come on top while it runs. */
+static uint64_t vct_bytes(const GiParams *p)
+{
+    int n = p->vct_size, clip = p->vct_levels;
+    int levels = gl_mip_levels(n, n, n);
+    int half = aniso_side(n), slab = aniso_slab(n, levels);
+    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * box_bytes(n, n, n, levels)) +
+                     (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
+    return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip));
+}
+
+/* Every program the settings call for; false after one failed. All are
+ * compiled, so that each one failing logs its line. */
+static bool vct_programs(VctGi *v)
+{
+    const GiParams *p = &v->params;
+    /* The cone tracers read the directional volumes only when compiled
+     * with VCT_ANISO (gi/vct/cone.glsl): llvmpipe runs both sides of a
+     * branch on a uniform, fetches included. */
+    const char *cones = p->vct_aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
+    v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom", "gi/vct/voxelize.frag", NULL, NULL);
+    v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL);
+    v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL);
+    v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL);
+    v->aniso_first = program(v, "vct_aniso_first", NULL, NULL, NULL, "gi/vct/aniso.comp", "#define MODE_FIRST\n");
+    v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp", cones);
+    if (p->vct_bounces > 1) { /* not required: without it vct_run bounces over every voxel */
+        char defs[64];
+        snprintf(defs, sizeof defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
+        v->bounce_list = program(v, "vct_bounce_list", NULL, NULL, NULL, "gi/vct/bounce.comp", defs);
+    }
+    v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp", cones);
+    v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp", NULL);
+    return v->voxelize && v->resolve && v->inject && v->aniso_prog && v->aniso_first && v->bounce && v->trace &&
+           v->upsample;
+}
+
+/* Every volume vct_bytes counts, the voxelization's framebuffer, the
+ * low-resolution images, the opaque list and the parameter block; false
+ * after one failed (it logged). */
+static bool vct_volumes(VctGi *v)
+{
+    const GiParams *p = &v->params;
+    int n = v->n, clip = v->clip, levels = v->levels;
+    int half = aniso_side(n), slab = aniso_slab(n, levels);
+    int d = n * clip; /* the levels stacked along z */
+    bool ok = (v->albedo = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.albedo")) &&
+              (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
+              (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance"));
+    if (ok && p->vct_bounces > 1)
+        ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance2"));
+    for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_AXES; i++)
+        ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
+                                              "vct.aniso")) != 0;
+    ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
+    ok = ok && (v->opaque = gl_buffer_make(4u * (4u + (uint64_t)v->opaque_capacity), NULL, GL_DYNAMIC_STORAGE_BIT,
+                                           "vct.opaque"));
+    return ok && (v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params"));
+}
+
+/* The parameter block, uploaded. One level: a cube around the bounds with
+ * a voxel of margin each side (placed here); a clipmap is placed per frame
+ * around the camera. */
+static void vct_params_upload(VctGi *v)
+{
+    const GiParams *p = &v->params;
+    int n = v->n;
+    GpuVctParams *u = &v->gpu;
+    float voxel = gi_grid_around(v->bmin, v->bmax, n, u->level[0]);
+    u->level[0][3] = voxel;
+    u->clip_levels = v->clip;
+    u->size = n;
+    u->levels = v->levels;
+    u->aniso = p->vct_aniso && v->aniso[0] ? 1 : 0;
+    u->aniso_slab = aniso_slab(n, v->levels);
+    float tan_half[VCT_MAX_CONES] = {0};
+    u->cones = cone_set(p->vct_cones, u->cone, tan_half);
+    for (int i = 0; i < u->cones; i++)
+        u->cone_aperture[i][0] = tan_half[i];
+    u->step = p->vct_step;
+    u->ao_range = 0.15f * voxel * (float)n;
+    u->conservative = p->vct_conservative ? 1 : 0;
+    u->roughness = p->vct_roughness;
+    u->f0 = p->vct_f0;
+    u->max_distance = sqrtf(3.f) * voxel * (float)n;
+    glNamedBufferSubData(v->ubo, 0, sizeof *u, u);
+}
+
 static void *vct_create(const GiCreateInfo *ci)
 {
     const GiParams *p = ci->params;
@@ -235,12 +330,7 @@ static void *vct_create(const GiCreateInfo *ci)
         log_error("vct", "--vct-levels %d: the clipmap needs a power-of-two --vct-size (got %d)", clip, n);
         return NULL;
     }
-    int levels = gl_mip_levels(n, n, n);
-    int half = aniso_side(n), slab = aniso_slab(n, levels);
-    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * box_bytes(n, n, n, levels)) +
-                     (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
-    uint32_t opaque_capacity = (uint32_t)((uint64_t)clip * n * n * n / VCT_OPAQUE_SHARE);
-    bytes += 4u * (4u + (uint64_t)opaque_capacity);
+    uint64_t bytes = vct_bytes(p);
     uint64_t peak = bytes + (uint64_t)clip * n * n * n * 32u; /* the voxelization's sums, while it runs */
     char what[64];
     snprintf(what, sizeof what, "--vct-size %d with --vct-levels %d", n, clip);
@@ -255,72 +345,19 @@ static void *vct_create(const GiCreateInfo *ci)
     v->pc = ci->programs;
     v->n = n;
     v->clip = clip;
-    v->levels = levels;
+    v->levels = gl_mip_levels(n, n, n);
     v->bytes = bytes;
-    v->opaque_capacity = opaque_capacity;
+    v->opaque_capacity = opaque_capacity(n, clip);
+    v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
     v->width = ci->width;
     v->height = ci->height;
-    /* The cone tracers read the directional volumes only when compiled
-     * with VCT_ANISO (gi/vct/cone.glsl): llvmpipe runs both sides of a
-     * branch on a uniform, fetches included. */
-    const char *cones = p->vct_aniso && n >= 2 ? "#define VCT_ANISO\n" : NULL;
-    v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom", "gi/vct/voxelize.frag", NULL, NULL);
-    v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL);
-    v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL);
-    v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL);
-    v->aniso_first = program(v, "vct_aniso_first", NULL, NULL, NULL, "gi/vct/aniso.comp", "#define MODE_FIRST\n");
-    v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp", cones);
-    if (p->vct_bounces > 1) {
-        char defs[64];
-        snprintf(defs, sizeof defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
-        v->bounce_list = program(v, "vct_bounce_list", NULL, NULL, NULL, "gi/vct/bounce.comp", defs);
-    }
-    v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp", cones);
-    v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp", NULL);
-    v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
-    bool ok = v->voxelize && v->resolve && v->inject && v->aniso_prog && v->aniso_first && v->bounce && v->trace &&
-              v->upsample;
-    int d = n * clip; /* the levels stacked along z */
-    ok = ok && (v->albedo = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.albedo")) &&
-         (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
-         (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance"));
-    if (ok && p->vct_bounces > 1)
-        ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance2"));
-    for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_AXES; i++)
-        ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
-                                              "vct.aniso")) != 0;
-    ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
-    ok = ok && (v->opaque = gl_buffer_make(4u * (4u + (uint64_t)opaque_capacity), NULL, GL_DYNAMIC_STORAGE_BIT,
-                                           "vct.opaque"));
-    ok = ok && (v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params"));
-    if (!ok) { /* what failed logged its line */
+    glm_vec3_copy((float *)ci->scene->bounds_min, v->bmin);
+    glm_vec3_copy((float *)ci->scene->bounds_max, v->bmax);
+    if (!vct_programs(v) || !vct_volumes(v)) { /* what failed logged its line */
         vct_destroy(v);
         return NULL;
     }
-
-    /* One level: a cube around the bounds with a voxel of margin each side
-     * (placed here); a clipmap is placed per frame around the camera. */
-    GpuVctParams *u = &v->gpu;
-    glm_vec3_copy((float *)ci->scene->bounds_min, v->bmin);
-    glm_vec3_copy((float *)ci->scene->bounds_max, v->bmax);
-    float voxel = gi_grid_around(v->bmin, v->bmax, n, u->level[0]);
-    u->level[0][3] = voxel;
-    u->clip_levels = clip;
-    u->size = n;
-    u->levels = levels;
-    u->aniso = p->vct_aniso && v->aniso[0] ? 1 : 0;
-    u->aniso_slab = slab;
-    float tan_half[VCT_MAX_CONES] = {0};
-    u->cones = cone_set(p->vct_cones, u->cone, tan_half);
-    for (int i = 0; i < u->cones; i++)
-        u->cone_aperture[i][0] = tan_half[i];
-    u->step = p->vct_step;
-    u->ao_range = 0.15f * voxel * (float)n;
-    u->conservative = p->vct_conservative ? 1 : 0;
-    u->roughness = p->vct_roughness;
-    u->f0 = p->vct_f0;
-    u->max_distance = sqrtf(3.f) * voxel * (float)n;
-    glNamedBufferSubData(v->ubo, 0, sizeof *u, u);
+    vct_params_upload(v);
     return v;
 }
 

@@ -366,6 +366,10 @@ static bool view_frame_step(View *v, ViewLoop *l, const RenderOptions *o)
     view_panel_draw(v, fw, fh);
     ui_frame_end();
     bool scripted_shot = o->window_out && o->frames > 0 && l->frame == o->frames - 1; /* the last frame's window */
+    if (scripted_shot && !renderer_frames_whole(r)) {
+        l->capture_failed = true; /* not written: see cmd_view's check after the loop */
+        scripted_shot = false;
+    }
     if (v->window_shot || scripted_shot) {
         /* A key's shot that fails is logged and the window goes on; the
          * scripted one is an output of the command. */
@@ -449,6 +453,11 @@ int cmd_view(int argc, char **argv)
     }
     log_set_hook(NULL, NULL);
     ok = ok && !loop.capture_failed;
+    /* A scripted run (--frames N) is a command that writes images: like
+     * render, it fails where a program did not build or a technique's run
+     * failed, which the window itself goes on through. */
+    if (ok && o.frames > 0 && !renderer_frames_whole(&r))
+        ok = false;
     rc = ok ? 0 : 1;
     if (ok && o.out && o.frames > 0 && !view_save_image(&v, o.out)) {
         rc = 1;

@@ -414,7 +414,7 @@ static void window_out_failure_fails(void **state)
 {
     (void)state;
     test_x_display();
-    char png[1024], cmd[3072];
+    char png[1024], cmd[8192];
     snprintf(png, sizeof png, "%s/view_window_fsize.png", RTGI_TEST_TMP);
     remove(png);
     snprintf(cmd, sizeof cmd,
@@ -434,6 +434,24 @@ static void window_out_failure_fails(void **state)
     for (const char *c = out; *c; c++)
         lines += *c == '\n';
     assert_int_equal(lines, 2); /* the error and the exit line */
+    assert_int_not_equal(access(png, F_OK), 0);
+    /* A scripted run writes images, so a program that did not build fails
+     * it as it fails render (the specialised direct light's, which falls
+     * back to the general one): its one error line, exit 1, neither file. */
+    char dir[1024], guarded[1024];
+    snprintf(dir, sizeof dir, "%s/view_shaders_guarded", RTGI_TEST_TMP);
+    snprintf(guarded, sizeof guarded, "%s/view_guarded.png", RTGI_TEST_TMP);
+    remove(guarded);
+    snprintf(cmd, sizeof cmd,
+             "rm -rf '%s' && cp -r '%s/shaders' '%s' && printf '\\n#ifdef LIGHT_FIXED_TYPE\\n#error broken\\n#endif\\n' >> "
+             "'%s/frame/direct.frag'",
+             dir, RTGI_SOURCE_DIR, dir, dir);
+    assert_int_equal(system(cmd), 0);
+    char *err = NULL;
+    int rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "1", "--shader-dir", dir, "--out", guarded,
+                          "--window-out", png, NULL);
+    test_expect_cli_error(rc, err, 1, "(program direct)", "#error broken");
+    assert_int_not_equal(access(guarded, F_OK), 0);
     assert_int_not_equal(access(png, F_OK), 0);
 }
 

@@ -102,6 +102,8 @@ static bool write_ao(Renderer *r, const char *path)
     } else {
         uint8_t *rgb = malloc(3 * (size_t)w * (size_t)h);
         ok = rgb != NULL;
+        if (!ok)
+            log_error("render", "%s: out of memory for a %dx%d image", path, w, h);
         for (size_t i = 0; ok && i < 3 * (size_t)w * (size_t)h; i++) {
             float v = img.rgb[i];
             rgb[i] = (uint8_t)(255.f * (v < 0.f ? 0.f : v > 1.f ? 1.f : v) + 0.5f);

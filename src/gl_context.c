@@ -140,6 +140,13 @@ GlContext *gl_context_create(bool debug)
         return NULL;
     }
     GlContext *g = calloc(1, sizeof *g);
+    if (!g) {
+        log_error("gl", "out of memory for the context's record");
+        eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(dpy, ctx);
+        eglTerminate(dpy);
+        return NULL;
+    }
     g->display = dpy;
     g->context = ctx;
     snprintf(g->renderer, sizeof g->renderer, "%s", (const char *)glGetString(GL_RENDERER));

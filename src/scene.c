@@ -109,9 +109,9 @@ int scene_add_light(Scene *s, const Light *l)
     return s->light_count++;
 }
 
-static void add_emitters(Scene *s);
+static bool add_emitters(Scene *s);
 
-void scene_rescale_lights(Scene *s, float scale)
+bool scene_rescale_lights(Scene *s, float scale)
 {
     /* Emitter materials, submeshes and vertices are the last ones added. */
     int first_mat = s->material_count;
@@ -133,7 +133,7 @@ void scene_rescale_lights(Scene *s, float scale)
     s->material_count = first_mat;
     for (int i = 0; i < s->light_count; i++)
         s->lights[i].size *= scale;
-    add_emitters(s);
+    return add_emitters(s);
 }
 
 static void compute_bounds(Scene *s)
@@ -164,13 +164,15 @@ bool scene_has_glossy(const Scene *s)
     return false;
 }
 
-void scene_finalize(Scene *s)
+bool scene_finalize(Scene *s)
 {
-    add_emitters(s);
+    if (!add_emitters(s))
+        return false;
     compute_bounds(s);
+    return true;
 }
 
-static void add_emitters(Scene *s)
+static bool add_emitters(Scene *s)
 {
     /* Emitter geometry for quad lights, so that the camera and the path
      * tracer's BSDF rays see the light's surface. Same power at any size:
@@ -183,7 +185,7 @@ static void add_emitters(Scene *s)
         snprintf(name, sizeof name, "emitter%d", i);
         int m = scene_add_material(s, name, (vec3){0, 0, 0});
         if (m < 0)
-            return; /* logged; the light keeps no emitter geometry */
+            return false; /* logged */
         glm_vec3_scale(l->color, 1.f / (l->size * l->size), s->materials[m].emission);
         s->materials[m].light_index = i;
         vec3 hu, hv, p[4];
@@ -200,19 +202,23 @@ static void add_emitters(Scene *s)
             glm_vec3_muladds(hu, su, p[c]);
             glm_vec3_muladds(hv, sv, p[c]);
         }
-        scene_add_quad(s, m, p[0], p[1], p[2], p[3]);
+        if (!scene_add_quad(s, m, p[0], p[1], p[2], p[3]))
+            return false; /* logged */
     }
+    return true;
 }
 
-void scene_add_default_sun(Scene *s)
+bool scene_add_default_sun(Scene *s)
 {
     Light sun = {0};
     sun.type = LIGHT_DIRECTIONAL;
     glm_vec3_copy((vec3){0.25f, -1.0f, 0.12f}, sun.direction);
     glm_vec3_copy((vec3){4.0f, 3.9f, 3.6f}, sun.color);
     sun.size = glm_rad(0.53f); /* the real sun's angular diameter */
-    scene_add_light(s, &sun);
+    if (scene_add_light(s, &sun) < 0)
+        return false; /* logged */
     log_info("scene", "%s has no lights: added a default sun", s->source);
+    return true;
 }
 
 void scene_default_camera(Scene *s)

@@ -194,19 +194,21 @@ bool scene_add_quad(Scene *s, int material, const vec3 p0, const vec3 p1, const 
 int scene_add_light(Scene *s, const Light *l);
 
 /* Call after geometry and lights are final: merges submeshes by material,
- * adds emitter geometry for quad lights of size > 0, computes bounds. */
-void scene_finalize(Scene *s);
+ * adds emitter geometry for quad lights of size > 0, computes bounds.
+ * false after logging (out of memory). */
+bool scene_finalize(Scene *s);
 /* Whether any material has a specular lobe (F0 > 0: metallic or a
  * dielectric specular weight, see brdf_surface); without one every surface
  * is exactly Lambertian and shaders may drop the GGX code. */
 bool scene_has_glossy(const Scene *s);
 
-/* The built-in Cornell box from ../shared/assets/cornell (metres). */
-void scene_build_cornell(Scene *s);
+/* The built-in Cornell box from ../shared/assets/cornell (metres). false
+ * after logging (out of memory; free the scene then). */
+bool scene_build_cornell(Scene *s);
 
 /* Scales every light's emitter size (see header comment) and rebuilds the
- * emitter geometry of a finalized scene. */
-void scene_rescale_lights(Scene *s, float scale);
+ * emitter geometry of a finalized scene. false after logging. */
+bool scene_rescale_lights(Scene *s, float scale);
 
 /* Loads a scene: "cornell", a .json scene file, or a mesh file (.gltf,
  * .glb, .obj, ...) that gets a default sun and camera. false after logging
@@ -243,8 +245,9 @@ bool scene_check_lights(const Scene *s, const char *after);
 float scene_box_dist2(const vec3 p, const vec3 lo, const vec3 hi);
 bool scene_check_view(const Scene *s);
 
-/* Default sun and camera for a scene without them, from its bounds. */
-void scene_add_default_sun(Scene *s);
+/* Default sun and camera for a scene without them, from its bounds (the
+ * sun: false after logging). */
+bool scene_add_default_sun(Scene *s);
 void scene_default_camera(Scene *s);
 
 /* ---- Light model shared by the rasterizer's shaders and the path tracer ---- */

@@ -36,14 +36,15 @@ static const CornellFace k_faces[] = {
     {"white", "tall_block", {{265, 0, 296}, {265, 330, 296}, {423, 330, 247}, {423, 0, 247}}},
 };
 
-void scene_build_cornell(Scene *s)
+bool scene_build_cornell(Scene *s)
 {
     scene_init(s);
     strcpy(s->source, "cornell");
     const vec3 white = {0.7381f, 0.7361f, 0.7376f}, red = {0.4899f, 0.0504f, 0.0509f},
                green = {0.0689f, 0.3985f, 0.0864f};
     int m = -1;
-    for (size_t f = 0; f < sizeof k_faces / sizeof k_faces[0]; f++) {
+    bool ok = true;
+    for (size_t f = 0; ok && f < sizeof k_faces / sizeof k_faces[0]; f++) {
         const CornellFace *cf = &k_faces[f];
         if (f == 0 || strcmp(cf->surface, k_faces[f - 1].surface) != 0)
             m = scene_add_material(s, cf->surface,
@@ -54,7 +55,7 @@ void scene_build_cornell(Scene *s)
         for (int i = 0; i < 4; i++)
             for (int k = 0; k < 3; k++)
                 p[i][k] = cf->v[i][k] * 0.001f;
-        scene_add_quad(s, m, p[0], p[1], p[2], p[3]);
+        ok = m >= 0 && scene_add_quad(s, m, p[0], p[1], p[2], p[3]); /* each logs its failure */
     }
 
     Light l = {0};
@@ -65,7 +66,7 @@ void scene_build_cornell(Scene *s)
     glm_vec3_copy((vec3){0, 0, 0.105f}, l.quad_u);
     glm_vec3_copy((vec3){-0.130f, 0, 0}, l.quad_v);
     l.size = 1.0f;
-    scene_add_light(s, &l);
+    ok = ok && scene_add_light(s, &l) >= 0;
 
     Camera *c = &s->camera;
     glm_vec3_copy((vec3){0.278f, 0.273f, -0.800f}, c->position);
@@ -85,4 +86,5 @@ void scene_build_cornell(Scene *s)
      * weighting does best at 2 (relMSE 0.011): --rsm-weighting unbiased
      * --rsm-rmax 2. */
     s->gi.r_max = 0.5f;
+    return ok;
 }

@@ -1210,8 +1210,8 @@ static bool load_json(Scene *s, const char *path)
     } else if (builtin) {
         if (strcmp(builtin->valuestring, "cornell") != 0)
             bad(&c, "builtin", "unknown builtin scene \"%s\" (cornell)", builtin->valuestring);
-        else
-            scene_build_cornell(s);
+        else if (!scene_build_cornell(s))
+            c.ok = false; /* logged */
     }
     if (!c.ok) {
         cJSON_Delete(root);
@@ -1280,9 +1280,8 @@ static bool load_json(Scene *s, const char *path)
     cJSON_Delete(root);
     if (!c.ok)
         return false;
-    if (s->light_count == 0)
-        scene_add_default_sun(s);
-    scene_finalize(s);
+    if ((s->light_count == 0 && !scene_add_default_sun(s)) || !scene_finalize(s))
+        return false; /* logged; the caller frees the scene */
     if (!has_camera)
         scene_default_camera(s);
     return true;
@@ -1300,9 +1299,10 @@ const char *scene_builtin_near(const char *what)
 static bool load_any(Scene *s, const char *what)
 {
     if (strcmp(what, "cornell") == 0) {
-        scene_build_cornell(s);
-        scene_finalize(s);
-        return true;
+        if (scene_build_cornell(s) && scene_finalize(s))
+            return true;
+        scene_free(s); /* each logged its failure */
+        return false;
     }
     const char *near = scene_builtin_near(what);
     if (near) {
@@ -1324,9 +1324,11 @@ static bool load_any(Scene *s, const char *what)
         scene_free(s);
         return false;
     }
-    scene_add_default_sun(s);
     s->shadow.map_size = 2048; /* a sun over a whole model needs the texels */
-    scene_finalize(s);
+    if (!scene_add_default_sun(s) || !scene_finalize(s)) {
+        scene_free(s); /* logged */
+        return false;
+    }
     scene_default_camera(s);
     return true;
 }
@@ -1345,9 +1347,8 @@ bool scene_load_scaled(Scene *s, const char *what, float light_scale)
 {
     if (!scene_load(s, what))
         return false;
-    if (light_scale >= 0.f)
-        scene_rescale_lights(s, light_scale);
-    if (scene_check_lights(s, light_scale >= 0.f ? ", after --light-scale" : ""))
+    if ((light_scale < 0.f || scene_rescale_lights(s, light_scale)) &&
+        scene_check_lights(s, light_scale >= 0.f ? ", after --light-scale" : ""))
         return true;
     scene_free(s);
     return false;

@@ -58,11 +58,15 @@ typedef struct {
     int count;
 } FileTable;
 
+/* The file's index, or -1 after logging (too many, or out of memory). */
 static int file_table_add(FileTable *t, const char *name)
 {
-    if (t->count == 32)
+    if (t->count == 32) {
+        log_error("shader", "%s: too many included files", name);
         return -1;
-    t->names[t->count] = util_strndup(name, strlen(name));
+    }
+    if (!(t->names[t->count] = util_strndup(name, strlen(name)))) /* logs */
+        return -1;
     return t->count++;
 }
 
@@ -83,10 +87,8 @@ static bool expand(const char *path, FileTable *files, StrBuf *out, int depth)
         if (strcmp(files->names[i], path) == 0)
             return true; /* each file once */
     int id = file_table_add(files, path);
-    if (id < 0) {
-        log_error("shader", "%s: too many included files", path);
+    if (id < 0)
         return false;
-    }
     char *text = shader_read_source(path);
     if (!text)
         return false;
@@ -160,7 +162,10 @@ static GLuint compile_stage(const char *label, GLenum stage, const char *path, c
     FileTable files = {0};
     StrBuf src = {0};
     strbuf_printf(&src, "#version 450 core\n%s", defines ? defines : "");
-    if (!expand(path, &files, &src, 0) || src.failed) {
+    bool expanded = expand(path, &files, &src, 0); /* logs a failure */
+    if (expanded && src.failed)
+        log_error("shader", "%s: out of memory assembling its source (program %s)", path, label);
+    if (!expanded || src.failed) {
         free(src.data);
         file_table_free(&files);
         return 0;
@@ -375,18 +380,24 @@ static bool same_key(const ShaderProgramDesc *a, const ShaderProgramDesc *b)
 
 void program_cache_create(ProgramCache *c) { memset(c, 0, sizeof *c); }
 
+/* Frees the strings of a cache entry's own copy. */
+static void desc_free(ShaderProgramDesc *d)
+{
+    free((char *)d->label);
+    free((char *)d->vert);
+    free((char *)d->geom);
+    free((char *)d->frag);
+    free((char *)d->comp);
+    free((char *)d->defines);
+}
+
 void program_cache_destroy(ProgramCache *c)
 {
     for (int i = 0; i < c->count; i++) {
         ProgramCacheEntry *e = &c->entries[i];
         if (e->program)
             glDeleteProgram(e->program);
-        free((char *)e->desc.label);
-        free((char *)e->desc.vert);
-        free((char *)e->desc.geom);
-        free((char *)e->desc.frag);
-        free((char *)e->desc.comp);
-        free((char *)e->desc.defines);
+        desc_free(&e->desc);
     }
     free(c->entries);
     memset(c, 0, sizeof *c);
@@ -402,16 +413,24 @@ GLuint program_cache_get(ProgramCache *c, const ShaderProgramDesc *desc)
         ProgramCacheEntry *grown = realloc(c->entries, (size_t)cap * sizeof *grown);
         if (!grown) {
             log_error("shader", "program cache: out of memory for %s", desc_label(desc));
+            c->unkept++;
             return 0;
         }
         c->entries = grown;
         c->capacity = cap;
     }
-    ProgramCacheEntry *e = &c->entries[c->count++];
-    e->desc = (ShaderProgramDesc){
+    ShaderProgramDesc copy = {
         .label = dup_or_null(desc_label(desc)), .vert = dup_or_null(desc->vert),
         .geom = dup_or_null(desc->geom), .frag = dup_or_null(desc->frag),
         .comp = dup_or_null(desc->comp), .defines = dup_or_null(desc->defines)};
+    if (!copy.label || (desc->vert && !copy.vert) || (desc->geom && !copy.geom) || (desc->frag && !copy.frag) ||
+        (desc->comp && !copy.comp) || (desc->defines && !copy.defines)) { /* util_strndup logged */
+        desc_free(&copy);
+        c->unkept++;
+        return 0;
+    }
+    ProgramCacheEntry *e = &c->entries[c->count++];
+    e->desc = copy;
     e->program = shader_program_build(&e->desc);
     return e->program;
 }
@@ -439,7 +458,7 @@ int program_cache_count(const ProgramCache *c) { return c->count; }
 
 int program_cache_failed(const ProgramCache *c)
 {
-    int failed = 0;
+    int failed = c->unkept;
     for (int i = 0; i < c->count; i++)
         failed += c->entries[i].program == 0;
     return failed;

@@ -67,6 +67,7 @@ typedef struct ProgramCache {
     ProgramCacheEntry *entries; /* owned array of `count` entries */
     int count;                  /* programs (built or failed) */
     int capacity;               /* entries allocated */
+    int unkept;                 /* programs asked for that could not even be entered (out of memory) */
 } ProgramCache;
 
 void program_cache_create(ProgramCache *cache);
@@ -86,7 +87,8 @@ GLuint program_cache_get(ProgramCache *cache, const ShaderProgramDesc *desc);
 bool program_cache_reload(ProgramCache *cache);
 /* Number of keys in the cache. */
 int program_cache_count(const ProgramCache *cache);
-/* Number of keys whose last build failed (each logged when it failed). */
+/* Number of keys whose last build failed, and of programs that could not be
+ * entered at all (each logged when it failed). */
 int program_cache_failed(const ProgramCache *cache);
 
 #endif

@@ -162,10 +162,7 @@ static GLuint compile_stage(const char *label, GLenum stage, const char *path, c
     FileTable files = {0};
     StrBuf src = {0};
     strbuf_printf(&src, "#version 450 core\n%s", defines ? defines : "");
-    bool expanded = expand(path, &files, &src, 0); /* logs a failure */
-    if (expanded && src.failed)
-        log_error("shader", "%s: out of memory assembling its source (program %s)", path, label);
-    if (!expanded || src.failed) {
+    if (!expand(path, &files, &src, 0) || src.failed) { /* each logs its failure (the buffer's: util.c) */
         free(src.data);
         file_table_free(&files);
         return 0;

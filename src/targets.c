@@ -19,8 +19,7 @@ GLuint gl_texture_make_levels(GLenum target, GLenum fmt, int w, int h, int layer
         return 0;
     }
     if (levels == 0)
-        for (int m = w > h ? w : h; m >= 1; m >>= 1)
-            levels++;
+        levels = gl_mip_levels(w, h, 1);
     GLuint t;
     glCreateTextures(target, 1, &t);
     if (target == GL_TEXTURE_2D_ARRAY)

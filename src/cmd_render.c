@@ -115,6 +115,83 @@ static bool write_ao(Renderer *r, const char *path)
     return ok;
 }
 
+/* The image --out names, from the frames drawn: linear radiance for .pfm
+ * and .exr, else the display image. False (logged, nothing written) if the
+ * frames are not whole or any pixel is NaN or infinite. */
+static bool write_image(Renderer *r, const char *path, bool hdr_out, bool half, const char *source)
+{
+    /* Nothing non-finite leaves the renderer: the LDR image would hide it
+     * (display-only frames count it as they shade). */
+    ImageF hdr = {0};
+    size_t bad = 0;
+    int x = 0, y = 0;
+    bool ok = renderer_frames_whole(r);
+    ok = ok && (hdr_out ? renderer_read_hdr(r, &hdr) : renderer_count_nonfinite(r, &bad, &x, &y));
+    if (ok && hdr_out)
+        bad = image_count_nonfinite(&hdr, &x, &y);
+    if (ok && bad) {
+        log_error("render", "%s: the rendered HDR image has %zu NaN or infinite pixels (first at x=%d y=%d); "
+                  "nothing written", source, bad, x, y);
+        ok = false;
+    }
+    if (ok && hdr_out) {
+        image_warn_if_black(&hdr, "render", path);
+        ok = image_write(path, &hdr, 1.f, half); /* linear radiance */
+    } else if (ok) {
+        uint8_t *rgb = renderer_read_ldr(r); /* NULL: image_write_png8 logs */
+        image_warn_if_black8(rgb, r->settings.width, r->settings.height, "render", path);
+        ok = image_write_png8(path, r->settings.width, r->settings.height, rgb);
+        free(rgb);
+    }
+    image_free(&hdr);
+    return ok;
+}
+
+/* Every output the options name, all or none: a failure removes the ones
+ * already written. */
+static bool write_outputs(Renderer *r, const RenderOptions *o, const Scene *scene, bool hdr_out)
+{
+    const char *written[4];
+    int n = 0;
+    bool ok = write_image(r, o->out, hdr_out, o->half, scene->source);
+    if (ok)
+        written[n++] = o->out;
+    if (ok && o->png) {
+        uint8_t *rgb = renderer_read_ldr(r);
+        ok = image_write_png8(o->png, r->settings.width, r->settings.height, rgb);
+        free(rgb);
+        if (ok)
+            written[n++] = o->png;
+    }
+    if (ok && o->emitter_mask &&
+        (ok = pt_write_emitter_mask(scene, r->settings.width, r->settings.height, o->emitter_mask)))
+        written[n++] = o->emitter_mask;
+    if (ok && o->out_ao)
+        ok = write_ao(r, o->out_ao);
+    for (int i = 0; !ok && i < n; i++)
+        remove(written[i]);
+    return ok;
+}
+
+/* --timings after the cold frames (mean cold_ms): the per-pass table, then
+ * steady frames, which keep the light products as the window does while
+ * the lights stand still (the untimed first one draws them), then with
+ * --probe the gathers' reads-only twin. */
+static void print_timings(Renderer *r, const RenderSettings *rs, const Camera *cam, FrameClock *clock, int frames,
+                          double cold_ms, const char *device)
+{
+    double ms;
+    GatherRates gather = render_options_print_timings(r, device, cold_ms);
+    RenderSettings steady = *rs;
+    steady.cache = true;
+    if (timed_frames(r, &steady, cam, clock, frames, &ms))
+        render_options_print_steady(r, cold_ms, ms);
+    RenderSettings twin = steady;
+    twin.gi_params.gather_reads_only = true;
+    if (render_options_reads_twin(rs, &gather) && timed_frames(r, &twin, cam, clock, frames, &ms))
+        render_options_print_reads_twin(r, &gather);
+}
+
 int cmd_render(int argc, char **argv)
 {
     RenderOptions o;
@@ -166,70 +243,13 @@ int cmd_render(int argc, char **argv)
         }
         for (int f = 0; f < frames; f++)
             frame(&r, &scene.camera, &clock);
-        double t1 = util_seconds();
-        /* Nothing non-finite leaves the renderer: the LDR image would hide it
-         * (display-only frames count it as they shade). */
-        ImageF hdr = {0};
-        size_t bad = 0;
-        int x = 0, y = 0;
-        bool ok = renderer_frames_whole(&r);
-        ok = ok && (hdr_out ? renderer_read_hdr(&r, &hdr) : renderer_count_nonfinite(&r, &bad, &x, &y));
-        if (ok && hdr_out)
-            bad = image_count_nonfinite(&hdr, &x, &y);
-        if (ok && bad) {
-            log_error("render", "%s: the rendered HDR image has %zu NaN or infinite pixels (first at x=%d y=%d); "
-                      "nothing written", scene.source, bad, x, y);
-            ok = false;
-        }
-        if (ok && hdr_out) {
-            image_warn_if_black(&hdr, "render", o.out);
-            ok = image_write(o.out, &hdr, 1.f, o.half); /* linear radiance */
-        } else if (ok) {
-            uint8_t *rgb = renderer_read_ldr(&r); /* NULL: image_write_png8 logs */
-            image_warn_if_black8(rgb, rs.width, rs.height, "render", o.out);
-            ok = image_write_png8(o.out, rs.width, rs.height, rgb);
-            free(rgb);
-        }
-        image_free(&hdr);
-        if (ok && o.png) {
-            uint8_t *rgb = renderer_read_ldr(&r);
-            ok = image_write_png8(o.png, rs.width, rs.height, rgb);
-            free(rgb);
-            if (!ok)
-                remove(o.out); /* all outputs or none */
-        }
-        if (ok && o.emitter_mask && !(ok = pt_write_emitter_mask(&scene, rs.width, rs.height, o.emitter_mask))) {
-            remove(o.out);
-            if (o.png)
-                remove(o.png);
-        }
-        if (ok && o.out_ao && !(ok = write_ao(&r, o.out_ao))) {
-            remove(o.out);
-            if (o.png)
-                remove(o.png);
-            if (o.emitter_mask)
-                remove(o.emitter_mask);
-        }
-        if (ok) {
+        double cold_ms = 1e3 * (util_seconds() - t0) / frames;
+        if (write_outputs(&r, &o, &scene, hdr_out)) {
             rc = 0;
             log_info("render", "wrote %s (%dx%d, %s, %s)", o.out, rs.width, rs.height, scene.source,
                      gl_context_renderer(gl));
-            if (o.timings) {
-                double cold_ms = 1e3 * (t1 - t0) / frames, ms;
-                GatherRates gather = render_options_print_timings(&r, gl_context_renderer(gl), cold_ms);
-                /* The frames above draw every light product (cold frames);
-                 * steady frames keep them, as the window does while the
-                 * lights stand still (the untimed first one draws them). */
-                RenderSettings steady = rs;
-                steady.cache = true;
-                if (timed_frames(&r, &steady, &scene.camera, &clock, frames, &ms))
-                    render_options_print_steady(&r, cold_ms, ms);
-                RenderSettings twin = steady;
-                twin.gi_params.gather_reads_only = true;
-                if (render_options_reads_twin(&rs, &gather) &&
-                    timed_frames(&r, &twin, &scene.camera, &clock, frames, &ms))
-                    render_options_print_reads_twin(&r, &gather);
-            }
+            if (o.timings)
+                print_timings(&r, &rs, &scene.camera, &clock, frames, cold_ms, gl_context_renderer(gl));
         }
     }
     renderer_destroy(&r);

@@ -234,6 +234,38 @@ static void png_beside_pfm(void **state)
     }
 }
 
+/* `render` writes every output it was asked for or none: a later one that
+ * fails (a directory that does not exist) removes the earlier ones. */
+static void failed_output_leaves_none(void **state)
+{
+    (void)state;
+    char pfm[512], png[512], mask[512];
+    snprintf(pfm, sizeof pfm, "%s/none.pfm", RTGI_TEST_TMP);
+    snprintf(png, sizeof png, "%s/none.png", RTGI_TEST_TMP);
+    snprintf(mask, sizeof mask, "%s/none_mask.png", RTGI_TEST_TMP);
+    const char *bad = "/nonexistent/dir/x.png";
+    for (int c = 0; c < 3; c++) {
+        remove(pfm);
+        remove(png);
+        remove(mask);
+        char *err = NULL;
+        int rc = c == 0 ? test_run_cli(&err, "render", "--size", "16x16", "--out", pfm, "--png", bad, NULL)
+               : c == 1 ? test_run_cli(&err, "render", "--size", "16x16", "--out", pfm, "--png", png,
+                                       "--emitter-mask", bad, NULL)
+                        : test_run_cli(&err, "render", "--size", "16x16", "--gi", "vct", "--vct-size", "16",
+                                       "--vct-ao", "on", "--out", pfm, "--png", png, "--emitter-mask", mask,
+                                       "--out-ao", bad, NULL);
+        print_message("case %d: rc %d: %s", c, rc, err ? err : "");
+        assert_int_equal(rc, 1);
+        assert_non_null(err);
+        assert_non_null(strstr(err, bad));
+        assert_int_not_equal(access(pfm, F_OK), 0);
+        assert_int_not_equal(access(png, F_OK), 0);
+        assert_int_not_equal(access(mask, F_OK), 0);
+        free(err);
+    }
+}
+
 /* The window: `rtgi view` under a virtual X server (Xvfb, installed by
  * scripts/install-deps.sh) renders through GLFW's GL 4.5 context exactly
  * the image `rtgi render` makes headless through EGL (the window's default
@@ -968,6 +1000,7 @@ int main(void)
         cmocka_unit_test(shader_error_names_file_and_line),
         cmocka_unit_test(every_program_failure_fails),
         cmocka_unit_test(png_beside_pfm),
+        cmocka_unit_test(failed_output_leaves_none),
         cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(compare_json_and_mask),
         cmocka_unit_test(compare_unshadowed),

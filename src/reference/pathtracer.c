@@ -42,8 +42,6 @@ typedef struct Job {
     const Scene *scene;
     const PtSettings *set;
     PtScene ps;
-    ImageF *mean;          /* output, allocated by pt_render; pixels written by their tile's thread */
-    ImageF *variance;      /* optional output, same */
     int tiles_x, tiles_y;
     atomic_int next_tile;
     atomic_int tiles_done;
@@ -439,63 +437,53 @@ static void draw_progress(Job *j, double frac, double elapsed, bool last)
     fflush(stderr);
 }
 
-bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *variance, PtStats *stats)
+/* The job's sums and scene, or NULL (logged, nothing left allocated). */
+static Job *job_make(const Scene *scene, const PtSettings *set)
 {
-    sampler_init();
-    memset(mean, 0, sizeof *mean);
-    if (variance)
-        memset(variance, 0, sizeof *variance);
-    /* The outputs first: a size that cannot be held fails before the BVH
-     * build and the render. Tiles write their pixels' mean and variance
-     * straight into them. */
-    if (!image_alloc(mean, set->width, set->height)) /* logs */
-        return false;
-    if (variance && !image_alloc(variance, set->width, set->height)) {
-        image_free(mean);
-        return false;
-    }
     Job *j = calloc(1, sizeof *j);
-    int nthreads = set->threads < 1 ? 1 : set->threads;
-    pthread_t *th = calloc((size_t)nthreads, sizeof(pthread_t));
-    if (!j || !th)
-        log_error("reference", "cannot allocate the job of %d threads", nthreads);
-    if (!j || !th || !pt_scene_create(&j->ps, scene)) {
-        free(j);
-        free(th);
-        image_free(mean);
-        if (variance)
-            image_free(variance);
-        return false;
-    }
-    j->scene = scene;
-    j->set = set;
-    j->mean = mean;
-    j->variance = variance;
-    j->tiles_x = (set->width + TILE - 1) / TILE;
-    j->tiles_y = (set->height + TILE - 1) / TILE;
     size_t npix = (size_t)set->width * (size_t)set->height;
-    j->sum = calloc(npix * 3, sizeof(double));
-    j->sum2 = calloc(npix * 3, sizeof(double));
-    if (!j->sum || !j->sum2) {
+    if (j) {
+        j->sum = calloc(npix * 3, sizeof(double));
+        j->sum2 = calloc(npix * 3, sizeof(double));
+    }
+    if (!j || !j->sum || !j->sum2) {
         log_error("reference", "cannot allocate the %dx%d sums (%.2f GiB)", set->width, set->height,
                   (double)(npix * 6 * sizeof(double)) / (1u << 30));
-        free(j->sum), free(j->sum2), free(th);
-        pt_scene_destroy(&j->ps);
-        free(j);
-        image_free(mean);
-        if (variance)
-            image_free(variance);
-        return false;
+    } else if (pt_scene_create(&j->ps, scene)) { /* logs */
+        j->scene = scene;
+        j->set = set;
+        j->tiles_x = (set->width + TILE - 1) / TILE;
+        j->tiles_y = (set->height + TILE - 1) / TILE;
+        atomic_init(&j->rays, 0);
+        return j;
     }
-    atomic_init(&j->rays, 0);
+    if (j)
+        free(j->sum), free(j->sum2);
+    free(j);
+    return NULL;
+}
 
-    /* Passes of about 2^18 samples: short enough that a stop request ends
-     * within seconds, long enough that threads stay busy. The schedule
-     * depends on the size only, so a seed gives one image. */
+static void job_free(Job *j)
+{
+    free(j->sum);
+    free(j->sum2);
+    pt_scene_destroy(&j->ps);
+    free(j);
+}
+
+/* Every pass of samples over the image on `nthreads` threads (th: room for
+ * them), until the samples are done or set->stop is raised between passes;
+ * returns the samples per pixel done. Passes of about 2^18 samples: short
+ * enough that a stop request ends within seconds, long enough that threads
+ * stay busy. The schedule depends on the size only, so a seed gives one
+ * image. */
+static int run_passes(Job *j, pthread_t *th, int nthreads, double t0)
+{
+    const PtSettings *set = j->set;
+    size_t npix = (size_t)set->width * (size_t)set->height;
     int pass_spp = (int)((((size_t)1 << 18) + npix - 1) / npix);
     pass_spp = pass_spp < 1 ? 1 : (pass_spp > set->spp ? set->spp : pass_spp);
     int total = j->tiles_x * j->tiles_y;
-    double t0 = util_seconds();
     bool stopped = false;
     for (j->s0 = 0; j->s0 < set->spp && !stopped; j->s0 = j->s1) {
         j->s1 = j->s0 + pass_spp < set->spp ? j->s0 + pass_spp : set->spp;
@@ -516,12 +504,43 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
             pthread_join(th[i], NULL);
         stopped = set->stop && *set->stop;
     }
-    int spp = j->s0; /* the passes completed */
-    if (set->progress) {
-        j->s0 = spp;
-        draw_progress(j, (double)spp / set->spp, util_seconds() - t0, true);
+    return j->s0; /* the passes completed */
+}
+
+bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *variance, PtStats *stats)
+{
+    sampler_init();
+    memset(mean, 0, sizeof *mean);
+    if (variance)
+        memset(variance, 0, sizeof *variance);
+    /* The outputs first: a size that cannot be held fails before the BVH
+     * build and the render. */
+    if (!image_alloc(mean, set->width, set->height)) /* logs */
+        return false;
+    if (variance && !image_alloc(variance, set->width, set->height)) {
+        image_free(mean);
+        return false;
     }
-    for (size_t i = 0; i < npix * 3; i++) {
+    int nthreads = set->threads < 1 ? 1 : set->threads;
+    pthread_t *th = calloc((size_t)nthreads, sizeof(pthread_t));
+    if (!th)
+        log_error("reference", "cannot allocate the job of %d threads", nthreads);
+    Job *j = th ? job_make(scene, set) : NULL;
+    if (!j) {
+        free(th);
+        image_free(mean);
+        if (variance)
+            image_free(variance);
+        return false;
+    }
+
+    double t0 = util_seconds();
+    int spp = run_passes(j, th, nthreads, t0);
+    free(th);
+    if (set->progress)
+        draw_progress(j, (double)spp / set->spp, util_seconds() - t0, true);
+    /* Each pixel's mean and the variance of that mean. */
+    for (size_t i = 0; i < 3 * (size_t)set->width * (size_t)set->height; i++) {
         double m = j->sum[i] / spp;
         mean->rgb[i] = (float)m;
         if (variance) {
@@ -529,17 +548,12 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
             variance->rgb[i] = (float)(fmax(var, 0.0) / spp);
         }
     }
-    free(th);
-    double secs = util_seconds() - t0;
     if (stats) {
-        stats->seconds = secs;
+        stats->seconds = util_seconds() - t0;
         stats->rays = atomic_load(&j->rays);
         stats->spp = spp;
     }
-    free(j->sum);
-    free(j->sum2);
-    pt_scene_destroy(&j->ps);
-    free(j);
+    job_free(j);
     return true;
 }
 

@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Fails each of rtgi's own allocations in turn (scripts/alloc_failure_shim.c,
 # LD_PRELOAD) while `rtgi render --size 16x16 ARGS...` runs, and checks
-# every run: a crash, an exit 0 with an image other than the unbroken
+# every run (its stderr): a crash, an exit 0 with an image other than the unbroken
 # run's, or an exit 1 with more than one stderr line or with an output
 # file is printed; the sweep ends at the first k past the last allocation.
 # Usage: scripts/alloc-failure-sweep.sh [ARGS...]   (e.g. --gi vct --vct-size 16)
+# SWEEP_CMD=reference sweeps `rtgi reference` instead (give it --spp).
 # ALLOC_FROM=k starts at the k-th allocation (those before it are the
 # same for every technique: about 850 with `--gi none`).
 # About 0.3 s a run; `render --gi none` makes about 870 allocations.
@@ -14,12 +15,13 @@ RTGI=${RTGI:-build/rtgi}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 cc -O1 -shared -fPIC -o "$WORK/shim.so" scripts/alloc_failure_shim.c -ldl || exit 1
-"$RTGI" render --size 16x16 --quiet --out "$WORK/base.pfm" "$@" || { echo "the unbroken run fails"; exit 1; }
+CMD=${SWEEP_CMD:-render}
+"$RTGI" "$CMD" --size 16x16 --quiet --out "$WORK/base.pfm" "$@" >/dev/null || { echo "the unbroken run fails"; exit 1; }
 bad=0
 for ((k = ${ALLOC_FROM:-1}; ; k++)); do
   rm -f "$WORK/out.pfm" "$WORK/fired"
-  err=$(OOM_AT=$k OOM_REPORT="$WORK/fired" LD_PRELOAD="$WORK/shim.so" "$RTGI" render --size 16x16 --quiet \
-        --out "$WORK/out.pfm" "$@" 2>&1)
+  err=$(OOM_AT=$k OOM_REPORT="$WORK/fired" LD_PRELOAD="$WORK/shim.so" "$RTGI" "$CMD" --size 16x16 --quiet \
+        --out "$WORK/out.pfm" "$@" 2>&1 >/dev/null)
   rc=$?
   if [ "$(cat "$WORK/fired" 2>/dev/null)" != 1 ] && [ $rc -lt 128 ]; then break; fi
   lines=$(printf '%s' "$err" | grep -c .)

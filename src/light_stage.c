@@ -413,21 +413,28 @@ void light_stage_invalidate(LightStage *ls)
     ls->vpl_key = 0;
 }
 
-void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
+/* One line, once, when a light has crossed the bound between a cube map
+ * and a fitted 2D map: its maps were made for the other kind. */
+static void warn_kind_changes(LightStage *ls)
 {
     const Scene *s = ls->scene;
-    const LightStageDesc *d = &ls->desc;
-    /* Frames: every light's shadow-lookup block, whether or not maps are
-     * drawn; a map is drawn unless caching finds it current. */
-    bool maps = (d->needs & LIGHT_NEEDS_SHADOW_MAPS) != 0, timing = false;
-    for (int i = 0; i < ls->light_count && (ls->shadow || ls->rsm); i++) {
+    for (int i = 0; i < ls->light_count && (ls->shadow || ls->rsm) && !ls->kind_warned; i++) {
         bool cube = light_is_cube(s, &s->lights[i]);
-        if (((ls->shadow && ls->shadow[i].cube != cube) || (ls->rsm && ls->rsm[i].cube != cube)) && !ls->kind_warned) {
+        if ((ls->shadow && ls->shadow[i].cube != cube) || (ls->rsm && ls->rsm[i].cube != cube)) {
             ls->kind_warned = true;
             log_error("lights", "light %d moved across the bound between a cube map and a fitted 2D map "
                       "(shadow_frame_point_fitted): its maps keep their kind until the renderer is made again", i);
         }
     }
+}
+
+/* Every light's shadow-lookup block, whether or not maps are drawn; a map
+ * is drawn unless caching finds it current. */
+static void draw_shadow_maps(LightStage *ls, const GpuScene *gs, GpuTimer *t)
+{
+    const Scene *s = ls->scene;
+    const LightStageDesc *d = &ls->desc;
+    bool maps = (d->needs & LIGHT_NEEDS_SHADOW_MAPS) != 0, timing = false;
     for (int i = 0; i < ls->light_count; i++) {
         ShadowMap none = {0}, *m = maps ? &ls->shadow[i] : &none;
         GpuLight g;
@@ -445,17 +452,18 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         ls->map_draws++;
         bind_slot(ls, i, SLOT_SHADOW);
         int ortho = s->lights[i].type == LIGHT_DIRECTIONAL;
-        draw_faces(ls, &s->lights[i], &(DrawPrograms){ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], 0},
-                   &m->frame, m->size,
-                   m->fbo, gs,
-                   shadow_face, m);
+        DrawPrograms programs = {ls->shadow_programs[ortho][0], ls->shadow_programs[ortho][1], 0};
+        draw_faces(ls, &s->lights[i], &programs, &m->frame, m->size, m->fbo, gs, shadow_face, m);
     }
     if (timing)
         gpu_timer_end(t);
-    if (!ls->rsm)
-        return;
+}
 
-    timing = false;
+/* Every light's RSM block, and its map unless caching finds it current. */
+static void draw_rsms(LightStage *ls, const GpuScene *gs, GpuTimer *t)
+{
+    const Scene *s = ls->scene;
+    bool timing = false;
     for (int i = 0; i < ls->light_count; i++) {
         RsmMap *m = &ls->rsm[i];
         GpuLight g;
@@ -464,7 +472,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         light_stage_rsm_texel_frame(s->bounds_min, s->bounds_max, &g);
         upload_slot(ls, i, SLOT_RSM, &g);
         uint64_t key = map_key(&s->lights[i], m->size, 2);
-        if (d->cache && m->key == key)
+        if (ls->desc.cache && m->key == key)
             continue;
         if (!timing)
             gpu_timer_begin(t, "rsm");
@@ -475,21 +483,25 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         bind_slot(ls, i, SLOT_RSM);
         /* Texel area on the projection plane: ortho (2r/res)², perspective at
          * distance 1: k² with k = 2·tan(fov/2)/res. */
-        const GLuint programs[3] = {ls->rsm_program, ls->rsm_program_opaque, ls->rsm_program_untextured};
+        const GLuint area_programs[3] = {ls->rsm_program, ls->rsm_program_opaque, ls->rsm_program_untextured};
         for (int k = 0; k < 3; k++)
-            glProgramUniform1f(programs[k], LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
-        draw_faces(ls, &s->lights[i], &(DrawPrograms){ls->rsm_program_opaque, ls->rsm_program, ls->rsm_program_untextured},
-                   &m->frame, m->size, m->fbo, gs, rsm_face,
-                   m);
+            glProgramUniform1f(area_programs[k], LOC_RSM_TEXEL_AREA, m->frame.texel_k * m->frame.texel_k);
+        DrawPrograms programs = {ls->rsm_program_opaque, ls->rsm_program, ls->rsm_program_untextured};
+        draw_faces(ls, &s->lights[i], &programs, &m->frame, m->size, m->fbo, gs, rsm_face, m);
     }
     if (timing)
         gpu_timer_end(t);
+}
 
+/* The VPL buffer from every RSM, when the techniques need VPLs and what
+ * they depend on changed. */
+static void extract_vpls(LightStage *ls, GpuTimer *t)
+{
     uint64_t key = vpl_key(ls);
-    if (!(d->needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)
+    if (!(ls->desc.needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)
         return;
     gpu_timer_begin(t, "vpl_generate");
-    const uint32_t count_seed[2] = {0u, d->vpl_seed}; /* the seed of their ξ: vpl_extract.comp and shade.comp's SLC loop */
+    const uint32_t count_seed[2] = {0u, ls->desc.vpl_seed}; /* the seed of their ξ: vpl_extract.comp and shade.comp's SLC loop */
     glNamedBufferSubData(ls->vpls.counters, 0, sizeof count_seed, count_seed);
     light_stage_bind_vpls(ls);
     for (int i = 0; i < ls->light_count; i++) {
@@ -505,6 +517,16 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     gpu_timer_end(t);
     ls->vpl_key = key;
     ls->vpl_extractions++;
+}
+
+void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
+{
+    warn_kind_changes(ls);
+    draw_shadow_maps(ls, gs, t);
+    if (!ls->rsm)
+        return;
+    draw_rsms(ls, gs, t);
+    extract_vpls(ls, t);
 }
 
 uint64_t light_stage_products_key(const LightStage *ls)

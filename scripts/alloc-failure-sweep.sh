@@ -7,7 +7,8 @@
 # Usage: scripts/alloc-failure-sweep.sh [ARGS...]   (e.g. --gi vct --vct-size 16)
 # SWEEP_CMD=reference sweeps `rtgi reference` instead (give it --spp).
 # ALLOC_FROM=k starts at the k-th allocation (those before it are the
-# same for every technique: about 850 with `--gi none`).
+# same for every technique: about 850 with `--gi none`); ALLOC_STEP=s
+# fails every s-th one only (for scenes of many allocations: Sponza).
 # About 0.3 s a run; `render --gi none` makes about 870 allocations.
 set -uo pipefail
 cd "$(dirname "$0")/.."
@@ -16,9 +17,11 @@ WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 cc -O1 -shared -fPIC -o "$WORK/shim.so" scripts/alloc_failure_shim.c -ldl || exit 1
 CMD=${SWEEP_CMD:-render}
-"$RTGI" "$CMD" --size 16x16 --quiet --out "$WORK/base.pfm" "$@" >/dev/null || { echo "the unbroken run fails"; exit 1; }
+OOM_AT=0 OOM_COUNT="$WORK/count" LD_PRELOAD="$WORK/shim.so" "$RTGI" "$CMD" --size 16x16 --quiet \
+  --out "$WORK/base.pfm" "$@" >/dev/null || { echo "the unbroken run fails"; exit 1; }
+echo "alloc-failure-sweep: the unbroken run makes $(cat "$WORK/count") allocations"
 bad=0
-for ((k = ${ALLOC_FROM:-1}; ; k++)); do
+for ((k = ${ALLOC_FROM:-1}; ; k += ${ALLOC_STEP:-1})); do
   rm -f "$WORK/out.pfm" "$WORK/fired"
   err=$(OOM_AT=$k OOM_REPORT="$WORK/fired" LD_PRELOAD="$WORK/shim.so" "$RTGI" "$CMD" --size 16x16 --quiet \
         --out "$WORK/out.pfm" "$@" 2>&1 >/dev/null)
@@ -34,5 +37,5 @@ for ((k = ${ALLOC_FROM:-1}; ; k++)); do
     bad=$((bad + 1))
   fi
 done
-echo "alloc-failure-sweep: allocations ${ALLOC_FROM:-1} to $((k - 1)) failed in turn, $bad bad"
+echo "alloc-failure-sweep: allocations ${ALLOC_FROM:-1} to $((k - 1))${ALLOC_STEP:+ (one in ${ALLOC_STEP})} failed in turn, $bad bad"
 [ $bad -eq 0 ]

@@ -2,7 +2,8 @@
  * makes the OOM_AT-th malloc, calloc or realloc that the executable itself
  * calls (its return address in the executable's code; the GL driver's,
  * libc's and the other libraries' are left alone) return NULL, and writes
- * 1 to OOM_REPORT at exit if it did. A test tool, not part of rtgi. */
+ * 1 to OOM_REPORT at exit if it did, and to OOM_COUNT how many it counted
+ * (OOM_AT=0: every one, none failed). A test tool, not part of rtgi. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <stdio.h>
@@ -40,8 +41,9 @@ static int should_fail(void *ret)
 {
     if (!inited) return 0;
     uintptr_t r = (uintptr_t)ret;
-    if (r < lo || r >= hi || countdown <= 0) return 0;
+    if (r < lo || r >= hi) return 0;
     counted++;
+    if (countdown <= 0) return 0;
     if (--countdown == 0) {
         fired = 1;
         return 1;
@@ -53,6 +55,8 @@ __attribute__((destructor)) static void report(void)
 {
     const char *o = getenv("OOM_REPORT");
     if (o) { FILE *f = fopen(o, "w"); if (f) { fprintf(f, "%d\n", fired); fclose(f); } }
+    const char *c = getenv("OOM_COUNT");
+    if (c) { FILE *f = fopen(c, "w"); if (f) { fprintf(f, "%ld\n", counted); fclose(f); } }
 }
 
 void *malloc(size_t s)

@@ -223,11 +223,13 @@ const SettingDesc *settings_find_key(const char *group, const char *key)
 
 /* ---- Validation ------------------------------------------------------------- */
 
-static void describe_range(const SettingDesc *d, char *out, size_t cap)
+/* What the row takes, in the words of the command line or (json) of a
+ * scene file. */
+static void describe_range(const SettingDesc *d, bool json, char *out, size_t cap)
 {
     switch (d->type) {
     case SETTING_BOOL:
-        snprintf(out, cap, "on or off");
+        snprintf(out, cap, json ? "true or false (or \"on\", \"off\")" : "on or off");
         break;
     case SETTING_FLAG:
         snprintf(out, cap, "true or false");
@@ -269,7 +271,7 @@ static const char *check_number(const SettingDesc *d, double v)
 static bool fail(const char *where, const SettingDesc *d, const char *value, const char *problem)
 {
     char range[160];
-    describe_range(d, range, sizeof range);
+    describe_range(d, false, range, sizeof range);
     cli_error(d->type == SETTING_ENUM ? util_nearest(value, d->choices) : NULL, "%s: '%s' %s (allowed: %s)", where,
               value, problem, range);
     return false;
@@ -344,7 +346,7 @@ bool settings_parse_cli(const SettingDesc *d, const char *value, Settings *s)
 static bool json_fail(const char *file, const char *group, const SettingDesc *d, const cJSON *v, const char *problem)
 {
     char range[160], value[48] = "";
-    describe_range(d, range, sizeof range);
+    describe_range(d, true, range, sizeof range);
     if (cJSON_IsNumber(v))
         snprintf(value, sizeof value, "%.9g ", v->valuedouble);
     log_error("scene", "%s: %s.%s: %s%s (allowed: %s)", file, group, d->key, value, problem, range);
@@ -367,11 +369,18 @@ static bool parse_json_value(const cJSON *v, const SettingDesc *d, const char *f
     double x, y;
     switch (d->type) {
     case SETTING_BOOL:
-    case SETTING_FLAG:
+    case SETTING_FLAG: {
+        /* A switch may also be written as on the command line. */
+        bool word = d->type == SETTING_BOOL && cJSON_IsString(v);
+        if (word && (!strcmp(v->valuestring, "on") || !strcmp(v->valuestring, "off"))) {
+            *(bool *)at(s, d->offset) = !strcmp(v->valuestring, "on");
+            return true;
+        }
         if (!cJSON_IsBool(v))
             return json_fail(file, group, d, v, "must be true or false");
         *(bool *)at(s, d->offset) = cJSON_IsTrue(v);
         return true;
+    }
     case SETTING_ENUM: {
         /* A choice that is a number ("16") may also be given as one. */
         char num[32] = "";

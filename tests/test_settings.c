@@ -95,6 +95,18 @@ static void every_setting_round_trips(void **state)
         /* Nothing else differs between the two paths. */
         assert_memory_equal(&a.gi, &b.gi, sizeof a.gi);
         assert_memory_equal(&a.shadow, &b.shadow, sizeof a.shadow);
+        if (d->type == SETTING_BOOL) { /* a switch also as the command line writes it: "on", "off" */
+            Scene from_word;
+            snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": \"%s\" } }\n", d->group,
+                     d->key, cli);
+            assert_true(scene_load(&from_word, test_tmp_file("roundtrip.json", body)));
+            RenderSettings rs_word;
+            render_options_init(&o, false); /* no command line over the file */
+            render_options_settings(&o, &from_word, &rs_word);
+            assert_memory_equal(&rs_word.gi_params, &rs_file.gi_params, sizeof rs_word.gi_params);
+            assert_memory_equal(&rs_word.shadow_params, &rs_file.shadow_params, sizeof rs_word.shadow_params);
+            scene_free(&from_word);
+        }
         scene_free(&from_file);
         scene_free(&plain);
     }
@@ -159,6 +171,8 @@ static void bad_scene_settings(void **state)
         {"{\"builtin\":\"cornell\",\"gi\":{\"weighting\":\"fast\"}}", "gi.weighting", "choices"},
         {"{\"builtin\":\"cornell\",\"gi\":{\"interleave\":[4]}}", "gi.interleave", "[n, m]"},
         {"{\"builtin\":\"cornell\",\"gi\":{\"interleave_blur\":1}}", "gi.interleave_blur", "true or false"},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"interleave_blur\":\"yes\"}}", "gi.interleave_blur", "\"on\", \"off\""},
+        {"{\"builtin\":\"cornell\",\"gi\":{\"exhaustive\":\"on\"}}", "gi.exhaustive", "true or false"},
         {"{\"builtin\":\"cornell\",\"gi\":{\"rsm_sise\":64}}", "gi.rsm_sise", "did you mean \"rsm_size\""},
         {"{\"builtin\":\"cornell\",\"gi\":{\"samples\":64,\"samples\":32}}", "gi.samples", "duplicate key"},
         {"{\"builtin\":\"cornell\",\"gi\":[1,2]}", "gi", "must be an object"},

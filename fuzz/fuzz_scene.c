@@ -63,6 +63,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         rs.gi_params.samples = 1024;
     if (rs.shadow_params.map_size > 256)
         rs.shadow_params.map_size = 256;
+    if (rs.gi_params.lpv_size > 16)
+        rs.gi_params.lpv_size = 16;
+    if (rs.gi_params.lpv_iterations > 32)
+        rs.gi_params.lpv_iterations = 32;
+    if (rs.gi_params.vct_size > 16)
+        rs.gi_params.vct_size = 16;
     Renderer r;
     if (renderer_create(&r, &scene, &rs))
         renderer_frame(&r, &scene.camera);

@@ -16,11 +16,6 @@ void cli_set_command(const char *cmd);
  * (may be NULL) is the suggestion. */
 void cli_error(const char *near, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
-/* Every --exposure: positive (0 would make every image black, and SSIM and
- * FLIP of any two images perfect). */
-#define CLI_EXPOSURE_MIN 1e-9f
-#define CLI_EXPOSURE_MAX 1e9f
-
 bool cli_float(const char *opt, const char *v, float lo, float hi, float *out);
 bool cli_int(const char *opt, const char *v, int lo, int hi, int *out);
 /* "WxH", each in [1, max]. */

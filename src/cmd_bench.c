@@ -847,7 +847,7 @@ static int bench_parse_args(int argc, char **argv, BenchArgs *args)
                 return 2;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &args->exposure))
+            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &args->exposure))
                 return 2;
         } else if (!strcmp(opt, "--cache")) {
             CLI_VALUE(&a, v);

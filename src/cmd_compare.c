@@ -11,6 +11,7 @@
 #include "image.h"
 #include "log.h"
 #include "metrics.h"
+#include "scene.h"
 #include "util.h"
 
 void cmd_compare_help(void)
@@ -236,7 +237,7 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
             args->allow_nonfinite = true;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &args->exposure))
+            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &args->exposure))
                 return 2;
         } else if (!strcmp(opt, "--ppd")) {
             CLI_VALUE(&a, v);

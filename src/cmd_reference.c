@@ -159,7 +159,7 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
             }
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &args->exposure))
+            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &args->exposure))
                 return 2;
         } else if (!strcmp(opt, "--light-scale")) {
             CLI_VALUE(&a, v);

@@ -193,7 +193,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
                 return 2;
         } else if (!strcmp(opt, "--exposure")) {
             CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, CLI_EXPOSURE_MIN, CLI_EXPOSURE_MAX, &o->exposure))
+            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &o->exposure))
                 return 2;
         } else if (!strcmp(opt, "--light-scale")) {
             CLI_VALUE(&a, v);

@@ -737,7 +737,6 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 #define SCENE_MAX_COORD 1e6f      /* |coordinate| of positions and vectors (m) */
 #define SCENE_MAX_LIGHTS 32       /* lights per scene: each gets shadow maps and an RSM */
 #define SCENE_MAX_QUADS 100000    /* inline quads per scene file */
-#define SCENE_MAX_EXPOSURE 1e9f   /* as the CLI's --exposure */
 #define SCENE_MAX_BYTES ((size_t)64 << 20) /* scene file size */
 
 typedef struct {
@@ -1168,11 +1167,13 @@ static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "m
                                          "materials", "camera", "lights",     "exposure",       "shadow",
                                          "gi",        NULL};
 
-static bool load_json(Scene *s, const char *path)
+/* The file parsed, a JSON object; NULL (logged with the line and column
+ * where the JSON broke) if not. */
+static cJSON *read_json(const char *path)
 {
     char *text = util_read_input("scene", "scene file", path, SCENE_MAX_BYTES, NULL);
     if (!text)
-        return false;
+        return NULL;
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     if (!root) {
@@ -1186,87 +1187,92 @@ static bool load_json(Scene *s, const char *path)
             }
         }
         log_error("scene", "%s:%d:%d: malformed JSON", path, line, col);
-        free(text);
-        return false;
-    }
-    free(text);
-    if (!cJSON_IsObject(root)) {
+    } else if (!cJSON_IsObject(root)) {
         log_error("scene", "%s: top level must be a JSON object", path);
         cJSON_Delete(root);
-        return false;
+        root = NULL;
     }
-    Ctx c = {path, true, ""};
-    char dir[1024];
-    util_dirname(path, dir, sizeof dir);
-    if (!check_keys(&c, root, k_top_keys)) {
-        cJSON_Delete(root);
-        return false;
-    }
+    free(text);
+    return root;
+}
 
+/* "builtin", then "mesh" (a path relative to the file's directory dir,
+ * placed by "mesh_scale" and "mesh_translate"), then "quads": at least one
+ * of them. */
+static void parse_geometry(Ctx *c, Scene *s, const cJSON *root, const char *dir)
+{
     const cJSON *builtin = cJSON_GetObjectItemCaseSensitive(root, "builtin");
     const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(root, "mesh");
-    if (builtin && !cJSON_IsString(builtin)) {
-        bad(&c, "builtin", "must be a string (cornell)");
-    } else if (builtin) {
-        if (strcmp(builtin->valuestring, "cornell") != 0)
-            bad(&c, "builtin", "unknown builtin scene \"%s\" (cornell)", builtin->valuestring);
-        else if (!scene_build_cornell(s))
-            c.ok = false; /* logged */
-    }
-    if (!c.ok) {
-        cJSON_Delete(root);
-        return false;
-    }
-    snprintf(s->source, sizeof s->source, "%s", path);
-    if (mesh) {
-        if (!cJSON_IsString(mesh)) {
-            bad(&c, "mesh", "must be a file path");
-            cJSON_Delete(root);
-            return false;
-        }
+    if (builtin && !cJSON_IsString(builtin))
+        bad(c, "builtin", "must be a string (cornell)");
+    else if (builtin && strcmp(builtin->valuestring, "cornell") != 0)
+        bad(c, "builtin", "unknown builtin scene \"%s\" (cornell)", builtin->valuestring);
+    else if (builtin && !scene_build_cornell(s))
+        c->ok = false; /* logged */
+    if (!c->ok)
+        return;
+    if (mesh && !cJSON_IsString(mesh)) {
+        bad(c, "mesh", "must be a file path");
+    } else if (mesh) {
         char mesh_path[1024];
         util_join_path(dir, mesh->valuestring, mesh_path, sizeof mesh_path);
         mat4 xf = GLM_MAT4_IDENTITY_INIT;
         float scale = 1.f;
         vec3 tr = {0, 0, 0};
-        get_num_in(&c, root, "mesh_scale", &scale, 0.f, true, SCENE_MAX_COORD);
-        get_point(&c, root, "mesh_translate", tr, false);
+        get_num_in(c, root, "mesh_scale", &scale, 0.f, true, SCENE_MAX_COORD);
+        get_point(c, root, "mesh_translate", tr, false);
         glm_translate(xf, tr);
         glm_scale_uni(xf, scale);
-        if (!c.ok || !scene_load_mesh(s, mesh_path, xf)) {
-            cJSON_Delete(root);
-            return false;
-        }
+        if (c->ok && !scene_load_mesh(s, mesh_path, xf))
+            c->ok = false; /* logged */
     } else if (cJSON_GetObjectItemCaseSensitive(root, "mesh_scale") ||
                cJSON_GetObjectItemCaseSensitive(root, "mesh_translate")) {
-        bad(&c, cJSON_GetObjectItemCaseSensitive(root, "mesh_scale") ? "mesh_scale" : "mesh_translate",
+        bad(c, cJSON_GetObjectItemCaseSensitive(root, "mesh_scale") ? "mesh_scale" : "mesh_translate",
             "given without \"mesh\"");
     }
     const cJSON *quads = cJSON_GetObjectItemCaseSensitive(root, "quads");
-    if (quads && c.ok)
-        parse_quads(&c, s, quads);
-    if (s->vertex_count == 0 && c.ok)
-        bad(&c, NULL, "no geometry (give \"builtin\", \"mesh\" or \"quads\")");
+    if (quads && c->ok)
+        parse_quads(c, s, quads);
+    if (s->vertex_count == 0 && c->ok)
+        bad(c, NULL, "no geometry (give \"builtin\", \"mesh\" or \"quads\")");
+}
+
+/* "lights": they replace a builtin scene's. */
+static void parse_lights(Ctx *c, Scene *s, const cJSON *lights)
+{
+    if (!cJSON_IsArray(lights)) {
+        bad(c, "lights", "must be an array");
+    } else if (cJSON_GetArraySize(lights) > SCENE_MAX_LIGHTS) {
+        bad(c, "lights", "%d lights is more than the limit of %d", cJSON_GetArraySize(lights), SCENE_MAX_LIGHTS);
+    } else {
+        s->light_count = 0;
+        int i = 0;
+        const cJSON *l;
+        cJSON_ArrayForEach(l, lights) parse_light(c, s, l, i++);
+        c->where[0] = 0;
+    }
+}
+
+static bool load_json(Scene *s, const char *path)
+{
+    cJSON *root = read_json(path);
+    if (!root)
+        return false;
+    Ctx c = {path, true, ""};
+    char dir[1024];
+    util_dirname(path, dir, sizeof dir);
+    if (check_keys(&c, root, k_top_keys))
+        parse_geometry(&c, s, root, dir);
+    if (c.ok)
+        snprintf(s->source, sizeof s->source, "%s", path);
     const cJSON *materials = cJSON_GetObjectItemCaseSensitive(root, "materials");
     if (materials && c.ok)
         parse_materials(&c, s, materials);
     const cJSON *lights = cJSON_GetObjectItemCaseSensitive(root, "lights");
-    if (lights && c.ok) {
-        if (!cJSON_IsArray(lights)) {
-            bad(&c, "lights", "must be an array");
-        } else if (cJSON_GetArraySize(lights) > SCENE_MAX_LIGHTS) {
-            bad(&c, "lights", "%d lights is more than the limit of %d", cJSON_GetArraySize(lights),
-                SCENE_MAX_LIGHTS);
-        } else {
-            s->light_count = 0; /* the file's lights replace a builtin's */
-            int i = 0;
-            const cJSON *l;
-            cJSON_ArrayForEach(l, lights) parse_light(&c, s, l, i++);
-            c.where[0] = 0;
-        }
-    }
-    /* Exposure 0 is allowed (a black image, as --exposure 0). */
-    get_num_in(&c, root, "exposure", &s->exposure, 0.f, true, SCENE_MAX_EXPOSURE); /* > 0: 0 is a black image */
+    if (lights && c.ok)
+        parse_lights(&c, s, lights);
+    if (c.ok)
+        get_num_in(&c, root, "exposure", &s->exposure, SCENE_EXPOSURE_MIN, false, SCENE_EXPOSURE_MAX);
     const cJSON *shadow = cJSON_GetObjectItemCaseSensitive(root, "shadow");
     if (shadow && c.ok)
         parse_settings(&c, s, shadow, "shadow");
@@ -1274,7 +1280,7 @@ static bool load_json(Scene *s, const char *path)
     if (gi && c.ok)
         parse_settings(&c, s, gi, "gi");
     const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
-    bool has_camera = cam != NULL || cJSON_IsString(builtin);
+    bool has_camera = cam != NULL || cJSON_IsString(cJSON_GetObjectItemCaseSensitive(root, "builtin"));
     if (cam && c.ok)
         parse_camera(&c, s, cam);
     cJSON_Delete(root);

@@ -182,6 +182,9 @@ static void every_program_failure_fails(void **state)
         {"frame/direct.frag", "LIGHT_FIXED_TYPE", "direct", {"--gi", "none", NULL}},
         {"gi/vct/bounce.comp", "OPAQUE_LIST", "vct_bounce_list",
          {"--gi", "vct", "--vct-size", "16", "--vct-bounces", "2", NULL}},
+        /* an include of three programs: one line, the first's */
+        {"gi/vct/cone.glsl", "VCT_CLIP_LEVELS", "vct_bounce",
+         {"--gi", "vct", "--vct-size", "16", "--vct-bounces", "2", NULL}},
     };
     char dir[512], out[512], cmd[2048];
     snprintf(dir, sizeof dir, "%s/shaders_guarded", RTGI_TEST_TMP);

@@ -245,8 +245,8 @@ static uint64_t vct_bytes(const GiParams *p)
     return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip));
 }
 
-/* Every program the settings call for; false after one failed. All are
- * compiled, so that each one failing logs its line. */
+/* Every program the settings call for; false after the first that failed
+ * (it logged its one line; as lpv_programs). */
 static bool vct_programs(VctGi *v)
 {
     const GiParams *p = &v->params;
@@ -254,21 +254,24 @@ static bool vct_programs(VctGi *v)
      * with VCT_ANISO (gi/vct/cone.glsl): llvmpipe runs both sides of a
      * branch on a uniform, fetches included. */
     const char *cones = p->vct_aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
-    v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom", "gi/vct/voxelize.frag", NULL, NULL);
-    v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL);
-    v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL);
-    v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL);
-    v->aniso_first = program(v, "vct_aniso_first", NULL, NULL, NULL, "gi/vct/aniso.comp", "#define MODE_FIRST\n");
-    v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp", cones);
-    if (p->vct_bounces > 1) { /* not required: without it vct_run bounces over every voxel */
-        char defs[64];
-        snprintf(defs, sizeof defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
-        v->bounce_list = program(v, "vct_bounce_list", NULL, NULL, NULL, "gi/vct/bounce.comp", defs);
-    }
-    v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp", cones);
-    v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp", NULL);
-    return v->voxelize && v->resolve && v->inject && v->aniso_prog && v->aniso_first && v->bounce && v->trace &&
-           v->upsample;
+    char list_defs[64];
+    snprintf(list_defs, sizeof list_defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
+    bool ok = (v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom",
+                                     "gi/vct/voxelize.frag", NULL, NULL)) &&
+              (v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL)) &&
+              (v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL)) &&
+              (v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL)) &&
+              (v->aniso_first =
+                   program(v, "vct_aniso_first", NULL, NULL, NULL, "gi/vct/aniso.comp", "#define MODE_FIRST\n")) &&
+              (v->bounce = program(v, "vct_bounce", NULL, NULL, NULL, "gi/vct/bounce.comp", cones)) &&
+              (v->trace = program(v, "vct_trace", NULL, NULL, NULL, "gi/vct/trace.comp", cones)) &&
+              (v->upsample = program(v, "vct_upsample", NULL, NULL, NULL, "gi/vct/upsample.comp", NULL));
+    /* Not needed for a frame: without it vct_run bounces over every voxel
+     * (the window goes on so; render and bench fail, as for any program
+     * that did not build). */
+    if (ok && p->vct_bounces > 1)
+        v->bounce_list = program(v, "vct_bounce_list", NULL, NULL, NULL, "gi/vct/bounce.comp", list_defs);
+    return ok;
 }
 
 /* Every volume vct_bytes counts, the voxelization's framebuffer, the

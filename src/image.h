@@ -66,9 +66,12 @@ typedef struct ImageAttr {
  * range (65504) instead of writing infinities. `attrs` (n of them, may be
  * NULL) go into the header. Atomic, as the other writers. */
 bool image_write_exr(const char *path, const ImageF *img, bool half, const ImageAttr *attrs, int nattrs);
-/* Reads the first part of a scanline EXR: channels R, G, B (or Y, copied to
- * all three), any pixel type, converted to float. Tiled/deep files and files
- * without those channels are refused with one line naming the file. */
+/* Reads the first part of a scanline EXR: channels R, G, B, else one
+ * layer's LAYER.R, .G, .B (of several, the one named ...Combined, as
+ * Blender writes them), else Y (or one layer's) copied to all three; any
+ * pixel type, converted to float. Tiled/deep and luminance/chroma files,
+ * and files without such channels, are refused with one line naming the
+ * file and the reason. */
 bool image_read_exr(const char *path, ImageF *img);
 /* The integer attribute `name` of an EXR's header; false after logging if
  * the file is not an EXR or has no such integer attribute. */

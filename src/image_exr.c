@@ -182,6 +182,73 @@ static bool exr_open(const char *path, ExrMemory *m, exr_context_t *f)
     return true;
 }
 
+/* The channel named PREFIX + name, or -1. */
+static int exr_channel(const exr_attr_chlist_t *chl, const char *prefix, size_t plen, const char *name)
+{
+    for (int i = 0; i < chl->num_channels; i++) {
+        const char *nm = chl->entries[i].name.str;
+        if (strlen(nm) == plen + strlen(name) && !strncmp(nm, prefix, plen) && !strcmp(nm + plen, name))
+            return i;
+    }
+    return -1;
+}
+
+/* Whether PREFIX + names[k] exist for k = 0..2; their indices in got. */
+static bool exr_layer(const exr_attr_chlist_t *chl, const char *prefix, size_t plen, const char *const names[3],
+                      int got[3])
+{
+    for (int k = 0; k < 3; k++)
+        if ((got[k] = exr_channel(chl, prefix, plen, names[k])) < 0)
+            return false;
+    return true;
+}
+
+/* The channels read into R, G and B (want): R, G, B; else one layer's
+ * LAYER.R, .G, .B (Blender's multilayer files: of several, the one whose
+ * name ends in "Combined", the beauty image); else Y, or one layer's
+ * LAYER.Y, into all three. NULL, or why the file cannot be read (in msg). */
+static const char *exr_pick_channels(const exr_attr_chlist_t *chl, int want[3], char *msg, size_t cap)
+{
+    static const char *const rgb[3] = {"R", "G", "B"}, *const luma[3] = {"Y", "Y", "Y"};
+    for (int pass = 0; pass < 2; pass++) {
+        const char *const *names = pass ? luma : rgb;
+        if (pass && (exr_channel(chl, "", 0, "RY") >= 0 || exr_channel(chl, "", 0, "BY") >= 0)) {
+            snprintf(msg, cap, "luminance/chroma channels (Y, RY, BY) are not supported");
+            return msg;
+        }
+        if (exr_layer(chl, "", 0, names, want))
+            return NULL;
+        int layers = 0, beauties = 0, first[3], beauty[3];
+        char list[160] = "";
+        for (int i = 0; i < chl->num_channels; i++) {
+            const char *nm = chl->entries[i].name.str, *dot = strrchr(nm, '.');
+            int got[3];
+            if (!dot || strcmp(dot + 1, names[0])) /* channel i is not LAYER.R (LAYER.Y) */
+                continue;
+            size_t plen = (size_t)(dot - nm) + 1;
+            if (!exr_layer(chl, nm, plen, names, got))
+                continue;
+            if (layers == 0)
+                memcpy(first, got, sizeof got);
+            if (plen >= 9 && !strncmp(dot - 8, "Combined", 8) && beauties++ == 0)
+                memcpy(beauty, got, sizeof got);
+            size_t len = strlen(list);
+            snprintf(list + len, sizeof list - len, "%s%.*s", layers++ ? ", " : "", (int)plen - 1, nm);
+        }
+        if (layers == 1 || (layers > 1 && beauties == 1)) {
+            memcpy(want, layers == 1 ? first : beauty, sizeof first);
+            return NULL;
+        }
+        if (layers > 1) {
+            snprintf(msg, cap, "%d layers hold %s (%s) and %s named ...Combined: save the one to read on its own",
+                     layers, pass ? "Y" : "R, G, B", list, beauties ? "more than one is" : "none is");
+            return msg;
+        }
+    }
+    snprintf(msg, cap, "no R, G, B (or Y) channels, nor one layer of them");
+    return msg;
+}
+
 bool image_read_exr(const char *path, ImageF *img)
 {
     ExrMemory m;
@@ -190,6 +257,7 @@ bool image_read_exr(const char *path, ImageF *img)
     if (!exr_open(path, &m, &f))
         return false;
     const char *problem = NULL;
+    char why[256];
     exr_storage_t storage;
     exr_attr_box2i_t dw;
     const exr_attr_chlist_t *chl = NULL;
@@ -204,23 +272,10 @@ bool image_read_exr(const char *path, ImageF *img)
     if (!problem && rv == EXR_ERR_SUCCESS) {
         w = dw.max.x - dw.min.x + 1;
         h = dw.max.y - dw.min.y + 1;
-        int luma = -1;
-        for (int i = 0; i < chl->num_channels; i++) {
-            const char *nm = chl->entries[i].name.str;
-            int k = !strcmp(nm, "R") ? 0 : !strcmp(nm, "G") ? 1 : !strcmp(nm, "B") ? 2 : -1;
-            if (!strcmp(nm, "Y"))
-                luma = i;
-            if (k >= 0)
-                want[k] = i;
-            if ((k >= 0 || !strcmp(nm, "Y")) && (chl->entries[i].x_sampling != 1 || chl->entries[i].y_sampling != 1))
+        problem = exr_pick_channels(chl, want, why, sizeof why);
+        for (int k = 0; k < 3 && !problem; k++)
+            if (chl->entries[want[k]].x_sampling != 1 || chl->entries[want[k]].y_sampling != 1)
                 problem = "subsampled channels are not supported";
-        }
-        if (want[0] < 0 || want[1] < 0 || want[2] < 0) {
-            if (luma >= 0)
-                want[0] = want[1] = want[2] = luma;
-            else
-                problem = "no R, G, B (or Y) channels";
-        }
         if (!problem && (w < 1 || h < 1 || (size_t)w * (size_t)h > IMAGE_MAX_PIXELS))
             problem = "image size out of range";
     }

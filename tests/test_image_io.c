@@ -13,6 +13,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <openexr.h>
+
 #include "test_util.h"
 #include "util.h"
 
@@ -150,6 +152,104 @@ static void bad_and_truncated_exr_are_errors(void **state)
     int rc = test_run_cli(&err, "compare", tmp("cut.exr"), good, NULL);
     test_expect_cli_error(rc, err, 1, "cut.exr", "EXR");
     image_free(&a);
+}
+
+/* An EXR as other tools write them: w×h float scanlines, n channels named
+ * names[c], channel c's pixel (x, y) = c + 0.01·(x + w·y). */
+static void write_channels(const char *path, int w, int h, const char *const *names, int n)
+{
+    float *data = malloc(sizeof(float) * (size_t)(w * h * n));
+    assert_non_null(data);
+    for (int c = 0; c < n; c++)
+        for (int i = 0; i < w * h; i++)
+            data[c * w * h + i] = (float)c + 0.01f * (float)i;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    exr_context_t f = NULL;
+    int part = 0;
+    assert_int_equal(exr_start_write(&f, path, EXR_WRITE_FILE_DIRECTLY, &init), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_add_part(f, "layers", EXR_STORAGE_SCANLINE, &part), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_initialize_required_attr_simple(f, part, w, h, EXR_COMPRESSION_NONE), EXR_ERR_SUCCESS);
+    for (int c = 0; c < n; c++)
+        assert_int_equal(exr_add_channel(f, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1),
+                         EXR_ERR_SUCCESS);
+    assert_int_equal(exr_write_header(f), EXR_ERR_SUCCESS);
+    int32_t lines = 1;
+    assert_int_equal(exr_get_scanlines_per_chunk(f, part, &lines), EXR_ERR_SUCCESS);
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    for (int y = 0; y < h; y += lines) {
+        exr_chunk_info_t cinfo;
+        assert_int_equal(exr_write_scanline_chunk_info(f, part, y, &cinfo), EXR_ERR_SUCCESS);
+        assert_int_equal(y ? exr_encoding_update(f, part, &cinfo, &enc) : exr_encoding_initialize(f, part, &cinfo, &enc),
+                         EXR_ERR_SUCCESS);
+        for (int k = 0; k < enc.channel_count; k++) {
+            exr_coding_channel_info_t *ch = &enc.channels[k];
+            int c = 0;
+            while (strcmp(names[c], ch->channel_name))
+                c++;
+            ch->encode_from_ptr = (const uint8_t *)(data + c * w * h + cinfo.start_y * w);
+            ch->user_pixel_stride = sizeof(float);
+            ch->user_line_stride = sizeof(float) * w;
+            ch->user_bytes_per_element = sizeof(float);
+            ch->user_data_type = EXR_PIXEL_FLOAT;
+        }
+        if (y == 0)
+            assert_int_equal(exr_encoding_choose_default_routines(f, part, &enc), EXR_ERR_SUCCESS);
+        assert_int_equal(exr_encoding_run(f, part, &enc), EXR_ERR_SUCCESS);
+    }
+    exr_encoding_destroy(f, &enc);
+    assert_int_equal(exr_finish(&f), EXR_ERR_SUCCESS);
+    free(data);
+}
+
+/* EXRs from other tools: plain R, G, B; a lone Y; Blender's multilayer
+ * files (LAYER.R, .G, .B; of several layers the ...Combined one). Each
+ * read channel must land in its place; files whose colour is ambiguous or
+ * absent are refused naming the file and the reason, never read grey or
+ * from a guessed layer. */
+static void exr_channels_of_other_tools(void **state)
+{
+    (void)state;
+    enum { W = 5, H = 3 };
+    static const struct {
+        const char *names[10];
+        int n;
+        int r, g, b;           /* the channels (indices in names) read into R, G, B; -1: refused */
+        const char *why;       /* the refusal's reason */
+    } cases[] = {
+        {{"B", "G", "R", "A"}, 4, 2, 1, 0, NULL},
+        {{"Y"}, 1, 0, 0, 0, NULL},
+        {{"A", "ViewLayer.Combined.A", "ViewLayer.Combined.B", "ViewLayer.Combined.G", "ViewLayer.Combined.R",
+          "ViewLayer.Depth.Z"}, 6, 4, 3, 2, NULL},
+        {{"L.Diffuse.R", "L.Diffuse.G", "L.Diffuse.B", "L.Combined.R", "L.Combined.G", "L.Combined.B"}, 6, 3, 4, 5,
+         NULL},
+        {{"R", "G", "B", "L.Combined.R", "L.Combined.G", "L.Combined.B"}, 6, 0, 1, 2, NULL},
+        {{"L.Y"}, 1, 0, 0, 0, NULL},
+        {{"a.R", "a.G", "a.B", "b.R", "b.G", "b.B"}, 6, -1, -1, -1, "2 layers hold R, G, B (a, b) and none"},
+        {{"a.Combined.R", "a.Combined.G", "a.Combined.B", "b.Combined.R", "b.Combined.G", "b.Combined.B"}, 6, -1, -1,
+         -1, "more than one is named"},
+        {{"Y", "RY", "BY"}, 3, -1, -1, -1, "luminance/chroma"},
+        {{"A", "Z", "L.R", "L.G"}, 4, -1, -1, -1, "no R, G, B (or Y) channels"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const char *p = tmp("channels.exr");
+        write_channels(p, W, H, cases[i].names, cases[i].n);
+        ImageF img = {0};
+        if (cases[i].r < 0) {
+            char *err = NULL;
+            int rc = test_run_cli(&err, "compare", p, p, NULL);
+            print_message("case %zu: %s", i, err ? err : "(no error)\n");
+            test_expect_cli_error(rc, err, 1, p, cases[i].why);
+            continue;
+        }
+        assert_true(image_read(p, &img));
+        assert_int_equal(img.width, W);
+        assert_int_equal(img.height, H);
+        const int want[3] = {cases[i].r, cases[i].g, cases[i].b};
+        for (int px = 0; px < W * H; px++)
+            for (int k = 0; k < 3; k++)
+                assert_float_equal(img.rgb[3 * px + k], (float)want[k] + 0.01f * (float)px, 1e-6);
+        image_free(&img);
+    }
 }
 
 /* render --out x.exr and reference --out x.exr are read back by compare. */
@@ -332,6 +432,7 @@ int main(void)
         cmocka_unit_test(exr_float_round_trip_is_exact),
         cmocka_unit_test(exr_half_round_trip_within_half_precision),
         cmocka_unit_test(bad_and_truncated_exr_are_errors),
+        cmocka_unit_test(exr_channels_of_other_tools),
         cmocka_unit_test(cli_writes_and_compares_exr),
         cmocka_unit_test(render_and_view_write_half_exr),
         cmocka_unit_test(reference_sigint_writes_partial_image),

@@ -1,5 +1,6 @@
-/* fuzz_image.c — libFuzzer target: the image readers (PFM, and PNG through
- * stb_image). The first byte picks the format; the rest is the file. A
+/* fuzz_image.c — libFuzzer target: the image readers (PFM, PNG through
+ * stb_image, and OpenEXR through OpenEXRCore). The first byte picks the
+ * format (its low two bits: 0 PFM, 2 EXR, odd PNG); the rest is the file. A
  * decoded image is also checked for non-finite pixels and written back as
  * PFM when finite (the writers' checks). */
 #include "fuzz_util.h"
@@ -19,7 +20,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size < 1)
         return 0;
     char path[512], out[512];
-    if (!fuzz_write_temp(data[0] & 1 ? "image.png" : "image.pfm", data + 1, size - 1, path, sizeof path))
+    const char *name = data[0] & 1 ? "image.png" : data[0] & 2 ? "image.exr" : "image.pfm";
+    if (!fuzz_write_temp(name, data + 1, size - 1, path, sizeof path))
         return 0;
     ImageF img = {0};
     if (image_read(path, &img)) {

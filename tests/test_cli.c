@@ -3,9 +3,11 @@
  * the default render has the red wall on the left, green on the right. */
 #include <dirent.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -237,36 +239,50 @@ static void png_beside_pfm(void **state)
     }
 }
 
-/* `render` writes every output it was asked for or none: a later one that
- * fails (a directory that does not exist) removes the earlier ones. */
+/* `render` writes every output it was asked for or none. An output that
+ * cannot be created is refused before anything renders; one whose write
+ * fails later (here a file-size limit: the ambient-visibility PFM, written
+ * last, is over it where the PNGs before it are not) removes the outputs
+ * already written. */
 static void failed_output_leaves_none(void **state)
 {
     (void)state;
-    char pfm[512], png[512], mask[512];
-    snprintf(pfm, sizeof pfm, "%s/none.pfm", RTGI_TEST_TMP);
-    snprintf(png, sizeof png, "%s/none.png", RTGI_TEST_TMP);
+    char out[512], mask[512], ao[512];
+    snprintf(out, sizeof out, "%s/none.png", RTGI_TEST_TMP);
     snprintf(mask, sizeof mask, "%s/none_mask.png", RTGI_TEST_TMP);
+    snprintf(ao, sizeof ao, "%s/none_ao.pfm", RTGI_TEST_TMP);
     const char *bad = "/nonexistent/dir/x.png";
     for (int c = 0; c < 3; c++) {
-        remove(pfm);
-        remove(png);
+        remove(out);
         remove(mask);
+        remove(ao);
         char *err = NULL;
-        int rc = c == 0 ? test_run_cli(&err, "render", "--size", "16x16", "--out", pfm, "--png", bad, NULL)
-               : c == 1 ? test_run_cli(&err, "render", "--size", "16x16", "--out", pfm, "--png", png,
-                                       "--emitter-mask", bad, NULL)
+        struct rlimit was;
+        assert_int_equal(getrlimit(RLIMIT_FSIZE, &was), 0);
+        if (c == 2) { /* files of at most 2 KB; the write past it fails (EFBIG) instead of signalling */
+            signal(SIGXFSZ, SIG_IGN);
+            struct rlimit small = {2048, was.rlim_max};
+            assert_int_equal(setrlimit(RLIMIT_FSIZE, &small), 0);
+        }
+        int rc = c == 0 ? test_run_cli(&err, "render", "--size", "16x16", "--out", out, "--emitter-mask", bad, NULL)
+               : c == 1 ? test_run_cli(&err, "render", "--size", "16x16", "--gi", "vct", "--vct-size", "16",
+                                       "--vct-ao", "on", "--out", out, "--emitter-mask", mask, "--out-ao", bad, NULL)
                         : test_run_cli(&err, "render", "--size", "16x16", "--gi", "vct", "--vct-size", "16",
-                                       "--vct-ao", "on", "--out", pfm, "--png", png, "--emitter-mask", mask,
-                                       "--out-ao", bad, NULL);
+                                       "--vct-ao", "on", "--out", out, "--emitter-mask", mask, "--out-ao", ao, NULL);
+        assert_int_equal(setrlimit(RLIMIT_FSIZE, &was), 0);
         print_message("case %d: rc %d: %s", c, rc, err ? err : "");
-        assert_int_equal(rc, 1);
-        assert_non_null(err);
-        assert_non_null(strstr(err, bad));
-        assert_int_not_equal(access(pfm, F_OK), 0);
-        assert_int_not_equal(access(png, F_OK), 0);
+        test_expect_cli_error(rc, err, 1, c == 2 ? ao : bad, c == 2 ? "File too large" : "cannot create");
+        assert_int_not_equal(access(out, F_OK), 0);
         assert_int_not_equal(access(mask, F_OK), 0);
-        free(err);
+        assert_int_not_equal(access(ao, F_OK), 0);
     }
+    /* Unlimited, the same command writes all three. */
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "16x16", "--gi", "vct", "--vct-size", "16", "--vct-ao",
+                                  "on", "--out", out, "--emitter-mask", mask, "--out-ao", ao, "--quiet", NULL),
+                     0);
+    assert_int_equal(access(out, F_OK), 0);
+    assert_int_equal(access(mask, F_OK), 0);
+    assert_int_equal(access(ao, F_OK), 0);
 }
 
 /* The window: `rtgi view` under a virtual X server (Xvfb, installed by

@@ -455,6 +455,40 @@ static void window_out_failure_fails(void **state)
     assert_int_not_equal(access(png, F_OK), 0);
 }
 
+/* Dear ImGui uses its allocations unchecked, so the window's allocator
+ * ends the command with one line when one fails (RTGI_FAIL_UI_ALLOC=k
+ * refuses the k-th): every k from the context's creation through the
+ * first frames' font atlas and draw lists gives exit 1, that line and no
+ * output, never a crash; past the last one the run is whole. */
+static void ui_allocation_failure_ends_cleanly(void **state)
+{
+    (void)state;
+    test_x_display();
+    char out[1024];
+    snprintf(out, sizeof out, "%s/view_ui_alloc.pfm", RTGI_TEST_TMP);
+    int k = 1, failed = 0;
+    for (;; k += 3) {
+        char num[16];
+        snprintf(num, sizeof num, "%d", k);
+        setenv("RTGI_FAIL_UI_ALLOC", num, 1);
+        remove(out);
+        char *err = NULL;
+        int rc = test_run_cli(&err, "view", "--size", "32x32", "--frames", "2", "--out", out, NULL);
+        unsetenv("RTGI_FAIL_UI_ALLOC");
+        if (rc == 0) {
+            free(err);
+            break;
+        }
+        test_expect_cli_error(rc, err, 1, "[ui] out of memory", "Dear ImGui");
+        assert_int_not_equal(access(out, F_OK), 0);
+        failed++;
+        assert_true(k < 3000);
+    }
+    print_message("UI allocations 1 to %d failed in steps of 3: %d runs, each one line and exit 1\n", k - 3, failed);
+    assert_true(failed >= 10); /* the context and at least one frame's allocations */
+    assert_int_equal(access(out, F_OK), 0);
+}
+
 /* --out x.pfm: linear radiance, not PNG bytes; a bad --compare file is one
  * clear error. */
 static void out_by_extension(void **state)
@@ -523,6 +557,7 @@ int main(void)
         cmocka_unit_test(help_and_options),
         cmocka_unit_test(out_by_extension),
         cmocka_unit_test(window_out_failure_fails),
+        cmocka_unit_test(ui_allocation_failure_ends_cleanly),
         cmocka_unit_test(panel_script),
         cmocka_unit_test(png_reference),
         cmocka_unit_test(timings_match_render),

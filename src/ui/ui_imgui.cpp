@@ -10,6 +10,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -23,9 +24,39 @@ extern "C" {
 
 static GLFWwindow *g_window;
 
+/* Dear ImGui uses what it allocates without checking it, so a failed
+ * allocation cannot be handed back to it: the command ends here with one
+ * line and exit status 1 (the one exit outside main; no output is being
+ * written while the panel is built or drawn) instead of a crash inside the
+ * library. */
+static long g_alloc_fail_at = -1; /* RTGI_FAIL_UI_ALLOC=k: the k-th allocation fails (fault injection) */
+
+static void *ui_alloc(size_t n, void *user)
+{
+    (void)user;
+    if (g_alloc_fail_at < 0) {
+        const char *env = getenv("RTGI_FAIL_UI_ALLOC");
+        g_alloc_fail_at = env ? strtol(env, NULL, 10) : 0;
+    }
+    bool refuse = g_alloc_fail_at > 0 && --g_alloc_fail_at == 0;
+    void *p = refuse ? NULL : malloc(n);
+    if (!p && n) {
+        log_error("ui", "out of memory (%zu bytes) in Dear ImGui, which cannot go on without it; the window ends", n);
+        exit(1);
+    }
+    return p;
+}
+
+static void ui_free(void *p, void *user)
+{
+    (void)user;
+    free(p);
+}
+
 extern "C" bool ui_create(GLFWwindow *window)
 {
     IMGUI_CHECKVERSION();
+    ImGui::SetAllocatorFunctions(ui_alloc, ui_free, nullptr);
     ImGui::CreateContext();
     ImGuiIO &io = ImGui::GetIO();
     io.IniFilename = nullptr; // no imgui.ini beside the user's files

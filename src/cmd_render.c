@@ -138,7 +138,7 @@ static bool write_image(Renderer *r, const char *path, bool hdr_out, bool half, 
         image_warn_if_black(&hdr, "render", path);
         ok = image_write(path, &hdr, 1.f, half); /* linear radiance */
     } else if (ok) {
-        uint8_t *rgb = renderer_read_ldr(r); /* NULL: image_write_png8 logs */
+        uint8_t *rgb = renderer_read_ldr(r); /* NULL: it logged; image_write_png8 refuses it */
         image_warn_if_black8(rgb, r->settings.width, r->settings.height, "render", path);
         ok = image_write_png8(path, r->settings.width, r->settings.height, rgb);
         free(rgb);

@@ -182,10 +182,8 @@ static void png_to_file(void *ctx, void *data, int size)
 
 bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb)
 {
-    if (!rgb) { /* the read-back that should have produced it failed */
-        log_error("image", "%s: no %dx%d image to write (allocation failed)", path, width, height);
+    if (!rgb) /* the read-back that should have made it failed, and logged */
         return false;
-    }
     AtomicFile af;
     if (!util_atomic_open(&af, "image", path))
         return false;

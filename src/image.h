@@ -44,7 +44,8 @@ void image_warn_if_black8(const uint8_t *rgb, int width, int height, const char 
  * a FIFO), sizes checked before allocating. */
 bool image_write_pfm(const char *path, const ImageF *img);
 bool image_read_pfm(const char *path, ImageF *img);
-/* Writes 8-bit RGB (row 0 = top) as PNG. */
+/* Writes 8-bit RGB (row 0 = top) as PNG. rgb NULL (an allocation that
+ * failed and logged): false, nothing written, nothing more logged. */
 bool image_write_png8(const char *path, int width, int height, const uint8_t *rgb);
 /* Tone maps (radiance × exposure, clamp, sRGB) and writes a PNG. */
 bool image_write_png(const char *path, const ImageF *img, float exposure);

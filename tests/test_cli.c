@@ -285,6 +285,68 @@ static void failed_output_leaves_none(void **state)
     assert_int_equal(access(ao, F_OK), 0);
 }
 
+/* A command's last allocations are its outputs' (the read-back, the 8-bit
+ * image, the encoders' buffers): each made to fail in turn (the preloaded
+ * scripts/alloc_failure_shim.c returns NULL for the k-th allocation that
+ * rtgi's own code asks for) gives exit 1, one line and no file, or, where
+ * the allocation was not needed, the unbroken run's image. The whole sweep
+ * is scripts/alloc-failure-sweep.sh. */
+static void output_allocation_failures(void **state)
+{
+    (void)state;
+    char out[512], base[512], count[512], fired[512], preload[2048], env_count[600], env_fired[600];
+    snprintf(count, sizeof count, "%s/oom_count.txt", RTGI_TEST_TMP);
+    snprintf(fired, sizeof fired, "%s/oom_fired.txt", RTGI_TEST_TMP);
+    snprintf(env_count, sizeof env_count, "OOM_COUNT=%s", count);
+    snprintf(env_fired, sizeof env_fired, "OOM_REPORT=%s", fired);
+    const char *was = getenv("LD_PRELOAD"); /* make test-asan preloads its own */
+    snprintf(preload, sizeof preload, "LD_PRELOAD=%s%s%s", was ? was : "", was ? ":" : "", RTGI_ALLOC_SHIM);
+    static const char *const exts[] = {"png", "pfm", "exr"};
+    for (int e = 0; e < 3; e++) {
+        snprintf(out, sizeof out, "%s/oom_out.%s", RTGI_TEST_TMP, exts[e]);
+        snprintf(base, sizeof base, "%s/oom_base.%s", RTGI_TEST_TMP, exts[e]);
+        /* The environment through env(1): the shim reaches rtgi only. */
+        int rc = test_run_exe(NULL, "env", preload, "OOM_AT=0", env_count, RTGI_BINARY, "render", "--size", "16x16",
+                              "--gi", "none", "--out", base, "--quiet", NULL);
+        assert_int_equal(rc, 0);
+        char *text = util_read_file(count, NULL);
+        assert_non_null(text);
+        int n = atoi(text);
+        free(text);
+        assert_true(n > 10);
+        size_t base_size = 0;
+        char *base_bytes = util_read_file(base, &base_size);
+        assert_non_null(base_bytes);
+        int failed = 0;
+        for (int k = n - 9; k <= n; k++) {
+            char at[32];
+            snprintf(at, sizeof at, "OOM_AT=%d", k);
+            remove(out);
+            remove(fired);
+            char *err = NULL;
+            rc = test_run_exe(&err, "env", preload, at, env_fired, RTGI_BINARY, "render", "--size", "16x16", "--gi",
+                              "none", "--out", out, "--quiet", NULL);
+            char *f = util_read_file(fired, NULL);
+            assert_true(f && f[0] == '1'); /* the k-th allocation was refused */
+            free(f);
+            if (rc == 0) { /* not needed: the same image */
+                size_t size = 0;
+                char *bytes = util_read_file(out, &size);
+                assert_true(bytes && size == base_size && !memcmp(bytes, base_bytes, size));
+                free(bytes);
+                free(err);
+            } else {
+                print_message("%s, allocation %d of %d: %s", exts[e], k, n, err ? err : "(nothing)\n");
+                test_expect_cli_error(rc, err, 1, NULL, NULL);
+                assert_int_not_equal(access(out, F_OK), 0);
+                failed++;
+            }
+        }
+        free(base_bytes);
+        assert_true(failed > 0);
+    }
+}
+
 /* The window: `rtgi view` under a virtual X server (Xvfb, installed by
  * scripts/install-deps.sh) renders through GLFW's GL 4.5 context exactly
  * the image `rtgi render` makes headless through EGL (the window's default
@@ -1020,6 +1082,7 @@ int main(void)
         cmocka_unit_test(every_program_failure_fails),
         cmocka_unit_test(png_beside_pfm),
         cmocka_unit_test(failed_output_leaves_none),
+        cmocka_unit_test(output_allocation_failures),
         cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(compare_json_and_mask),
         cmocka_unit_test(compare_unshadowed),

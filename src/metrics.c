@@ -474,9 +474,8 @@ ShadowArtefacts metric_shadow_artefacts(const ImageF *test, const ImageF *ref, c
 bool metric_block_average(const ImageF *img, const uint8_t *mask, int block, ImageF *out, uint8_t **out_mask)
 {
     int bw = (img->width + block - 1) / block, bh = (img->height + block - 1) / block;
-    uint8_t *m = malloc((size_t)bw * bh);
-    if (!m || !image_alloc(out, bw, bh)) {
-        log_error("metrics", "cannot allocate a %dx%d block image", bw, bh);
+    uint8_t *m = util_malloc("metrics", "a block mask", (size_t)bw * bh, 1);
+    if (!m || !image_alloc(out, bw, bh)) { /* each logs its line */
         free(m);
         return false;
     }

@@ -285,66 +285,77 @@ static void failed_output_leaves_none(void **state)
     assert_int_equal(access(ao, F_OK), 0);
 }
 
-/* A command's last allocations are its outputs' (the read-back, the 8-bit
- * image, the encoders' buffers): each made to fail in turn (the preloaded
- * scripts/alloc_failure_shim.c returns NULL for the k-th allocation that
- * rtgi's own code asks for) gives exit 1, one line and no file, or, where
- * the allocation was not needed, the unbroken run's image. The whole sweep
- * is scripts/alloc-failure-sweep.sh. */
-static void output_allocation_failures(void **state)
+/* Runs `rtgi ARGS` (NULL-ended, at most 16; OUT among them) with the
+ * preloaded allocation shim, once whole to count its allocations, then
+ * with each of the last 10 refused: exit 1, one line and no OUT, or, where
+ * the allocation was not needed, exit 0. Returns the refusals that failed
+ * the command. */
+static int sweep_last_allocations(const char *const *args, const char *out)
 {
-    (void)state;
-    char out[512], base[512], count[512], fired[512], preload[2048], env_count[600], env_fired[600];
+    char count[512], fired[512], preload[2048], env_count[600], env_fired[600], at[32] = "OOM_AT=0";
     snprintf(count, sizeof count, "%s/oom_count.txt", RTGI_TEST_TMP);
     snprintf(fired, sizeof fired, "%s/oom_fired.txt", RTGI_TEST_TMP);
     snprintf(env_count, sizeof env_count, "OOM_COUNT=%s", count);
     snprintf(env_fired, sizeof env_fired, "OOM_REPORT=%s", fired);
     const char *was = getenv("LD_PRELOAD"); /* make test-asan preloads its own */
     snprintf(preload, sizeof preload, "LD_PRELOAD=%s%s%s", was ? was : "", was ? ":" : "", RTGI_ALLOC_SHIM);
+    const char *a[16] = {0};
+    for (int i = 0; i < 16 && args[i]; i++)
+        a[i] = args[i];
+    /* The environment through env(1): the shim reaches rtgi only. */
+#define RUN(err, report)                                                                                          \
+    test_run_exe(err, "env", preload, at, report, RTGI_BINARY, a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], \
+                 a[9], a[10], a[11], a[12], a[13], a[14], a[15], NULL)
+    assert_int_equal(RUN(NULL, env_count), 0);
+    char *text = util_read_file(count, NULL);
+    assert_non_null(text);
+    int n = atoi(text), failed = 0;
+    free(text);
+    assert_true(n > 10);
+    for (int k = n - 9; k <= n; k++) {
+        snprintf(at, sizeof at, "OOM_AT=%d", k);
+        remove(out);
+        remove(fired);
+        char *err = NULL;
+        int rc = RUN(&err, env_fired);
+        char *f = util_read_file(fired, NULL);
+        assert_true(f && f[0] == '1'); /* the k-th allocation was refused */
+        free(f);
+        if (rc == 0) {
+            free(err);
+            continue;
+        }
+        print_message("%s, allocation %d of %d: %s", a[0], k, n, err ? err : "(nothing)\n");
+        test_expect_cli_error(rc, err, 1, NULL, NULL);
+        assert_int_not_equal(access(out, F_OK), 0);
+        failed++;
+    }
+#undef RUN
+    return failed;
+}
+
+/* A command's last allocations are its outputs' (the read-back, the 8-bit
+ * image, the metrics' images): each refused in turn (scripts/
+ * alloc_failure_shim.c, preloaded: the k-th allocation that rtgi's own code
+ * asks for returns NULL) fails the command with one line and no file. The
+ * whole sweep is scripts/alloc-failure-sweep.sh. */
+static void output_allocation_failures(void **state)
+{
+    (void)state;
+    char out[512], a[512], b[512];
     static const char *const exts[] = {"png", "pfm", "exr"};
     for (int e = 0; e < 3; e++) {
         snprintf(out, sizeof out, "%s/oom_out.%s", RTGI_TEST_TMP, exts[e]);
-        snprintf(base, sizeof base, "%s/oom_base.%s", RTGI_TEST_TMP, exts[e]);
-        /* The environment through env(1): the shim reaches rtgi only. */
-        int rc = test_run_exe(NULL, "env", preload, "OOM_AT=0", env_count, RTGI_BINARY, "render", "--size", "16x16",
-                              "--gi", "none", "--out", base, "--quiet", NULL);
-        assert_int_equal(rc, 0);
-        char *text = util_read_file(count, NULL);
-        assert_non_null(text);
-        int n = atoi(text);
-        free(text);
-        assert_true(n > 10);
-        size_t base_size = 0;
-        char *base_bytes = util_read_file(base, &base_size);
-        assert_non_null(base_bytes);
-        int failed = 0;
-        for (int k = n - 9; k <= n; k++) {
-            char at[32];
-            snprintf(at, sizeof at, "OOM_AT=%d", k);
-            remove(out);
-            remove(fired);
-            char *err = NULL;
-            rc = test_run_exe(&err, "env", preload, at, env_fired, RTGI_BINARY, "render", "--size", "16x16", "--gi",
-                              "none", "--out", out, "--quiet", NULL);
-            char *f = util_read_file(fired, NULL);
-            assert_true(f && f[0] == '1'); /* the k-th allocation was refused */
-            free(f);
-            if (rc == 0) { /* not needed: the same image */
-                size_t size = 0;
-                char *bytes = util_read_file(out, &size);
-                assert_true(bytes && size == base_size && !memcmp(bytes, base_bytes, size));
-                free(bytes);
-                free(err);
-            } else {
-                print_message("%s, allocation %d of %d: %s", exts[e], k, n, err ? err : "(nothing)\n");
-                test_expect_cli_error(rc, err, 1, NULL, NULL);
-                assert_int_not_equal(access(out, F_OK), 0);
-                failed++;
-            }
-        }
-        free(base_bytes);
-        assert_true(failed > 0);
+        const char *args[] = {"render", "--size", "16x16", "--gi", "none", "--out", out, "--quiet", NULL};
+        assert_true(sweep_last_allocations(args, out) > 0);
     }
+    snprintf(a, sizeof a, "%s/oom_a.pfm", RTGI_TEST_TMP);
+    snprintf(b, sizeof b, "%s/oom_b.pfm", RTGI_TEST_TMP);
+    snprintf(out, sizeof out, "%s/oom_heat.png", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "16x16", "--gi", "none", "--out", a, "--quiet", NULL), 0);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "16x16", "--shadow", "hard", "--out", b, "--quiet", NULL), 0);
+    const char *args[] = {"compare", a, b, "--heatmap", out, NULL};
+    assert_true(sweep_last_allocations(args, out) > 0);
 }
 
 /* The window: `rtgi view` under a virtual X server (Xvfb, installed by

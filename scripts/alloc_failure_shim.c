@@ -3,9 +3,11 @@
  * calls (its return address in the executable's code; the GL driver's,
  * libc's and the other libraries' are left alone) return NULL, and writes
  * 1 to OOM_REPORT at exit if it did, and to OOM_COUNT how many it counted
- * (OOM_AT=0: every one, none failed). A test tool, not part of rtgi. */
+ * (OOM_AT=0: every one, none failed); OOM_BACKTRACE=1 prints where the
+ * refused one was asked for. A test tool, not part of rtgi. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
+#include <execinfo.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,6 +48,11 @@ static int should_fail(void *ret)
     if (countdown <= 0) return 0;
     if (--countdown == 0) {
         fired = 1;
+        if (getenv("OOM_BACKTRACE")) {
+            void *frames[24];
+            int n = backtrace(frames, 24);
+            backtrace_symbols_fd(frames, n, 2);
+        }
         return 1;
     }
     return 0;

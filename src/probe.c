@@ -7,6 +7,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "gl_resources.h"
 #include "log.h"
 #include "shader.h"
 #include "shared/gpu_types.h"
@@ -31,8 +32,8 @@ enum { MAX_LAYERS = 64 };
 static GLuint make_map(GLenum target, int which, int size)
 {
     bool packed = which == 3;
-    float *texels = malloc(sizeof(float) * 4 * (size_t)size * (size_t)size);
-    if (!texels)
+    float *texels = util_malloc("probe", "a probe map", 4 * (size_t)size * (size_t)size, sizeof(float));
+    if (!texels) /* logged */
         return 0;
     uint32_t *words = (uint32_t *)texels;
     for (int i = 0; i < size * size; i++) {
@@ -143,18 +144,20 @@ bool probe_run(ProbeResult *out, int map_size)
                 out->evals_2d[f] = rate;
         }
     }
-    if (ok) {
-        GLuint vpls;
-        glCreateBuffers(1, &vpls);
-        GpuVpl *data = calloc(SAMPLES, sizeof(GpuVpl));
-        for (int k = 0; data && k < SAMPLES; k++) {
+    GpuVpl *data = ok ? util_calloc("probe", "the probe's VPLs", SAMPLES, sizeof(GpuVpl)) : NULL; /* logs */
+    GLuint vpls = 0;
+    if (data) {
+        for (int k = 0; k < SAMPLES; k++) {
             gpu_vpl_set_position(&data[k], (const float[3]){(float)k / SAMPLES, 0.f, 0.f});
             data[k].surface[3] = 32768u | (32768u << 16); /* octahedral (0, 0): +z */
             data[k].normal_xi[2] = 1.f;
             data[k].flux[0] = data[k].flux[1] = data[k].flux[2] = 1.f;
         }
-        glNamedBufferStorage(vpls, (GLsizeiptr)(sizeof(GpuVpl) * SAMPLES), data, 0);
-        free(data);
+        vpls = gl_buffer_make(sizeof(GpuVpl) * SAMPLES, data, 0, "probe.vpls"); /* logs */
+    }
+    free(data);
+    ok = ok && vpls;
+    if (ok) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VPL, vpls);
         char defs[128];
         snprintf(defs, sizeof defs, "#define GRID %d\n#define SAMPLES %d\n#define FETCHES 0\n#define SSBO\n", GRID, SAMPLES);
@@ -163,8 +166,8 @@ bool probe_run(ProbeResult *out, int map_size)
         ok = prog != 0;
         if (ok)
             out->evals_ssbo = time_kernel(prog, out);
-        glDeleteBuffers(1, &vpls);
     }
+    glDeleteBuffers(1, &vpls);
     out->evals_cube[0] = out->evals_2d[0];
     program_cache_destroy(&pc);
     glDeleteTextures(1, &result);

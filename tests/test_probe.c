@@ -203,6 +203,33 @@ static void map_size_is_checked(void **state)
     test_expect_cli_error(rc, err, 2, "--map-size", "64");
 }
 
+/* Every GPU resource the probe makes (eight maps and the VPL buffer),
+ * refused in turn (RTGI_FAIL_GL_MAKE=k): exit 1, one line naming it and
+ * nothing on stdout; past the last, the probe runs. */
+static void every_make_failure_fails(void **state)
+{
+    (void)state;
+    int k = 1;
+    for (;; k++) {
+        char num[16];
+        snprintf(num, sizeof num, "%d", k);
+        setenv("RTGI_FAIL_GL_MAKE", num, 1);
+        char *out = NULL, *err = NULL;
+        int rc = test_run_cli_out(&out, &err, "probe", "--map-size", "64", NULL);
+        unsetenv("RTGI_FAIL_GL_MAKE");
+        if (rc == 0) {
+            free(out);
+            free(err);
+            break;
+        }
+        assert_true(out == NULL || out[0] == 0);
+        free(out);
+        test_expect_cli_error(rc, err, 1, k <= 8 ? "probe.map" : "probe.vpls", "refused");
+        assert_true(k < 20);
+    }
+    assert_int_equal(k, 10);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -211,6 +238,7 @@ int main(void)
         cmocka_unit_test(reads_only_twin_runs),
         cmocka_unit_test(json_to_stdout),
         cmocka_unit_test(map_size_is_checked),
+        cmocka_unit_test(every_make_failure_fails),
     };
     return cmocka_run_group_tests_name("probe", tests, test_gl_setup, test_gl_teardown);
 }

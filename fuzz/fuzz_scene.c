@@ -55,20 +55,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* Keep one frame cheap on llvmpipe under ASan (the defaults, a 512²
      * cube RSM of VPLs, take tens of seconds at 8x8): the sizes are
      * clamped, every other value reaches the passes as loaded. */
-    if (rs.gi_params.rsm_size > 64)
-        rs.gi_params.rsm_size = 64;
-    if (rs.gi_params.vpl_count > 4096)
-        rs.gi_params.vpl_count = 4096;
-    if (rs.gi_params.samples > 1024)
-        rs.gi_params.samples = 1024;
-    if (rs.shadow_params.map_size > 256)
-        rs.shadow_params.map_size = 256;
-    if (rs.gi_params.lpv_size > 16)
-        rs.gi_params.lpv_size = 16;
-    if (rs.gi_params.lpv_iterations > 32)
-        rs.gi_params.lpv_iterations = 32;
-    if (rs.gi_params.vct_size > 16)
-        rs.gi_params.vct_size = 16;
+#define AT_MOST(v, n) ((v) = (v) > (n) ? (n) : (v))
+    AT_MOST(rs.gi_params.rsm_size, 64);
+    AT_MOST(rs.gi_params.vpl_count, 4096);
+    AT_MOST(rs.gi_params.samples, 1024);
+    AT_MOST(rs.shadow_params.map_size, 256);
+    AT_MOST(rs.gi_params.lpv_size, 16);
+    AT_MOST(rs.gi_params.lpv_iterations, 32);
+    AT_MOST(rs.gi_params.vct_size, 16);
+#undef AT_MOST
     Renderer r;
     if (renderer_create(&r, &scene, &rs))
         renderer_frame(&r, &scene.camera);

@@ -176,20 +176,26 @@ static bool write_outputs(Renderer *r, const RenderOptions *o, const Scene *scen
 /* --timings after the cold frames (mean cold_ms): the per-pass table, then
  * steady frames, which keep the light products as the window does while
  * the lights stand still (the untimed first one draws them), then with
- * --probe the gathers' reads-only twin. */
-static void print_timings(Renderer *r, const RenderSettings *rs, const Camera *cam, FrameClock *clock, int frames,
+ * --probe the gathers' reads-only twin. False (logged) if the steady or
+ * twin frames could not be made or drawn whole. */
+static bool print_timings(Renderer *r, const RenderSettings *rs, const Camera *cam, FrameClock *clock, int frames,
                           double cold_ms, const char *device)
 {
     double ms;
     GatherRates gather = render_options_print_timings(r, device, cold_ms);
     RenderSettings steady = *rs;
     steady.cache = true;
-    if (timed_frames(r, &steady, cam, clock, frames, &ms))
-        render_options_print_steady(r, cold_ms, ms);
+    if (!timed_frames(r, &steady, cam, clock, frames, &ms) || !renderer_frames_whole(r))
+        return false;
+    render_options_print_steady(r, cold_ms, ms);
     RenderSettings twin = steady;
     twin.gi_params.gather_reads_only = true;
-    if (render_options_reads_twin(rs, &gather) && timed_frames(r, &twin, cam, clock, frames, &ms))
-        render_options_print_reads_twin(r, &gather);
+    if (!render_options_reads_twin(rs, &gather))
+        return true;
+    if (!timed_frames(r, &twin, cam, clock, frames, &ms) || !renderer_frames_whole(r))
+        return false;
+    render_options_print_reads_twin(r, &gather);
+    return true;
 }
 
 int cmd_render(int argc, char **argv)
@@ -246,10 +252,18 @@ int cmd_render(int argc, char **argv)
         double cold_ms = 1e3 * (util_seconds() - t0) / frames;
         if (write_outputs(&r, &o, &scene, hdr_out)) {
             rc = 0;
-            log_info("render", "wrote %s (%dx%d, %s, %s)", o.out, rs.width, rs.height, scene.source,
-                     gl_context_renderer(gl));
-            if (o.timings)
-                print_timings(&r, &rs, &scene.camera, &clock, frames, cold_ms, gl_context_renderer(gl));
+            /* The timings are an output too: frames that fail them fail
+             * the command, and all outputs go, as for a failed write. */
+            if (o.timings && !print_timings(&r, &rs, &scene.camera, &clock, frames, cold_ms, gl_context_renderer(gl))) {
+                rc = 1;
+                const char *outputs[4] = {o.out, o.png, o.emitter_mask, o.out_ao};
+                for (int i = 0; i < 4; i++)
+                    if (outputs[i])
+                        remove(outputs[i]);
+            } else {
+                log_info("render", "wrote %s (%dx%d, %s, %s)", o.out, rs.width, rs.height, scene.source,
+                         gl_context_renderer(gl));
+            }
         }
     }
     renderer_destroy(&r);

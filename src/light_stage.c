@@ -230,7 +230,8 @@ bool light_stage_create(LightStage *ls, const Scene *s, const LightStageDesc *de
     for (int k = 0; k < 3; k++)
         glSamplerParameteri(ls->shadow_compare, wraps[k], GL_CLAMP_TO_EDGE);
     glObjectLabel(GL_SAMPLER, ls->shadow_compare, -1, "shadow.compare");
-    return make_products(ls);
+    ls->made = make_products(ls);
+    return ls->made;
 }
 
 void light_stage_destroy(LightStage *ls)
@@ -258,11 +259,12 @@ uint64_t light_stage_gpu_bytes(const LightStage *ls)
 
 bool light_stage_configure(LightStage *ls, const LightStageDesc *desc)
 {
-    if (!memcmp(desc, &ls->desc, sizeof *desc))
+    if (ls->made && !memcmp(desc, &ls->desc, sizeof *desc))
         return true;
     free_products(ls);
     ls->desc = *desc;
-    return make_products(ls);
+    ls->made = make_products(ls);
+    return ls->made;
 }
 
 /* ---- The frame ----------------------------------------------------------- */

@@ -97,6 +97,7 @@ typedef struct LightStage {
     GLuint dummy_2d, dummy_cube; /* bound in place of the map type a light does not use */
     GLuint shadow_compare;       /* depth-compare sampler for TEX_SHADOW_COMPARE_2D/CUBE */
     bool kind_warned;            /* a light's map kind changed under its products (light_stage_run) */
+    bool made;                   /* the products of `desc` exist (false after a make failed: remade next time) */
 } LightStage;
 
 /* RSM layers (2D maps or cube faces) whose texels can hold a lit surface

@@ -217,16 +217,20 @@ void renderer_destroy(Renderer *r)
     memset(r, 0, sizeof *r);
 }
 
-bool renderer_apply(Renderer *r, const RenderSettings *rs)
+/* What renderer_apply does; redo: the last apply failed part-way, so the
+ * targets and the technique are made again whatever changed (the light
+ * products know themselves whether they were made). */
+static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
 {
     RenderSettings old = r->settings;
     r->settings = *rs;
-    bool resized = rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
-    bool shading_resized = rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
+    bool resized =
+        redo || rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
+    bool shading_resized = redo || rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
                            rs->height * renderer_ssaa(rs) != old.height * renderer_ssaa(&old);
-    bool technique = rs->gi != old.gi || memcmp(&rs->gi_params, &old.gi_params, sizeof rs->gi_params) != 0;
+    bool technique = redo || rs->gi != old.gi || memcmp(&rs->gi_params, &old.gi_params, sizeof rs->gi_params) != 0;
     LightStageDesc ld = light_desc(rs);
-    bool lights = memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
+    bool lights = !r->lights.made || memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
     bool timer = rs->timings != old.timings || rs->timing_sync != old.timing_sync;
     if (technique || lights || resized || timer || rs->aa != old.aa)
         r->remakes++;
@@ -240,7 +244,7 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
     }
     if (lights && !light_stage_configure(&r->lights, &ld))
         return false;
-    if (rs->shadow != old.shadow || memcmp(&rs->shadow_params, &old.shadow_params, sizeof rs->shadow_params))
+    if (redo || rs->shadow != old.shadow || memcmp(&rs->shadow_params, &old.shadow_params, sizeof rs->shadow_params))
         pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
     if (resized) {
         targets_destroy(r);
@@ -256,6 +260,12 @@ bool renderer_apply(Renderer *r, const RenderSettings *rs)
     if (!r->gi)
         return technique_create(r);
     return true;
+}
+
+bool renderer_apply(Renderer *r, const RenderSettings *rs)
+{
+    r->apply_failed = !apply(r, rs, r->apply_failed);
+    return !r->apply_failed;
 }
 
 /* ---- The frame ------------------------------------------------------------ */

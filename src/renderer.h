@@ -106,6 +106,7 @@ typedef struct Renderer {
     PassFxaa pass_fxaa;
     int remakes;               /* renderer_apply calls that remade something (technique, light products,
                                   targets, timer); an exposure change remakes nothing */
+    bool apply_failed;         /* the last renderer_apply failed part-way: the next makes everything again */
 } Renderer;
 
 /* Needs a current GL 4.5 context. false after logging (destroy it then). */
@@ -116,7 +117,9 @@ void renderer_destroy(Renderer *r);
  * light products for shadow/RSM settings, the technique for its own, the
  * targets and the technique's sized images for supersampling, the final
  * targets for the post-process AA. false
- * after logging (the renderer is then unusable until a successful apply). */
+ * after logging: the renderer is then unusable until an apply succeeds,
+ * and the next apply makes again what the failed one left unmade, even
+ * with the same settings. */
 bool renderer_apply(Renderer *r, const RenderSettings *rs);
 /* Makes the next frame a cold one: every cached light product is redrawn. */
 void renderer_invalidate(Renderer *r);

@@ -358,6 +358,44 @@ static void output_allocation_failures(void **state)
     assert_true(sweep_last_allocations(args, out) > 0);
 }
 
+/* render --timings makes its renderer again for the steady frames and the
+ * reads-only twin: each GPU make of the whole command refused in turn
+ * (RTGI_FAIL_GL_MAKE=k) gives exit 1, one line and no output file, never
+ * a crash (a failed steady make had left the twin's technique over
+ * missing RSMs). */
+static void timings_make_failures(void **state)
+{
+    (void)state;
+    char out[512], probe[512];
+    snprintf(out, sizeof out, "%s/timings_fail.pfm", RTGI_TEST_TMP);
+    snprintf(probe, sizeof probe, "%s/timings_fail_probe.json", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "probe", "--map-size", "64", "--json", probe, "--quiet", NULL), 0);
+    int k = 1, steady = 0;
+    for (;; k++) {
+        char num[16];
+        snprintf(num, sizeof num, "%d", k);
+        setenv("RTGI_FAIL_GL_MAKE", num, 1);
+        remove(out);
+        char *text = NULL, *err = NULL;
+        int rc = test_run_cli_out(&text, &err, "render", "--size", "16x16", "--gi", "rsm-interp", "--rsm-size", "32",
+                                  "--timings", "--frames", "1", "--probe", probe, "--out", out, NULL);
+        unsetenv("RTGI_FAIL_GL_MAKE");
+        if (rc == 0) {
+            free(text);
+            free(err);
+            break;
+        }
+        test_expect_cli_error(rc, err, 1, "refused", NULL);
+        assert_int_not_equal(access(out, F_OK), 0);
+        steady += text && strstr(text, "frame_cold_ms") != NULL; /* failed after the cold frames' timings */
+        free(text);
+        assert_true(k < 200);
+    }
+    print_message("makes 1 to %d refused in turn, %d of them after the cold frames' timings\n", k - 1, steady);
+    assert_true(steady > 0);
+    assert_int_equal(access(out, F_OK), 0);
+}
+
 /* The window: `rtgi view` under a virtual X server (Xvfb, installed by
  * scripts/install-deps.sh) renders through GLFW's GL 4.5 context exactly
  * the image `rtgi render` makes headless through EGL (the window's default
@@ -1094,6 +1132,7 @@ int main(void)
         cmocka_unit_test(png_beside_pfm),
         cmocka_unit_test(failed_output_leaves_none),
         cmocka_unit_test(output_allocation_failures),
+        cmocka_unit_test(timings_make_failures),
         cmocka_unit_test(view_matches_headless_render),
         cmocka_unit_test(compare_json_and_mask),
         cmocka_unit_test(compare_unshadowed),

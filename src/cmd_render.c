@@ -147,29 +147,39 @@ static bool write_image(Renderer *r, const char *path, bool hdr_out, bool half, 
     return ok;
 }
 
+/* Removes the first n outputs the options name, in the order write_outputs
+ * writes them: --out, --png, --emitter-mask, --out-ao. */
+static void remove_outputs(const RenderOptions *o, int n)
+{
+    const char *paths[4] = {o->out, o->png, o->emitter_mask, o->out_ao};
+    for (int i = 0; i < 4 && n > 0; i++)
+        if (paths[i]) {
+            remove(paths[i]);
+            n--;
+        }
+}
+
 /* Every output the options name, all or none: a failure removes the ones
  * already written. */
 static bool write_outputs(Renderer *r, const RenderOptions *o, const Scene *scene, bool hdr_out)
 {
-    const char *written[4];
-    int n = 0;
+    int written = 0;
     bool ok = write_image(r, o->out, hdr_out, o->half, scene->source);
-    if (ok)
-        written[n++] = o->out;
+    written += ok;
     if (ok && o->png) {
         uint8_t *rgb = renderer_read_ldr(r);
         ok = image_write_png8(o->png, r->settings.width, r->settings.height, rgb);
         free(rgb);
-        if (ok)
-            written[n++] = o->png;
+        written += ok;
     }
-    if (ok && o->emitter_mask &&
-        (ok = pt_write_emitter_mask(scene, r->settings.width, r->settings.height, o->emitter_mask)))
-        written[n++] = o->emitter_mask;
+    if (ok && o->emitter_mask) {
+        ok = pt_write_emitter_mask(scene, r->settings.width, r->settings.height, o->emitter_mask);
+        written += ok;
+    }
     if (ok && o->out_ao)
         ok = write_ao(r, o->out_ao);
-    for (int i = 0; !ok && i < n; i++)
-        remove(written[i]);
+    if (!ok)
+        remove_outputs(o, written);
     return ok;
 }
 
@@ -256,10 +266,7 @@ int cmd_render(int argc, char **argv)
              * the command, and all outputs go, as for a failed write. */
             if (o.timings && !print_timings(&r, &rs, &scene.camera, &clock, frames, cold_ms, gl_context_renderer(gl))) {
                 rc = 1;
-                const char *outputs[4] = {o.out, o.png, o.emitter_mask, o.out_ao};
-                for (int i = 0; i < 4; i++)
-                    if (outputs[i])
-                        remove(outputs[i]);
+                remove_outputs(&o, 4);
             } else {
                 log_info("render", "wrote %s (%dx%d, %s, %s)", o.out, rs.width, rs.height, scene.source,
                          gl_context_renderer(gl));

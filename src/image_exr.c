@@ -187,7 +187,7 @@ static int exr_channel(const exr_attr_chlist_t *chl, const char *prefix, size_t 
 {
     for (int i = 0; i < chl->num_channels; i++) {
         const char *nm = chl->entries[i].name.str;
-        if (strlen(nm) == plen + strlen(name) && !strncmp(nm, prefix, plen) && !strcmp(nm + plen, name))
+        if (!strncmp(nm, prefix, plen) && !strcmp(nm + plen, name))
             return i;
     }
     return -1;

@@ -219,14 +219,15 @@ void renderer_destroy(Renderer *r)
 
 /* What renderer_apply does; redo: the last apply failed part-way, so the
  * targets and the technique are made again whatever changed (the light
- * products know themselves whether they were made). */
+ * products know themselves whether they were made; a technique made again
+ * is made at the new size, so it needs no resize). */
 static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
 {
     RenderSettings old = r->settings;
     r->settings = *rs;
     bool resized =
         redo || rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
-    bool shading_resized = redo || rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
+    bool shading_resized = rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
                            rs->height * renderer_ssaa(rs) != old.height * renderer_ssaa(&old);
     bool technique = redo || rs->gi != old.gi || memcmp(&rs->gi_params, &old.gi_params, sizeof rs->gi_params) != 0;
     LightStageDesc ld = light_desc(rs);

@@ -29,15 +29,11 @@ static GLFWwindow *g_window;
  * line and exit status 1 (the one exit outside main; no output is being
  * written while the panel is built or drawn) instead of a crash inside the
  * library. */
-static long g_alloc_fail_at = -1; /* RTGI_FAIL_UI_ALLOC=k: the k-th allocation fails (fault injection) */
+static long g_alloc_fail_at; /* RTGI_FAIL_UI_ALLOC=k: the k-th allocation fails (fault injection) */
 
 static void *ui_alloc(size_t n, void *user)
 {
     (void)user;
-    if (g_alloc_fail_at < 0) {
-        const char *env = getenv("RTGI_FAIL_UI_ALLOC");
-        g_alloc_fail_at = env ? strtol(env, NULL, 10) : 0;
-    }
     bool refuse = g_alloc_fail_at > 0 && --g_alloc_fail_at == 0;
     void *p = refuse ? NULL : malloc(n);
     if (!p && n) {
@@ -56,6 +52,8 @@ static void ui_free(void *p, void *user)
 extern "C" bool ui_create(GLFWwindow *window)
 {
     IMGUI_CHECKVERSION();
+    const char *fail_at = getenv("RTGI_FAIL_UI_ALLOC");
+    g_alloc_fail_at = fail_at ? strtol(fail_at, NULL, 10) : 0;
     ImGui::SetAllocatorFunctions(ui_alloc, ui_free, nullptr);
     ImGui::CreateContext();
     ImGuiIO &io = ImGui::GetIO();

@@ -128,6 +128,82 @@ double test_image_mean(const ImageF *img)
     return m / ((double)img->width * img->height);
 }
 
+int test_surface_mask(const Scene *s, int w, int h, const char *material, int face, uint8_t *mask)
+{
+    int m = -1;
+    for (int i = 0; i < s->material_count && m < 0; i++)
+        if (strcmp(s->materials[i].name, material) == 0)
+            m = i;
+    if (m < 0)
+        fail_msg("test_surface_mask: the scene has no material '%s'", material);
+    int32_t *ids = malloc(sizeof *ids * (size_t)w * (size_t)h);
+    assert_non_null(ids);
+    assert_true(pt_surface_map(s, w, h, ids));
+    int count = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            int32_t id = ids[(size_t)y * w + x];
+            bool in = id >= 0 && id / 6 == m && (face < 0 || id % 6 == face);
+            for (int dy = -1; dy <= 1 && in; dy++)
+                for (int dx = -1; dx <= 1 && in; dx++) {
+                    int u = x + dx, v = y + dy;
+                    in = u >= 0 && v >= 0 && u < w && v < h && ids[(size_t)v * w + u] == id;
+                }
+            mask[(size_t)y * w + x] = in;
+            count += in;
+        }
+    free(ids);
+    return count;
+}
+
+double test_indirect_ratio(const ImageF *tech, const ImageF *none, const ImageF *ref, const ImageF *direct,
+                           const uint8_t *mask)
+{
+    double num = 0, den = 0;
+    for (size_t i = 0; i < (size_t)tech->width * tech->height; i++) {
+        if (mask && !mask[i])
+            continue;
+        num += luminance(tech->rgb + 3 * i) - luminance(none->rgb + 3 * i);
+        den += luminance(ref->rgb + 3 * i) - luminance(direct->rgb + 3 * i);
+    }
+    return num / den;
+}
+
+static int compare_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+void test_block_ratio_range(const ImageF *tech, const ImageF *none, const ImageF *ref, const ImageF *direct, int bx,
+                            int by, double *lo, double *hi)
+{
+    int w = tech->width, h = tech->height, n = bx * by;
+    double *num = calloc((size_t)n, sizeof *num), *den = calloc((size_t)n, sizeof *den),
+           *sorted = malloc(sizeof *sorted * (size_t)n);
+    assert_true(num && den && sorted);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            size_t i = (size_t)y * w + x;
+            int b = (y * by / h) * bx + x * bx / w;
+            num[b] += luminance(tech->rgb + 3 * i) - luminance(none->rgb + 3 * i);
+            den[b] += luminance(ref->rgb + 3 * i) - luminance(direct->rgb + 3 * i);
+        }
+    memcpy(sorted, den, sizeof *sorted * (size_t)n);
+    qsort(sorted, (size_t)n, sizeof *sorted, compare_double);
+    double median = sorted[n / 2];
+    *lo = INFINITY;
+    *hi = -INFINITY;
+    for (int b = 0; b < n; b++)
+        if (den[b] > median && den[b] > 0) {
+            *lo = fmin(*lo, num[b] / den[b]);
+            *hi = fmax(*hi, num[b] / den[b]);
+        }
+    free(num);
+    free(den);
+    free(sorted);
+}
+
 const char *test_tmp_file(const char *name, const char *content)
 {
     static char path[512];

@@ -49,6 +49,28 @@ float test_plane_radiance(const Scene *s, int w, int h, int x, int y, const Ligh
 /* Mean luminance of an image. */
 double test_image_mean(const ImageF *img);
 
+/* ---- Where the light lands: regions and indirect ratios ---------------
+ * The "indirect ratio" of a technique over a region is the light it adds
+ * over the rasterizer's --gi none image, over the light one bounce adds in
+ * the reference: Σ(tech − none) / Σ(ref − ref_direct), luminance. 1 is
+ * right, 0 is no GI at all. */
+
+/* Pixels of s's camera w×h view (row 0 = top) that see material `material`
+ * (by name) on face `face` (PT_FACE_*; −1: any face) through their centre,
+ * and whose 8 neighbours see the same surface: mask[i] = 1 there, else 0.
+ * Returns the count. Fails the test if no material has that name. */
+int test_surface_mask(const Scene *s, int w, int h, const char *material, int face, uint8_t *mask);
+/* Σ over the pixels with mask[i] != 0 (NULL: all) of luminance(tech − none),
+ * over the same of luminance(ref − direct). */
+double test_indirect_ratio(const ImageF *tech, const ImageF *none, const ImageF *ref, const ImageF *direct,
+                           const uint8_t *mask);
+/* The image cut into bx × by blocks; of the blocks whose reference
+ * indirect light (ref − direct) is above the median block's, the lowest and
+ * highest indirect ratio into lo and hi (for "no region beyond 3× or below
+ * ⅓" checks on a mesh scene, where surfaces have no names worth keeping). */
+void test_block_ratio_range(const ImageF *tech, const ImageF *none, const ImageF *ref, const ImageF *direct, int bx,
+                            int by, double *lo, double *hi);
+
 /* Writes `content` to RTGI_TEST_TMP/name; returns the path (static buffer,
  * valid until the next call). */
 const char *test_tmp_file(const char *name, const char *content);

@@ -593,6 +593,30 @@ bool pt_emitter_mask(const Scene *scene, int w, int h, uint8_t *mask)
     return true;
 }
 
+bool pt_surface_map(const Scene *scene, int w, int h, int32_t *ids)
+{
+    PtScene ps;
+    if (!pt_scene_create(&ps, scene))
+        return false;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            vec3 d;
+            PtHit hit;
+            camera_ray(&scene->camera, w, h, (float)x + 0.5f, (float)y + 0.5f, d);
+            int32_t *id = &ids[(size_t)y * w + x];
+            *id = -1;
+            if (!pt_intersect(&ps, scene->camera.position, d, INFINITY, &hit))
+                continue;
+            int axis = 0; /* the dominant axis of the normal that faces the camera */
+            for (int k = 1; k < 3; k++)
+                if (fabsf(hit.ng[k]) > fabsf(hit.ng[axis]))
+                    axis = k;
+            *id = hit.material * 6 + 2 * axis + (hit.ng[axis] < 0.f);
+        }
+    pt_scene_destroy(&ps);
+    return true;
+}
+
 bool pt_write_emitter_mask(const Scene *scene, int w, int h, const char *path)
 {
     uint8_t *mask = malloc((size_t)w * h), *rgb = malloc((size_t)w * h * 3);

@@ -84,6 +84,13 @@ bool pt_render(const Scene *scene, const PtSettings *ps, ImageF *mean, ImageF *v
  * so `compare --mask` can leave emitters out of the error. false after
  * logging. */
 bool pt_emitter_mask(const Scene *scene, int w, int h, uint8_t *mask);
+/* What each pixel of a w×h image of the scene's camera sees through its
+ * centre (row 0 = top): material · 6 + face, where face is the dominant
+ * axis of the geometric normal facing the camera, PT_FACE_* (+x, −x, +y,
+ * −y, +z, −z); −1 where the ray leaves the scene. For measuring a
+ * technique over one surface (tests/test_fidelity.c). false after logging. */
+enum { PT_FACE_POS_X, PT_FACE_NEG_X, PT_FACE_POS_Y, PT_FACE_NEG_Y, PT_FACE_POS_Z, PT_FACE_NEG_Z };
+bool pt_surface_map(const Scene *scene, int w, int h, int32_t *ids);
 /* Writes that mask as an 8-bit PNG (black: excluded). false after logging. */
 bool pt_write_emitter_mask(const Scene *scene, int w, int h, const char *path);
 

@@ -1,0 +1,114 @@
+/* test_fidelity.c — where each GI technique's light lands on the Cornell
+ * box, surface by surface, against the path tracer. A whole-image error
+ * can hide light in the wrong place (LPV once passed one while darker than
+ * no GI on the ceiling and 2.6× too bright on the back wall), so each row
+ * checks the indirect ratio (test_util.h: the light the technique adds over
+ * --gi none, over the light one bounce adds in the reference) of every
+ * surface the camera sees: each wall, the floor, the ceiling and each face
+ * of the blocks, as the path tracer's primary hits name them
+ * (pt_surface_map). --gi none's ratio is 0 everywhere, so a lower bound
+ * above 0 is one that no GI fails.
+ *
+ * The references (direct, one-bounce, one-bounce-novis) are rendered once
+ * for the whole program. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test_util.h"
+
+#define W 128
+#define H 128
+#define SPP 256
+#define MIN_PIXELS 40 /* a surface seen by fewer (eroded) pixels is not checked */
+
+typedef struct Fixture {
+    Scene scene;
+    ImageF none;                   /* the rasterizer without GI */
+    ImageF ref[PT_INDIRECT + 1];   /* by PtMode: direct, one-bounce, one-bounce-novis rendered */
+} Fixture;
+
+static int setup(void **state)
+{
+    if (test_gl_setup(state) != 0)
+        return -1;
+    Fixture *f = calloc(1, sizeof *f);
+    assert_non_null(f);
+    scene_build_cornell(&f->scene);
+    scene_finalize(&f->scene);
+    test_render_gi(&f->scene, W, H, GI_NONE, NULL, &f->none);
+    const PtMode modes[] = {PT_DIRECT, PT_ONE_BOUNCE, PT_ONE_BOUNCE_NOVIS};
+    for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++)
+        test_reference(&f->scene, W, H, modes[i], SPP, &f->ref[modes[i]]);
+    *state = f;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    Fixture *f = *state;
+    image_free(&f->none);
+    for (int m = 0; m <= PT_INDIRECT; m++)
+        image_free(&f->ref[m]);
+    scene_free(&f->scene);
+    free(f);
+    *state = NULL;
+    return test_gl_teardown(state);
+}
+
+static const char *const k_face_names[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+
+/* Renders technique `gi` and checks the indirect ratio against the
+ * reference `mode` on every surface seen by MIN_PIXELS or more: within
+ * [lo, hi]. Returns the whole image's ratio. */
+static double check_surfaces(const Fixture *f, GiMode gi, PtMode mode, double lo, double hi)
+{
+    ImageF img;
+    test_render_gi(&f->scene, W, H, gi, NULL, &img);
+    const ImageF *ref = &f->ref[mode], *direct = &f->ref[PT_DIRECT];
+    uint8_t *mask = malloc((size_t)W * H);
+    assert_non_null(mask);
+    double whole = test_indirect_ratio(&img, &f->none, ref, direct, NULL);
+    print_message("%s against %s: whole image %.3f\n", gi_technique_names()[gi], pt_mode_names[mode], whole);
+    int checked = 0, bad = 0;
+    for (int m = 0; m < f->scene.material_count; m++) {
+        const Material *mat = &f->scene.materials[m];
+        if (mat->emission[0] > 0 || mat->emission[1] > 0 || mat->emission[2] > 0)
+            continue;
+        for (int face = 0; face < 6; face++) {
+            int n = test_surface_mask(&f->scene, W, H, mat->name, face, mask);
+            if (n < MIN_PIXELS)
+                continue;
+            double r = test_indirect_ratio(&img, &f->none, ref, direct, mask);
+            bool ok = r >= lo && r <= hi;
+            print_message("  %-12s %s %5d px  ratio %.3f%s\n", mat->name, k_face_names[face], n, r,
+                          ok ? "" : "  <- outside the bounds");
+            checked++;
+            bad += !ok;
+        }
+    }
+    print_message("  %d surfaces, %d outside [%.2f, %.2f]\n", checked, bad, lo, hi);
+    assert_true(checked >= 8); /* 5 walls and the blocks' faces */
+    assert_int_equal(bad, 0);
+    free(mask);
+    image_free(&img);
+    return whole;
+}
+
+/* The control: RSM computes exactly one-bounce-novis up to its sampling,
+ * so every surface must sit near 1 against it. */
+static void rsm_against_one_bounce_novis(void **state)
+{
+    const Fixture *f = *state;
+    double whole = check_surfaces(f, GI_RSM, PT_ONE_BOUNCE_NOVIS, 0.85, 1.15);
+    assert_true(whole > 0.9 && whole < 1.1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(rsm_against_one_bounce_novis),
+    };
+    return cmocka_run_group_tests_name("fidelity", tests, setup, teardown);
+}

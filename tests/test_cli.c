@@ -204,7 +204,9 @@ static void every_program_failure_fails(void **state)
         char want[128];
         snprintf(want, sizeof want, "(program %s)", cases[i].program);
         print_message("%s under %s: exit %d\n", cases[i].file, cases[i].guard, rc);
-        test_expect_cli_error(rc, err, 1, want, "#error broken by the test");
+        /* Each driver words it its own way (Mesa: "#error broken by the test";
+         * NVIDIA: "error C0000: broken by the test"): the text is the test's. */
+        test_expect_cli_error(rc, err, 1, want, "broken by the test");
         assert_int_not_equal(access(out, F_OK), 0);
     }
 }
@@ -666,6 +668,7 @@ static void render_estimate_line(void **state)
     free(err);
     unsetenv("RTGI_PROGRESS_S");
     rc = test_run_cli(&err, "render", "--size", "64x64", "--gi", "vpl-all", "--out", out, NULL);
+    test_progress_off();
     assert_int_equal(rc, 0);
     assert_null(strstr(err ? err : "", "(estimate)")); /* 0.42 s is under the default 2 s */
     free(err);
@@ -870,7 +873,7 @@ static char *progress_stderr(const char *arg0, ...)
     va_start(ap, arg0);
     setenv("RTGI_PROGRESS_S", "0", 1);
     int rc = test_run_cli_va(&err, arg0, ap);
-    unsetenv("RTGI_PROGRESS_S");
+    test_progress_off();
     va_end(ap);
     if (rc != 0 || !err)
         fail_msg("rtgi %s: exit %d: %s", arg0, rc, err ? err : "");

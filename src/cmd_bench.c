@@ -1,7 +1,7 @@
 /* cmd_bench.c — `rtgi bench`: every listed technique (shadow × GI × settings)
  * of one scene rendered in-process with per-pass timings, measured against a
  * cached path-traced reference with the emitters masked out, written as
- * DIR/bench.json (schema in the README, "Benchmarks") and the self-contained
+ * DIR/bench.json (schema in docs/measuring.md, "Benchmarks") and the self-contained
  * DIR/report.html (report_html.c). Every output is written into a staging
  * directory DIR/.bench-PID-XXXXXX and moved into DIR only when all of them
  * are written: a failed run leaves DIR as it was (a killed one leaves its

@@ -1,7 +1,7 @@
 /* scene_load.c — scene files (JSON, cJSON) and meshes (assimp).
  * A scene file names a built-in scene or a mesh file (relative to the scene
  * file), optional inline quads, lights, camera, exposure and technique
- * parameters. See the files under scenes/ and README.md for the format. */
+ * parameters. See the files under scenes/ and docs/guide.md ("Scene files") for the format. */
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
@@ -27,7 +27,7 @@
 
 /* ------------------------------------------------------------------ mesh */
 
-/* Limits on what a mesh file may bring (README "Scene files"). */
+/* Limits on what a mesh file may bring (docs/guide.md, "Scene files"). */
 #define MESH_MAX_VERTICES ((uint32_t)1 << 27) /* 4 GiB of Vertex */
 #define MESH_MAX_INDICES ((uint32_t)1 << 28)  /* 1 GiB of indices */
 #define TEXTURE_MAX_SIZE 16384                /* texels per side (GL_MAX_TEXTURE_SIZE of common GPUs) */
@@ -732,7 +732,7 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 
 /* ------------------------------------------------------------------ JSON */
 
-/* Limits on scene-file values (README "Scene files"): beyond them the
+/* Limits on scene-file values (docs/guide.md, "Scene files"): beyond them the
  * renderers' float arithmetic overflows or the GPU cannot hold the scene. */
 #define SCENE_MAX_COORD 1e6f      /* |coordinate| of positions and vectors (m) */
 #define SCENE_MAX_LIGHTS 32       /* lights per scene: each gets shadow maps and an RSM */

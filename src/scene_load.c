@@ -9,6 +9,7 @@
 #include <assimp/scene.h>
 #include <cjson/cJSON.h>
 #include <limits.h>
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -1167,8 +1168,43 @@ static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "m
                                          "materials", "camera", "lights",     "exposure",       "shadow",
                                          "gi",        NULL};
 
+/* What most likely broke JSON text where the parser stopped (*at, cJSON's
+ * error position), the mistakes people make by hand: a comma before a
+ * closing bracket, a missing comma, an unclosed string or bracket. *at
+ * moves to the place to point at (the stray comma). */
+static const char *json_syntax_hint(const char *text, const char **at)
+{
+    const char *p = *at, *prev;
+    /* cJSON stops past a closing bracket or an opening single quote that
+     * it could not take: the character to blame is the one before. */
+    if (p > text && strchr("}]'", p[-1]) && (!*p || isspace((unsigned char)*p) || isalnum((unsigned char)*p)))
+        p--;
+    *at = prev = p;
+    while (prev > text && strchr(" \t\r\n", prev[-1]))
+        prev--;
+    char before = prev > text ? prev[-1] : 0;
+    if (!*p)
+        return "the file ends inside a value (a '}', ']' or '\"' is missing)";
+    if (before == ',' && (*p == '}' || *p == ']')) {
+        *at = prev - 1;
+        return *p == '}' ? "a comma before '}' (JSON allows no trailing comma)"
+                         : "a comma before ']' (JSON allows no trailing comma)";
+    }
+    if (*p == '"' && before && strchr("\"0123456789el}]", before))
+        return "a ',' is missing before this member";
+    if ((*p == '{' || *p == '[' || isdigit((unsigned char)*p) || *p == '-') && before && strchr("\"0123456789el}]", before))
+        return "a ',' is missing before this value";
+    if (*p == '\'')
+        return "strings take double quotes (\"...\"), not single ones";
+    if (*p == '/' || *p == '#')
+        return "JSON has no comments";
+    if (isalpha((unsigned char)*p))
+        return "a bare word: keys and strings take double quotes; values may be numbers, true, false or null";
+    return "unexpected character here";
+}
+
 /* The file parsed, a JSON object; NULL (logged with the line and column
- * where the JSON broke) if not. */
+ * where the JSON broke, and what most likely broke it) if not. */
 static cJSON *read_json(const char *path)
 {
     char *text = util_read_input("scene", "scene file", path, SCENE_MAX_BYTES, NULL);
@@ -1177,8 +1213,9 @@ static cJSON *read_json(const char *path)
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     if (!root) {
+        const char *at = end ? end : text, *why = json_syntax_hint(text, &at);
         int line = 1, col = 1;
-        for (const char *p = text; end && p < end && *p; p++) {
+        for (const char *p = text; p < at && *p; p++) {
             if (*p == '\n') {
                 line++;
                 col = 1;
@@ -1186,7 +1223,7 @@ static cJSON *read_json(const char *path)
                 col++;
             }
         }
-        log_error("scene", "%s:%d:%d: malformed JSON", path, line, col);
+        log_error("scene", "%s:%d:%d: malformed JSON: %s", path, line, col, why);
     } else if (!cJSON_IsObject(root)) {
         log_error("scene", "%s: top level must be a JSON object", path);
         cJSON_Delete(root);

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -559,6 +560,9 @@ int util_edit_distance(const char *a, const char *b)
 
 const char *util_nearest(const char *s, const char *const *names)
 {
+    for (int i = 0; names && names[i]; i++)
+        if (!strcasecmp(s, names[i]))
+            return names[i]; /* "PCSS" for "pcss", however long the word */
     const char *best = NULL;
     int best_d = 1 << 30;
     for (int i = 0; names && names[i]; i++) {

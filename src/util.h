@@ -89,7 +89,8 @@ void util_end_deferral(void);
 int util_edit_distance(const char *a, const char *b);
 /* The name in the NULL-terminated `names` nearest to `s` by edit distance,
  * or NULL when none is near enough to be a likely typo (distance more than
- * 1 for names up to 4 bytes, else max(2, strlen(s)/3)). For "unknown key 'x', did you mean 'y'?". */
+ * 1 for names up to 4 bytes, else max(2, strlen(s)/3)). A name that differs
+ * only in ASCII case is the nearest ("PCSS": "pcss"). For "unknown key 'x', did you mean 'y'?". */
 const char *util_nearest(const char *s, const char *const *names);
 /* Writes `s` as a JSON string literal (quotes, escapes) to f; bytes that
  * do not start valid UTF-8 are written as \ufffd. */

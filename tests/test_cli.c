@@ -478,6 +478,36 @@ static void compare_json_and_mask(void **state)
     assert_null(cJSON_GetObjectItem(j, "ssim")); /* only the metric asked for */
     assert_float_equal(cJSON_GetObjectItem(j, "mean_ratio")->valuedouble, 1.0, 1e-6); /* the masked half agrees */
     cJSON_Delete(j);
+    /* The heat map has its colour bar below: the map in the top 8 rows
+     * (the right half at full heat: RMSE's scale is its maximum), then a
+     * band from the darkest colour to the brightest. */
+    char heat[512];
+    snprintf(heat, sizeof heat, "%s/cmp_j_heat.png", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "compare", a, b, "--metric", "rmse", "--heatmap", heat, NULL), 0);
+    ImageF hm;
+    assert_true(image_read(heat, &hm));
+    assert_int_equal(hm.width, 16);
+    assert_true(hm.height > 8 + 4);
+    assert_true(image_px(&hm, 2, 4)[1] < 0.01f && image_px(&hm, 13, 4)[1] > 0.9f);
+    int band = -1;
+    for (int y = 8; y < hm.height && band < 0; y++)
+        if (luminance(image_px(&hm, 15, y)) > 0.9f)
+            band = y;
+    assert_true(band > 8);
+    for (int x = 1; x < 16; x++) /* darker to brighter, left to right */
+        assert_true(luminance(image_px(&hm, x, band)) >= luminance(image_px(&hm, x - 1, band)));
+    assert_true(luminance(image_px(&hm, 0, band)) < 0.01f);
+    image_free(&hm);
+    /* Radiance against a tone-mapped PNG: the numbers come with a warning;
+     * two radiance files, none. */
+    char *err = NULL;
+    assert_int_equal(test_run_cli(&err, "compare", a, mask, "--metric", "rmse", NULL), 0);
+    assert_non_null(strstr(err ? err : "", "warning [compare] "));
+    assert_non_null(strstr(err, "cmp_j_mask.png is a tone-mapped image (PNG) but"));
+    free(err);
+    assert_int_equal(test_run_cli(&err, "compare", a, b, "--metric", "rmse", NULL), 0);
+    assert_null(strstr(err ? err : "", "tone-mapped"));
+    free(err);
     image_free(&ia);
     image_free(&ib);
 }
@@ -758,6 +788,10 @@ static void one_error_hint_style(void **state)
     int rc = test_run_cli(&err, "render", "--shadow", "pfc", NULL);
     test_expect_cli_error(rc, err, 2, "render: --shadow: unknown value 'pfc'",
                           "; did you mean 'pcf'? (see rtgi render --help)");
+    rc = test_run_cli(&err, "render", "--shadow", "PCSS", NULL); /* case alone: suggested, at any length */
+    test_expect_cli_error(rc, err, 2, "render: --shadow: unknown value 'PCSS'", "; did you mean 'pcss'?");
+    rc = test_run_cli(&err, "render", "--gi", "VPL-METALIGHTS", NULL);
+    test_expect_cli_error(rc, err, 2, "render: --gi: unknown value 'VPL-METALIGHTS'", "did you mean 'vpl-metalights'?");
     rc = test_run_cli(&err, "reference", "--mode", "one-bounse", NULL);
     test_expect_cli_error(rc, err, 2, "reference: --mode: unknown value 'one-bounse'",
                           "; did you mean 'one-bounce'? (see rtgi reference --help)");
@@ -776,6 +810,11 @@ static void one_error_hint_style(void **state)
                           "did you mean 'samples'? (see rtgi bench --help)");
     rc = test_run_cli(&err, "bench", "--out", RTGI_TEST_TMP "/bench_typo", "--gi", "rsm,vpl-sl", NULL);
     test_expect_cli_error(rc, err, 2, "bench: --gi: unknown value 'vpl-sl'", "did you mean 'vpl-slc'? (see rtgi bench --help)");
+    /* An output that cannot be written is the command's error, not a usage one. */
+    rc = test_run_cli(&err, "render", "--size", "8x8", "--out", "/proc/rtgi_test.png", NULL);
+    test_expect_cli_error(rc, err, 1, "rtgi: error [render] /proc/rtgi_test.png: cannot create output file", NULL);
+    rc = test_run_cli(&err, "reference", "--size", "8x8", "--spp", "1", "--out", "/proc/rtgi_test.pfm", NULL);
+    test_expect_cli_error(rc, err, 1, "rtgi: error [reference] /proc/rtgi_test.pfm: cannot create output file", NULL);
     rc = test_run_cli(&err, "render", "stray", NULL);
     test_expect_cli_error(rc, err, 2, "render: unexpected argument 'stray'", "(see rtgi render --help)");
 }

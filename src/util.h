@@ -77,6 +77,12 @@ void util_atomic_abort(AtomicFile *af);
  * remove the temporary file of every AtomicFile being written (main.c
  * installs this; `reference` takes SIGINT for itself while it renders). */
 void util_handle_ending_signals(void);
+/* Directories that such a signal removes before it ends the program: with
+ * what is in them, two levels down (`tree`: a staging directory), or only
+ * if empty by then (a directory the command made for its outputs). Up to
+ * four; removed in reverse order of adding. */
+void util_live_dir_add(const char *dir, bool tree);
+void util_live_dir_remove(const char *dir);
 /* Between these two such a signal waits: a command's set of outputs is
  * written whole (all of them or none), then the signal ends the program. */
 void util_defer_ending_signals(void);

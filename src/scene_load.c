@@ -522,6 +522,81 @@ static void log_import_error(const char *path)
         log_error("scene", "%s: cannot import mesh (%s)", path, e);
 }
 
+/* A mesh over this many vertices is large: its import and each
+ * post-processing step are announced and timed (the environment's
+ * RTGI_MESH_LARGE_VERTICES sets it; the tests make a small mesh large). */
+#define MESH_LARGE_VERTICES 1000000u
+
+static unsigned mesh_large_vertices(void)
+{
+    const char *v = getenv("RTGI_MESH_LARGE_VERTICES");
+    char *end = NULL;
+    unsigned long n = v && *v ? strtoul(v, &end, 10) : 0;
+    return end && !*end ? (unsigned)n : MESH_LARGE_VERTICES;
+}
+
+static unsigned mesh_vertex_count(const struct aiScene *ai)
+{
+    unsigned n = 0;
+    for (unsigned i = 0; i < ai->mNumMeshes; i++)
+        n += ai->mMeshes[i]->mNumVertices;
+    return n;
+}
+
+/* assimp's post-processing, a step at a time so that a large mesh says
+ * which step runs and how long it took (an 8M-triangle OBJ had sat five
+ * minutes in JoinIdenticalVertices without a word). Steps a file does not
+ * need are skipped: smooth normals where every mesh has normals, joining
+ * identical vertices where the meshes already share them (indexed glTF:
+ * at most 1.5 vertices per triangle, where a mesh is about 0.5 to 1 and an
+ * OBJ's unshared corners 2 (quads) or 3); an OBJ's corners are joined,
+ * which keeps its vertex buffer a third of the size. The order is assimp's own. Releases `ai` and returns
+ * NULL after logging on failure. */
+static const struct aiScene *mesh_post_process(const struct aiScene *ai, const char *path)
+{
+    bool normals = true;
+    for (unsigned i = 0; i < ai->mNumMeshes; i++)
+        normals = normals && ai->mMeshes[i]->mNormals;
+    unsigned verts = mesh_vertex_count(ai);
+    bool large = verts > mesh_large_vertices();
+    static const struct {
+        unsigned flag;
+        const char *name;
+    } steps[] = {
+        {aiProcess_Triangulate, "triangulating"},
+        {aiProcess_GenSmoothNormals, "smooth normals"},
+        {aiProcess_PreTransformVertices, "applying node transforms"},
+        {aiProcess_JoinIdenticalVertices, "joining identical vertices"},
+        {aiProcess_SortByPType, "sorting primitives"},
+        {aiProcess_FlipUVs, "flipping texture coordinates"},
+    };
+    for (size_t k = 0; k < sizeof steps / sizeof steps[0] && ai; k++) {
+        unsigned flag = steps[k].flag;
+        if (flag == aiProcess_GenSmoothNormals && normals)
+            continue;
+        if (flag == aiProcess_JoinIdenticalVertices) {
+            bool shared = true;
+            for (unsigned i = 0; i < ai->mNumMeshes && shared; i++)
+                shared = 2 * (unsigned long)ai->mMeshes[i]->mNumVertices <= 3 * (unsigned long)ai->mMeshes[i]->mNumFaces;
+            if (shared)
+                continue;
+        }
+        double t0 = util_seconds();
+        if (large)
+            log_progress("scene: %s: %s (%u vertices)...", path, steps[k].name, mesh_vertex_count(ai));
+        ai = aiApplyPostProcessing(ai, flag); /* releases the scene on failure */
+        if (large)
+            log_progress("scene: %s: %s took %.1f s", path, steps[k].name, util_seconds() - t0);
+    }
+    if (!ai || !ai->mRootNode) {
+        log_import_error(path);
+        if (ai)
+            aiReleaseImport(ai);
+        return NULL;
+    }
+    return ai;
+}
+
 /* The mesh file imported: rtgi's checks of the file, assimp's import with
  * its validation, the checks of what that misses, then post-processing
  * (triangulated, smooth normals, node transforms applied). NULL after
@@ -537,7 +612,14 @@ static const struct aiScene *mesh_import(const char *path)
      * post-process: its steps assert (abort) on inconsistent meshes. */
     MeshIo io = {.io = {.OpenProc = mesh_io_open, .CloseProc = mesh_io_close}};
     io.io.UserData = (aiUserData)&io;
+    struct stat st;
+    bool big = stat(path, &st) == 0 && st.st_size > (off_t)64 * 1024 * 1024;
+    double t0 = util_seconds();
+    if (big)
+        log_progress("scene: %s: importing %.0f MB through assimp...", path, (double)st.st_size / (1024.0 * 1024.0));
     const struct aiScene *ai = aiImportFileEx(path, aiProcess_ValidateDataStructure, &io.io);
+    if (big && ai)
+        log_progress("scene: %s: imported in %.1f s", path, util_seconds() - t0);
     if (!mesh_io_check(&io, path) || !ai || !ai->mRootNode) {
         if (!io.refused_kind)
             log_import_error(path);
@@ -549,16 +631,7 @@ static const struct aiScene *mesh_import(const char *path)
         aiReleaseImport(ai);
         return NULL;
     }
-    unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
-                     aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
-    ai = aiApplyPostProcessing(ai, flags); /* releases the scene on failure */
-    if (!ai || !ai->mRootNode) {
-        log_import_error(path);
-        if (ai)
-            aiReleaseImport(ai);
-        return NULL;
-    }
-    return ai;
+    return mesh_post_process(ai, path);
 }
 
 /* Where a mesh file's meshes go and what they added so far. */

@@ -819,6 +819,37 @@ static void one_error_hint_style(void **state)
     test_expect_cli_error(rc, err, 2, "render: unexpected argument 'stray'", "(see rtgi render --help)");
 }
 
+/* A large mesh is never silent (issue 43: an 8M-triangle OBJ sat five
+ * minutes in assimp's post-processing without a line): each step says it
+ * runs and how long it took. RTGI_MESH_LARGE_VERTICES makes this quad
+ * "large"; an OBJ without normals gets smooth normals and its unshared
+ * corners joined; --quiet keeps it silent. */
+static void large_mesh_says_each_step(void **state)
+{
+    (void)state;
+    const char *obj = test_tmp_file("large_quad.obj", "v -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nf 1 2 3 4\n");
+    char out[512], *err = NULL;
+    snprintf(out, sizeof out, "%s/large_quad.png", RTGI_TEST_TMP);
+    setenv("RTGI_MESH_LARGE_VERTICES", "1", 1);
+    int rc = test_run_cli(&err, "render", "--scene", obj, "--size", "16x16", "--out", out, NULL);
+    print_message("%s", err ? err : "");
+    assert_int_equal(rc, 0);
+    const char *steps[] = {"triangulating", "smooth normals", "joining identical vertices",
+                           "flipping texture coordinates"};
+    for (size_t i = 0; i < sizeof steps / sizeof steps[0]; i++) {
+        char want[128];
+        snprintf(want, sizeof want, "large_quad.obj: %s took ", steps[i]);
+        if (!strstr(err, want))
+            fail_msg("no line '%s'", want);
+    }
+    free(err);
+    rc = test_run_cli(&err, "render", "--scene", obj, "--size", "16x16", "--out", out, "--quiet", NULL);
+    unsetenv("RTGI_MESH_LARGE_VERTICES");
+    assert_int_equal(rc, 0);
+    assert_null(strstr(err ? err : "", "took"));
+    free(err);
+}
+
 /* "--" ends the options: what follows is an operand whatever it looks like
  * (compare's images), and commands without operands refuse it. */
 static void double_dash_ends_options(void **state)
@@ -1185,6 +1216,7 @@ int main(void)
         cmocka_unit_test(quiet_and_verbose_everywhere),
         cmocka_unit_test(one_error_hint_style),
         cmocka_unit_test(double_dash_ends_options),
+        cmocka_unit_test(large_mesh_says_each_step),
         cmocka_unit_test(help_names_exr),
         cmocka_unit_test(reference_progress_lines),
         cmocka_unit_test(render_frame_progress_lines),

@@ -181,7 +181,7 @@ static void every_program_failure_fails(void **state)
         const char *args[8];
     } cases[] = {
         {"gi/lpv/propagate.comp", "MODE_FACES", "lpv_propagate_faces", {"--gi", "lpv", "--lpv-size", "8", NULL}},
-        {"frame/direct.frag", "LIGHT_FIXED_TYPE", "direct", {"--gi", "none", NULL}},
+        {"frame/shade.comp", "LIGHT_FIXED_TYPE", "shade", {"--gi", "none", NULL}},
         {"gi/vct/bounce.comp", "OPAQUE_LIST", "vct_bounce_list",
          {"--gi", "vct", "--vct-size", "16", "--vct-bounces", "2", NULL}},
         /* an include of three programs: one line, the first's */

@@ -16,8 +16,9 @@
  * of two. 1D requests (Russian roulette) use one scrambled van der Corput
  * coordinate with its own index shuffle.
  *
- * PT_SAMPLER_INDEPENDENT: PCG32 numbers from one stream per pixel, as the
- * reference used before; kept to measure the gain.
+ * PT_SAMPLER_INDEPENDENT: PCG32 numbers, one stream per pixel and sample
+ * index (the state from the seed and the index, the increment from the
+ * pixel), as the reference used before; kept to measure the gain.
  *
  * Both depend only on (seed, pixel, sample index, request order), never on
  * threads or tiles. */
@@ -32,7 +33,9 @@
 
 typedef struct Sampler {
     PtSampler kind;
-    Rng rng;           /* independent: the pixel's stream */
+    Rng rng;           /* independent: the stream of the current sample */
+    uint64_t seed;     /* independent: the render's seed */
+    uint64_t pixel;    /* independent: the pixel's index */
     uint64_t pixel_key;/* sobol: hash of (seed, pixel) */
     uint32_t index;    /* sobol: sample index within the pixel */
     uint32_t dim;      /* sobol: requests made so far in this sample */
@@ -84,18 +87,24 @@ static inline Sampler sampler_make(PtSampler kind, uint64_t seed, uint64_t pixel
 {
     Sampler s = {0};
     s.kind = kind;
-    if (kind == PT_SAMPLER_INDEPENDENT)
-        s.rng = rng_make(seed, pixel);
-    else
+    s.seed = seed;
+    s.pixel = pixel;
+    if (kind == PT_SAMPLER_SOBOL)
         s.pixel_key = hash64(hash64(seed ^ 0x5851f42d4c957f2dULL) ^ pixel);
     return s;
 }
 
-/* Starts sample `index` of the pixel (independent: the stream just goes on). */
+/* Starts sample `index` of the pixel. Independent: a stream of its own, so
+ * that a sample's numbers depend on its index and not on how many samples
+ * came before it in this Sampler (the render makes a pixel's Sampler anew
+ * for every pass: one stream per pixel restarted there, and every pass
+ * repeated the first pass's samples). */
 static inline void sampler_start(Sampler *s, uint32_t index)
 {
     s->index = index;
     s->dim = 0;
+    if (s->kind == PT_SAMPLER_INDEPENDENT)
+        s->rng = rng_make(hash64(s->seed ^ hash64((uint64_t)index + 0x2545f4914f6cdd1dULL)), s->pixel);
 }
 
 /* A 32-bit integer hash (Wellons' "lowbias32"), to derive a request's

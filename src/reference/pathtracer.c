@@ -9,6 +9,10 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#if defined(__SSE2__)
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+#endif
 
 #include "camera.h"
 #include "log.h"
@@ -49,6 +53,7 @@ typedef struct Job {
     double *sum, *sum2;    /* per pixel and channel: sums of the samples and their squares */
     int s0, s1;            /* the current pass: sample indices [s0, s1) */
     double printed_at;     /* when the last progress line was printed (s since the start) */
+    CameraRayBasis cam;    /* the scene camera's rays at this size */
 } Job;
 
 /* ---------------------------------------------------------------- lights
@@ -190,49 +195,71 @@ static bool light_sample(const Light *l, const vec3 o, const float u[2], LightSa
     return false;
 }
 
-/* World vector → the local frame of unit n (z = n), the basis of to_world. */
-static void to_local(const vec3 n, const vec3 w, vec3 out)
+/* A surface point as one path vertex sees it: the BRDF, the shading frame
+ * and the view direction in it, made once per vertex for its light samples
+ * and its bounce. */
+typedef struct Shade {
+    BrdfSurface surf;
+    vec3 t, b, n;     /* the shading frame (onb of the shading normal n: to_world's) */
+    vec3 wo;          /* toward the viewer, in that frame */
+    float spec_prob;  /* brdf_spec_prob at wo: how often the bounce samples the specular lobe */
+    bool lambert;     /* F0 = 0: f = ρ/π and pdf = cos/π exactly (brdf.h), with no Fresnel to evaluate */
+    vec3 rho_pi;      /* lambert: ρ/π */
+} Shade;
+
+static float dot3(const vec3 a, const vec3 b) { return glm_vec3_dot((float *)a, (float *)b); }
+
+static void shade_make(const PtScene *ps, const PtHit *h, const vec3 wo, Shade *sh)
 {
-    vec3 t, b;
-    onb(n, t, b);
-    out[0] = glm_vec3_dot((float *)w, t);
-    out[1] = glm_vec3_dot((float *)w, b);
-    out[2] = glm_vec3_dot((float *)w, (float *)n);
+    pt_surface(ps, h, &sh->surf);
+    glm_vec3_copy((float *)h->ns, sh->n);
+    onb(sh->n, sh->t, sh->b);
+    sh->wo[0] = dot3(wo, sh->t);
+    sh->wo[1] = dot3(wo, sh->b);
+    sh->wo[2] = dot3(wo, sh->n);
+    const float *f0 = sh->surf.f0;
+    sh->lambert = f0[0] <= 0.f && f0[1] <= 0.f && f0[2] <= 0.f;
+    sh->spec_prob = sh->lambert ? 0.f : brdf_spec_prob(&sh->surf, sh->wo[2]);
+    glm_vec3_scale(sh->surf.diffuse, 1.f / GLM_PIf, sh->rho_pi);
 }
 
-/* Density of BSDF-sampling wi (world) at hit h seen from wo (world). */
-static float bsdf_pdf(const PtHit *h, const BrdfSurface *surf, const vec3 wo, const vec3 wi)
+/* f and the BSDF-sampling density of world direction wi, at cosine c =
+ * wi·n > 0 with the shading normal. */
+static void shade_eval(const Shade *sh, const vec3 wi, float c, vec3 f, float *pdf)
 {
-    vec3 lo, li;
-    to_local(h->ns, wo, lo);
-    to_local(h->ns, wi, li);
-    return brdf_pdf(surf, lo, li);
+    if (sh->lambert) {
+        glm_vec3_copy((float *)sh->rho_pi, f);
+        *pdf = c / GLM_PIf;
+        return;
+    }
+    vec3 l = {dot3(wi, sh->t), dot3(wi, sh->b), c};
+    brdf_eval_pdf(&sh->surf, sh->wo, l, sh->spec_prob, f, pdf);
 }
 
-/* Direct light at hit h seen from wo (unit, toward the viewer): one sample
- * of every light, times the BRDF (brdf.h) and the cosine, with MIS against
- * the BSDF sample for emitters BSDF rays can hit (when `mis`). */
-static void direct_light(Job *j, const PtHit *h, const BrdfSurface *surf, const vec3 wo, Sampler *smp, bool mis,
+/* Direct light at hit h (shade: its vertex; o: its point moved off the
+ * surface, pt_offset): one sample of every light, times the BRDF (brdf.h)
+ * and the cosine, with MIS against the BSDF sample for emitters BSDF rays
+ * can hit (when `mis`). */
+static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, Sampler *smp, bool mis,
                          uint64_t *rays, vec3 out)
 {
     glm_vec3_zero(out);
-    vec3 o;
-    pt_offset(h->p, h->ng, o);
     for (int i = 0; i < j->scene->light_count; i++) {
         float u[2];
         sampler_2d(smp, u);
         LightSample ls;
         if (!light_sample(&j->scene->lights[i], o, u, &ls))
             continue;
-        float c = glm_vec3_dot(ls.wi, (float *)h->ns);
-        if (c <= 0.f || glm_vec3_dot(ls.wi, (float *)h->ng) <= 0.f)
+        float c = dot3(ls.wi, sh->n);
+        if (c <= 0.f || dot3(ls.wi, h->ng) <= 0.f)
             continue;
         vec3 e, f;
-        brdf_eval(surf, h->ns, wo, ls.wi, f);
+        float pdf_bsdf;
+        shade_eval(sh, ls.wi, c, f, &pdf_bsdf);
         glm_vec3_scale(ls.li, c, e);
         glm_vec3_mul(e, f, e);
         if (mis && ls.pdf > 0.f)
-            glm_vec3_scale(e, power_heuristic(ls.pdf, bsdf_pdf(h, surf, wo, ls.wi)), e);
+            glm_vec3_scale(e, power_heuristic(ls.pdf, pdf_bsdf), e);
         if (e[0] <= 0.f && e[1] <= 0.f && e[2] <= 0.f)
             continue;
         (*rays)++;
@@ -243,30 +270,35 @@ static void direct_light(Job *j, const PtHit *h, const BrdfSurface *surf, const 
     }
 }
 
-/* Samples the BSDF at hit h for wo (world): the direction `wi`, its
+/* Samples the BSDF at hit h (shade: its vertex): the direction `wi`, its
  * density and the weight f·cos/pdf. The lobe choice takes a number only
  * when both lobes may be picked, so a Lambertian surface draws the same
  * numbers as plain cosine sampling. false if the sample is unusable. */
-static bool bsdf_sample(const PtHit *h, const BrdfSurface *surf, const vec3 wo, Sampler *smp, vec3 wi, float *pdf,
-                        vec3 weight)
+static bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi, float *pdf, vec3 weight)
 {
-    vec3 lo, li, f;
-    to_local(h->ns, wo, lo);
-    float p = brdf_spec_prob(surf, lo[2]);
+    float p = sh->spec_prob;
     float u0 = p <= 0.f ? 1.f : p >= 1.f ? 0.f : sampler_1d(smp);
     float u[2];
     sampler_2d(smp, u);
-    if (!brdf_sample(surf, lo, u0, u[0], u[1], li))
+    vec3 l;
+    if (!brdf_sample_p(&sh->surf, sh->wo, p, u0, u[0], u[1], l))
         return false;
-    to_world(h->ns, li[0], li[1], li[2], wi);
+    for (int i = 0; i < 3; i++)
+        wi[i] = l[0] * sh->t[i] + l[1] * sh->b[i] + l[2] * sh->n[i];
     glm_vec3_normalize(wi);
-    float c = glm_vec3_dot(wi, (float *)h->ns);
-    if (c <= 0.f || glm_vec3_dot(wi, (float *)h->ng) <= 0.f)
+    float c = dot3(wi, sh->n);
+    if (c <= 0.f || dot3(wi, h->ng) <= 0.f)
         return false;
-    *pdf = bsdf_pdf(h, surf, wo, wi);
+    if (sh->lambert) {
+        /* f·cos/pdf = ρ/π · c / (c/π) */
+        *pdf = c / GLM_PIf;
+        glm_vec3_copy((float *)sh->surf.diffuse, weight);
+        return true;
+    }
+    vec3 f;
+    shade_eval(sh, wi, c, f, pdf);
     if (!(*pdf > 0.f))
         return false;
-    brdf_eval(surf, h->ns, wo, wi, f);
     glm_vec3_scale(f, c / *pdf, weight);
     return true;
 }
@@ -322,49 +354,51 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
         }
         if (depth > max_direct)
             break;
-        BrdfSurface surf;
-        pt_surface(ps, &h, &surf);
         vec3 wo;
         glm_vec3_negate_to(d, wo);
+        Shade sh;
+        shade_make(ps, &h, wo, &sh);
+        pt_offset(h.p, h.ng, o); /* where this vertex's shadow rays and bounce start */
         if (depth >= min_direct) {
             vec3 e;
-            direct_light(j, &h, &surf, wo, smp, mis, rays, e);
+            direct_light(j, &h, &sh, o, smp, mis, rays, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (novis) {
             /* One bounce without visibility on x1 → x2: every surface along
              * the BSDF-sampled ray contributes its direct light. */
-            vec3 dir, o1, t1, w;
+            vec3 dir, t1, w;
             float pdf;
-            if (!bsdf_sample(&h, &surf, wo, smp, dir, &pdf, w))
+            if (!bsdf_sample(&h, &sh, smp, dir, &pdf, w))
                 break;
-            pt_offset(h.p, h.ng, o1);
             glm_vec3_mul(thr, w, t1);
             vec3 wo2;
             glm_vec3_negate_to(dir, wo2);
             PtHit hits[MAX_ALL_HITS];
             (*rays)++;
-            int n = pt_intersect_all(ps, o1, dir, INFINITY, hits, MAX_ALL_HITS);
+            int n = pt_intersect_all(ps, o, dir, INFINITY, hits, MAX_ALL_HITS);
             for (int k = 0; k < n; k++) {
-                BrdfSurface s2;
-                vec3 e;
-                pt_surface(ps, &hits[k], &s2);
-                direct_light(j, &hits[k], &s2, wo2, smp, false, rays, e);
+                Shade s2;
+                vec3 e, o2;
+                shade_make(ps, &hits[k], wo2, &s2);
+                pt_offset(hits[k].p, hits[k].ng, o2);
+                direct_light(j, &hits[k], &s2, o2, smp, false, rays, e);
                 glm_vec3_muladd(t1, e, L);
             }
             break;
         }
         if (s->russian_roulette && depth > s->rr_depth) {
-            float p = fminf(fmaxf(thr[0], fmaxf(thr[1], thr[2])), 0.95f);
+            float p = thr[0] > thr[1] ? thr[0] : thr[1];
+            p = p > thr[2] ? p : thr[2];
+            p = p < 0.95f ? p : 0.95f;
             if (sampler_1d(smp) >= p)
                 break;
             glm_vec3_scale(thr, 1.f / p, thr);
         }
         vec3 w;
-        if (!bsdf_sample(&h, &surf, wo, smp, d, &pdf_prev, w))
+        if (!bsdf_sample(&h, &sh, smp, d, &pdf_prev, w))
             break;
         glm_vec3_mul(thr, w, thr); /* f·cos/pdf; Lambertian: ρ */
-        pt_offset(h.p, h.ng, o);
         if (thr[0] <= 0.f && thr[1] <= 0.f && thr[2] <= 0.f)
             break;
     }
@@ -386,7 +420,7 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
                 if (s->pixel_jitter)
                     sampler_2d(&smp, jit);
                 vec3 d, L;
-                camera_ray(&j->scene->camera, s->width, s->height, x + jit[0], y + jit[1], d);
+                camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d);
                 radiance(j, j->scene->camera.position, d, &smp, rays, L);
                 for (int c = 0; c < 3; c++) {
                     float v = isfinite(L[c]) ? L[c] : 0.f;
@@ -400,6 +434,14 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
 static void *worker(void *arg)
 {
     Job *j = arg;
+    /* Denormals flushed to zero, as Embree asks of every thread that traces
+     * (its kernels slow down severely on denormal operands); this thread's
+     * mode is restored when it returns, for the run-on-the-caller case. */
+#if defined(__SSE2__)
+    unsigned int csr = _mm_getcsr();
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+#endif
     int n = j->tiles_x * j->tiles_y;
     for (int t; (t = atomic_fetch_add(&j->next_tile, 1)) < n;) {
         uint64_t rays = 0;
@@ -407,6 +449,9 @@ static void *worker(void *arg)
         atomic_fetch_add(&j->rays, rays);
         atomic_fetch_add(&j->tiles_done, 1);
     }
+#if defined(__SSE2__)
+    _mm_setcsr(csr);
+#endif
     return NULL;
 }
 
@@ -452,6 +497,7 @@ static Job *job_make(const Scene *scene, const PtSettings *set)
     } else if (pt_scene_create(&j->ps, scene)) { /* logs */
         j->scene = scene;
         j->set = set;
+        camera_ray_basis(&scene->camera, set->width, set->height, &j->cam);
         j->tiles_x = (set->width + TILE - 1) / TILE;
         j->tiles_y = (set->height + TILE - 1) / TILE;
         atomic_init(&j->rays, 0);

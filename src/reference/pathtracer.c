@@ -1,8 +1,11 @@
+/* SCHED_IDLE (Linux) for the background renderer's threads (pt_job_pass). */
+#define _GNU_SOURCE
 #include "reference/pathtracer.h"
 
 #include "brdf.h"
 #include <math.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,6 +19,7 @@
 
 #include "camera.h"
 #include "log.h"
+#include "reference/pt_job.h"
 #include "reference/pt_scene.h"
 #include "reference/rng.h"
 #include "reference/sampler.h"
@@ -42,18 +46,20 @@ void pt_settings_default(PtSettings *s)
     s->sampler = PT_SAMPLER_SOBOL;
 }
 
-typedef struct Job {
-    const Scene *scene;
-    const PtSettings *set;
-    PtScene ps;
+/* pt_job.h's job. */
+typedef struct PtJob {
+    const Scene *scene;        /* borrowed */
+    const PtSettings *set;     /* borrowed */
+    PtScene ps;                /* owned: Embree's scene */
     int tiles_x, tiles_y;
-    atomic_int next_tile;
-    atomic_int tiles_done;
+    atomic_int next_tile;      /* the running pass: next tile to take */
+    atomic_int tiles_done;     /* the running pass: tiles rendered */
     atomic_uint_fast64_t rays;
-    double *sum, *sum2;    /* per pixel and channel: sums of the samples and their squares */
-    int s0, s1;            /* the current pass: sample indices [s0, s1) */
-    double printed_at;     /* when the last progress line was printed (s since the start) */
-    CameraRayBasis cam;    /* the scene camera's rays at this size */
+    double *sum, *sum2;        /* per pixel and channel: sums of the samples and their squares (owned) */
+    int s0, s1;                /* the running pass: sample indices [s0, s1) */
+    const atomic_int *cancel;  /* the running pass: no new tile once non-zero (may be NULL) */
+    pthread_t *threads;        /* room for set->threads − 1 helpers (owned) */
+    CameraRayBasis cam;        /* the scene camera's rays at this size */
 } Job;
 
 /* ---------------------------------------------------------------- lights
@@ -431,67 +437,70 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
         }
 }
 
-static void *worker(void *arg)
+/* Renders tiles of the running pass until none is left or the pass is
+ * cancelled; the calling thread calls tick(ctx) between tiles if given. */
+static void work_tiles(Job *j, void (*tick)(void *), void *ctx)
 {
-    Job *j = arg;
     /* Denormals flushed to zero, as Embree asks of every thread that traces
      * (its kernels slow down severely on denormal operands); this thread's
-     * mode is restored when it returns, for the run-on-the-caller case. */
+     * mode is restored on return (the caller's thread works too). */
 #if defined(__SSE2__)
     unsigned int csr = _mm_getcsr();
     _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
     _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
 #endif
     int n = j->tiles_x * j->tiles_y;
-    for (int t; (t = atomic_fetch_add(&j->next_tile, 1)) < n;) {
+    for (int t; !(j->cancel && atomic_load(j->cancel)) && (t = atomic_fetch_add(&j->next_tile, 1)) < n;) {
         uint64_t rays = 0;
         render_tile(j, t, &rays);
         atomic_fetch_add(&j->rays, rays);
         atomic_fetch_add(&j->tiles_done, 1);
+        if (tick)
+            tick(ctx);
     }
 #if defined(__SSE2__)
     _mm_setcsr(csr);
 #endif
+}
+
+static void *worker(void *arg)
+{
+    work_tiles(arg, NULL, NULL);
     return NULL;
 }
 
-/* Progress on stderr: a bar redrawn in place on a terminal, else one line
- * every 5 s (logs; RTGI_PROGRESS_S sets the interval, log_progress_seconds)
- * and a last one; with the samples reached, rays/s and the time left. */
-static void draw_progress(Job *j, double frac, double elapsed, bool last)
+bool pt_thread_start(pthread_t *t, void *(*fn)(void *), void *arg, bool background)
 {
-    bool tty = isatty(STDERR_FILENO);
-    double every = log_progress_seconds(5.0);
-    /* Off a terminal a render shorter than the interval prints nothing (the
-     * final line only closes earlier ones; with an interval of 0, always). */
-    if (!tty && (last ? j->printed_at <= 0 && every > 0 : elapsed - j->printed_at < every))
-        return;
-    j->printed_at = elapsed;
-    double rps = elapsed > 0 ? (double)atomic_load(&j->rays) / elapsed : 0.0;
-    /* The time left is unknown until a pass has finished: "ETA ?" then. */
-    char eta[32] = "?";
-    if (frac > 0)
-        snprintf(eta, sizeof eta, "%.1f s", elapsed * (1.0 - frac) / frac);
-    char bar[41];
-    int filled = (int)(frac * 40);
-    for (int i = 0; i < 40; i++)
-        bar[i] = i < filled ? '#' : ' ';
-    bar[40] = 0;
-    fprintf(stderr, "%sreference [%s] %3d%%  %d/%d spp  %.1f s  %.2f Mrays/s  ETA %s%s", tty ? "\r" : "", bar,
-            (int)(100 * frac), j->s0, j->set->spp, elapsed, rps / 1e6, eta, tty && !last ? "" : "\n");
-    fflush(stderr);
+#if defined(SCHED_IDLE)
+    pthread_attr_t attr;
+    struct sched_param prio = {0};
+    if (background && pthread_attr_init(&attr) == 0) {
+        bool ok = pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED) == 0 &&
+                  pthread_attr_setschedpolicy(&attr, SCHED_IDLE) == 0 &&
+                  pthread_attr_setschedparam(&attr, &prio) == 0 && pthread_create(t, &attr, fn, arg) == 0;
+        pthread_attr_destroy(&attr);
+        if (ok)
+            return true;
+        /* A system that refuses the policy: an ordinary thread. */
+    }
+#else
+    (void)background;
+#endif
+    return pthread_create(t, NULL, fn, arg) == 0;
 }
 
-/* The job's sums and scene, or NULL (logged, nothing left allocated). */
-static Job *job_make(const Scene *scene, const PtSettings *set)
+Job *pt_job_create(const Scene *scene, const PtSettings *set)
 {
+    sampler_init();
     Job *j = calloc(1, sizeof *j);
     size_t npix = (size_t)set->width * (size_t)set->height;
+    int helpers = set->threads > 1 ? set->threads - 1 : 0;
     if (j) {
         j->sum = calloc(npix * 3, sizeof(double));
         j->sum2 = calloc(npix * 3, sizeof(double));
+        j->threads = calloc((size_t)helpers + 1, sizeof(pthread_t));
     }
-    if (!j || !j->sum || !j->sum2) {
+    if (!j || !j->sum || !j->sum2 || !j->threads) {
         log_error("reference", "cannot allocate the %dx%d sums (%.2f GiB)", set->width, set->height,
                   (double)(npix * 6 * sizeof(double)) / (1u << 30));
     } else if (pt_scene_create(&j->ps, scene)) { /* logs */
@@ -504,58 +513,210 @@ static Job *job_make(const Scene *scene, const PtSettings *set)
         return j;
     }
     if (j)
-        free(j->sum), free(j->sum2);
+        free(j->sum), free(j->sum2), free(j->threads);
     free(j);
     return NULL;
 }
 
-static void job_free(Job *j)
+void pt_job_destroy(Job *j)
 {
+    if (!j)
+        return;
     free(j->sum);
     free(j->sum2);
+    free(j->threads);
     pt_scene_destroy(&j->ps);
     free(j);
 }
 
-/* Every pass of samples over the image on `nthreads` threads (th: room for
- * them), until the samples are done or set->stop is raised between passes;
- * returns the samples per pixel done. Passes of about 2^18 samples: short
- * enough that a stop request ends within seconds, long enough that threads
- * stay busy. The schedule depends on the size only, so a seed gives one
- * image. */
-static int run_passes(Job *j, pthread_t *th, int nthreads, double t0)
+void pt_job_clear(Job *j)
 {
-    const PtSettings *set = j->set;
-    size_t npix = (size_t)set->width * (size_t)set->height;
+    size_t n = 3 * (size_t)j->set->width * (size_t)j->set->height;
+    memset(j->sum, 0, n * sizeof(double));
+    memset(j->sum2, 0, n * sizeof(double));
+    atomic_store(&j->rays, 0);
+    camera_ray_basis(&j->scene->camera, j->set->width, j->set->height, &j->cam);
+}
+
+/* Passes of about 2^18 samples: short enough that a stop request or a
+ * time budget ends a render within a second or so, long enough that the
+ * threads stay busy. The schedule depends on the size only. */
+int pt_job_pass_spp(const Job *j)
+{
+    size_t npix = (size_t)j->set->width * (size_t)j->set->height;
     int pass_spp = (int)((((size_t)1 << 18) + npix - 1) / npix);
-    pass_spp = pass_spp < 1 ? 1 : (pass_spp > set->spp ? set->spp : pass_spp);
-    int total = j->tiles_x * j->tiles_y;
-    bool stopped = false;
-    for (j->s0 = 0; j->s0 < set->spp && !stopped; j->s0 = j->s1) {
-        j->s1 = j->s0 + pass_spp < set->spp ? j->s0 + pass_spp : set->spp;
-        atomic_store(&j->next_tile, 0);
-        atomic_store(&j->tiles_done, 0);
-        int started = 0;
-        for (; started < nthreads; started++)
-            if (pthread_create(&th[started], NULL, worker, j) != 0)
-                break;
-        if (started == 0) /* no thread at all: render on this one */
-            worker(j);
-        while (set->progress && atomic_load(&j->tiles_done) < total) {
-            double frac = (j->s0 + (double)atomic_load(&j->tiles_done) / total * (j->s1 - j->s0)) / set->spp;
-            draw_progress(j, frac, util_seconds() - t0, false);
-            nanosleep(&(struct timespec){0, 200000000L}, NULL);
-        }
-        for (int i = 0; i < started; i++)
-            pthread_join(th[i], NULL);
-        stopped = set->stop && *set->stop;
+    return pass_spp < 1 ? 1 : pass_spp;
+}
+
+bool pt_job_pass(Job *j, int s0, int s1, int nthreads, bool background, const atomic_int *cancel,
+                 void (*tick)(void *), void *ctx)
+{
+    j->s0 = s0;
+    j->s1 = s1;
+    j->cancel = cancel;
+    atomic_store(&j->next_tile, 0);
+    atomic_store(&j->tiles_done, 0);
+    int helpers = nthreads - 1, max = j->set->threads > 1 ? j->set->threads - 1 : 0;
+    helpers = helpers < 0 ? 0 : helpers > max ? max : helpers;
+    int started = 0;
+    for (; started < helpers; started++)
+        if (!pt_thread_start(&j->threads[started], worker, j, background))
+            break; /* the threads started do the work */
+    work_tiles(j, tick, ctx);
+    for (int i = 0; i < started; i++)
+        pthread_join(j->threads[i], NULL);
+    return atomic_load(&j->tiles_done) == j->tiles_x * j->tiles_y;
+}
+
+int pt_job_tiles_done(const Job *j, int *total)
+{
+    *total = j->tiles_x * j->tiles_y;
+    return atomic_load(&j->tiles_done);
+}
+
+double pt_job_relmse_estimate(const Job *j, int spp)
+{
+    if (spp < 2)
+        return 0.0;
+    size_t n = 3 * (size_t)j->set->width * (size_t)j->set->height;
+    double acc = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double m = j->sum[i] / spp, var = (j->sum2[i] - spp * m * m) / (spp - 1);
+        acc += fmax(var, 0.0) / spp / (m * m + 0.01);
     }
-    return j->s0; /* the passes completed */
+    return acc / (double)n;
+}
+
+void pt_job_resolve(const Job *j, int spp, ImageF *mean, ImageF *variance)
+{
+    for (size_t i = 0; i < 3 * (size_t)j->set->width * (size_t)j->set->height; i++) {
+        double m = spp > 0 ? j->sum[i] / spp : 0.0;
+        mean->rgb[i] = (float)m;
+        if (variance) {
+            double var = spp > 1 ? (j->sum2[i] - spp * m * m) / (spp - 1) : 0.0;
+            variance->rgb[i] = (float)(fmax(var, 0.0) / spp);
+        }
+    }
+}
+
+uint64_t pt_job_rays(const Job *j)
+{
+    return atomic_load(&j->rays);
+}
+
+/* ---------------------------------------------------------------- pt_render */
+
+/* What pt_render's progress needs between tiles. */
+typedef struct Progress {
+    Job *job;
+    double t0;          /* when the render started (util_seconds) */
+    double printed_at;  /* when the last line was printed (s since t0) */
+    double drawn_at;    /* when the bar was last drawn (s since t0) */
+    int spp_goal;       /* the samples per pixel the render expects to stop at */
+} Progress;
+
+/* Progress on stderr: a bar redrawn in place on a terminal, else one line
+ * every 5 s (logs; RTGI_PROGRESS_S sets the interval, log_progress_seconds)
+ * and a last one; with the samples reached, rays/s and the time left. */
+static void draw_progress(Progress *p, int spp, double frac, bool last)
+{
+    double elapsed = util_seconds() - p->t0;
+    bool tty = isatty(STDERR_FILENO);
+    double every = log_progress_seconds(5.0);
+    /* Off a terminal a render shorter than the interval prints nothing (the
+     * final line only closes earlier ones; with an interval of 0, always). */
+    if (!tty && (last ? p->printed_at <= 0 && every > 0 : elapsed - p->printed_at < every))
+        return;
+    p->printed_at = elapsed;
+    double rps = elapsed > 0 ? (double)pt_job_rays(p->job) / elapsed : 0.0;
+    /* The time left is unknown until a pass has finished: "ETA ?" then. */
+    char eta[32] = "?";
+    if (frac > 0)
+        snprintf(eta, sizeof eta, "%.1f s", elapsed * (1.0 - frac) / frac);
+    char bar[41];
+    int filled = (int)(frac * 40);
+    for (int i = 0; i < 40; i++)
+        bar[i] = i < filled ? '#' : ' ';
+    bar[40] = 0;
+    fprintf(stderr, "%sreference [%s] %3d%%  %d/%d spp  %.1f s  %.2f Mrays/s  ETA %s%s", tty ? "\r" : "", bar,
+            (int)(100 * frac), spp, p->spp_goal, elapsed, rps / 1e6, eta, tty && !last ? "" : "\n");
+    fflush(stderr);
+}
+
+/* Between tiles: the bar, at most every 0.2 s. */
+static void progress_tick(void *ctx)
+{
+    Progress *p = ctx;
+    double now = util_seconds() - p->t0;
+    if (now - p->drawn_at < 0.2)
+        return;
+    p->drawn_at = now;
+    int total, done = pt_job_tiles_done(p->job, &total);
+    double spp_done = p->job->s0 + (double)done / total * (p->job->s1 - p->job->s0);
+    draw_progress(p, p->job->s0, fmin(1.0, spp_done / p->spp_goal), false);
+}
+
+/* The line before a long render, after its first pass (`spp` samples per
+ * pixel in `secs` seconds): what the rest will take. */
+static void log_forecast(const PtSettings *set, Job *j, int spp, double secs, int *goal)
+{
+    double per_spp = secs / spp;
+    if (set->target_relmse > 0.0) {
+        /* relMSE ∝ 1/spp: the samples that bring the estimate to the target. */
+        double est = pt_job_relmse_estimate(j, spp);
+        double need = est > 0.0 ? ceil(spp * est / set->target_relmse) : spp;
+        need = fmax(need, PT_TARGET_MIN_SPP);
+        *goal = need < set->spp ? (int)need : set->spp;
+        log_info("reference", "estimated relMSE %.3g at %d spp; the target %g needs about %d spp: about %.1f s "
+                 "(%.3f s per spp)", est, spp, set->target_relmse, *goal, per_spp * *goal, per_spp);
+    } else if (set->time_budget > 0.0 && per_spp * set->spp > set->time_budget) {
+        *goal = (int)fmax(spp, set->time_budget / per_spp);
+        log_info("reference", "time budget %.1f s: about %d of %d spp (%.3f s per spp)", set->time_budget, *goal,
+                 set->spp, per_spp);
+    } else {
+        log_info("reference", "%d spp: about %.1f s (%.3f s per spp, from the first %d)", set->spp,
+                 per_spp * set->spp, per_spp, spp);
+    }
+}
+
+/* Every pass until the samples are done, set->stop is raised, the
+ * estimated relMSE reaches set->target_relmse or the next pass would end
+ * past set->time_budget; the samples per pixel reached. */
+static int run_passes(Job *j, const PtSettings *set, Progress *p, PtStop *why)
+{
+    int pass_spp = pt_job_pass_spp(j), nthreads = set->threads < 1 ? 1 : set->threads;
+    int spp = 0;
+    *why = PT_STOP_SPP;
+    for (int pass = 0; spp < set->spp; pass++) {
+        int s1 = spp + pass_spp < set->spp ? spp + pass_spp : set->spp;
+        double started = util_seconds();
+        pt_job_pass(j, spp, s1, nthreads, false, NULL, set->progress ? progress_tick : NULL, p);
+        double now = util_seconds(), took = now - started;
+        spp = s1;
+        if (spp >= set->spp)
+            break;
+        if (pass == 0 && set->progress)
+            log_forecast(set, j, spp, now - p->t0, &p->spp_goal);
+        if (set->stop && *set->stop) {
+            *why = PT_STOP_INTERRUPTED;
+            break;
+        }
+        if (set->target_relmse > 0.0 && spp >= PT_TARGET_MIN_SPP &&
+            pt_job_relmse_estimate(j, spp) <= set->target_relmse) {
+            *why = PT_STOP_TARGET;
+            break;
+        }
+        /* The next pass is about as long as this one. */
+        if (set->time_budget > 0.0 && now + took - p->t0 > set->time_budget) {
+            *why = PT_STOP_TIME;
+            break;
+        }
+    }
+    return spp;
 }
 
 bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *variance, PtStats *stats)
 {
-    sampler_init();
     memset(mean, 0, sizeof *mean);
     if (variance)
         memset(variance, 0, sizeof *variance);
@@ -567,39 +728,27 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
         image_free(mean);
         return false;
     }
-    int nthreads = set->threads < 1 ? 1 : set->threads;
-    pthread_t *th = calloc((size_t)nthreads, sizeof(pthread_t));
-    if (!th)
-        log_error("reference", "cannot allocate the job of %d threads", nthreads);
-    Job *j = th ? job_make(scene, set) : NULL;
+    Job *j = pt_job_create(scene, set);
     if (!j) {
-        free(th);
         image_free(mean);
         if (variance)
             image_free(variance);
         return false;
     }
-
-    double t0 = util_seconds();
-    int spp = run_passes(j, th, nthreads, t0);
-    free(th);
+    Progress p = {.job = j, .t0 = util_seconds(), .spp_goal = set->spp};
+    PtStop why;
+    int spp = run_passes(j, set, &p, &why);
     if (set->progress)
-        draw_progress(j, (double)spp / set->spp, util_seconds() - t0, true);
-    /* Each pixel's mean and the variance of that mean. */
-    for (size_t i = 0; i < 3 * (size_t)set->width * (size_t)set->height; i++) {
-        double m = j->sum[i] / spp;
-        mean->rgb[i] = (float)m;
-        if (variance) {
-            double var = spp > 1 ? (j->sum2[i] - spp * m * m) / (spp - 1) : 0.0;
-            variance->rgb[i] = (float)(fmax(var, 0.0) / spp);
-        }
-    }
+        draw_progress(&p, spp, fmin(1.0, (double)spp / p.spp_goal), true);
+    pt_job_resolve(j, spp, mean, variance);
     if (stats) {
-        stats->seconds = util_seconds() - t0;
-        stats->rays = atomic_load(&j->rays);
+        stats->seconds = util_seconds() - p.t0;
+        stats->rays = pt_job_rays(j);
         stats->spp = spp;
+        stats->stopped = why;
+        stats->relmse_estimate = pt_job_relmse_estimate(j, spp);
     }
-    job_free(j);
+    pt_job_destroy(j);
     return true;
 }
 

@@ -18,13 +18,13 @@ static void nap(void)
 }
 
 /* Polls until the renderer is done, collecting the sample counts published
- * on the way (at most `max` of them). */
+ * on the way (at most `max` of them; seen may be NULL). */
 static int wait_done(PtProgressive *p, PtProgressiveStatus *st, int *seen, int max)
 {
     int n = 0, last = -1;
     for (;;) {
         pt_progressive_status(p, st);
-        if (st->spp != last && st->spp > 0 && n < max)
+        if (seen && st->spp != last && st->spp > 0 && n < max)
             seen[n++] = st->spp;
         last = st->spp;
         if (st->done)
@@ -33,18 +33,20 @@ static int wait_done(PtProgressive *p, PtProgressiveStatus *st, int *seen, int m
     }
 }
 
-static void cornell(Scene *s)
+/* The Cornell box rendered at size² on 2 threads up to `spp` (target:
+ * the target relMSE, 0 for none), started. */
+static PtProgressive *start(Scene *s, PtSettings *set, int size, int spp, double target)
 {
     scene_build_cornell(s);
     scene_finalize(s);
-}
-
-static void settings(PtSettings *set, int size, int spp)
-{
     pt_settings_default(set);
     set->width = set->height = size;
     set->spp = spp;
     set->threads = 2;
+    set->target_relmse = target;
+    PtProgressive *p = pt_progressive_create(s, set);
+    assert_non_null(p);
+    return p;
 }
 
 /* Three passes (64² has 64 spp a pass), published one by one, and the
@@ -53,11 +55,8 @@ static void matches_pt_render(void **state)
 {
     (void)state;
     Scene s;
-    cornell(&s);
     PtSettings set;
-    settings(&set, 64, 192);
-    PtProgressive *p = pt_progressive_create(&s, &set);
-    assert_non_null(p);
+    PtProgressive *p = start(&s, &set, 64, 192, 0.0);
     PtProgressiveStatus st;
     int seen[16];
     int n = wait_done(p, &st, seen, 16);
@@ -92,14 +91,10 @@ static void restart_takes_the_state_of_the_call(void **state)
 {
     (void)state;
     Scene s;
-    cornell(&s);
     PtSettings set;
-    settings(&set, 32, 64);
-    PtProgressive *p = pt_progressive_create(&s, &set);
-    assert_non_null(p);
+    PtProgressive *p = start(&s, &set, 32, 64, 0.0);
     PtProgressiveStatus st;
-    int seen[16];
-    wait_done(p, &st, seen, 16);
+    wait_done(p, &st, NULL, 0);
     assert_int_equal(st.restarts, 0);
     ImageF before, after, ref;
     assert_true(image_alloc(&before, 32, 32));
@@ -113,7 +108,7 @@ static void restart_takes_the_state_of_the_call(void **state)
     glm_vec3_zero(s.lights[0].color);                    /* not seen by the renderer */
     pt_progressive_status(p, &st);
     assert_int_equal(st.restarts, 1);
-    wait_done(p, &st, seen, 16);
+    wait_done(p, &st, NULL, 0);
     assert_true(pt_progressive_read(p, &after, &st));
     assert_int_equal(st.spp, 64);
     assert_memory_equal(after.rgb, ref.rgb, sizeof(float) * 3 * 32 * 32);
@@ -132,12 +127,8 @@ static void target_stops_it(void **state)
 {
     (void)state;
     Scene s;
-    cornell(&s);
     PtSettings set;
-    settings(&set, 32, 1 << 20);
-    set.target_relmse = 3e-4;
-    PtProgressive *p = pt_progressive_create(&s, &set);
-    assert_non_null(p);
+    PtProgressive *p = start(&s, &set, 32, 1 << 20, 3e-4);
     PtProgressiveStatus st;
     int seen[64];
     int n = wait_done(p, &st, seen, 64);
@@ -154,11 +145,8 @@ static void pause_and_destroy(void **state)
 {
     (void)state;
     Scene s;
-    cornell(&s);
     PtSettings set;
-    settings(&set, 64, 1 << 20);
-    PtProgressive *p = pt_progressive_create(&s, &set);
-    assert_non_null(p);
+    PtProgressive *p = start(&s, &set, 64, 1 << 20, 0.0);
     PtProgressiveStatus st;
     do {
         pt_progressive_status(p, &st);

@@ -345,6 +345,23 @@ static double rmse(const ImageF *a, const ImageF *b)
     return sqrt(sum / n);
 }
 
+/* The Cornell box at 24² (full GI) on 2 threads, and its 2048-spp render
+ * with seed 1000 into `ref` (the converged image of the sampler tests);
+ * `set` is left at 64 spp, seed 1. */
+static void cornell24_reference(Scene *s, PtSettings *set, ImageF *ref)
+{
+    scene_build_cornell(s);
+    scene_finalize(s);
+    pt_settings_default(set);
+    set->width = set->height = 24;
+    set->threads = 2;
+    set->spp = 2048;
+    set->seed = 1000;
+    assert_true(pt_render(s, set, ref, NULL, NULL));
+    set->spp = 64;
+    set->seed = 1;
+}
+
 /* At 64 spp on the Cornell box (full GI), the Sobol' sampler's RMSE against
  * a 2048-spp render (another seed) is at least 25% below the independent
  * sampler's. The reference's own error (about 1/10 of the Sobol' error at
@@ -353,18 +370,9 @@ static void sobol_beats_independent(void **state)
 {
     (void)state;
     Scene s;
-    scene_build_cornell(&s);
-    scene_finalize(&s);
     PtSettings set;
-    pt_settings_default(&set);
-    set.width = set.height = 24;
-    set.threads = 2;
-    set.spp = 2048;
-    set.seed = 1000;
     ImageF ref, ind, sob;
-    assert_true(pt_render(&s, &set, &ref, NULL, NULL));
-    set.spp = 64;
-    set.seed = 1;
+    cornell24_reference(&s, &set, &ref);
     set.sampler = PT_SAMPLER_INDEPENDENT;
     assert_true(pt_render(&s, &set, &ind, NULL, NULL));
     set.sampler = PT_SAMPLER_SOBOL;
@@ -456,17 +464,9 @@ static void relmse_estimate_matches_measured(void **state)
 {
     (void)state;
     Scene s;
-    scene_build_cornell(&s);
-    scene_finalize(&s);
     PtSettings set;
-    pt_settings_default(&set);
-    set.width = set.height = 24;
-    set.threads = 2;
-    set.spp = 2048;
-    set.seed = 1000;
     ImageF ref, img;
-    assert_true(pt_render(&s, &set, &ref, NULL, NULL));
-    set.spp = 64;
+    cornell24_reference(&s, &set, &ref);
     const double lo[2] = {0.3, 0.75}, hi[2] = {0.85, 1.4};
     for (int k = 0; k < 2; k++) {
         set.sampler = (PtSampler)k;

@@ -205,7 +205,7 @@ static void mip_downsample(const float *src, const uint8_t *src8, const float lu
  * that rounds up by 0.3 of a step around codes 60-120, each level from the
  * rounded one above (Sponza's textures up to 3.5% off their mean at level
  * 9): the rasterizer's direct blue on Sponza was 2.1% above the path
- * tracer's (issue 49). Half floats keep every texel within 2^-12 of its
+ * tracer's (issue 49). Half floats keep every texel within 2^-11 (0.05%) of its
  * value, whatever the driver. `weighted`: alpha-weighted colour levels for
  * textures of alpha-masked materials (mip_downsample). */
 static bool upload_texture(GLuint tex, const Texture *t, bool weighted)

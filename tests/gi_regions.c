@@ -8,6 +8,8 @@
  * against REF, emitter pixels and their neighbours left out.
  *
  * usage: gi_regions SCENE TECH.pfm NONE.pfm REF.pfm DIRECT.pfm [--surfaces]
+ *        [--row LABEL] [--header]
+ * (--row: one Markdown table row; --header: the table's header first.)
  * The four images must have one size, that of the view measured. Not a
  * test: a measuring tool built beside the tests, sharing their helpers. */
 #include <stdio.h>
@@ -42,13 +44,45 @@ static void emitter_mask(const Scene *s, int w, int h, const int32_t *ids, uint8
         }
 }
 
+/* The surfaces checked: (material, face) seen by MIN_PIXELS eroded pixels
+ * or more, every non-emissive material; returns the count (≤ max). */
+typedef struct Surface {
+    int material, face;
+} Surface;
+static int surfaces_seen(const Scene *s, int w, int h, uint8_t *mask, Surface *out, int max)
+{
+    int count = 0;
+    for (int m = 0; m < s->material_count; m++) {
+        if (emissive(&s->materials[m]))
+            continue;
+        for (int face = 0; face < 6 && count < max; face++)
+            if (test_surface_mask(s, w, h, s->materials[m].name, face, mask) >= MIN_PIXELS)
+                out[count++] = (Surface){m, face};
+    }
+    return count;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 6) {
-        fprintf(stderr, "usage: gi_regions SCENE TECH.pfm NONE.pfm REF.pfm DIRECT.pfm [--surfaces]\n");
+        fprintf(stderr, "usage: gi_regions SCENE TECH.pfm NONE.pfm REF.pfm DIRECT.pfm [--surfaces] [--row LABEL] "
+                        "[--header]\n");
         return 2;
     }
-    bool surfaces = argc > 6 && strcmp(argv[6], "--surfaces") == 0;
+    bool surfaces = false, header = false;
+    const char *row = NULL;
+    for (int i = 6; i < argc; i++) {
+        if (strcmp(argv[i], "--surfaces") == 0)
+            surfaces = true;
+        else if (strcmp(argv[i], "--header") == 0)
+            header = true;
+        else if (strcmp(argv[i], "--row") == 0 && i + 1 < argc)
+            row = argv[++i];
+        else {
+            fprintf(stderr, "gi_regions: unknown argument %s\n", argv[i]);
+            return 2;
+        }
+    }
     Scene s;
     if (!scene_load(&s, argv[1]))
         return 1;
@@ -69,19 +103,33 @@ int main(int argc, char **argv)
     if (!ids || !mask || !pt_surface_map(&s, w, h, ids))
         return 1;
     emitter_mask(&s, w, h, ids, mask);
-    printf("whole %.3f  relmse %.4f  none_relmse %.4f", test_indirect_ratio(tech, none, ref, direct, mask),
-           metric_relmse(tech, ref, mask, NULL), metric_relmse(none, ref, mask, NULL));
-    double lo, hi;
+    double whole = test_indirect_ratio(tech, none, ref, direct, mask), rel = metric_relmse(tech, ref, mask, NULL),
+           rel_none = metric_relmse(none, ref, mask, NULL), lo, hi;
     test_block_ratio_range(tech, none, ref, direct, 16, 9, &lo, &hi);
-    printf("  blocks16x9 %.3f..%.3f\n", lo, hi);
-    for (int m = 0; surfaces && m < s.material_count; m++) {
-        if (emissive(&s.materials[m]))
-            continue;
-        for (int face = 0; face < 6; face++) {
-            int n = test_surface_mask(&s, w, h, s.materials[m].name, face, mask);
-            if (n >= MIN_PIXELS)
-                printf("  %-12s %s %6d px  %.3f\n", s.materials[m].name, k_faces[face], n,
-                       test_indirect_ratio(tech, none, ref, direct, mask));
+    Surface seen[64];
+    int n = surfaces ? surfaces_seen(&s, w, h, mask, seen, 64) : 0;
+    if (header) {
+        printf("| | whole | relMSE (none's) | 16x9 blocks |");
+        for (int i = 0; i < n; i++)
+            printf(" %s %s |", s.materials[seen[i].material].name, k_faces[seen[i].face]);
+        printf("\n|---|---|---|---|");
+        for (int i = 0; i < n; i++)
+            printf("---|");
+        printf("\n");
+    }
+    if (row) {
+        printf("| %s | %.3f | %.4f (%.4f) | %.2f .. %.2f |", row, whole, rel, rel_none, lo, hi);
+        for (int i = 0; i < n; i++) {
+            test_surface_mask(&s, w, h, s.materials[seen[i].material].name, seen[i].face, mask);
+            printf(" %.3f |", test_indirect_ratio(tech, none, ref, direct, mask));
+        }
+        printf("\n");
+    } else {
+        printf("whole %.3f  relmse %.4f  none_relmse %.4f  blocks16x9 %.3f..%.3f\n", whole, rel, rel_none, lo, hi);
+        for (int i = 0; i < n; i++) {
+            int m = test_surface_mask(&s, w, h, s.materials[seen[i].material].name, seen[i].face, mask);
+            printf("  %-12s %s %6d px  %.3f\n", s.materials[seen[i].material].name, k_faces[seen[i].face], m,
+                   test_indirect_ratio(tech, none, ref, direct, mask));
         }
     }
     free(ids);

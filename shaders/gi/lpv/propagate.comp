@@ -155,17 +155,26 @@ vec4 send(LpvLobe l, vec3 e)
     return LPV_SPEED * vec4(lpv_lobe_toward(l, e) / LPV_SH_FLUX, l.p * moment / LPV_SH_MOMENT);
 }
 
+// What light `l` sends across all 6 faces together, as SH: per unit flux
+// the lobe κ·Σ_e g0(d·e) with moment κ·d (Σ_e (1 + d·e)(d + e)/8 = d),
+// isotropic light 6κ/4 with moment 0; g0(μ) + g0(−μ) =
+// (2/(3π))·((π − 2θ)·μ + 2·sin θ), θ = acos μ, one acos per axis.
+vec4 send_all(LpvLobe l)
+{
+    vec3 mu = l.d, th = acos(clamp(mu, -1.0, 1.0));
+    vec3 pair = 0.212206591 * ((LPV_PI - 2.0 * th) * mu + 2.0 * sin(th));
+    float flux = l.cos * (pair.x + pair.y + pair.z) + 1.5 * (1.0 - l.cos);
+    return LPV_SPEED * l.p * vec4(flux / LPV_SH_FLUX, l.cos * l.d / LPV_SH_MOMENT);
+}
+
 // One colour channel of cell c: what stays of its light `own` and what
 // comes in from the 6 neighbours (their light `nb`, the faces' factors f).
 vec4 step_channel(vec4 own, vec4 nb[6], float f[6])
 {
     const vec3 E[6] = vec3[6](vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, -1, 0), vec3(0, 0, 1), vec3(0, 0, -1));
-    LpvLobe me = lpv_lobe(own);
-    vec4 r = own;
-    for (int k = 0; k < 6; k++) {
-        r -= send(me, E[k]);
+    vec4 r = own - send_all(lpv_lobe(own));
+    for (int k = 0; k < 6; k++)
         r += f[k] * send(lpv_lobe(nb[k]), E[k]);
-    }
     // No light travels more than all one way: |F| ≤ P. What stays of light
     // more directional than its lobe reading keeps the moment the lobe did
     // not send, and over steps that piled up to |F| ≫ P where little light

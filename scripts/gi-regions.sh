@@ -18,6 +18,10 @@
 #   CORNELL=256x256 CORNELL_SPP=256 SPONZA=320x180 SPONZA_SPP=64
 #   SHADOW=pcss             the render's --shadow (the reference is the same
 #                           area light either way; it cancels in tech − none)
+#   LAMBERTIAN=1            also Sponza with every material Lambertian
+#                           (metallic 0, specular 0: a scene file written into
+#                           DIR with python3), where the path tracer's bounce
+#                           has no glossy paths a diffuse bounce cannot have
 set -euo pipefail
 cd "$(dirname "$0")/.."
 DIR=${1:-out/gi-regions}
@@ -40,6 +44,18 @@ mkdir -p "$DIR"
 scenes=("cornell|cornell|$CORNELL|$CORNELL_SPP|--surfaces")
 if [ -f ../shared/assets/sponza/Sponza.gltf ]; then
   scenes+=("sponza|scenes/sponza.json|$SPONZA|$SPONZA_SPP|")
+  if [ "${LAMBERTIAN:-0}" = 1 ]; then
+    python3 - "$DIR/sponza_lambertian.json" <<'PY'
+import json, os, sys
+scene = json.load(open("scenes/sponza.json"))
+gltf = os.path.abspath(os.path.join("scenes", scene["mesh"]))
+names = [m["name"] for m in json.load(open(gltf))["materials"] if m.get("name")]
+scene["mesh"] = gltf
+scene["materials"] = {n: {"metallic": 0, "specular": 0} for n in names}
+json.dump(scene, open(sys.argv[1], "w"), indent=1)
+PY
+    scenes+=("sponza-lambertian|$DIR/sponza_lambertian.json|$SPONZA|$SPONZA_SPP|")
+  fi
 else
   echo "gi-regions: Sponza not found under ../shared/assets/sponza: Cornell only" >&2
 fi

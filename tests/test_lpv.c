@@ -908,6 +908,24 @@ static double centre_irradiance(const Renderer *r, const float *e, int radius)
     return sum / count;
 }
 
+/* The receiver's irradiance (the image's middle) from a uniform emitter at
+ * y_e over cascade 0's grid of renderer r, injected and drawn, into *got,
+ * and the closed form's there (the receiver at height y_r) into *want. */
+static void plane_receives(Renderer *r, const Scene *s, float y_r, float y_e, double *got, double *want)
+{
+    int n = lpv_grid_size(r->gi_state), count;
+    float o[3], cell;
+    lpv_grid(r->gi_state, 0, o, &cell);
+    GpuVpl *v = plane_vpls(o[0], o[2], n * cell, cell / 2.f, y_e, &count);
+    lpv_set_vpls(r->gi_state, v, count);
+    renderer_frame(r, &s->camera);
+    float *e = read_irradiance(r);
+    *got = centre_irradiance(r, e, 2);
+    *want = plane_irradiance((vec3){0.f, y_r, 0.f}, y_e, o[0] + 0.5f * n * cell, o[2] + 0.5f * n * cell, n * cell);
+    free(e);
+    free(v);
+}
+
 /* A large uniform emitter (VPLs over the whole grid, M = 1) two cells below
  * the receiver, whose lookups read the cell between: the irradiance there
  * is the closed form's (nearly M: the emitter is 16 cells wide) within 10%,
@@ -932,17 +950,11 @@ static void lookup_uniform_plane(void **state)
         Renderer r;
         lpv_renderer(&r, &s, 32, 32, &gp);
         renderer_frame(&r, &s.camera);
-        int n = lpv_grid_size(r.gi_state), count;
+        int n = lpv_grid_size(r.gi_state);
         float o[3], cell;
         lpv_grid(r.gi_state, 0, o, &cell);
-        float y_e = y_r - (between + 1.f) * cell;
-        GpuVpl *v = plane_vpls(o[0], o[2], n * cell, cell / 2.f, y_e, &count);
-        lpv_set_vpls(r.gi_state, v, count);
-        renderer_frame(&r, &s.camera);
-        float *e = read_irradiance(&r);
-        double got = centre_irradiance(&r, e, 2);
-        double want = plane_irradiance((vec3){0.f, y_r, 0.f}, y_e, o[0] + 0.5f * n * cell, o[2] + 0.5f * n * cell,
-                                       n * cell);
+        double got, want;
+        plane_receives(&r, &s, y_r, y_r - (between + 1.f) * cell, &got, &want);
         print_message("uniform plane, %s %d³ (cells of %.3f m), %.0f cell(s) between: E = %.4f, closed form %.4f, "
                       "ratio %.3f\n",
                       k < 4 ? "directional" : "faces (paper)", n, cell, between, got, want, got / want);
@@ -950,8 +962,6 @@ static void lookup_uniform_plane(void **state)
             assert_true(fabs(got / want - 1.0) < 0.1);
         else
             faces = got / want;
-        free(e);
-        free(v);
         renderer_destroy(&r);
     }
     assert_true(faces < 0.8); /* the baseline fails the check */
@@ -990,20 +1000,12 @@ static void lookup_anywhere_in_the_cell(void **state)
         float o2[3], cell2;
         lpv_grid(r.gi_state, 0, o2, &cell2);
         assert_true(fabsf(o2[1] - o[1]) < 1e-5f && fabsf(cell2 - cell) < 1e-6f);
-        int n = lpv_grid_size(r.gi_state), count;
-        GpuVpl *v = plane_vpls(o[0], o[2], n * cell, cell / 2.f, y_e, &count);
-        lpv_set_vpls(r.gi_state, v, count);
-        renderer_frame(&r, &s.camera);
-        float *e = read_irradiance(&r);
-        double got = centre_irradiance(&r, e, 2);
-        double want = plane_irradiance((vec3){0.f, y_r, 0.f}, y_e, o[0] + 0.5f * n * cell, o[2] + 0.5f * n * cell,
-                                       n * cell);
+        double got, want;
+        plane_receives(&r, &s, y_r, y_e, &got, &want);
         print_message("receiver at %.2f of its cell: E = %.4f, closed form %.4f, ratio %.3f\n", fracs[k], got, want,
                       got / want);
         lo = fmin(lo, got / want);
         hi = fmax(hi, got / want);
-        free(e);
-        free(v);
         renderer_destroy(&r);
         scene_free(&s);
     }

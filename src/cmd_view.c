@@ -459,6 +459,8 @@ static bool loop_pass(ViewLoop *l, const RenderOptions *o)
     bool was_moving = l->moving;
     l->moving = view_move(v, l->win, was_moving ? (float)(now - l->last) : 0.f);
     l->last = now;
+    if (l->moving)
+        l->dirty = true; /* the panel's camera follows */
     view_update_camera(v);
     if (v->quit)
         glfwSetWindowShouldClose(l->win, GLFW_TRUE);

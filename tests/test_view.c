@@ -420,7 +420,8 @@ static void png_reference(void **state)
     assert_int_equal(test_run_cli(NULL, "render", "--size", "64x48", "--exposure", "2", "--out", ref, "--quiet", NULL),
                      0);
     test_x_display();
-    snprintf(cmd, sizeof cmd, "'%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
+    snprintf(cmd, sizeof cmd,
+             "RTGI_UI_TEST_SLOW_S=0.3 '%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
              RTGI_BINARY, ref, dir);
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
@@ -649,6 +650,58 @@ static void ui_allocation_failure_ends_cleanly(void **state)
     assert_int_equal(access(out, F_OK), 0);
 }
 
+/* The window's GPU objects are made on the render thread (the renderer,
+ * the presentation slots) and on the window's (the reference texture):
+ * each make refused in turn (RTGI_FAIL_GL_MAKE=k; every fifth, then the
+ * last ones before a whole run, where the presentation slots are) ends the
+ * command with the refusal's one line, exit 1 and no output file, never a
+ * hang or a crash; past the last one the run is whole. */
+static void gl_make_failures_end_cleanly(void **state)
+{
+    (void)state;
+    test_x_display();
+    char out[1024], ref[1024];
+    snprintf(out, sizeof out, "%s/view_gl_make.pfm", RTGI_TEST_TMP);
+    snprintf(ref, sizeof ref, "%s/view_gl_make_ref.pfm", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "16x16", "--out", ref, "--quiet", NULL), 0);
+    int whole = 0, failed = 0;
+    bool slots = false;
+    for (int k = 1; k < 400;) {
+        char num[16];
+        snprintf(num, sizeof num, "%d", k);
+        setenv("RTGI_FAIL_GL_MAKE", num, 1);
+        remove(out);
+        char *err = NULL;
+        int rc = test_run_cli(&err, "view", "--size", "16x16", "--frames", "2", "--compare", ref, "--out", out,
+                              "--quiet", NULL);
+        unsetenv("RTGI_FAIL_GL_MAKE");
+        if (rc == 0) {
+            free(err);
+            assert_int_equal(access(out, F_OK), 0);
+            if (!whole) { /* the first whole run: go back over the last makes one by one */
+                whole = k;
+                k = k - 4 > 1 ? k - 4 : k + 1;
+                continue;
+            }
+            if (k > whole)
+                break;
+            k++;
+            continue;
+        }
+        slots = slots || (err && strstr(err, "view.present_"));
+        test_expect_cli_error(rc, err, 1, "refused (fault injection)", NULL);
+        assert_int_not_equal(access(out, F_OK), 0);
+        failed++;
+        k += whole ? 1 : 5;
+    }
+    print_message("GPU makes refused in turn up to %d: %d runs, each one line and exit 1 (a presentation slot's "
+                  "among them: %s)\n",
+                  whole, failed, slots ? "yes" : "no");
+    assert_true(whole > 0);
+    assert_true(failed >= 8);
+    assert_true(slots);
+}
+
 /* --out x.pfm: linear radiance, not PNG bytes; a bad --compare file is one
  * clear error. */
 static void out_by_extension(void **state)
@@ -718,6 +771,7 @@ int main(void)
         cmocka_unit_test(out_by_extension),
         cmocka_unit_test(window_out_failure_fails),
         cmocka_unit_test(ui_allocation_failure_ends_cleanly),
+        cmocka_unit_test(gl_make_failures_end_cleanly),
         cmocka_unit_test(panel_script),
         cmocka_unit_test(png_reference),
         cmocka_unit_test(timings_match_render),

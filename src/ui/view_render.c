@@ -221,8 +221,9 @@ static bool present(ViewRender *vr)
 {
     Renderer *r = &vr->r;
     Slot *s = &vr->slots[vr->back]; /* the thread's alone until it is handed over */
-    if (s->released) {
-        glWaitSync(s->released, 0, GL_TIMEOUT_IGNORED);
+    if (s->released) { /* the window's draws from it are done (at once, in practice: they were swapped) */
+        while (glClientWaitSync(s->released, GL_SYNC_FLUSH_COMMANDS_BIT, 100000000) == GL_TIMEOUT_EXPIRED)
+            ;
         glDeleteSync(s->released);
         s->released = 0;
     }
@@ -249,6 +250,7 @@ static bool present(ViewRender *vr)
     vr->pending = t;
     vr->pending_new = true;
     pthread_mutex_unlock(&vr->lock);
+    glfwPostEmptyEvent(); /* the window shows it without waiting for this request's other work */
     return true;
 }
 
@@ -533,26 +535,31 @@ void view_render_state(ViewRender *vr, ViewRenderState *out)
 bool view_render_take(ViewRender *vr, ViewImage *out)
 {
     pthread_mutex_lock(&vr->lock);
-    bool fresh = vr->pending_new;
+    bool fresh = vr->pending_new; /* only this thread clears it */
+    pthread_mutex_unlock(&vr->lock);
     if (fresh) {
+        /* The front slot is this thread's alone until it is handed back:
+         * its release fence is made outside the lock (a flush may wait for
+         * a software rasterizer's queue, the render thread's work in it). */
         Slot *old = &vr->slots[vr->front];
-        if (old->ldr) { /* released once the window's draws from it are done */
+        if (old->ldr) {
             if (old->released)
                 glDeleteSync(old->released);
             old->released = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
             glFlush();
         }
+        pthread_mutex_lock(&vr->lock);
         int t = vr->front;
         vr->front = vr->pending;
         vr->pending = t;
         vr->pending_new = false;
+        pthread_mutex_unlock(&vr->lock);
     }
     Slot *s = &vr->slots[vr->front];
     GLsync ready = s->ready;
     s->ready = 0;
     *out = (ViewImage){.ldr = s->ldr, .hdr = s->hdr, .width = s->width, .height = s->height,
                        .exposure = s->exposure, .frame = s->frame};
-    pthread_mutex_unlock(&vr->lock);
     if (ready) {
         glWaitSync(ready, 0, GL_TIMEOUT_IGNORED);
         glDeleteSync(ready);

@@ -21,7 +21,10 @@
  * thread sleeps RTGI_UI_TEST_SLOW_S seconds, default 2, before drawing
  * it) started by the + key, with + pressed again while it is in flight:
  * the window's redraws during it are counted and the next scene frame
- * must carry the second key's exposure. */
+ * must carry the second key's exposure. RTGI_UI_TEST_SLOW_S=0 leaves the
+ * frame its own time, and RTGI_UI_TEST_ASYNC_ONLY=1 runs the second part
+ * alone: together they measure the window during a real slow frame
+ * (scripts/view-responsiveness.sh). */
 #ifndef RTGI_VIEW_SCRIPT_H
 #define RTGI_VIEW_SCRIPT_H
 
@@ -39,7 +42,7 @@ typedef struct ViewScript {
     int links, remakes; /* counters before the step being measured */
     /* The second part's state. */
     int phase;
-    double t0, key_s, prev_redraw_at, max_gap;
+    double t0, key_s, prev_redraw_at, max_gap, slow_s;
     unsigned frames0;
     int redraws0, wakeups0, slow_redraws, seen_redraws;
     float exposure1, exposure2;

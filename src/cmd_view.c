@@ -96,7 +96,7 @@ typedef struct ViewLoop {
     bool moving;            /* a movement key is held: the camera moves every pass */
     double last;            /* the last pass (camera movement) */
     ViewImage image;        /* the image shown */
-    unsigned state_version, stats_version, rmse_count, reloads;
+    unsigned state_version, stats_version, rmse_count; /* of what was last taken from the render thread */
     char busy_shown[96];    /* the busy indicator as last drawn */
     bool panel_docked;      /* the window is sized for the panel beside the image */
     int expect_w, expect_h; /* a framebuffer size the loop asked for and has not seen yet */
@@ -303,14 +303,10 @@ static bool view_ui_open(ViewLoop *l, const RenderOptions *o, bool *have_present
 
 /* ---- The loop ------------------------------------------------------------------ */
 
-/* The window sized for the image and the panel when H (or the panel's
- * close button) changed whether it is shown: the image keeps its size. */
-static void loop_layout(ViewLoop *l)
+/* Sizes the window for the image and, when shown, the panel beside it. */
+static void loop_resize(ViewLoop *l)
 {
     View *v = l->v;
-    if (v->show_panel == l->panel_docked)
-        return;
-    l->panel_docked = v->show_panel;
     int panel = l->panel_docked ? (int)lroundf(VIEW_PANEL_WIDTH * l->scale) : 0;
     l->expect_w = v->settings.width + panel;
     l->expect_h = v->settings.height;
@@ -322,6 +318,16 @@ static void loop_layout(ViewLoop *l)
      * the panel overlaps what it must). */
     while (l->sync && l->expect_w && glfwGetTime() < l->expect_until)
         glfwWaitEventsTimeout(0.01);
+}
+
+/* H (or the panel's close button) changed whether the panel is shown: the
+ * window grows or shrinks by it, the image keeps its size. */
+static void loop_layout(ViewLoop *l)
+{
+    if (l->v->show_panel == l->panel_docked)
+        return;
+    l->panel_docked = l->v->show_panel;
+    loop_resize(l);
 }
 
 /* How long the window may sleep before its next pass (< 0: until an
@@ -542,6 +548,8 @@ int cmd_view(int argc, char **argv)
     loop.scale = ww > 0 ? (float)fw / (float)ww : 1.f;
     bool have_present;
     bool ok = view_ui_open(&loop, &o, &have_present);
+    if (ok && loop.scale != 1.f) /* screen coordinates are not pixels (a HiDPI screen): the image keeps --size */
+        loop_resize(&loop);
     log_set_hook(view_status_log_hook, &status);
     if (ok) {
         ViewRequest first;

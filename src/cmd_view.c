@@ -561,6 +561,7 @@ int cmd_view(int argc, char **argv)
                             .debug = o.debug};
         loop.render = view_render_start(&d);
         loop.script.render = loop.render;
+        loop.script.win = win;
         ok = loop.render != NULL;
     }
     loop.last = glfwGetTime();
@@ -588,6 +589,12 @@ int cmd_view(int argc, char **argv)
         }
     }
     glfwHideWindow(win); /* gone at once, though the render thread finishes its frame */
+    if (loop.render) {
+        view_render_state(loop.render, &st);
+        if (st.busy && glfwGetTime() - st.busy_since > 1.0) /* a compute dispatch cannot be cut short */
+            log_info("view", "closing once the frame being drawn is done (%.0f s so far)",
+                     glfwGetTime() - st.busy_since);
+    }
     view_render_stop(loop.render);
     log_set_hook(NULL, NULL);
     if (have_present)

@@ -4,6 +4,10 @@
  * it), per-pass GPU ms with a history plot, the camera with "copy as scene
  * JSON", captures, shader hot reload and the A/B view of --compare.
  *
+ * The View is the window's thread's: the render thread (view_render.h)
+ * gets its settings and camera as a request, and hands back its
+ * measurements (ViewStats) and the status line (ViewStatus, locked).
+ *
  * Slow techniques: a technique whose frame is estimated over `slow_ms` at
  * the current size is marked in the picker and needs a confirming click,
  * from the panel and from the G key alike (see view_estimate_ms). */

@@ -38,6 +38,17 @@ static void save_window(ViewScript *t, View *v, const char *name, int fw, int fh
     view_save_window(v, path, fw, fh);
 }
 
+/* A resize of the window as a user's would be (not the loop's own), waited
+ * for: its framebuffer callback gives the image the new size. */
+static void user_resize(ViewScript *t, int fw, int fh)
+{
+    glfwSetWindowSize(t->win, fw, fh); /* screen coordinates: pixels on Xvfb */
+    double until = glfwGetTime() + 1.0;
+    int w = 0, h = 0;
+    while (glfwGetTime() < until && (glfwGetFramebufferSize(t->win, &w, &h), w != fw || h != fh))
+        glfwWaitEventsTimeout(0.01);
+}
+
 /* The first part is over: the second begins (view_script_tick). */
 static bool begin_async(ViewScript *t)
 {
@@ -110,7 +121,14 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
                gi_techniques[v->settings.gi]->name, v->pending_gi >= 0 ? gi_techniques[v->pending_gi]->name : "none",
                view_estimate_ms(v, v->pending_gi >= 0 ? v->pending_gi : (int)v->settings.gi), v->slow_ms);
         break;
+    case 8: /* the user makes the window larger: the image takes it, the panel stays as wide */
+        t->width = v->settings.width;
+        t->height = v->settings.height;
+        user_resize(t, fw + 32, fh + 16);
+        break;
     case 9: { /* its confirming click ("Switch anyway") */
+        printf("ui-test: user resize to %dx%d: image %dx%d\n", fw, fh, v->settings.width, v->settings.height);
+        user_resize(t, t->width + (fw - v->settings.width), t->height); /* and back */
         if (v->pending_gi >= 0)
             view_select_gi(v, v->pending_gi, true);
         char status[1024];

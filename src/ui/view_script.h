@@ -7,7 +7,8 @@
  * waits for its scene frame): the panel's per-pass timings table of
  * frames 1-2; the camera as scene JSON; exposure ×2 (program links and
  * renderer remakes counted); the window with and without the panel (H)
- * and the image as PNG, PFM and EXR; the G key's path into the next
+ * and the image as PNG, PFM and EXR; a resize by the user (the image
+ * takes it); the G key's path into the next
  * technique (pending when slow), its confirming click and the status line
  * after it; a shader hot reload (with the shader named by
  * RTGI_UI_TEST_BREAK_SHADER broken first); with --compare, the A/B view's
@@ -30,12 +31,16 @@
 
 #include <stdbool.h>
 
+typedef struct GLFWwindow GLFWwindow;
+
 #include "ui/view_panel.h"
 #include "ui/view_render.h"
 
 typedef struct ViewScript {
     const char *dir;    /* where the captures go */
     ViewRender *render; /* the render thread: jobs and its counters */
+    GLFWwindow *win;    /* the window (a user's resize) */
+    int width, height;  /* the image's size before that resize */
     bool async;         /* the second part: the loop runs as a user's window */
     double deadline;    /* the second part: when its next step is due (glfwGetTime; 0: every pass) */
     double sleep_s;     /* test hook for the next request (ViewRequest.test_sleep_s) */

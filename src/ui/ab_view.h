@@ -39,8 +39,9 @@ typedef struct AbView {
 bool ab_view_create(AbView *v);
 /* Reads `path` (any format image_read takes) as the reference and uploads
  * it; the view starts split. false after logging (the file and its
- * problem). A live reference (a progressive path tracer) would hand its
- * current mean the same way, through ab_view_set_reference. */
+ * problem). The render thread reads v->reference (RMSE, the heat map's
+ * scale) while it runs: replace it only before it starts (a live
+ * reference's updates: see view_render.h). */
 bool ab_view_load_reference(AbView *v, const char *path);
 /* Takes `img` (moved: the caller's copy is emptied) as the reference;
  * `display`: already exposed and clamped. `what` names it in errors.

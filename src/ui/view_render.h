@@ -28,10 +28,22 @@
  * Scripted runs (--frames N, --ui-test) call view_render_wait after each
  * submit: one frame per window frame, as deterministic as a single thread.
  *
- * Later sources of frames plug in here: an animation time is part of the
- * request (ViewScene.time; a change draws a new frame), and a live
- * progressive reference would be read on this thread beside the frame and
- * handed to the A/B view the way the heat map's scale is (ViewRenderState). */
+ * Two later additions have their places here:
+ *  - an animation time (play/pause/scrub) is part of the scene state
+ *    (ViewScene.time): the window's loop advances View.time while playing
+ *    (as it moves the camera while a key is held), so each pass asks for a
+ *    new frame, and draw_frame would set the lights and camera at
+ *    req->scene.time before renderer_frame;
+ *  - a live progressive reference (a path tracer on threads of its own:
+ *    start/restart(scene, camera), read mean + spp + relMSE, stop) would be
+ *    restarted by the window's loop when the request's camera or lights
+ *    change, and read by this thread between frames (as diff_scale reads
+ *    the frame's radiance): its newer mean replaces the reference that
+ *    RMSE and the heat map's scale read here (the thread alone reads it
+ *    while it runs, so the swap is the thread's), and goes to the window
+ *    the way a reloaded A/B program does (a handover taken by the loop,
+ *    which uploads it: ab_view_set_reference), with its spp and relMSE in
+ *    ViewRenderState for the panel. */
 #ifndef RTGI_VIEW_RENDER_H
 #define RTGI_VIEW_RENDER_H
 

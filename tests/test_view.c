@@ -657,10 +657,26 @@ static void ui_allocation_failure_ends_cleanly(void **state)
 
 /* The window's GPU objects are made on the render thread (the renderer,
  * the presentation slots) and on the window's (the reference texture):
- * each make refused in turn (RTGI_FAIL_GL_MAKE=k; every eighth, then the
- * last four before a whole run, the presentation slots') ends the
- * command with the refusal's one line, exit 1 and no output file, never a
- * hang or a crash; past the last one the run is whole. */
+ * each make refused (RTGI_FAIL_GL_MAKE=k; every eighth, then the last
+ * four, the presentation slots' of the two frames) ends the command with
+ * the refusal's one line, exit 1 and no output file, never a hang or a
+ * crash; past the last one the run is whole. */
+static int gl_make_refused_run(int k, const char *ref, const char *out, char **err)
+{
+    char num[16];
+    snprintf(num, sizeof num, "%d", k);
+    setenv("RTGI_FAIL_GL_MAKE", num, 1);
+    remove(out);
+    int rc = test_run_cli(err, "view", "--size", "16x16", "--frames", "2", "--compare", ref, "--out", out, "--quiet",
+                          NULL);
+    unsetenv("RTGI_FAIL_GL_MAKE");
+    if (rc == 0)
+        assert_int_equal(access(out, F_OK), 0);
+    else
+        assert_int_not_equal(access(out, F_OK), 0);
+    return rc;
+}
+
 static void gl_make_failures_end_cleanly(void **state)
 {
     (void)state;
@@ -669,42 +685,34 @@ static void gl_make_failures_end_cleanly(void **state)
     snprintf(out, sizeof out, "%s/view_gl_make.pfm", RTGI_TEST_TMP);
     snprintf(ref, sizeof ref, "%s/view_gl_make_ref.pfm", RTGI_TEST_TMP);
     assert_int_equal(test_run_cli(NULL, "render", "--size", "16x16", "--out", ref, "--quiet", NULL), 0);
-    int whole = 0, failed = 0;
-    bool slots = false;
-    for (int k = 1; k < 400;) {
-        char num[16];
-        snprintf(num, sizeof num, "%d", k);
-        setenv("RTGI_FAIL_GL_MAKE", num, 1);
-        remove(out);
+    int k = 1, failed = 0;
+    for (;; k += 8) {
         char *err = NULL;
-        int rc = test_run_cli(&err, "view", "--size", "16x16", "--frames", "2", "--compare", ref, "--out", out,
-                              "--quiet", NULL);
-        unsetenv("RTGI_FAIL_GL_MAKE");
+        int rc = gl_make_refused_run(k, ref, out, &err);
         if (rc == 0) {
             free(err);
-            assert_int_equal(access(out, F_OK), 0);
-            if (!whole) { /* the first whole run: go back over the last makes one by one */
-                whole = k;
-                k = k - 4 > 1 ? k - 4 : k + 1; /* the presentation slots' four */
-                continue;
-            }
-            if (k > whole)
-                break;
-            k++;
+            break;
+        }
+        test_expect_cli_error(rc, err, 1, "refused (fault injection)", NULL);
+        failed++;
+        assert_true(k < 400);
+    }
+    int whole = k, slots = 0;
+    for (k = whole - 1; k > whole - 13 && slots < 4; k--) { /* down to the last makes: the slots' */
+        char *err = NULL;
+        int rc = gl_make_refused_run(k, ref, out, &err);
+        if (rc == 0) {
+            free(err);
             continue;
         }
-        slots = slots || (err && strstr(err, "view.present_"));
-        test_expect_cli_error(rc, err, 1, "refused (fault injection)", NULL);
-        assert_int_not_equal(access(out, F_OK), 0);
-        failed++;
-        k += whole ? 1 : 8;
+        test_expect_cli_error(rc, err, 1, "refused (fault injection)", "view.present_");
+        slots++;
     }
-    print_message("GPU makes refused in turn up to %d: %d runs, each one line and exit 1 (a presentation slot's "
-                  "among them: %s)\n",
-                  whole, failed, slots ? "yes" : "no");
-    assert_true(whole > 0);
-    assert_true(failed >= 6);
-    assert_true(slots);
+    print_message("GPU makes refused at every eighth up to %d (%d runs) and the last %d, the presentation slots': "
+                  "each one line and exit 1\n",
+                  whole, failed, slots);
+    assert_true(failed >= 3);
+    assert_int_equal(slots, 4);
 }
 
 /* --out x.pfm: linear radiance, not PNG bytes; a bad --compare file is one

@@ -20,6 +20,7 @@
 
 #include <stb/stb_image.h>
 
+#include "animation.h"
 #include "json_util.h"
 #include "log.h"
 #include "scene.h"
@@ -1239,7 +1240,7 @@ static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
 
 static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "mesh_translate", "quads",
                                          "materials", "camera", "lights",     "exposure",       "shadow",
-                                         "gi",        NULL};
+                                         "gi",        "objects",    "animation",      NULL};
 
 /* What most likely broke JSON text where the parser stopped (*at, cJSON's
  * error position), the mistakes people make by hand: a comma before a
@@ -1393,14 +1394,14 @@ static bool load_json(Scene *s, const char *path)
     bool has_camera = cam != NULL || cJSON_IsString(cJSON_GetObjectItemCaseSensitive(root, "builtin"));
     if (cam && c.ok)
         parse_camera(&c, s, cam);
-    cJSON_Delete(root);
-    if (!c.ok)
-        return false;
-    if ((s->light_count == 0 && !scene_add_default_sun(s)) || !scene_finalize(s))
-        return false; /* logged; the caller frees the scene */
-    if (!has_camera)
+    bool ok = c.ok && (s->light_count > 0 || scene_add_default_sun(s)) && scene_finalize(s);
+    if (ok && !has_camera)
         scene_default_camera(s);
-    return true;
+    /* Named objects and keyframe tracks (animation.c), once the scene is
+     * whole: the objects' transforms and the state at t = 0 put in place. */
+    ok = ok && animation_parse(s, root, path);
+    cJSON_Delete(root);
+    return ok; /* else logged; the caller frees the scene */
 }
 
 const char *scene_builtin_near(const char *what)

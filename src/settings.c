@@ -127,6 +127,9 @@ const SettingDesc settings_table[] = {
      "vct: with --vct-f0 > 0, the GGX perceptual roughness of every surface's specular cone"},
     {"gi", "vct_f0", "--vct-f0", SETTING_FLOAT, GI(vct_f0), 0, 0, 1, 0, NULL,
      "vct: > 0: F0 of every surface's specular cone instead of the material's (tests); 0 = the material's"},
+    /* Time (SPEC §10): temporal accumulation of any technique's indirect light. */
+    {"gi", "temporal", "--temporal", SETTING_BOOL, GI(temporal), 0, 0, 1, 0, NULL,
+     "temporal accumulation of the indirect light: reprojected history, disocclusion rejection, neighbourhood clamp"},
 };
 /* clang-format on */
 const int settings_count = (int)(sizeof settings_table / sizeof settings_table[0]);

@@ -76,18 +76,42 @@ static bool value(Parse *p, const cJSON *e, const char *where, int dims, float o
 
 /* ---- objects */
 
-static const char *const k_object_keys[] = {"material", "quads", "translate", "rotate_deg", NULL};
+static const char *const k_object_keys[] = {"material", "quads", "node", "translate", "rotate_deg", NULL};
+
+void scene_node_map_free(SceneNodeMap *m)
+{
+    free(m->entries);
+    m->entries = NULL;
+    m->count = 0;
+}
+
+bool animation_wants_nodes(const cJSON *root)
+{
+    const cJSON *objs = cJSON_GetObjectItemCaseSensitive(root, "objects"), *o;
+    if (!cJSON_IsObject(objs))
+        return false;
+    cJSON_ArrayForEach(o, objs)
+    {
+        if (cJSON_GetObjectItemCaseSensitive(o, "node"))
+            return true;
+    }
+    return false;
+}
+
+/* Adds the vertices of submesh k's triangles to the marks. */
+static void mark_submesh(const Scene *s, int k, uint8_t *mark)
+{
+    const Submesh *sm = &s->submeshes[k];
+    for (uint32_t i = sm->first_index; i < sm->first_index + sm->index_count; i++)
+        mark[s->indices[i]] = 1;
+}
 
 /* Adds the vertices of every triangle of material `m` to the marks. */
 static void mark_material(const Scene *s, int m, uint8_t *mark)
 {
-    for (int k = 0; k < s->submesh_count; k++) {
-        const Submesh *sm = &s->submeshes[k];
-        if (sm->material != m)
-            continue;
-        for (uint32_t i = sm->first_index; i < sm->first_index + sm->index_count; i++)
-            mark[s->indices[i]] = 1;
-    }
+    for (int k = 0; k < s->submesh_count; k++)
+        if (s->submeshes[k].material == m)
+            mark_submesh(s, k, mark);
 }
 
 /* Material index of `name` (not an emitter), or -1. */
@@ -99,18 +123,50 @@ static int material_named(const Scene *s, const char *name)
     return -1;
 }
 
-/* The object's selection ("material" or "quads") into mark[]; false after
- * logging. */
-static bool select_geometry(Parse *p, const Scene *s, const cJSON *j, const char *where, uint8_t *mark)
+/* The meshes under mesh node `name` into mark[]; false after logging. */
+static bool select_node(Parse *p, const Scene *s, const cJSON *node, const char *where, const SceneNodeMap *nodes,
+                        uint8_t *mark)
 {
-    const cJSON *mat = cJSON_GetObjectItemCaseSensitive(j, "material"),
-                *quads = cJSON_GetObjectItemCaseSensitive(j, "quads");
     char w[256];
-    if ((mat != NULL) == (quads != NULL)) {
-        fail(p, where, "give \"material\" (every triangle of a material) or \"quads\" (indices into \"quads\"), "
-                       "one of them");
+    snprintf(w, sizeof w, "%s.node", where);
+    if (!cJSON_IsString(node)) {
+        fail(p, w, "must be the name of a node of the scene's mesh file");
         return false;
     }
+    int found = 0;
+    for (int i = 0; nodes && i < nodes->count; i++)
+        if (!strcmp(nodes->entries[i].name, node->valuestring)) {
+            mark_submesh(s, nodes->entries[i].submesh, mark);
+            found++;
+        }
+    if (found)
+        return true;
+    char names[256] = "";
+    for (int i = 0; nodes && i < nodes->count && strlen(names) < 200; i++)
+        if (!strstr(names, nodes->entries[i].name) && nodes->entries[i].name[0])
+            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", names[0] ? ", " : "",
+                     nodes->entries[i].name);
+    fail(p, w, "\"%s\": no node of that name holds triangles in the mesh file (%s%s)", node->valuestring,
+         nodes && nodes->count ? "it has: " : "it has none, or the scene has no \"mesh\"", names);
+    return false;
+}
+
+/* The object's selection ("material", "node" or "quads") into mark[];
+ * false after logging. */
+static bool select_geometry(Parse *p, const Scene *s, const cJSON *j, const char *where, const SceneNodeMap *nodes,
+                            uint8_t *mark)
+{
+    const cJSON *mat = cJSON_GetObjectItemCaseSensitive(j, "material"),
+                *quads = cJSON_GetObjectItemCaseSensitive(j, "quads"),
+                *node = cJSON_GetObjectItemCaseSensitive(j, "node");
+    char w[256];
+    if ((mat != NULL) + (quads != NULL) + (node != NULL) != 1) {
+        fail(p, where, "give one of \"material\" (every triangle of a material), \"node\" (a mesh file's node) "
+                       "or \"quads\" (indices into \"quads\")");
+        return false;
+    }
+    if (node)
+        return select_node(p, s, node, where, nodes, mark);
     if (mat) {
         snprintf(w, sizeof w, "%s.material", where);
         if (!cJSON_IsString(mat)) {
@@ -159,7 +215,8 @@ static bool select_geometry(Parse *p, const Scene *s, const cJSON *j, const char
 /* One entry of "objects": its vertices (those `mark` holds), their rest
  * state, its pivot and transform. `owner` holds, per vertex, 1 + the index
  * of the object that took it (0: none). false after logging. */
-static bool make_object(Parse *p, Scene *s, const cJSON *j, int index, uint8_t *mark, int *owner)
+static bool make_object(Parse *p, Scene *s, const cJSON *j, int index, const SceneNodeMap *nodes, uint8_t *mark,
+                        int *owner)
 {
     SceneObject *o = &s->objects[index];
     char where[160], w[200];
@@ -174,7 +231,7 @@ static bool make_object(Parse *p, Scene *s, const cJSON *j, int index, uint8_t *
         return false;
     }
     memset(mark, 0, s->vertex_count);
-    if (!select_geometry(p, s, j, where, mark))
+    if (!select_geometry(p, s, j, where, nodes, mark))
         return false;
     /* Its vertices must be its own: a vertex of another triangle would be
      * dragged along (or torn off). */
@@ -234,7 +291,7 @@ static bool make_object(Parse *p, Scene *s, const cJSON *j, int index, uint8_t *
     return true;
 }
 
-static bool parse_objects(Parse *p, Scene *s, const cJSON *objs)
+static bool parse_objects(Parse *p, Scene *s, const cJSON *objs, const SceneNodeMap *nodes)
 {
     if (!cJSON_IsObject(objs)) {
         fail(p, "objects", "must be an object of name -> {\"material\": ...} or {\"quads\": [...]}");
@@ -265,7 +322,7 @@ static bool parse_objects(Parse *p, Scene *s, const cJSON *objs)
             break;
         }
         s->object_count = i + 1; /* counted before it is made: animation_free frees a half-made one */
-        ok = make_object(p, s, j, i, mark, owner);
+        ok = make_object(p, s, j, i, nodes, mark, owner);
     }
     free(mark);
     free(owner);
@@ -568,12 +625,12 @@ static void file_camera_up(const cJSON *root, vec3 up)
     glm_vec3_normalize(up);
 }
 
-bool animation_parse(Scene *s, const cJSON *root, const char *file)
+bool animation_parse(Scene *s, const cJSON *root, const char *file, const SceneNodeMap *nodes)
 {
     Parse p = {file, true};
     const cJSON *objs = cJSON_GetObjectItemCaseSensitive(root, "objects");
     const cJSON *anim = cJSON_GetObjectItemCaseSensitive(root, "animation");
-    if (objs && !parse_objects(&p, s, objs))
+    if (objs && !parse_objects(&p, s, objs, nodes))
         return false;
     if (anim && !parse_animation(&p, s, anim))
         return false;

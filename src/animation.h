@@ -5,7 +5,7 @@
  *
  *   objects   a name for a part of the scene's geometry (every triangle of
  *             a material, e.g. the Cornell box's "short_block" or a mesh's
- *             material, or inline quads by index), with an optional rigid
+ *             material, a mesh file's node, or inline quads by index), with an optional rigid
  *             transform: a rotation (degrees about x, then y, then z)
  *             about the centre of its bounds, then a translation.
  *   tracks    keyframes (times in seconds, strictly increasing in
@@ -109,13 +109,28 @@ typedef struct Animation {
     bool camera_degenerate; /* the last apply found the camera's target at its position (kept the old view) */
 } Animation;
 
+/* A mesh file's node names and the submeshes under each (scene_load.c
+ * makes it when a scene file's object names a "node"): pairs, a node's
+ * own meshes and every descendant's. */
+typedef struct SceneNodeMap {
+    struct SceneNodeEntry {
+        char name[64];
+        int submesh;
+    } *entries;          /* owned */
+    int count;
+} SceneNodeMap;
+void scene_node_map_free(SceneNodeMap *m);
+
 /* Reads a loaded scene file's "objects" and "animation" (`root` is the
  * file's top-level object; `file` names it in messages) into s, which is
  * finalized (scene_finalize), then puts the objects' transforms in place
  * and applies the animation at t = 0. false after logging one line
  * "<file>: objects.<name>.<key>: ..." or "<file>: animation.tracks[i].<key>:
  * ..."; the caller frees the scene. */
-bool animation_parse(Scene *s, const cJSON *root, const char *file);
+bool animation_parse(Scene *s, const cJSON *root, const char *file, const SceneNodeMap *nodes);
+/* Whether a scene file's "objects" name a mesh node (its mesh is then
+ * loaded with the nodes' meshes kept apart: scene_load_mesh_nodes). */
+bool animation_wants_nodes(const cJSON *root);
 /* Frees the scene's objects and animation. */
 void animation_free(Scene *s);
 

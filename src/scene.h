@@ -248,6 +248,11 @@ bool scene_load_scaled(Scene *s, const char *what, float light_scale);
 const char *scene_builtin_near(const char *what);
 /* Loads a mesh file through assimp, appending to `s`. */
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform);
+/* The same with every node's meshes kept apart (not joined by material)
+ * and, per node name, the submeshes under it into *nodes (animation.h;
+ * the caller frees it with scene_node_map_free). */
+struct SceneNodeMap;
+bool scene_load_mesh_nodes(Scene *s, const char *path, const mat4 transform, struct SceneNodeMap *nodes);
 
 /* Checks of a finalized scene that parsing cannot make, false after logging
  * one line naming the file and the problem:

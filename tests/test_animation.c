@@ -476,6 +476,50 @@ static void vct_keeps_no_stale_voxels(void **state)
     scene_free(&s);
 }
 
+/* A mesh file's node as an object: an OBJ with two objects ("o floor",
+ * "o box") of one material; the box moves, the floor stays (by material
+ * the two could not be told apart). An unknown node is one error line. */
+static void mesh_node_is_an_object(void **state)
+{
+    (void)state;
+    test_tmp_file("anim_nodes.mtl", "newmtl grey\nKd 0.5 0.5 0.5\n");
+    test_tmp_file("anim_nodes.obj", "mtllib anim_nodes.mtl\n"
+                                    "o floor\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nusemtl grey\nf 1 3 2\nf 1 4 3\n"
+                                    "o box\nv -0.1 0.2 0\nv 0.1 0.2 0\nv 0.1 0.4 0\nv -0.1 0.4 0\nusemtl grey\n"
+                                    "f 5 6 7\nf 5 7 8\n");
+    const char *path = test_tmp_file(
+        "anim_nodes.json", "{\"mesh\": \"anim_nodes.obj\", \"objects\": {\"b\": {\"node\": \"box\"}},\n"
+                           " \"camera\": {\"position\": [0, 1, 3], \"target\": [0, 0, 0]},\n"
+                           " \"animation\": {\"duration\": 1, \"tracks\": [{\"target\": \"objects.b\", \"key\":"
+                           " \"translate\", \"times\": [0, 1], \"values\": [[0, 0, 0], [0.5, 0, 0]]}]}}\n");
+    Scene s;
+    assert_true(scene_load(&s, path));
+    assert_int_equal(s.object_count, 1);
+    assert_int_equal(s.objects[0].vertex_count, 4);
+    float floor_x = INFINITY, box_x = INFINITY;
+    for (uint32_t v = 0; v < s.vertex_count; v++)
+        if (s.vertices[v].position[1] > 0.1f)
+            box_x = fminf(box_x, s.vertices[v].position[0]);
+        else
+            floor_x = fminf(floor_x, s.vertices[v].position[0]);
+    animation_apply(&s, 1.0, NULL);
+    float floor_x1 = INFINITY, box_x1 = INFINITY;
+    for (uint32_t v = 0; v < s.vertex_count; v++)
+        if (s.vertices[v].position[1] > 0.1f)
+            box_x1 = fminf(box_x1, s.vertices[v].position[0]);
+        else
+            floor_x1 = fminf(floor_x1, s.vertices[v].position[0]);
+    assert_float_equal(box_x1 - box_x, 0.5f, 1e-6f);
+    assert_float_equal(floor_x1, floor_x, 0.f);
+    scene_free(&s);
+    char *err = NULL;
+    path = test_tmp_file("anim_nodes_bad.json",
+                         "{\"mesh\": \"anim_nodes.obj\", \"objects\": {\"b\": {\"node\": \"bx\"}},\n"
+                         " \"lights\": [{\"type\": \"directional\", \"direction\": [0, -1, 0], \"irradiance\": 1}]}\n");
+    int rc = test_run_cli(&err, "render", "--scene", path, "--size", "8x8", "--out", TMP "/anim_nodes.png", NULL);
+    test_expect_cli_error(rc, err, 1, "objects.b.node", "it has: ");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -484,6 +528,7 @@ int main(void)
         cmocka_unit_test(animated_frame_equals_still_render),
         cmocka_unit_test(cached_products_equal_cold_after_motion),
         cmocka_unit_test(vct_keeps_no_stale_voxels),
+        cmocka_unit_test(mesh_node_is_an_object),
     };
     return cmocka_run_group_tests_name("animation", tests, test_gl_setup, test_gl_teardown);
 }

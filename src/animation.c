@@ -56,6 +56,19 @@ static bool number(Parse *p, const cJSON *e, const char *where, float *out)
     return true;
 }
 
+/* j is an object whose keys are among `known` (json_check_keys); false
+ * after logging. */
+static bool object_with_keys(Parse *p, const cJSON *j, const char *where, const char *const *known)
+{
+    if (!cJSON_IsObject(j)) {
+        fail(p, where, "must be an object");
+        return false;
+    }
+    if (p->ok && !json_check_keys(j, known, p->file, where))
+        p->ok = false;
+    return p->ok;
+}
+
 /* `dims` numbers (an array of 3, or one number when dims is 1). */
 static bool value(Parse *p, const cJSON *e, const char *where, int dims, float out[3])
 {
@@ -222,14 +235,8 @@ static bool make_object(Parse *p, Scene *s, const cJSON *j, int index, const Sce
     char where[160], w[200];
     snprintf(where, sizeof where, "objects.%.60s", j->string);
     snprintf(o->name, sizeof o->name, "%s", j->string);
-    if (!cJSON_IsObject(j)) {
-        fail(p, where, "must be an object");
+    if (!object_with_keys(p, j, where, k_object_keys))
         return false;
-    }
-    if (!json_check_keys(j, k_object_keys, p->file, where)) {
-        p->ok = false;
-        return false;
-    }
     memset(mark, 0, s->vertex_count);
     if (!select_geometry(p, s, j, where, nodes, mark))
         return false;
@@ -456,14 +463,8 @@ static bool parse_track(Parse *p, const Scene *s, const cJSON *j, int ti, float 
 {
     char where[64], w[200];
     snprintf(where, sizeof where, "animation.tracks[%d]", ti);
-    if (!cJSON_IsObject(j)) {
-        fail(p, where, "must be an object");
+    if (!object_with_keys(p, j, where, k_track_keys))
         return false;
-    }
-    if (!json_check_keys(j, k_track_keys, p->file, where)) {
-        p->ok = false;
-        return false;
-    }
     if (!parse_target(p, s, cJSON_GetObjectItemCaseSensitive(j, "target"), where, &k->target, &k->index))
         return false;
     const cJSON *key = cJSON_GetObjectItemCaseSensitive(j, "key");
@@ -551,14 +552,8 @@ static bool parse_track(Parse *p, const Scene *s, const cJSON *j, int ti, float 
 
 static bool parse_animation(Parse *p, Scene *s, const cJSON *j)
 {
-    if (!cJSON_IsObject(j)) {
-        fail(p, "animation", "must be an object with \"duration\" and \"tracks\"");
+    if (!object_with_keys(p, j, "animation", k_animation_keys))
         return false;
-    }
-    if (!json_check_keys(j, k_animation_keys, p->file, "animation")) {
-        p->ok = false;
-        return false;
-    }
     Animation *a = s->animation = util_calloc("scene", "the animation", 1, sizeof(Animation));
     if (!a) {
         p->ok = false;

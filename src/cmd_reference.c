@@ -61,6 +61,17 @@ static void on_sigint(int sig)
     g_interrupted = 1;
 }
 
+/* SIGINT sets g_interrupted (once: a second one ends the program); the
+ * old action into *old. */
+static void catch_sigint(struct sigaction *old)
+{
+    struct sigaction sa = {0};
+    sa.sa_handler = on_sigint;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, old);
+}
+
 /* Writes the mean image by extension; an EXR carries the samples per pixel. */
 static bool write_mean(const char *out, const ImageF *mean, float exposure, bool half, int spp, int spp_asked)
 {
@@ -90,29 +101,12 @@ typedef struct ReferenceArgs {
 /* The time options agree: 0, or 2 after a usage error. */
 static int reference_check_time(const ReferenceArgs *args)
 {
-    if (!args->animate) {
-        const char *seq = args->frames ? "--frames" : args->fps > 0 ? "--fps" : NULL;
-        if (seq) {
-            cli_error(NULL, "%s: needs --animate (a sequence of frames)", seq);
-            return 2;
-        }
-        return 0;
-    }
-    if (args->time >= 0) {
-        cli_error(NULL, "--time and --animate: give one (--time renders one instant)");
-        return 2;
-    }
-    if (!args->frames) {
-        cli_error(NULL, "--animate: needs --frames N (N >= 1), the frames of the sequence");
-        return 2;
-    }
     const char *single = args->png ? "--png" : args->var_out ? "--variance" : args->emitter_mask ? "--emitter-mask"
                                                                                                 : NULL;
-    if (single) {
-        cli_error(NULL, "%s: not with --animate (a sequence writes --out's frames only)", single);
-        return 2;
-    }
-    return sequence_pattern_check("--out", args->out) ? 0 : 2;
+    SequenceOptions so = {.animate = args->animate, .frames_given = args->frames > 0, .frames = args->frames,
+                          .frames_need_animate = true, .fps = args->fps, .time = args->time, .single = single,
+                          .out = args->out};
+    return sequence_check_options(&so);
 }
 
 /* Parses argv into *args. 0: go on; -1: --help was shown; else an exit
@@ -299,11 +293,8 @@ static void reference_print(const ReferenceArgs *args, const Scene *scene, const
 static int reference_sequence(ReferenceArgs *args, Scene *scene)
 {
     PtSettings *set = &args->set;
-    struct sigaction sa = {0}, old_sa;
-    sa.sa_handler = on_sigint;
-    sa.sa_flags = SA_RESETHAND;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_sa);
+    struct sigaction old_sa;
+    catch_sigint(&old_sa);
     float e = args->exposure >= 0.f ? args->exposure : scene->exposure;
     int done = 0;
     bool ok = true;
@@ -383,11 +374,8 @@ int cmd_reference(int argc, char **argv)
     ImageF mean = {0}, var = {0};
     PtStats st = {0};
     /* Ctrl-C: finish the pass, write what was reached; a second one kills. */
-    struct sigaction sa = {0}, old_sa;
-    sa.sa_handler = on_sigint;
-    sa.sa_flags = SA_RESETHAND;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_sa);
+    struct sigaction old_sa;
+    catch_sigint(&old_sa);
     bool rendered = pt_render(&scene, set, &mean, args.var_out ? &var : NULL, &st);
     sigaction(SIGINT, &old_sa, NULL);
     if (rendered && st.spp < set->spp)

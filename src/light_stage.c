@@ -389,13 +389,12 @@ void light_stage_rsm_texel_frame(const vec3 bounds_min, const vec3 bounds_max, G
 }
 
 /* What the VPLs depend on: the lights, the RSM sizes and the seed, and
- * which draw each RSM holds (a moved object redraws them). */
-static uint64_t vpl_key(const LightStage *ls)
+ * the geometry (gs->version: a moved object changes what the RSMs hold). */
+static uint64_t vpl_key(const LightStage *ls, const GpuScene *gs)
 {
     uint64_t h = util_hash_bytes(UTIL_HASH_SEED, ls->scene->lights, sizeof(Light) * (size_t)ls->light_count);
     h = util_hash_bytes(h, &ls->desc, sizeof ls->desc);
-    for (int i = 0; ls->rsm && i < ls->light_count; i++)
-        h = util_hash_bytes(h, &ls->rsm[i].version, sizeof ls->rsm[i].version);
+    h = util_hash_bytes(h, &gs->version, sizeof gs->version);
     return h ? h : 1;
 }
 
@@ -513,9 +512,9 @@ static void draw_rsms(LightStage *ls, const GpuScene *gs, GpuTimer *t)
 
 /* The VPL buffer from every RSM, when the techniques need VPLs and what
  * they depend on changed. */
-static void extract_vpls(LightStage *ls, GpuTimer *t)
+static void extract_vpls(LightStage *ls, const GpuScene *gs, GpuTimer *t)
 {
-    uint64_t key = vpl_key(ls);
+    uint64_t key = vpl_key(ls, gs);
     if (!(ls->desc.needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)
         return;
     gpu_timer_begin(t, "vpl_generate");
@@ -544,7 +543,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     if (!ls->rsm)
         return;
     draw_rsms(ls, gs, t);
-    extract_vpls(ls, t);
+    extract_vpls(ls, gs, t);
 }
 
 uint64_t light_stage_products_key(const LightStage *ls)

@@ -306,36 +306,13 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
 
 int render_options_check_time(const RenderOptions *o)
 {
-    if (!o->animate) {
-        const char *seq = o->fps > 0 ? "--fps" : o->video ? "--video" : NULL;
-        if (seq) {
-            cli_error(NULL, "%s: needs --animate (a sequence of frames)", seq);
-            return 2;
-        }
-        return 0;
-    }
-    if (o->time >= 0) {
-        cli_error(NULL, "--time and --animate: give one (--time renders one instant)");
-        return 2;
-    }
-    if (!o->frames_given || o->frames < 1) {
-        cli_error(NULL, "--animate: needs --frames N (N >= 1), the frames of the sequence");
-        return 2;
-    }
     const char *single = o->png ? "--png" : o->emitter_mask ? "--emitter-mask" : o->out_ao ? "--out-ao"
                        : o->timings                          ? "--timings"
                        : o->probe                            ? "--probe"
                                                              : NULL;
-    if (single) {
-        cli_error(NULL, "%s: not with --animate (a sequence writes --out's frames only; PNG frames: --out "
-                  "DIR/frame_%%04d.png)", single);
-        return 2;
-    }
-    if (o->video && !util_ends_with(o->video, ".mp4")) {
-        cli_error(NULL, "--video: '%s' must end in .mp4", o->video);
-        return 2;
-    }
-    return sequence_pattern_check("--out", o->out) ? 0 : 2;
+    SequenceOptions so = {.animate = o->animate, .frames_given = o->frames_given, .frames = o->frames,
+                          .fps = o->fps, .time = o->time, .video = o->video, .single = single, .out = o->out};
+    return sequence_check_options(&so);
 }
 
 bool render_options_load_scene(const RenderOptions *o, Scene *scene)

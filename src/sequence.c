@@ -74,6 +74,39 @@ void sequence_path(const char *pattern, int i, char *out, size_t cap)
     free(b.data);
 }
 
+int sequence_check_options(const SequenceOptions *o)
+{
+    if (!o->animate) {
+        const char *seq = o->frames_given && o->frames_need_animate ? "--frames"
+                        : o->fps > 0                                ? "--fps"
+                        : o->video                                  ? "--video"
+                                                                    : NULL;
+        if (seq) {
+            cli_error(NULL, "%s: needs --animate (a sequence of frames)", seq);
+            return 2;
+        }
+        return 0;
+    }
+    if (o->time >= 0) {
+        cli_error(NULL, "--time and --animate: give one (--time renders one instant)");
+        return 2;
+    }
+    if (!o->frames_given || o->frames < 1) {
+        cli_error(NULL, "--animate: needs --frames N (N >= 1), the frames of the sequence");
+        return 2;
+    }
+    if (o->single) {
+        cli_error(NULL, "%s: not with --animate (a sequence writes --out's frames only, e.g. --out "
+                  "DIR/frame_%%04d.png)", o->single);
+        return 2;
+    }
+    if (o->video && !util_ends_with(o->video, ".mp4")) {
+        cli_error(NULL, "--video: '%s' must end in .mp4", o->video);
+        return 2;
+    }
+    return sequence_pattern_check("--out", o->out) ? 0 : 2;
+}
+
 void sequence_remove(const char *pattern, int n)
 {
     char path[UTIL_PATH_MAX];

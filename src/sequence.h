@@ -15,6 +15,23 @@
 bool sequence_pattern_check(const char *opt, const char *pattern);
 /* The pattern with frame number i into out (cap bytes). */
 void sequence_path(const char *pattern, int i, char *out, size_t cap);
+/* The time options of `render` or `reference`, to check together. */
+typedef struct SequenceOptions {
+    bool animate;            /* --animate */
+    bool frames_given;       /* --frames was given */
+    int frames;              /* its value */
+    bool frames_need_animate;/* --frames means nothing without --animate (reference) */
+    double fps;              /* --fps (0: not given) */
+    double time;             /* --time (< 0: not given) */
+    const char *video;       /* --video, or NULL */
+    const char *single;      /* an option given that writes one image (--png, ...), or NULL */
+    const char *out;         /* --out */
+} SequenceOptions;
+/* --fps, --video (and --frames where frames_need_animate) only with
+ * --animate; --time not with it; --animate with --frames N >= 1, none of
+ * `single`, a .mp4 --video and a frame pattern in --out. 0, or 2 after a
+ * usage error. */
+int sequence_check_options(const SequenceOptions *o);
 /* Removes frames 0..n-1 of the pattern (a failed sequence leaves none). */
 void sequence_remove(const char *pattern, int n);
 

@@ -476,6 +476,16 @@ static void vct_keeps_no_stale_voxels(void **state)
     scene_free(&s);
 }
 
+/* The least x of the box's vertices (above y = 0.1) or the floor's. */
+static float least_x(const Scene *s, bool box)
+{
+    float x = INFINITY;
+    for (uint32_t v = 0; v < s->vertex_count; v++)
+        if ((s->vertices[v].position[1] > 0.1f) == box)
+            x = fminf(x, s->vertices[v].position[0]);
+    return x;
+}
+
 /* A mesh file's node as an object: an OBJ with two objects ("o floor",
  * "o box") of one material; the box moves, the floor stays (by material
  * the two could not be told apart). An unknown node is one error line. */
@@ -496,21 +506,10 @@ static void mesh_node_is_an_object(void **state)
     assert_true(scene_load(&s, path));
     assert_int_equal(s.object_count, 1);
     assert_int_equal(s.objects[0].vertex_count, 4);
-    float floor_x = INFINITY, box_x = INFINITY;
-    for (uint32_t v = 0; v < s.vertex_count; v++)
-        if (s.vertices[v].position[1] > 0.1f)
-            box_x = fminf(box_x, s.vertices[v].position[0]);
-        else
-            floor_x = fminf(floor_x, s.vertices[v].position[0]);
+    float box_x = least_x(&s, true), floor_x = least_x(&s, false);
     animation_apply(&s, 1.0, NULL);
-    float floor_x1 = INFINITY, box_x1 = INFINITY;
-    for (uint32_t v = 0; v < s.vertex_count; v++)
-        if (s.vertices[v].position[1] > 0.1f)
-            box_x1 = fminf(box_x1, s.vertices[v].position[0]);
-        else
-            floor_x1 = fminf(floor_x1, s.vertices[v].position[0]);
-    assert_float_equal(box_x1 - box_x, 0.5f, 1e-6f);
-    assert_float_equal(floor_x1, floor_x, 0.f);
+    assert_float_equal(least_x(&s, true) - box_x, 0.5f, 1e-6f);
+    assert_float_equal(least_x(&s, false), floor_x, 0.f);
     scene_free(&s);
     char *err = NULL;
     path = test_tmp_file("anim_nodes_bad.json",

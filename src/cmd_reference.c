@@ -19,7 +19,13 @@ void cmd_reference_help(void)
     printf("usage: rtgi reference [options]\n"
            "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
            "  --mode full|direct|one-bounce|one-bounce-novis|indirect   (default: full)\n"
-           "  --spp N            samples per pixel (default: 64)\n"
+           "  --spp N            samples per pixel (default: 64; with --target-relmse or --time\n"
+           "                     and no --spp, at most 16777216)\n"
+           "  --target-relmse E  stop once the relMSE estimated from the per-pixel variance is at\n"
+           "                     most E (checked after each pass, from 16 spp on; with the default\n"
+           "                     Sobol' sampler the real error is usually lower than the estimate)\n"
+           "  --time T           stop before a pass that would end past T seconds of rendering\n"
+           "                     (the first pass always runs)\n"
            "  --sampler sobol|independent   Owen-scrambled Sobol' or independent random numbers (default: sobol)\n"
            "  --seed S           random seed (default: 1); same seed → same image\n"
            "  --threads T        worker threads (default: all cores)\n"
@@ -37,12 +43,16 @@ void cmd_reference_help(void)
            "  --png FILE.png     also write the tone-mapped PNG\n"
            "  --emitter-mask FILE.png   also write the mask of pixels that see an emitter\n"
            "                     (black; render --emitter-mask writes the same one)\n"
-           "  --time T           the scene file's animation at T s\n"
+           "  --at T             the scene file's animation at T s (one instant; --time is the\n"
+           "                     time budget)\n"
            "  --animate          the animation's --frames N frames (spread over its duration, or\n"
            "                     frame i at i/F s with --fps F) into --out's pattern (frame_%%04d.exr),\n"
            "                     each at --spp with the same seed\n"
-           "  --quiet            errors only: no progress (else on stderr: samples, rays/s, time left)\n"
+           "  --quiet            errors only: no progress (else on stderr: after the first pass the\n"
+           "                     time the rest will take, then samples, rays/s, time left)\n"
            "  --verbose          debug lines too\n"
+           "Prints on stdout: spp (reached), relmse_estimate, and 'stopped: target-relmse' or\n"
+           "'stopped: time' when one of those ended it.\n"
            "Ctrl-C (SIGINT) finishes the current pass (a few samples per pixel) and writes the\n"
            "image with the samples reached ('spp:' line; EXR attribute rtgi_spp); a second\n"
            "Ctrl-C ends the program at once, or once the outputs being written are whole\n"
@@ -50,7 +60,7 @@ void cmd_reference_help(void)
 }
 
 /* The options this command knows (for "did you mean"). */
-static const char *const k_reference_options[] = {"--animate", "--emitter-mask", "--exposure", "--fps", "--frames", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--threads", "--time", "--variance", NULL};
+static const char *const k_reference_options[] = {"--animate", "--at", "--emitter-mask", "--exposure", "--fps", "--frames", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--target-relmse", "--threads", "--time", "--variance", NULL};
 
 /* Set by SIGINT: the path tracer finishes its pass and stops. */
 static volatile int g_interrupted;
@@ -95,7 +105,7 @@ typedef struct ReferenceArgs {
     bool animate;             /* --animate: a sequence of `frames` frames into --out's pattern */
     int frames;               /* --frames (0: not given) */
     float fps;                /* --fps (0: the frames spread over the duration) */
-    float time;               /* --time (< 0: not given) */
+    float time;               /* --at (< 0: not given) */
 } ReferenceArgs;
 
 /* The time options agree: 0, or 2 after a usage error. */
@@ -104,7 +114,7 @@ static int reference_check_time(const ReferenceArgs *args)
     const char *single = args->png ? "--png" : args->var_out ? "--variance" : args->emitter_mask ? "--emitter-mask"
                                                                                                 : NULL;
     SequenceOptions so = {.animate = args->animate, .frames_given = args->frames > 0, .frames = args->frames,
-                          .frames_need_animate = true, .fps = args->fps, .time = args->time, .single = single,
+                          .frames_need_animate = true, .fps = args->fps, .time = args->time, .time_opt = "--at", .single = single,
                           .out = args->out};
     return sequence_check_options(&so);
 }
@@ -122,6 +132,7 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
     set->threads = cores > 0 ? (int)cores : 1;
     CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v;
+    bool spp_given = false;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_reference_help();
@@ -147,6 +158,19 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1 << 24, &set->spp))
                 return 2;
+            spp_given = true;
+        } else if (!strcmp(opt, "--target-relmse")) {
+            CLI_VALUE(&a, v);
+            float e;
+            if (!cli_float(opt, v, 1e-9f, 1e3f, &e))
+                return 2;
+            set->target_relmse = e;
+        } else if (!strcmp(opt, "--time")) {
+            CLI_VALUE(&a, v);
+            float t;
+            if (!cli_float(opt, v, 1e-3f, 1e7f, &t))
+                return 2;
+            set->time_budget = t;
         } else if (!strcmp(opt, "--seed")) {
             CLI_VALUE(&a, v);
             int s;
@@ -221,7 +245,7 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 1e-3f, 1e6f, &args->fps))
                 return 2;
-        } else if (!strcmp(opt, "--time")) {
+        } else if (!strcmp(opt, "--at")) {
             CLI_VALUE(&a, v);
             if (!cli_float(opt, v, 0.f, 1e6f, &args->time))
                 return 2;
@@ -232,6 +256,9 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
     }
     if (cli_failed(&a))
         return 2;
+    /* A target or a budget without --spp: the samples are what they need. */
+    if (!spp_given && (set->target_relmse > 0.0 || set->time_budget > 0.0))
+        set->spp = 1 << 24;
     int rc = reference_check_time(args);
     if (rc)
         return rc;
@@ -269,17 +296,23 @@ static bool reference_write_outputs(const ReferenceArgs *args, const Scene *scen
 }
 
 /* The result lines on stdout (scripts read them). */
-static void reference_print(const ReferenceArgs *args, const Scene *scene, const PtStats *st)
+static void reference_print(const ReferenceArgs *args, const Scene *scene, const PtStats *st, double cpu_s)
 {
     const PtSettings *set = &args->set;
     printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene->source,
            pt_mode_names[set->mode], set->width, set->height, st->spp, set->threads,
            (unsigned long long)set->seed);
     printf("spp: %d\n", st->spp);
-    if (st->spp < set->spp)
+    if (st->stopped == PT_STOP_INTERRUPTED)
         printf("interrupted: %d of %d spp\n", st->spp, set->spp);
+    else if (st->stopped == PT_STOP_TARGET)
+        printf("stopped: target-relmse %g reached at %d spp\n", set->target_relmse, st->spp);
+    else if (st->stopped == PT_STOP_TIME)
+        printf("stopped: time %g s reached at %d spp\n", set->time_budget, st->spp);
+    printf("relmse_estimate: %.6g\n", st->relmse_estimate);
     printf("sampler: %s\n", pt_sampler_names[set->sampler]);
     printf("time_s: %.3f\n", st->seconds);
+    printf("cpu_s: %.3f\n", cpu_s);
     printf("rays: %llu\n", (unsigned long long)st->rays);
     printf("rays_per_s: %.0f\n", st->seconds > 0 ? st->rays / st->seconds : 0.0);
     log_info("reference", "wrote %s", args->out);
@@ -359,7 +392,7 @@ int cmd_reference(int argc, char **argv)
     Scene scene;
     if (!scene_load_scaled(&scene, args.scene_name, args.light_scale))
         return 1;
-    bool timed = args.time >= 0 ? animation_check_time(&scene, args.time, "--time")
+    bool timed = args.time >= 0 ? animation_check_time(&scene, args.time, "--at")
                : args.animate   ? animation_check_frames(&scene, args.frames, args.fps, "--animate")
                                 : true;
     if (!timed) {
@@ -376,16 +409,18 @@ int cmd_reference(int argc, char **argv)
     /* Ctrl-C: finish the pass, write what was reached; a second one kills. */
     struct sigaction old_sa;
     catch_sigint(&old_sa);
+    double cpu0 = util_cpu_seconds();
     bool rendered = pt_render(&scene, set, &mean, args.var_out ? &var : NULL, &st);
+    double cpu_s = util_cpu_seconds() - cpu0; /* BVH build and render, every thread */
     sigaction(SIGINT, &old_sa, NULL);
-    if (rendered && st.spp < set->spp)
+    if (rendered && st.stopped == PT_STOP_INTERRUPTED)
         log_info("reference", "interrupted: writing the partial image with %d of %d spp", st.spp, set->spp);
     /* All outputs or none, also under a second Ctrl-C or a SIGTERM: the
      * signal waits until every file is written (ms to seconds). */
     util_defer_ending_signals();
     rc = 1;
     if (rendered && reference_write_outputs(&args, &scene, &mean, &var, &st)) {
-        reference_print(&args, &scene, &st);
+        reference_print(&args, &scene, &st, cpu_s);
         rc = 0;
     }
     util_end_deferral();

@@ -311,7 +311,7 @@ int render_options_check_time(const RenderOptions *o)
                        : o->probe                            ? "--probe"
                                                              : NULL;
     SequenceOptions so = {.animate = o->animate, .frames_given = o->frames_given, .frames = o->frames,
-                          .fps = o->fps, .time = o->time, .video = o->video, .single = single, .out = o->out};
+                          .fps = o->fps, .time = o->time, .time_opt = "--time", .video = o->video, .single = single, .out = o->out};
     return sequence_check_options(&so);
 }
 

@@ -19,13 +19,12 @@
 #include "gpu_timer.h"
 #include "image.h"
 #include "light_stage.h"
-#include "passes/pass_composite.h"
 #include "passes/pass_direct.h"
+#include "passes/pass_finish.h"
 #include "passes/pass_fxaa.h"
 #include "passes/pass_gbuffer.h"
-#include "passes/pass_resolve.h"
+#include "passes/pass_shade.h"
 #include "passes/pass_temporal.h"
-#include "passes/pass_tonemap.h"
 #include "scene.h"
 #include "targets.h"
 
@@ -94,7 +93,6 @@ typedef struct Renderer {
     GLuint specular;           /* RGBA32F indirect specular radiance, techniques with GI_HAS_SPECULAR */
     GLuint brdf_albedo;        /* RG32F: the GGX lobe's directional albedo table (brdf_albedo_table) */
     GLuint frame_ubo;          /* GpuFrame */
-    GLuint empty_vao;          /* for the full-screen passes */
     const GiTechnique *gi;     /* the selected row */
     void *gi_state;            /* its state (NULL for "none") */
     bool gi_failed;            /* a frame's technique run failed (logged); see renderer_frames_whole */
@@ -102,9 +100,8 @@ typedef struct Renderer {
     GiFrame last_frame;        /* what the technique saw last (for its stats) */
     PassGbuffer pass_gbuffer;
     PassDirect pass_direct;
-    PassComposite pass_composite;
-    PassTonemap pass_tonemap;
-    PassResolve pass_resolve;
+    PassShade pass_shade;
+    PassFinish pass_finish;
     PassFxaa pass_fxaa;
     PassTemporal pass_temporal; /* --temporal on: accumulates the irradiance over frames */
     int remakes;               /* renderer_apply calls that remade something (technique, light products,

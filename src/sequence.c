@@ -88,7 +88,7 @@ int sequence_check_options(const SequenceOptions *o)
         return 0;
     }
     if (o->time >= 0) {
-        cli_error(NULL, "--time and --animate: give one (--time renders one instant)");
+        cli_error(NULL, "%s and --animate: give one (%s renders one instant)", o->time_opt, o->time_opt);
         return 2;
     }
     if (!o->frames_given || o->frames < 1) {

@@ -22,13 +22,14 @@ typedef struct SequenceOptions {
     int frames;              /* its value */
     bool frames_need_animate;/* --frames means nothing without --animate (reference) */
     double fps;              /* --fps (0: not given) */
-    double time;             /* --time (< 0: not given) */
+    double time;             /* the instant option (< 0: not given) */
+    const char *time_opt;    /* its name: render --time, reference --at (its --time is a budget) */
     const char *video;       /* --video, or NULL */
     const char *single;      /* an option given that writes one image (--png, ...), or NULL */
     const char *out;         /* --out */
 } SequenceOptions;
 /* --fps, --video (and --frames where frames_need_animate) only with
- * --animate; --time not with it; --animate with --frames N >= 1, none of
+ * --animate; time_opt not with it; --animate with --frames N >= 1, none of
  * `single`, a .mp4 --video and a frame pattern in --out. 0, or 2 after a
  * usage error. */
 int sequence_check_options(const SequenceOptions *o);

@@ -126,6 +126,9 @@ void util_ensure_parent_dir(const char *path);
 uint64_t util_hash_bytes(uint64_t h, const void *p, size_t n);
 /* Monotonic wall-clock seconds. */
 double util_seconds(void);
+/* CPU seconds of this process so far, every thread (0 if unknown): a
+ * benchmark's cost on a machine it shares. */
+double util_cpu_seconds(void);
 /* This machine's physical memory in bytes (0 if unknown): the commands
  * refuse buffers over half of it before they allocate. */
 size_t util_physical_memory(void);

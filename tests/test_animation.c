@@ -220,6 +220,13 @@ static void bad_tracks_are_refused_in_one_line(void **state)
     rc = test_run_cli(&err, "reference", "--scene", ok_scene, "--size", "8x8", "--frames", "3", "--out",
                       TMP "/anim_%d.pfm", NULL);
     test_expect_cli_error(rc, err, 2, "--frames", "needs --animate");
+    /* reference's instant is --at (its --time is the time budget). */
+    rc = test_run_cli(&err, "reference", "--scene", ok_scene, "--size", "8x8", "--at", "2.5", "--out",
+                      TMP "/anim_t.pfm", NULL);
+    test_expect_cli_error(rc, err, 1, "--at", "outside the animation's [0, 2]");
+    rc = test_run_cli(&err, "reference", "--scene", ok_scene, "--size", "8x8", "--at", "1", "--animate", "--frames",
+                      "2", "--out", TMP "/anim_%d.pfm", NULL);
+    test_expect_cli_error(rc, err, 2, "--at and --animate", "give one");
 }
 
 /* Reads a PFM the test wrote. */

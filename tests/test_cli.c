@@ -181,7 +181,7 @@ static void every_program_failure_fails(void **state)
         const char *args[8];
     } cases[] = {
         {"gi/lpv/propagate.comp", "MODE_FACES", "lpv_propagate_faces", {"--gi", "lpv", "--lpv-size", "8", NULL}},
-        {"frame/direct.frag", "LIGHT_FIXED_TYPE", "direct", {"--gi", "none", NULL}},
+        {"frame/shade.comp", "LIGHT_FIXED_TYPE", "shade", {"--gi", "none", NULL}},
         {"gi/vct/bounce.comp", "OPAQUE_LIST", "vct_bounce_list",
          {"--gi", "vct", "--vct-size", "16", "--vct-bounces", "2", NULL}},
         /* an include of three programs: one line, the first's */
@@ -576,6 +576,74 @@ static void reference_bad_input(void **state)
     test_expect_cli_error(rc, err, 2, "--mode", "unknown value 'two-bounce'");
     rc = test_run_cli(&err, "reference", "--scene", "/nonexistent/x.json", NULL);
     test_expect_cli_error(rc, err, 1, "/nonexistent/x.json", "does not exist");
+    rc = test_run_cli(&err, "reference", "--target-relmse", "0", NULL);
+    test_expect_cli_error(rc, err, 2, "--target-relmse", "out of range");
+    rc = test_run_cli(&err, "reference", "--target-relmse", "-0.01", NULL);
+    test_expect_cli_error(rc, err, 2, "--target-relmse", "out of range");
+    rc = test_run_cli(&err, "reference", "--target-relmse", "tiny", NULL);
+    test_expect_cli_error(rc, err, 2, "--target-relmse", "not a number");
+    rc = test_run_cli(&err, "reference", "--time", "0", NULL);
+    test_expect_cli_error(rc, err, 2, "--time", "out of range");
+    rc = test_run_cli(&err, "reference", "--time", "inf", NULL);
+    test_expect_cli_error(rc, err, 2, "--time", "not a number");
+    rc = test_run_cli(&err, "reference", "--time", NULL);
+    test_expect_cli_error(rc, err, 2, "--time", "value");
+}
+
+/* The value of line "key: " in text, or -1. */
+static double out_value(const char *text, const char *key)
+{
+    const char *p = strstr(text, key);
+    return p ? atof(p + strlen(key)) : -1.0;
+}
+
+/* --time stops the render before the samples asked for (the budget is far
+ * below what 10^5 spp take), says so on stdout and writes the image with
+ * the samples reached; --target-relmse stops once the estimate reaches it;
+ * before a render of more than one pass, one line says what it will take
+ * (none with --quiet). */
+static void reference_stops_on_budget(void **state)
+{
+    (void)state;
+    char out[512];
+    snprintf(out, sizeof out, "%s/budget_ref.exr", RTGI_TEST_TMP);
+    char *text = NULL, *err = NULL;
+    /* 32x32: passes of 256 spp (2^18 samples), well under a second each. */
+    int rc = test_run_cli_out(&text, &err, "reference", "--size", "32x32", "--spp", "100000", "--time", "0.5",
+                              "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    double spp = out_value(text, "\nspp: ");
+    print_message("--time 0.5: %g spp; stderr: %s", spp, err);
+    assert_true(spp >= 256 && spp < 100000);
+    assert_non_null(strstr(text, "stopped: time 0.5 s reached at"));
+    assert_non_null(strstr(err, "time budget 0.5 s: about"));
+    ImageF img;
+    assert_true(image_read(out, &img));
+    image_free(&img);
+    free(text);
+    free(err);
+
+    /* The first pass's estimate is about 1e-3 (0.0033 at 64 spp), the
+     * second's 5e-4: two passes. */
+    rc = test_run_cli_out(&text, &err, "reference", "--size", "32x32", "--target-relmse", "0.0006", "--out", out,
+                          "--quiet", NULL);
+    assert_int_equal(rc, 0);
+    spp = out_value(text, "\nspp: ");
+    double est = out_value(text, "relmse_estimate: ");
+    print_message("--target-relmse 0.0006: %g spp, estimate %g\n", spp, est);
+    assert_true(spp > 256 && spp < 1 << 24);
+    assert_true(est > 0 && est <= 0.0006);
+    assert_non_null(strstr(text, "stopped: target-relmse 0.0006 reached at"));
+    assert_true(err == NULL || strstr(err, "relMSE") == NULL); /* --quiet: no forecast */
+    free(text);
+    free(err);
+
+    /* A render of several passes forecasts its time after the first. */
+    rc = test_run_cli_out(&text, &err, "reference", "--size", "32x32", "--spp", "512", "--out", out, NULL);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(err, "512 spp: about"));
+    free(text);
+    free(err);
 }
 
 static void compare_bad_input(void **state)
@@ -1219,6 +1287,7 @@ int main(void)
         cmocka_unit_test(large_mesh_says_each_step),
         cmocka_unit_test(help_names_exr),
         cmocka_unit_test(reference_progress_lines),
+        cmocka_unit_test(reference_stops_on_budget),
         cmocka_unit_test(render_frame_progress_lines),
         cmocka_unit_test(shared_defaults),
         cmocka_unit_test(debug_context_reports_no_gl_errors),

@@ -202,7 +202,8 @@ static void bad_scene_settings(void **state)
     rc = test_run_cli(&err, "render", "--size", "16384x16384", NULL);
     test_expect_cli_error(rc, err, 1, "--size 16384x16384", "budget");
     /* The scene's own textures and buffers count too (a 2048² texture and
-     * its mips: 21 MiB, over a 16 MiB budget), named by the scene file. */
+     * its mips, RGBA16F: 42 MiB, over a 16 MiB budget), named by the scene
+     * file. */
     enum { T = 2048 };
     uint8_t *grey = malloc(3u * T * T);
     assert_non_null(grey);
@@ -218,7 +219,7 @@ static void bad_scene_settings(void **state)
     setenv("RTGI_GPU_BUDGET_MIB", "16", 1);
     rc = test_run_cli(&err, "render", "--quiet", "--size", "8x8", "--scene", obj, NULL); /* --quiet: no "added a default sun" */
     unsetenv("RTGI_GPU_BUDGET_MIB");
-    test_expect_cli_error(rc, err, 1, "budget_quad.obj (1 triangles, 1 textures) needs 21 MiB", "budget of 16 MiB");
+    test_expect_cli_error(rc, err, 1, "budget_quad.obj (1 triangles, 1 textures) needs 42 MiB", "budget of 16 MiB");
 }
 
 /* `--help` and the guide (docs/guide.md) come from (or agree with) the table. */

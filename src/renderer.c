@@ -229,6 +229,7 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
     /* Temporal accumulation is the renderer's pass, not the technique's. */
     GiParams gp_new = rs->gi_params, gp_old = old.gi_params;
     gp_new.temporal = gp_old.temporal = false;
+    gp_new.temporal_clamp = gp_old.temporal_clamp = false;
     bool technique = redo || rs->gi != old.gi || memcmp(&gp_new, &gp_old, sizeof gp_new) != 0;
     LightStageDesc ld = light_desc(rs);
     bool lights = !r->lights.made || memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
@@ -239,7 +240,8 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
         technique_destroy(r); /* it may hold sizes of the old light products */
         gpu_timer_forget_once(&r->timer); /* its one-time passes (vct_voxelize) */
     }
-    if (technique || lights || resized || rs->gi_params.temporal != old.gi_params.temporal)
+    if (technique || lights || resized || rs->gi_params.temporal != old.gi_params.temporal ||
+        rs->gi_params.temporal_clamp != old.gi_params.temporal_clamp)
         pass_temporal_reset(&r->pass_temporal); /* its history is of other frames */
     if (timer) {
         gpu_timer_destroy(&r->timer);
@@ -359,7 +361,8 @@ void renderer_frame(Renderer *r, const Camera *cam)
             GLuint irradiance = r->irradiance;
             if (r->settings.gi_params.temporal) {
                 gpu_timer_begin(t, "temporal");
-                GLuint accumulated = pass_temporal_run(&r->pass_temporal, &r->gbuffer, r->irradiance, cam);
+                GLuint accumulated = pass_temporal_run(&r->pass_temporal, &r->gbuffer, r->irradiance, cam,
+                                                         r->settings.gi_params.temporal_clamp);
                 gpu_timer_end(t);
                 if (accumulated)
                     irradiance = accumulated;

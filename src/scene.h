@@ -159,6 +159,7 @@ typedef struct GiParams {
     float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
     /* Time (SPEC §10). */
     bool temporal;         /* temporal accumulation of the indirect light (passes/pass_temporal.h) */
+    bool temporal_clamp;   /* its neighbourhood clamp (off: the history lags a moving light; for measuring) */
     /* Diagnostic, no scene key: the RSM gathers' twin for `render --timings
      * --probe run`, which reads every sample and evaluates none (the image
      * is meaningless); its rate is the limit of the gather's own reads. */

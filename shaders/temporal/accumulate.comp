@@ -12,7 +12,8 @@
 //   3. that history clamped to this frame's 3×3 neighbourhood, mean ± γσ
 //      within its min and max (variance clipping): a light that moved
 //      changes the neighbourhood, and the history cannot lag behind it by
-//      more than the noise;
+//      more than the noise (u_params.w = γ; 0: no clamp, for measuring:
+//      --temporal-clamp off);
 //   4. blended with this frame's value by α = max(1 / (frames + 1), α_min)
 //      (a running mean while it builds up, then an exponential one).
 // Out (IMG_OUT): rgb the accumulated irradiance, a the frames it holds.
@@ -85,7 +86,7 @@ void main()
             vec4 h = sum / weight;
             float frames = h.a;
             float alpha = max(1.0 / (frames + 1.0), u_params.x);
-            vec3 hist = clamp(h.rgb, box_lo, box_hi);
+            vec3 hist = u_params.w > 0.0 ? clamp(h.rgb, box_lo, box_hi) : h.rgb;
             out_value = vec4(mix(hist, cur, alpha), min(frames + 1.0, 1.0 / u_params.x));
         }
     }

@@ -47,7 +47,7 @@ static bool make_images(PassTemporal *p, int w, int h)
     return true;
 }
 
-GLuint pass_temporal_run(PassTemporal *p, const GBuffer *gb, GLuint irradiance, const Camera *cam)
+GLuint pass_temporal_run(PassTemporal *p, const GBuffer *gb, GLuint irradiance, const Camera *cam, bool clamp)
 {
     if (!p->program)
         p->program = program_cache_get(p->programs, &(ShaderProgramDesc){.label = "temporal_accumulate",
@@ -61,7 +61,7 @@ GLuint pass_temporal_run(PassTemporal *p, const GBuffer *gb, GLuint irradiance, 
     camera_view_proj(cam, (float)gb->width / (float)gb->height, vp);
     glProgramUniformMatrix4fv(p->program, LOC_TEMPORAL_PREV_VIEW_PROJ, 1, GL_FALSE, (const float *)p->prev_view_proj);
     glProgramUniform4f(p->program, LOC_TEMPORAL_PARAMS, TEMPORAL_ALPHA, p->have_history ? 1.f : 0.f,
-                       TEMPORAL_PLANE_TOLERANCE, TEMPORAL_CLAMP_GAMMA);
+                       TEMPORAL_PLANE_TOLERANCE, clamp ? TEMPORAL_CLAMP_GAMMA : 0.f);
     glUseProgram(p->program);
     glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
     glBindTextureUnit(TEX_GI, irradiance);

@@ -2,8 +2,9 @@
  * and interpolated at and between keys, bad tracks refused in one line, a
  * frame of `render --animate` equal to a still render of the same scene
  * with the keyed values written out, every technique's cached products
- * after a light or an object moved equal to a cold renderer's, and VCT's
- * voxels following a moving block (none left where it was). */
+ * after a light or an object moved equal to a cold renderer's, VCT's
+ * voxels following a moving block (none left where it was), and culling
+ * bounds following an object moved into view. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -483,6 +484,52 @@ static void vct_keeps_no_stale_voxels(void **state)
     scene_free(&s);
 }
 
+/* A moved object is drawn where it went, not culled by the bounds of where
+ * it was: the short block starts 3 m behind the camera (outside every
+ * frustum: its clusters are culled) and moves back into the box; the
+ * cached renderer's frame after the move equals a fresh renderer's of the
+ * block written out in place, with culling on. (Bounds kept from the
+ * start would leave the block out of the G-buffer and the shadow maps.) */
+static void culling_follows_a_moved_object(void **state)
+{
+    (void)state;
+    Scene s, still;
+    assert_true(scene_load(&s, scene_with("anim_cull.json",
+                                          "{\"block\": {\"material\": \"short_block\", \"translate\": [0, 0, -3]}}",
+                                          "{\"duration\": 1, \"tracks\": [{\"target\": \"objects.block\", \"key\":"
+                                          " \"translate\", \"times\": [0, 1], \"values\": [[0, 0, -3], [0, 0, 0]]}]}")));
+    /* The same scene with the block where the track ends (a track that
+     * changes nothing). */
+    assert_true(scene_load(&still, scene_with("anim_cull_still.json", "{}",
+                                              "{\"duration\": 1, \"tracks\": [{\"target\": \"lights[0]\", \"key\":"
+                                              " \"intensity\", \"times\": [0], \"values\": [[1, 1, 1]]}]}")));
+    RenderSettings rs = test_settings(&s, 32, 32, SHADOW_MODE_PCF);
+    Renderer r;
+    assert_true(renderer_create(&r, &s, &rs));
+    renderer_frame(&r, &s.camera);
+    ImageF before, got, want;
+    assert_true(renderer_read_hdr(&r, &before));
+    int culled = r.pass_gbuffer.culled;
+    SceneChange c;
+    assert_true(animation_apply(&s, 1.0, &c));
+    assert_true(renderer_scene_changed(&r, &c));
+    renderer_frame(&r, &s.camera);
+    assert_true(renderer_read_hdr(&r, &got));
+    assert_true(renderer_frames_whole(&r));
+    renderer_destroy(&r);
+    test_render(&still, &rs, &want);
+    double e = metric_relmse(&got, &want, NULL, NULL), moved = metric_relmse(&before, &want, NULL, NULL);
+    print_message("block moved into view: relMSE %.3g against the still scene (before the move %.3g); clusters "
+                  "culled before %d\n", e, moved, culled);
+    assert_true(e < 1e-6);
+    assert_true(moved > 1e-3); /* the block is seen: its absence would be measured */
+    image_free(&before);
+    image_free(&got);
+    image_free(&want);
+    scene_free(&s);
+    scene_free(&still);
+}
+
 /* The least x of the box's vertices (above y = 0.1) or the floor's. */
 static float least_x(const Scene *s, bool box)
 {
@@ -534,6 +581,7 @@ int main(void)
         cmocka_unit_test(animated_frame_equals_still_render),
         cmocka_unit_test(cached_products_equal_cold_after_motion),
         cmocka_unit_test(vct_keeps_no_stale_voxels),
+        cmocka_unit_test(culling_follows_a_moved_object),
         cmocka_unit_test(mesh_node_is_an_object),
     };
     return cmocka_run_group_tests_name("animation", tests, test_gl_setup, test_gl_teardown);

@@ -350,10 +350,8 @@ static void cached_products_equal_cold_after_motion(void **state)
     (void)state;
     static const char *const scenes[] = {"cornell_orbit.json", "cornell_moving_block.json"};
     for (int sc = 0; sc < 2; sc++) {
-        char path[512];
-        snprintf(path, sizeof path, "%s/scenes/%s", RTGI_SOURCE_DIR, scenes[sc]);
         Scene s;
-        assert_true(scene_load(&s, path));
+        test_load_scene_file(&s, scenes[sc]);
         Renderer r, cold;
         RenderSettings rs = small_settings(&s, GI_NONE, true), rs_cold = small_settings(&s, GI_NONE, false);
         assert_true(renderer_create(&r, &s, &rs));
@@ -445,10 +443,8 @@ static int block_voxels(const float *vol, int n, const float origin[3], float vo
 static void vct_keeps_no_stale_voxels(void **state)
 {
     (void)state;
-    char path[512];
-    snprintf(path, sizeof path, "%s/scenes/cornell_moving_block.json", RTGI_SOURCE_DIR);
     Scene s;
-    assert_true(scene_load(&s, path));
+    test_load_scene_file(&s, "cornell_moving_block.json");
     RenderSettings rs = small_settings(&s, GI_VCT, true);
     rs.gi_params.vct_size = 64;
     rs.gi_params.vct_aniso = false;

@@ -72,14 +72,6 @@ static void flicker_of_known_sequences(void **state)
     image_free(&d);
 }
 
-/* The orbiting spot light of scenes/cornell_orbit.json. */
-static void load_orbit(Scene *s)
-{
-    char path[512];
-    snprintf(path, sizeof path, "%s/scenes/cornell_orbit.json", RTGI_SOURCE_DIR);
-    assert_true(scene_load(s, path));
-}
-
 enum { W = 32, H = 32, FRAMES = 12 };
 #define FPS 480.0 /* the light moves 0.19 degrees a frame: its own change is smooth at this pace */
 #define T0 0.5    /* the sequences' first frame (s) */
@@ -134,6 +126,14 @@ static Measured sequence(Scene *s, Run run, const ImageF *refs, int from, const 
     return m;
 }
 
+/* Frees the references and the scene. */
+static void free_all(ImageF refs[FRAMES], Scene *s)
+{
+    for (int i = 0; i < FRAMES; i++)
+        image_free(&refs[i]);
+    scene_free(s);
+}
+
 /* The path-traced reference of each frame at `fps`, and its flicker. */
 static double references(Scene *s, double fps, ImageF refs[FRAMES])
 {
@@ -152,7 +152,7 @@ static void still_deterministic_sequence_has_no_flicker(void **state)
 {
     (void)state;
     Scene s;
-    load_orbit(&s);
+    test_load_scene_file(&s, "cornell_orbit.json"); /* the orbiting spot light */
     double still = sequence(&s, (Run){GI_RSM, false, true, 0}, NULL, 0, NULL).flicker;
     double moving = sequence(&s, (Run){GI_RSM, false, true, FPS}, NULL, 0, NULL).flicker;
     print_message("rsm flicker: still %.3g, orbiting light %.3g\n", still, moving);
@@ -165,7 +165,7 @@ static void temporal_accumulation_lowers_vpl_slc_flicker(void **state)
 {
     (void)state;
     Scene s;
-    load_orbit(&s);
+    test_load_scene_file(&s, "cornell_orbit.json"); /* the orbiting spot light */
     ImageF refs[FRAMES];
     double ref_flicker = references(&s, FPS, refs);
     Measured off = sequence(&s, (Run){GI_VPL_SLC, false, true, FPS}, refs, 0, NULL);
@@ -176,9 +176,7 @@ static void temporal_accumulation_lowers_vpl_slc_flicker(void **state)
     assert_true(off.flicker > 0.0);
     assert_true(3.0 * on.flicker <= off.flicker);
     assert_true(on.relmse <= 1.1 * off.relmse);
-    for (int i = 0; i < FRAMES; i++)
-        image_free(&refs[i]);
-    scene_free(&s);
+    free_all(refs, &s);
 }
 
 /* A fast light (the orbit at 8 fps: 11 degrees a frame): on the ceiling,
@@ -190,7 +188,7 @@ static void temporal_accumulation_follows_a_fast_light(void **state)
 {
     (void)state;
     Scene s;
-    load_orbit(&s);
+    test_load_scene_file(&s, "cornell_orbit.json"); /* the orbiting spot light */
     const double fps = 8.0;
     ImageF refs[FRAMES];
     double ref_flicker = references(&s, fps, refs);
@@ -208,9 +206,7 @@ static void temporal_accumulation_follows_a_fast_light(void **state)
     assert_true(n >= 40);
     assert_true(on.relmse_mask <= 1.35 * off.relmse_mask);
     assert_true(lag.relmse_mask >= 2.0 * off.relmse_mask); /* the measure sees a lagging history */
-    for (int i = 0; i < FRAMES; i++)
-        image_free(&refs[i]);
-    scene_free(&s);
+    free_all(refs, &s);
 }
 
 int main(void)

@@ -1,8 +1,10 @@
 /* vct.c — voxel cone tracing (Crassin, Neyret, Sainz, Green, Eisemann
  * 2011, "Interactive Indirect Illumination Using Voxel Cone Tracing"),
  * SPEC §6; one row of the technique table, `--gi vct`. Passes:
- *   vct_voxelize  once per technique (the scene's geometry is fixed for its
- *                 lifetime): every triangle projected along its dominant
+ *   vct_voxelize  once, and again when the scene's geometry moves (an
+ *                 animated object: GpuScene.version; the whole volume is
+ *                 rebuilt, so no voxel of where it was stays): every
+ *                 triangle projected along its dominant
  *                 axis into an N×N attachment-less framebuffer, enlarged
  *                 conservatively and clipped per voxel by an exact
  *                 triangle–box test (shaders/gi/vct/voxelize.*); albedo,
@@ -74,6 +76,7 @@ typedef struct VctGi {
     GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
     GpuVctParams gpu;        /* as uploaded */
     bool voxelized;          /* the volumes hold the scene */
+    uint64_t voxels_version; /* the geometry they hold (GpuScene.version): a moved object revoxelizes */
     int voxelizations;
     uint64_t built_for;      /* the light products and voxels the radiance volumes hold (0: none) */
     int builds;              /* times radiance was injected and filtered */
@@ -562,8 +565,11 @@ static bool vct_run(void *state, const GiFrame *f)
     GpuTimer *t = f->timer;
     place_levels(v, f->camera);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_VCT, v->ubo);
+    if (v->voxels_version != f->gpu_scene->version) /* an object moved (animation.h): no stale voxel stays */
+        v->voxelized = false;
     if (!v->voxelized) {
         gpu_timer_begin_once(t, "vct_voxelize"); /* in the warm-up frame: kept apart from the means */
+        v->voxels_version = f->gpu_scene->version;
         v->voxelized = voxelize(v, f);
         gpu_timer_end(t);
         if (!v->voxelized)

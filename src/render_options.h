@@ -39,6 +39,9 @@ typedef struct RenderOptions {
     const char *window_out; /* --window-out FILE.png: what Shift-P saves, or NULL */
     double slow_ms;         /* --slow-ms: techniques estimated above need a click (1000) */
     bool no_panel;          /* --no-panel: start with the panel hidden */
+    bool live_reference;    /* --live-reference: the path tracer converging in the A/B view */
+    int live_threads;       /* --live-threads: its threads (0: every core) */
+    int live_spp;           /* --live-spp: the samples per pixel it stops at (4096) */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */
 } RenderOptions;

@@ -67,6 +67,8 @@ void cmd_view_help(void)
            "                                relMSE against that file is shown\n"
            "  --live-threads T              its threads, at the lowest priority (default: all cores)\n"
            "  --live-spp N                  the samples per pixel it stops at (default: 4096)\n"
+           "  --live-priority idle|normal   its threads' priority: idle (SCHED_IDLE: only the CPU time\n"
+           "                                nothing else wants) or normal, as any program's (default: idle)\n"
            "  --frames N                    exit after N frames (default: 0, run until closed)\n"
            "  --out FILE                    the image P saves, and with --frames the last frame:\n"
            "                                .png as shown, .pfm or .exr linear radiance\n"
@@ -321,7 +323,8 @@ static bool view_ui_open(ViewLoop *l, const RenderOptions *o, bool *have_present
                sizeof(float) * 3 * (size_t)ab->reference.width * ab->reference.height);
     }
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    live_reference_init(&l->live, o->live_threads > 0 ? o->live_threads : cores > 0 ? (int)cores : 1, o->live_spp,
+    int threads = o->live_threads > 0 ? o->live_threads : cores > 0 ? (int)cores : 1;
+    live_reference_init(&l->live, threads, o->live_spp, o->live_ordinary,
                         l->compare_file.rgb && !l->compare_display ? &l->compare_file : NULL);
     return true;
 }

@@ -103,7 +103,7 @@ void render_options_init(RenderOptions *o, bool view)
 
 /* The options only one of the two commands takes. */
 static const char *const k_render_only[] = {"--emitter-mask", "--out-ao", "--png", "--probe", "--timings", "--warmup", NULL};
-static const char *const k_view_only[] = {"--compare", "--live-reference", "--live-spp", "--live-threads", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
+static const char *const k_view_only[] = {"--compare", "--live-priority", "--live-reference", "--live-spp", "--live-threads", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
 
 /* The options `render` (view false) or `view` knows, the settings table's
  * included (for "did you mean"). */
@@ -167,6 +167,13 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1024, &o->live_threads))
                 return 2;
+        } else if (!strcmp(opt, "--live-priority")) {
+            CLI_VALUE(&a, v);
+            if (strcmp(v, "idle") && strcmp(v, "normal")) {
+                cli_error(NULL, "--live-priority: '%s' is not idle or normal", v);
+                return 2;
+            }
+            o->live_ordinary = !strcmp(v, "normal");
         } else if (!strcmp(opt, "--live-spp")) {
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1 << 24, &o->live_spp))

@@ -112,7 +112,7 @@ static void *coordinator(void *arg)
         }
         int s1 = spp + pass_spp < set->spp ? spp + pass_spp : set->spp;
         pthread_mutex_unlock(&p->lock);
-        bool whole = pt_job_pass(p->job, spp, s1, set->threads, true, &p->cancel, NULL, NULL);
+        bool whole = pt_job_pass(p->job, spp, s1, set->threads, !set->ordinary_priority, &p->cancel, NULL, NULL);
         double relmse = 0.0;
         if (whole) {
             pt_job_resolve(p->job, s1, &p->back, NULL);
@@ -174,7 +174,7 @@ PtProgressive *pt_progressive_create(const Scene *scene, const PtSettings *set)
     atomic_init(&p->cancel, 0);
     pthread_mutex_init(&p->lock, NULL);
     pthread_cond_init(&p->wake, NULL);
-    if (!pt_thread_start(&p->thread, coordinator, p, true)) {
+    if (!pt_thread_start(&p->thread, coordinator, p, !p->set.ordinary_priority)) {
         log_error("reference", "progressive: cannot start the renderer's thread");
         pthread_mutex_destroy(&p->lock);
         pthread_cond_destroy(&p->wake);

@@ -4,7 +4,7 @@
  * with PtSettings.threads threads in all, at the lowest scheduling
  * priority (SCHED_IDLE on Linux: they take only the CPU time the rest of
  * the process and the system leave, so the window's frames come first),
- * and after each complete pass publishes the image of the samples so far,
+ * (unless PtSettings.ordinary_priority), and after each complete pass publishes the image of the samples so far,
  * with their count and the relMSE estimated from the per-pixel variance.
  * A restart (the camera, a light or a material changed) abandons the
  * running pass within a tile and starts again from zero samples.

@@ -9,12 +9,13 @@
 #include "metrics.h"
 #include "util.h"
 
-void live_reference_init(LiveReference *l, int threads, int spp, const ImageF *compare)
+void live_reference_init(LiveReference *l, int threads, int spp, bool ordinary_priority, const ImageF *compare)
 {
     memset(l, 0, sizeof *l);
     pt_settings_default(&l->set);
     l->set.threads = threads < 1 ? 1 : threads;
     l->set.spp = spp < 1 ? 1 : spp;
+    l->set.ordinary_priority = ordinary_priority;
     l->compare = compare;
     l->status.relmse_compare = -1;
 }

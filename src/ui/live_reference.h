@@ -54,8 +54,9 @@ typedef struct LiveReference {
 
 /* A stopped live reference: `threads` (≥ 1) threads and at most `spp`
  * samples per pixel once started; `compare` (borrowed, may be NULL) is the
- * radiance its relMSE is measured against. */
-void live_reference_init(LiveReference *l, int threads, int spp, const ImageF *compare);
+ * radiance its relMSE is measured against; `ordinary_priority`: its
+ * threads at the ordinary priority, not SCHED_IDLE. */
+void live_reference_init(LiveReference *l, int threads, int spp, bool ordinary_priority, const ImageF *compare);
 
 /* Starts it, or brings it to `scene`'s lights and materials seen through
  * `camera` at `time` and w×h: 0 when nothing changed, 1 when it (re)started

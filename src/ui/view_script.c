@@ -68,6 +68,10 @@ void view_script_capture(ViewScript *t, View *v, int fw, int fh)
         if (!v->ab || !v->ab->reference.rgb || !image_write_pfm(path, &v->ab->reference))
             printf("ui-test: live: no reference shown to save\n");
     }
+    if (t->shot_split) {
+        t->shot_split = false;
+        save_window(t, v, "live_split.png", fw, fh);
+    }
     if (!t->shot_busy)
         return;
     t->shot_busy = false;
@@ -230,7 +234,7 @@ static double env_or(const char *name, double fallback)
     return s && *s ? atof(s) : fallback;
 }
 
-enum { LIVE_CONVERGE, LIVE_SHOT, LIVE_SHOT_WAIT, LIVE_MOVE, LIVE_MOVED, LIVE_BUSY };
+enum { LIVE_OFF, LIVE_ON, LIVE_CONVERGE, LIVE_SHOT, LIVE_SHOT_WAIT, LIVE_MOVE, LIVE_MOVED, LIVE_BUSY, LIVE_END };
 
 /* A line for each image the live reference published since the last. */
 static void live_report(ViewScript *t, const View *v, double now)
@@ -256,6 +260,19 @@ static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
     if (t->phase != LIVE_BUSY)
         t->deadline = p->now + 0.05;
     switch (t->phase) {
+    case LIVE_OFF: /* the panel's box off, then on: converging from its first image on */
+        if (s->spp <= 0 && p->now - t->t0 < 60)
+            break;
+        v->live_wanted = false;
+        t->phase = LIVE_ON;
+        break;
+    case LIVE_ON:
+        printf("ui-test: live off: running %d, A/B reference %dx%d\n", s->running,
+               v->ab ? v->ab->reference.width : 0, v->ab ? v->ab->reference.height : 0);
+        v->live_wanted = true;
+        t->phase = LIVE_CONVERGE;
+        t->t0 = 0;
+        break;
     case LIVE_CONVERGE: {
         if (t->t0 == 0) {
             t->t0 = p->now;
@@ -331,9 +348,14 @@ static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
         if (t->live_reached_s >= 0)
             printf(" %.3f s (%d spp)", t->live_reached_s, t->live_reached_spp);
         printf("\n");
+        t->shot_split = true; /* the window as it is now, at this pass's redraw */
+        t->redraw = true;
+        t->phase = LIVE_END;
+        break;
+    }
+    case LIVE_END:
         fflush(stdout);
         return false;
-    }
     }
     fflush(stdout);
     return true;

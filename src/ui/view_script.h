@@ -29,6 +29,8 @@
  *
  * With --live-reference the script is the live reference's instead
  * (asynchronous, driven by time; RTGI_UI_TEST_LIVE_* tune it):
+ *   the panel's box off (a line: whether it runs, the A/B view's
+ *     reference: --compare's again) and on again, then
  *   converge: a line per image it publishes ("ui-test: live N spp at T s:
  *     relMSE est E, vs --compare C"), until MIN_SPP samples (default 1)
  *     and C at most TARGET (default 0.01; 0: any), or MAX_S seconds
@@ -41,7 +43,8 @@
  *   R (the camera home again: restarted), then BUSY_S seconds (default 2)
  *     of frames asked for without pause (exposure nudged each time): the
  *     scene frames drawn per second while the live reference converges,
- *     and where it got meanwhile (scripts/bench-live-reference.sh). */
+ *     and where it got meanwhile (scripts/bench-live-reference.sh); the
+ *     window then, the A/B view split (live_split.png). */
 #ifndef RTGI_VIEW_SCRIPT_H
 #define RTGI_VIEW_SCRIPT_H
 
@@ -79,6 +82,7 @@ typedef struct ViewScript {
     int live_reached_spp;
     double live_reached_relmse;
     bool shot_live;     /* capture the window and the reference it shows at its next redraw */
+    bool shot_split;    /* capture the window at its next redraw (live_split.png) */
 } ViewScript;
 
 /* What the loop tells the second part each pass. */

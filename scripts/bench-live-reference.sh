@@ -13,6 +13,7 @@
 #        one with REF_SPP [1024] spp, seed 1000 (the live reference's is 1)
 #   BUSY_S [4]: seconds of frames asked for without pause while it converges
 #   GI [none]: the window's technique during those frames
+#   PRIORITY [idle]: the live reference's threads (--live-priority idle|normal)
 #   RUNS [3]
 # Lines: per run, the tracer's time from its start to the first image at
 # most TARGET with the window idle ("idle"), the window's scene frames per
@@ -27,6 +28,7 @@ threads=${THREADS:-2}
 target=${TARGET:-0.01}
 busy_s=${BUSY_S:-4}
 gi=${GI:-none}
+priority=${PRIORITY:-idle}
 runs=${RUNS:-3}
 mkdir -p "$out"
 ref=${REF:-$out/converged_${scene##*/}_$size.pfm}
@@ -51,7 +53,7 @@ log=$out/runs.txt
 for run in $(seq "$runs"); do
     RTGI_UI_TEST_LIVE_TARGET=$target RTGI_UI_TEST_LIVE_BUSY_S=$busy_s RTGI_UI_TEST_LIVE_MAX_S=120 \
         "$rtgi" view --scene "$scene" --size "$size" --gi "$gi" --slow-ms 1e9 --live-reference \
-        --live-threads "$threads" --compare "$ref" --ui-test "$out" >"$out/run.txt" 2>&1 ||
+        --live-threads "$threads" --live-priority "$priority" --compare "$ref" --ui-test "$out" >"$out/run.txt" 2>&1 ||
         { cat "$out/run.txt" >&2; exit 1; }
     idle=$(awk '/^ui-test: live converged: relMSE/ {for (i = 1; i <= NF; i++) if ($i == "after") print $(i - 2)}' \
         "$out/run.txt")
@@ -64,7 +66,7 @@ for run in $(seq "$runs"); do
     echo "${idle:--} ${fps:--} ${busy:--}" >>"$log"
 done
 med() { grep -v '^-$' | sort -n | awk '{a[NR] = $1} END {if (NR) print a[int((NR + 1) / 2)]; else print "-"}'; }
-echo "scene $scene $size, $threads threads, gi $gi, $runs runs (medians); converged image: $ref"
+echo "scene $scene $size, $threads threads at priority $priority, gi $gi, $runs runs (medians); converged image: $ref"
 echo "live_time_to_target_idle_s: $(awk '{print $1}' "$log" | med)"
 echo "window_frames_per_s_busy: $(awk '{print $2}' "$log" | med)"
 echo "live_time_to_target_busy_s: $(awk '{print $3}' "$log" | med)"

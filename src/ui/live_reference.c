@@ -129,11 +129,10 @@ bool live_reference_poll(LiveReference *l)
 void live_reference_text(const LiveStatus *st, char *out, size_t cap)
 {
     if (!st->running)
-        snprintf(out, cap, "live reference: off");
+        snprintf(out, cap, "off");
     else if (st->spp <= 0)
-        snprintf(out, cap, "live reference: first pass of %dx%d on %d threads...", st->width, st->height,
-                 st->threads);
+        snprintf(out, cap, "first pass of %dx%d on %d threads...", st->width, st->height, st->threads);
     else
-        snprintf(out, cap, "live reference: %d spp in %.1f s, relMSE ~%.2g (estimated)%s", st->spp, st->seconds,
-                 st->relmse_estimate, st->done ? ", done" : "");
+        snprintf(out, cap, "%d spp in %.1f s, relMSE ~%.3g (est.)%s", st->spp, st->seconds, st->relmse_estimate,
+                 st->done ? ", done" : "");
 }

@@ -405,6 +405,8 @@ static void compare_section(View *v)
         ui_text("PNG reference: no RMSE (use .pfm or .exr)");
     else if (v->ab_rmse >= 0)
         ui_text("RMSE %.5g (radiance)", v->ab_rmse);
+    else
+        ui_text("(radiance)"); /* the next header below the button, not beside it */
 }
 
 static void capture_section(View *v)

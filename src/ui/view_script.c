@@ -234,7 +234,8 @@ static double env_or(const char *name, double fallback)
     return s && *s ? atof(s) : fallback;
 }
 
-enum { LIVE_OFF, LIVE_ON, LIVE_CONVERGE, LIVE_SHOT, LIVE_SHOT_WAIT, LIVE_MOVE, LIVE_MOVED, LIVE_BUSY, LIVE_END };
+enum { LIVE_OFF, LIVE_ON, LIVE_CONVERGE, LIVE_SHOT, LIVE_SHOT_WAIT, LIVE_SPLIT, LIVE_SPLIT_SHOT, LIVE_MOVE, LIVE_MOVED,
+       LIVE_BUSY };
 
 /* A line for each image the live reference published since the last. */
 static void live_report(ViewScript *t, const View *v, double now)
@@ -305,12 +306,20 @@ static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
     case LIVE_SHOT_WAIT:
         t->shot_live = true; /* at this pass's redraw: the window and the reference it shows, together */
         t->redraw = true;
-        t->phase = LIVE_MOVE;
+        t->phase = LIVE_SPLIT;
         break;
-    case LIVE_MOVE:
+    case LIVE_SPLIT:
         if (v->ab)
             v->ab->mode = AB_SPLIT;
         t->redraw = true;
+        t->phase = LIVE_SPLIT_SHOT;
+        break;
+    case LIVE_SPLIT_SHOT:
+        t->shot_split = true;
+        t->redraw = true;
+        t->phase = LIVE_MOVE;
+        break;
+    case LIVE_MOVE:
         t->live_restarts = s->restarts;
         t->frames0 = (unsigned)s->spp;
         v->yaw += 0.2f; /* the loop's camera follows: a restart */
@@ -348,14 +357,9 @@ static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
         if (t->live_reached_s >= 0)
             printf(" %.3f s (%d spp)", t->live_reached_s, t->live_reached_spp);
         printf("\n");
-        t->shot_split = true; /* the window as it is now, at this pass's redraw */
-        t->redraw = true;
-        t->phase = LIVE_END;
-        break;
-    }
-    case LIVE_END:
         fflush(stdout);
         return false;
+    }
     }
     fflush(stdout);
     return true;

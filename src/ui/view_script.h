@@ -37,14 +37,13 @@
  *     (default 120); then "live converged" with the first image that met
  *     the target and the panel's line;
  *   the A/B view in reference mode captured (live_ab_reference.png) with
- *     the image it shows (live.pfm);
+ *     the image it shows (live.pfm), then split (live_split.png);
  *   a camera move: the restart count and the samples before it and at
  *     the first image after it;
  *   R (the camera home again: restarted), then BUSY_S seconds (default 2)
  *     of frames asked for without pause (exposure nudged each time): the
  *     scene frames drawn per second while the live reference converges,
- *     and where it got meanwhile (scripts/bench-live-reference.sh); the
- *     window then, the A/B view split (live_split.png). */
+ *     and where it got meanwhile (scripts/bench-live-reference.sh). */
 #ifndef RTGI_VIEW_SCRIPT_H
 #define RTGI_VIEW_SCRIPT_H
 

@@ -356,7 +356,7 @@ static void loop_live(ViewLoop *l)
 {
     View *v = l->v;
     LiveReference *live = &l->live;
-    bool was = live->pt != NULL;
+    bool was = live->status.running;
     if (v->live_wanted) {
         int r = live_reference_update(live, v->scene, &v->camera, v->time, v->settings.width, v->settings.height);
         if (r < 0) {
@@ -370,10 +370,10 @@ static void loop_live(ViewLoop *l)
             }
             live_show(l, NULL, false); /* the old state's image compared with the new frame would mislead */
         }
-        if (live->pt && live_reference_poll(live))
+        if (live_reference_poll(live))
             live_show(l, &live->image, false);
     }
-    if (!v->live_wanted && live->pt) {
+    if (!v->live_wanted && live->status.running) {
         live_reference_stop(live);
         live_show(l, l->compare_file.rgb ? &l->compare_file : NULL, l->compare_display);
         if (!l->compare_file.rgb) {
@@ -429,7 +429,7 @@ static double loop_timeout(const ViewLoop *l, const ViewRenderState *st, double 
         double busy = now - st->busy_since;
         t = busy < 0.25 ? 0.25 - busy : 0.1;
     }
-    if (l->live.pt && !l->live.status.done) /* the live reference's next image */
+    if (l->live.status.running && !l->live.status.done) /* the live reference's renderer or next image */
         t = t < 0 ? 0.1 : fmin(t, 0.1);
     if (l->script.async && l->script.deadline > 0) {
         double d = fmax(l->script.deadline - now, 0.0);

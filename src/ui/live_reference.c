@@ -1,6 +1,8 @@
 /* live_reference.c — see live_reference.h. */
 #include "ui/live_reference.h"
 
+#include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -8,6 +10,76 @@
 #include "log.h"
 #include "metrics.h"
 #include "util.h"
+
+/* A renderer being made on a thread of its own. */
+struct LiveMake {
+    pthread_t thread;
+    Scene scene;             /* the window's geometry (borrowed), this make's camera and lights: */
+    Light *lights;           /* owned */
+    PtSettings set;
+    PtProgressive *pt;       /* the result (NULL: failed, it logged) */
+    double seconds;          /* what making it took */
+    atomic_bool done;
+};
+
+static void *make_thread(void *arg)
+{
+    LiveMake *m = arg;
+    double t0 = util_seconds();
+    m->pt = pt_progressive_create(&m->scene, &m->set); /* logs a failure */
+    m->seconds = util_seconds() - t0;
+    atomic_store(&m->done, true);
+    return NULL;
+}
+
+/* Waits for the make in flight and frees it; its renderer, if wanted
+ * (`keep`), becomes l's. */
+static void make_end(LiveReference *l, bool keep)
+{
+    LiveMake *m = l->make;
+    if (!m)
+        return;
+    pthread_join(m->thread, NULL);
+    if (keep && m->pt) {
+        l->pt = m->pt;
+        log_info("view", "live reference: %dx%d, %d threads, up to %d spp (BVH in %.2f s)", m->set.width,
+                 m->set.height, m->set.threads, m->set.spp, m->seconds);
+    } else {
+        pt_progressive_destroy(m->pt);
+        l->failed = keep; /* a make that was wanted failed */
+    }
+    free(m->lights);
+    free(m);
+    l->make = NULL;
+}
+
+/* Starts making the renderer of `s` at l->set's size. false after logging. */
+static bool make_start(LiveReference *l, const Scene *s)
+{
+    LiveMake *m = calloc(1, sizeof *m);
+    size_t n = (size_t)s->light_count * sizeof(Light);
+    if (m && n && (m->lights = malloc(n)))
+        memcpy(m->lights, s->lights, n);
+    if (!m || (n && !m->lights)) {
+        log_error("view", "live reference: out of memory for its renderer");
+        if (m)
+            free(m->lights);
+        free(m);
+        return false;
+    }
+    m->scene = *s;
+    m->scene.lights = m->lights;
+    m->set = l->set;
+    atomic_init(&m->done, false);
+    if (pthread_create(&m->thread, NULL, make_thread, m) != 0) {
+        log_error("view", "live reference: cannot start a thread to make its renderer");
+        free(m->lights);
+        free(m);
+        return false;
+    }
+    l->make = m;
+    return true;
+}
 
 void live_reference_init(LiveReference *l, int threads, int spp, bool ordinary_priority, const ImageF *compare)
 {
@@ -22,8 +94,11 @@ void live_reference_init(LiveReference *l, int threads, int spp, bool ordinary_p
 
 void live_reference_stop(LiveReference *l)
 {
+    make_end(l, false);
     pt_progressive_destroy(l->pt);
     l->pt = NULL;
+    l->failed = false;
+    l->stale = false;
     image_free(&l->image);
     free(l->lights);
     l->lights = NULL;
@@ -53,35 +128,59 @@ static bool remember(LiveReference *l, const Scene *scene, const Camera *camera,
     return true;
 }
 
+/* The renderer of the last make became l's: a state newer than the make's
+ * restarts it. */
+static void adopt(LiveReference *l)
+{
+    make_end(l, true);
+    if (l->pt && l->stale) {
+        Scene s = *l->scene;
+        s.camera = l->camera;
+        s.lights = l->lights;
+        s.light_count = l->light_count;
+        pt_progressive_restart(l->pt, &s); /* a failure logged: it renders the make's state */
+    }
+    l->stale = false;
+    l->status.building = false;
+}
+
 int live_reference_update(LiveReference *l, const Scene *scene, const Camera *camera, double time, int w, int h)
 {
-    bool size = !l->pt || l->set.width != w || l->set.height != h;
+    l->scene = scene;
+    if (l->make && atomic_load(&l->make->done))
+        adopt(l);
+    if (l->failed) {
+        live_reference_stop(l);
+        return -1;
+    }
+    bool size = (!l->pt && !l->make) || l->set.width != w || l->set.height != h;
     if (!size && !memcmp(&l->camera, camera, sizeof *camera) && l->time == time &&
         l->light_count == scene->light_count &&
         (!l->light_count || !memcmp(l->lights, scene->lights, sizeof(Light) * (size_t)l->light_count)))
         return 0;
     Scene s = *scene; /* the geometry borrowed; the camera the window's */
     s.camera = *camera;
-    bool was = l->pt != NULL;
+    bool was = l->pt != NULL || l->make != NULL;
     if (size) {
+        make_end(l, false); /* a make of another size: waited for (a resize during a BVH build) */
         pt_progressive_destroy(l->pt);
         l->pt = NULL;
         image_free(&l->image);
         l->set.width = w;
         l->set.height = h;
+        l->stale = false;
         if (!image_alloc(&l->image, w, h)) {
             log_error("view", "live reference: out of memory for a %dx%d image", w, h);
             live_reference_stop(l);
             return -1;
         }
-        double t0 = util_seconds();
-        l->pt = pt_progressive_create(&s, &l->set); /* logs a failure */
-        if (!l->pt) {
+        if (!make_start(l, &s)) {
             live_reference_stop(l);
             return -1;
         }
-        log_info("view", "live reference: %dx%d, %d threads, up to %d spp (BVH in %.2f s)", w, h, l->set.threads,
-                 l->set.spp, util_seconds() - t0);
+        l->status.building = true;
+    } else if (l->make) {
+        l->stale = true; /* restarted with this state once made */
     } else if (!pt_progressive_restart(l->pt, &s)) { /* logged; it goes on with the old state */
         return 0;
     }
@@ -106,6 +205,8 @@ int live_reference_update(LiveReference *l, const Scene *scene, const Camera *ca
 
 bool live_reference_poll(LiveReference *l)
 {
+    if (l->make && atomic_load(&l->make->done))
+        adopt(l);
     if (!l->pt)
         return false;
     PtProgressiveStatus st;
@@ -130,6 +231,8 @@ void live_reference_text(const LiveStatus *st, char *out, size_t cap)
 {
     if (!st->running)
         snprintf(out, cap, "off");
+    else if (st->building)
+        snprintf(out, cap, "building its BVH (%dx%d, %d threads)...", st->width, st->height, st->threads);
     else if (st->spp <= 0)
         snprintf(out, cap, "first pass of %dx%d on %d threads...", st->width, st->height, st->threads);
     else

@@ -8,7 +8,10 @@
  *
  * A change of what the path tracer sees restarts it from zero samples:
  * the camera, the lights, the animation time (View.time) or the image
- * size (which makes the renderer anew: its BVH is built again). Exposure,
+ * size (which makes the renderer anew: its BVH is built again, on a
+ * thread of its own: Sponza's takes seconds, which the window's thread
+ * would have stood still for; changes meanwhile restart it once it is
+ * made). Exposure,
  * the GI and shadow techniques and their settings change only the
  * real-time frame, not the ground truth, and restart nothing.
  *
@@ -27,7 +30,8 @@
 
 /* Where the live reference stands (the panel's line, the ui-test). */
 typedef struct LiveStatus {
-    bool running;            /* a renderer exists */
+    bool running;            /* a renderer exists or is being made */
+    bool building;           /* it is being made (its BVH built) */
     int width, height;       /* its image size */
     int threads;             /* its threads */
     int spp;                 /* samples per pixel of the image read last (0: none since the restart) */
@@ -39,9 +43,15 @@ typedef struct LiveStatus {
                                 (no file, a display-referred one, or another size) */
 } LiveStatus;
 
+typedef struct LiveMake LiveMake;
+
 typedef struct LiveReference {
     PtSettings set;          /* threads and the spp cap; the size is the window's */
-    PtProgressive *pt;       /* owned; NULL: stopped */
+    PtProgressive *pt;       /* owned; NULL: stopped or being made */
+    LiveMake *make;          /* owned: the renderer being made on a thread, or NULL */
+    bool failed;             /* the last make failed (it logged) */
+    bool stale;              /* the state changed while it was made: restart it once made */
+    const Scene *scene;      /* borrowed: the scene of the last update */
     Camera camera;           /* the state it renders: */
     double time;
     Light *lights;           /* a copy, owned */

@@ -414,6 +414,18 @@ static void panel_script(void **state)
         image_free(all[i]);
 }
 
+/* Runs `cmd` (stderr in its output), its output into out; fails the test,
+ * with that output, if it exits non-zero. */
+static void run_command(const char *cmd, char *out, size_t cap, const char *what)
+{
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, cap - 1, p);
+    out[n] = 0;
+    if (pclose(p) != 0)
+        fail_msg("%s failed: %s", what, out);
+}
+
 /* A PNG reference is display-referred: the A/B view shows it as it is (not
  * exposed again), and F5 without --shader-dir reloads from the source tree. */
 static void png_reference(void **state)
@@ -430,13 +442,8 @@ static void png_reference(void **state)
     snprintf(cmd, sizeof cmd,
              "RTGI_UI_TEST_SLOW_S=0.3 '%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
              RTGI_BINARY, ref, dir);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
     static char out[16384];
-    size_t n = fread(out, 1, sizeof out - 1, p);
-    out[n] = 0;
-    if (pclose(p) != 0)
-        fail_msg("rtgi view --compare ref.png --ui-test failed: %s", out);
+    run_command(cmd, out, sizeof out, "rtgi view --compare ref.png --ui-test");
     assert_non_null(strstr(out, "ui-test: reload: ok"));
     assert_non_null(strstr(out, "ui-test: rmse -1")); /* no RMSE against a display-referred image */
     ImageF want, got;
@@ -815,13 +822,8 @@ static void live_reference(void **state)
              "'%s' view --size %s --exposure 1 --live-reference --live-threads 2 --live-priority normal "
              "--compare '%s' --ui-test '%s' 2>&1",
              MIN_SPP, RTGI_BINARY, size, ref, dir);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
     static char out[32768];
-    size_t n = fread(out, 1, sizeof out - 1, p);
-    out[n] = 0;
-    if (pclose(p) != 0)
-        fail_msg("rtgi view --live-reference --ui-test failed: %s", out);
+    run_command(cmd, out, sizeof out, "rtgi view --live-reference --ui-test");
     print_message("%s", out);
 
     /* Off: not running, --compare's image in the A/B view again. */

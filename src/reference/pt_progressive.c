@@ -110,7 +110,10 @@ static void *coordinator(void *arg)
             p->waiting = false;
             continue;
         }
-        int s1 = spp + pass_spp < set->spp ? spp + pass_spp : set->spp;
+        /* The first passes double the samples (1, 2, 4, ...) up to a whole
+         * pass: an image within a fraction of a pass after a restart. */
+        int step = spp == 0 ? 1 : spp < pass_spp ? spp : pass_spp;
+        int s1 = spp + step < set->spp ? spp + step : set->spp;
         pthread_mutex_unlock(&p->lock);
         bool whole = pt_job_pass(p->job, spp, s1, set->threads, !set->ordinary_priority, &p->cancel, NULL, NULL);
         double relmse = 0.0;

@@ -253,6 +253,15 @@ static void live_report(ViewScript *t, const View *v, double now)
     }
 }
 
+/* The A/B view in `mode`, drawn at this pass; the script goes on to `next`. */
+static void live_mode(ViewScript *t, View *v, AbMode mode, int next)
+{
+    if (v->ab)
+        v->ab->mode = mode;
+    t->redraw = true;
+    t->phase = next;
+}
+
 /* The live reference's script (view_script.h). */
 static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
 {
@@ -298,10 +307,7 @@ static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
         break;
     }
     case LIVE_SHOT: /* the A/B view shows the live reference alone */
-        if (v->ab)
-            v->ab->mode = AB_REFERENCE;
-        t->redraw = true;
-        t->phase = LIVE_SHOT_WAIT;
+        live_mode(t, v, AB_REFERENCE, LIVE_SHOT_WAIT);
         break;
     case LIVE_SHOT_WAIT:
         t->shot_live = true; /* at this pass's redraw: the window and the reference it shows, together */
@@ -309,10 +315,7 @@ static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
         t->phase = LIVE_SPLIT;
         break;
     case LIVE_SPLIT:
-        if (v->ab)
-            v->ab->mode = AB_SPLIT;
-        t->redraw = true;
-        t->phase = LIVE_SPLIT_SHOT;
+        live_mode(t, v, AB_SPLIT, LIVE_SPLIT_SHOT);
         break;
     case LIVE_SPLIT_SHOT:
         t->shot_split = true;

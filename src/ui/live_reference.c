@@ -235,6 +235,8 @@ void live_reference_text(const LiveStatus *st, char *out, size_t cap)
         snprintf(out, cap, "building its BVH (%dx%d, %d threads)...", st->width, st->height, st->threads);
     else if (st->spp <= 0)
         snprintf(out, cap, "first pass of %dx%d on %d threads...", st->width, st->height, st->threads);
+    else if (st->spp < 2) /* no variance of one sample */
+        snprintf(out, cap, "%d spp in %.1f s", st->spp, st->seconds);
     else
         snprintf(out, cap, "%d spp in %.1f s, relMSE ~%.3g (est.)%s", st->spp, st->seconds, st->relmse_estimate,
                  st->done ? ", done" : "");

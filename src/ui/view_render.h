@@ -34,16 +34,15 @@
  *    (as it moves the camera while a key is held), so each pass asks for a
  *    new frame, and draw_frame would set the lights and camera at
  *    req->scene.time before renderer_frame;
- *  - a live progressive reference (a path tracer on threads of its own:
- *    start/restart(scene, camera), read mean + spp + relMSE, stop) would be
- *    restarted by the window's loop when the request's camera or lights
- *    change, and read by this thread between frames (as diff_scale reads
- *    the frame's radiance): its newer mean replaces the reference that
- *    RMSE and the heat map's scale read here (the thread alone reads it
- *    while it runs, so the swap is the thread's), and goes to the window
- *    the way a reloaded A/B program does (a handover taken by the loop,
- *    which uploads it: ab_view_set_reference), with its spp and relMSE in
- *    ViewRenderState for the panel. */
+ *  - the live reference (src/ui/live_reference.h: the path tracer of
+ *    pt_progressive.h on threads of its own, at the lowest priority) is
+ *    restarted by the window's loop when the camera, the lights, the size
+ *    or the time change, and polled there; each newer image goes to the
+ *    A/B view (ab_view_set_reference, the window's texture) and to this
+ *    thread (view_render_set_reference: its own copy, which RMSE and the
+ *    heat map's scale read, so neither side waits for the other). An
+ *    animation would give it the scene's lights at the request's time
+ *    (live_reference_update takes the scene it renders). */
 #ifndef RTGI_VIEW_RENDER_H
 #define RTGI_VIEW_RENDER_H
 
@@ -127,7 +126,8 @@ typedef struct ViewImage {
 typedef struct ViewRenderDesc {
     GLFWwindow *context;    /* a hidden window with a context shared with the window's */
     const Scene *scene;     /* borrowed */
-    const AbView *ab;       /* the reference (read on the thread: RMSE, heat-map scale), or NULL */
+    const AbView *ab;       /* the A/B view (a reload rebuilds its program; its reference, if any, is
+                               copied at the start for RMSE and the heat map's scale), or NULL */
     ViewStatus *status;     /* the panel's status line */
     const ViewRequest *first; /* the first frame's request (its settings make the renderer) */
     const char *gl_renderer; /* GL_RENDERER, for the timings table */
@@ -159,6 +159,11 @@ void view_render_state(ViewRender *vr, ViewRenderState *out);
  * then it and the previous one is released (the window's thread, its
  * context current: it waits for the image's fence on the GPU). */
 bool view_render_take(ViewRender *vr, ViewImage *out);
+/* Replaces the reference that RMSE and the heat map's scale read (a copy
+ * of `img` is taken; NULL or an empty image: none); `display`: already
+ * exposed and clamped. The thread takes it before its next request and
+ * measures the heat map's scale again. false after logging (memory). */
+bool view_render_set_reference(ViewRender *vr, const ImageF *img, bool display);
 /* The A/B view's program rebuilt by a reload (the caller takes it over:
  * ab_view_set_program), or 0. */
 GLuint view_render_take_program(ViewRender *vr);

@@ -602,6 +602,461 @@ static void cornell_against_reference(void **state)
     scene_free(&s);
 }
 
+/* ---- Single cones through a wall ------------------------------------------- */
+
+/* A 2 m white wall (ρ = 0.8) in the plane z = 0 lit head-on by a sun of
+ * E = 2 W/m² (radiance L = ρE/π toward +z), and a small quad far behind
+ * the probes that sizes the bounds so that at N = 32 the wall's plane
+ * lies at a voxel centre: conservative voxelization makes it exactly one
+ * voxel thick. Cones start in front of the wall at distance s and travel
+ * towards it at `angle` degrees from its normal, s chosen so that their
+ * diameter where they reach the wall is 2^m voxels; each must be stopped
+ * (opacity ≥ 0.95: < 5% transmittance) and return L. */
+static void thin_wall_stops_cones(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_init(&s);
+    int white = scene_add_material(&s, "white", (vec3){0.8f, 0.8f, 0.8f});
+    scene_add_quad(&s, white, (vec3){-1.f, -1.f, 0.f}, (vec3){1.f, -1.f, 0.f}, (vec3){1.f, 1.f, 0.f},
+                   (vec3){-1.f, 1.f, 0.f});
+    /* Bounds z in [0, 1.4]: voxel 2/30 m, the wall at local z 5.5 voxels. */
+    scene_add_quad(&s, white, (vec3){0.9f, 0.9f, 1.4f}, (vec3){0.9f, 1.f, 1.4f}, (vec3){1.f, 1.f, 1.4f},
+                   (vec3){1.f, 0.9f, 1.4f});
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.f, 0.f, -1.f}, .color = {2.f, 2.f, 2.f}};
+    scene_add_light(&s, &sun);
+    glm_vec3_copy((vec3){0.f, 0.f, 3.f}, s.camera.position);
+    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.forward);
+    glm_vec3_copy((vec3){0.f, 1.f, 0.f}, s.camera.up);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 32;
+    Renderer r;
+    vct_renderer(&r, &s, 16, 16, &gp);
+    renderer_frame(&r, &s.camera);
+    int n;
+    float origin[3], voxel;
+    vct_grid(r.gi_state, &n, origin, &voxel);
+    assert_true(fabsf(-origin[2] / voxel - 5.5f) < 1e-3f);
+    const double want = 0.8 * 2.0 / GLM_PI;
+    const float angles[] = {0.f, 30.f, 50.f};
+    const float tan_half = 0.66f; /* the 6-cone set's cones: half-angle 33 degrees */
+    enum { MIPS = 4, PROBES = 3 * MIPS };
+    VctProbe probe[PROBES];
+    for (int a = 0; a < 3; a++)
+        for (int m = 0; m < MIPS; m++) {
+            VctProbe *p = &probe[a * MIPS + m];
+            float th = glm_rad(angles[a]);
+            p->d[0] = sinf(th), p->d[1] = 0.f, p->d[2] = -cosf(th);
+            glm_vec3_copy(p->d, p->n);
+            /* Distance along the cone to the wall: diameter 2^m voxels
+             * there, and at least 3 voxels past the apex (2.5 voxels off
+             * the surface; the first sample 1 voxel past it). */
+            float along = 2.5f * voxel + fmaxf((float)(1 << m) * voxel / (2.f * tan_half), 3.f * voxel);
+            p->x[0] = -p->d[0] * along, p->x[1] = 0.f, p->x[2] = -p->d[2] * along;
+            p->tan_half = tan_half;
+        }
+    float out[PROBES][4];
+    assert_true(vct_probe(r.gi_state, PROBES, probe, out));
+    int bad = 0;
+    for (int a = 0; a < 3; a++)
+        for (int m = 0; m < MIPS; m++) {
+            const float *o = out[a * MIPS + m];
+            bool ok = o[3] >= 0.95f && fabs(o[1] / want - 1) < 0.1;
+            print_message("cone at %2.0f deg meeting the wall at mip %d: transmittance %.3f, radiance %.3f of L%s\n",
+                          angles[a], m, 1 - o[3], o[1] / want, ok ? "" : "  <- wrong");
+            bad += !ok;
+        }
+    assert_int_equal(bad, 0);
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
+/* SCRATCH: per-cone against closed form in a corner. */
+static void scratch_corner(int set)
+{
+    Scene s;
+    scene_init(&s);
+    int white = scene_add_material(&s, "white", (vec3){0.8f, 0.8f, 0.8f});
+    scene_add_quad(&s, white, (vec3){-1.f, 0.f, -1.f}, (vec3){-1.f, 0.f, 1.f}, (vec3){1.f, 0.f, 1.f},
+                   (vec3){1.f, 0.f, -1.f});
+    scene_add_quad(&s, white, (vec3){-1.f, 0.f, -1.f}, (vec3){1.f, 0.f, -1.f}, (vec3){1.f, 2.f, -1.f},
+                   (vec3){-1.f, 2.f, -1.f});
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.f, 0.f, -1.f}, .color = {2.f, 2.f, 2.f}};
+    double cw = 1;
+    if (getenv("SCRATCH_LITFLOOR")) {
+        glm_vec3_copy((vec3){0.3f, -1.f, -0.8f}, sun.direction);
+        cw = 0.8 / sqrt(0.09 + 1 + 0.64);
+    }
+    scene_add_light(&s, &sun);
+    glm_vec3_copy((vec3){0.f, 1.f, 3.f}, s.camera.position);
+    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.forward);
+    glm_vec3_copy((vec3){0.f, 1.f, 0.f}, s.camera.up);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 64;
+    gp.vct_cones = set;
+    const char *as = getenv("SCRATCH_ANISO");
+    if (as) gp.vct_aniso = atoi(as);
+    Renderer r;
+    vct_renderer(&r, &s, 16, 16, &gp);
+    renderer_frame(&r, &s.camera);
+    if (getenv("SCRATCH_DUMP")) {
+        int n; float o[3], vx;
+        vct_grid(r.gi_state, &n, o, &vx);
+        float *vol = malloc(sizeof(float) * 4 * n * n * n);
+        vct_read_volume(r.gi_state, VCT_VOLUME_RADIANCE, vol);
+        int fy = (int)floorf((0.f - o[1]) / vx), wz = (int)floorf((-1.f - o[2]) / vx);
+        FILE *f = fopen("/tmp/floor.pgm", "w");
+        fprintf(f, "P2 %d %d 255\n", 2 * n, n);
+        for (int z = 0; z < n; z++) {
+            for (int x = 0; x < n; x++) fprintf(f, "%d ", (int)fminf(255, 255 * vol[4 * (((size_t)z * n + fy) * n + x) + 1] / 0.5f));
+            for (int x = 0; x < n; x++) fprintf(f, "%d ", (int)fminf(255, 255 * vol[4 * (((size_t)wz * n + (n - 1 - z)) * n + x) + 1] / 0.5f));
+            fprintf(f, "\n");
+        }
+        fclose(f);
+        print_message("floor layer y %d, wall layer z %d, voxel %.4f origin %.3f %.3f %.3f\n", fy, wz, vx, o[0], o[1], o[2]);
+        free(vol);
+    }
+    float dirs[VCT_MAX_CONES][4], th[VCT_MAX_CONES];
+    int nc = vct_cone_set(set, dirs, th);
+    const double L = 0.8 * 2.0 * cw / GLM_PI;
+    const float zs[] = {-0.9f, -0.7f, -0.4f, 0.f, 0.5f};
+    for (int zi = 0; zi < 5; zi++) {
+        VctProbe pr[VCT_MAX_CONES];
+        for (int i = 0; i < nc; i++) {
+            /* frame of n = +y: t = +x, b = -z */
+            pr[i].x[0] = 0.f, pr[i].x[1] = 0.f, pr[i].x[2] = zs[zi];
+            pr[i].n[0] = 0.f, pr[i].n[1] = 1.f, pr[i].n[2] = 0.f;
+            pr[i].d[0] = dirs[i][0], pr[i].d[1] = dirs[i][2], pr[i].d[2] = -dirs[i][1];
+            pr[i].tan_half = th[i];
+        }
+        float out[VCT_MAX_CONES][4];
+        assert_true(vct_probe(r.gi_state, nc, pr, out));
+        double want[VCT_MAX_CONES] = {0};
+        enum { NT = 200, NP = 400 };
+        for (int a = 0; a < NT; a++) {
+            double t = (a + 0.5) * (GLM_PI / 2) / NT, dt = (GLM_PI / 2) / NT;
+            for (int b = 0; b < NP; b++) {
+                double ph = (b + 0.5) * 2 * GLM_PI / NP, dp = 2 * GLM_PI / NP;
+                double l[3] = {sin(t) * cos(ph), sin(t) * sin(ph), cos(t)};
+                int best = 0; double bd = -2;
+                for (int c = 0; c < nc; c++) {
+                    double dd = l[0] * dirs[c][0] + l[1] * dirs[c][1] + l[2] * dirs[c][2];
+                    if (dd > bd) bd = dd, best = c;
+                }
+                double w[3] = {l[0], l[2], -l[1]}; /* world */
+                double hit = 0;
+                if (w[2] < 0) {
+                    double k = (-1.0 - zs[zi]) / w[2];
+                    double x = k * w[0], y = k * w[1];
+                    hit = fabs(x) <= 1 && y >= 0 && y <= 2;
+                }
+                want[best] += hit * L * cos(t) * sin(t) * dt * dp;
+            }
+        }
+        double eg = 0, ew = 0;
+        for (int i = 0; i < nc; i++) {
+            double wt = want[i] / dirs[i][3];
+            print_message("z %.1f cone %2d dir (%.2f %.2f %.2f) w %.3f: want %.4f got %.4f (a %.2f)\n", zs[zi], i, pr[i].d[0], pr[i].d[1], pr[i].d[2], dirs[i][3], wt, out[i][1], out[i][3]);
+            eg += dirs[i][3] * out[i][1];
+            ew += want[i];
+        }
+        print_message("z %.1f: irradiance want %.4f got %.4f ratio %.3f\n", zs[zi], ew, eg, eg / ew);
+    }
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
+/* SCRATCH: wall points seeing the lit floor */
+static void scratch_wall(int set)
+{
+    Scene s;
+    scene_init(&s);
+    int white = scene_add_material(&s, "white", (vec3){0.8f, 0.8f, 0.8f});
+    scene_add_quad(&s, white, (vec3){-1.f, 0.f, -1.f}, (vec3){-1.f, 0.f, 1.f}, (vec3){1.f, 0.f, 1.f},
+                   (vec3){1.f, 0.f, -1.f});
+    scene_add_quad(&s, white, (vec3){-1.f, 0.f, -1.f}, (vec3){1.f, 0.f, -1.f}, (vec3){1.f, 2.f, -1.f},
+                   (vec3){-1.f, 2.f, -1.f});
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.3f, -1.f, -0.8f}, .color = {2.f, 2.f, 2.f}};
+    double cf = 1.0 / sqrt(0.09 + 1 + 0.64);
+    scene_add_light(&s, &sun);
+    glm_vec3_copy((vec3){0.f, 1.f, 3.f}, s.camera.position);
+    glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.forward);
+    glm_vec3_copy((vec3){0.f, 1.f, 0.f}, s.camera.up);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 64;
+    gp.vct_cones = set;
+    Renderer r;
+    vct_renderer(&r, &s, 16, 16, &gp);
+    renderer_frame(&r, &s.camera);
+    float dirs[VCT_MAX_CONES][4], th[VCT_MAX_CONES];
+    int nc = vct_cone_set(set, dirs, th);
+    const double L = 0.8 * 2.0 * cf / GLM_PI;
+    const char *xe = getenv("SCRATCH_X");
+    float px = xe ? (float)atof(xe) : 0.3f;
+    for (int yi = 0; yi < 12; yi++) {
+        float py = 0.1f + 0.15f * yi;
+        VctProbe pr[VCT_MAX_CONES];
+        /* n = +z: basis: s = 1, a = -1/(1+1) = -0.5, c = 0; t = (1,0,-0)... */
+        for (int i = 0; i < nc; i++) {
+            pr[i].x[0] = px, pr[i].x[1] = py, pr[i].x[2] = -1.f;
+            pr[i].n[0] = 0.f, pr[i].n[1] = 0.f, pr[i].n[2] = 1.f;
+            pr[i].d[0] = dirs[i][0], pr[i].d[1] = dirs[i][1], pr[i].d[2] = dirs[i][2];
+            pr[i].tan_half = th[i];
+        }
+        float out[VCT_MAX_CONES][4];
+        assert_true(vct_probe(r.gi_state, nc, pr, out));
+        double want[VCT_MAX_CONES] = {0};
+        enum { NT = 200, NP = 400 };
+        for (int a = 0; a < NT; a++) {
+            double t = (a + 0.5) * (GLM_PI / 2) / NT, dt = (GLM_PI / 2) / NT;
+            for (int b = 0; b < NP; b++) {
+                double ph = (b + 0.5) * 2 * GLM_PI / NP, dp = 2 * GLM_PI / NP;
+                double l[3] = {sin(t) * cos(ph), sin(t) * sin(ph), cos(t)};
+                int best = 0; double bd = -2;
+                for (int c = 0; c < nc; c++) {
+                    double dd = l[0] * dirs[c][0] + l[1] * dirs[c][1] + l[2] * dirs[c][2];
+                    if (dd > bd) bd = dd, best = c;
+                }
+                double hit = 0;
+                if (l[1] < 0) {
+                    double k = -py / l[1];
+                    double x = px + k * l[0], z = -1 + k * l[2];
+                    hit = fabs(x) <= 1 && z <= 1;
+                }
+                want[best] += hit * L * cos(t) * sin(t) * dt * dp;
+            }
+        }
+        double eg = 0, ew = 0;
+        char line[512]; int o = 0;
+        for (int i = 0; i < nc; i++) {
+            eg += dirs[i][3] * out[i][1];
+            ew += want[i];
+            o += snprintf(line + o, sizeof line - o, " %.2f/%.2f", out[i][1] / L, want[i] / dirs[i][3] / L);
+        }
+        print_message("y %.2f: E ratio %.3f  cones got/want (of L):%s\n", py, eg / ew, line);
+    }
+    renderer_destroy(&r);
+    scene_free(&s);
+}
+
+/* SCRATCH: per-cone radiance at a point of a scene file */
+static void scratch_point(void)
+{
+    Scene s;
+    assert_true(scene_load(&s, getenv("SCRATCH_SCENE")));
+    GiParams gp = s.gi;
+    const char *e = getenv("SCRATCH_SIZE");
+    gp.vct_size = e ? atoi(e) : 128;
+    e = getenv("SCRATCH_SET");
+    gp.vct_cones = e ? atoi(e) : 0;
+    Renderer r;
+    vct_renderer(&r, &s, 16, 16, &gp);
+    renderer_frame(&r, &s.camera);
+    float dirs[VCT_MAX_CONES][4], th[VCT_MAX_CONES];
+    int nc = vct_cone_set(gp.vct_cones, dirs, th);
+    float x[3], n[3];
+    if (getenv("SCRATCH_PX")) {
+        Renderer g;
+        vct_renderer(&g, &s, 320, 180, &gp);
+        renderer_frame(&g, &s.camera);
+        int px, py;
+        sscanf(getenv("SCRATCH_PX"), "%d %d", &px, &py);
+        TestGbPixel gb;
+        test_gbuffer_pixel(&g.gbuffer, px, 179 - py, &gb);
+        memcpy(x, gb.position, sizeof x);
+        memcpy(n, gb.normal, sizeof n);
+        print_message("pixel (%d,%d): x (%.3f %.3f %.3f) n (%.3f %.3f %.3f)\n", px, py, x[0], x[1], x[2], n[0], n[1], n[2]);
+        renderer_destroy(&g);
+    } else {
+        sscanf(getenv("SCRATCH_P"), "%f %f %f", &x[0], &x[1], &x[2]);
+        sscanf(getenv("SCRATCH_N"), "%f %f %f", &n[0], &n[1], &n[2]);
+    }
+    float sg = n[2] >= 0 ? 1.f : -1.f, a = -1.f / (sg + n[2]), c = n[0] * n[1] * a;
+    float t[3] = {1.f + sg * n[0] * n[0] * a, sg * c, -sg * n[0]}, b[3] = {c, sg + n[1] * n[1] * a, -n[1]};
+    VctProbe pr[VCT_MAX_CONES];
+    for (int i = 0; i < nc; i++) {
+        memcpy(pr[i].x, x, sizeof x);
+        memcpy(pr[i].n, n, sizeof n);
+        for (int k = 0; k < 3; k++)
+            pr[i].d[k] = t[k] * dirs[i][0] + b[k] * dirs[i][1] + n[k] * dirs[i][2];
+        pr[i].tan_half = th[i];
+    }
+    float out[VCT_MAX_CONES][4];
+    assert_true(vct_probe(r.gi_state, nc, pr, out));
+    double E = 0;
+    for (int i = 0; i < nc; i++) {
+        print_message("cone %2d d (%5.2f %5.2f %5.2f) w %.3f: L %.4f %.4f %.4f a %.3f\n", i, pr[i].d[0], pr[i].d[1], pr[i].d[2], dirs[i][3], out[i][0], out[i][1], out[i][2], out[i][3]);
+        E += dirs[i][3] * out[i][1];
+    }
+    print_message("E (green) %.5f, radiance added rho/pi E (rho 0.8) %.5f\n", E, 0.8 / GLM_PI * E);
+    renderer_destroy(&r);
+    if (getenv("SCRATCH_RENDER")) {
+        ImageF vi, ni;
+        gp.vct_trace_scale = 1;
+        test_render_gi(&s, 128, 128, GI_VCT, &gp, &vi);
+        test_render_gi(&s, 128, 128, GI_NONE, NULL, &ni);
+        int px, py;
+        test_project(&s, 128, 128, x, &px, &py);
+        for (int dy = -1; dy <= 1; dy++) {
+            int yy = py + dy;
+            print_message("render pixel (%d,%d): added %.5f %.5f %.5f\n", px, yy, image_px(&vi, px - 1, yy)[1] - image_px(&ni, px - 1, yy)[1],
+                          image_px(&vi, px, yy)[1] - image_px(&ni, px, yy)[1], image_px(&vi, px + 1, yy)[1] - image_px(&ni, px + 1, yy)[1]);
+        }
+        image_free(&vi);
+        image_free(&ni);
+    }
+    scene_free(&s);
+}
+static void scratch(void **state) { if (getenv("SCRATCH_SCENE")) { scratch_point(); return; } if (getenv("SCRATCH_WALL")) { scratch_wall(getenv("SCRATCH_SET") ? atoi(getenv("SCRATCH_SET")) : 0); return; } (void)state; const char *e = getenv("SCRATCH_SET"); scratch_corner(e ? atoi(e) : 0); }
+
+/* ---- A surface does not light itself ---------------------------------------- */
+
+/* A lone 2 m white square under a sun, turned `yaw` about y and tilted
+ * `tilt` about x (so that its plane crosses the voxel rows at an angle):
+ * nothing else in the scene, so every bit of light vct adds to it is light
+ * its cones read from its own voxels. Returns Σ(vct − none) / Σ none over
+ * the image (the square's direct light). */
+static double self_lit_share(float yaw, float tilt, int n)
+{
+    Scene s;
+    scene_init(&s);
+    int white = scene_add_material(&s, "white", (vec3){0.8f, 0.8f, 0.8f});
+    mat4 rot;
+    glm_mat4_identity(rot);
+    glm_rotate_y(rot, glm_rad(yaw), rot);
+    glm_rotate_x(rot, glm_rad(tilt), rot);
+    vec3 q[4] = {{-1.f, 0.f, -1.f}, {-1.f, 0.f, 1.f}, {1.f, 0.f, 1.f}, {1.f, 0.f, -1.f}};
+    for (int i = 0; i < 4; i++)
+        glm_mat4_mulv3(rot, q[i], 1.f, q[i]);
+    scene_add_quad(&s, white, q[0], q[1], q[2], q[3]);
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.2f, -1.f, 0.3f}, .color = {2.f, 2.f, 2.f}};
+    glm_vec3_normalize(sun.direction);
+    scene_add_light(&s, &sun);
+    test_camera_down(&s.camera, (vec3){0.f, 3.f, 0.01f});
+    s.camera.fov_y = glm_rad(50.f);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = n;
+    ImageF vct, none;
+    test_render_gi(&s, 48, 48, GI_VCT, &gp, &vct);
+    test_render_gi(&s, 48, 48, GI_NONE, NULL, &none);
+    double added = 0, direct = 0;
+    for (size_t i = 0; i < 48 * 48; i++) {
+        added += luminance(vct.rgb + 3 * i) - luminance(none.rgb + 3 * i);
+        direct += luminance(none.rgb + 3 * i);
+    }
+    image_free(&vct);
+    image_free(&none);
+    scene_free(&s);
+    return added / direct;
+}
+
+static void surfaces_do_not_light_themselves(void **state)
+{
+    (void)state;
+    const float orient[][2] = {{0.f, 0.f}, {17.f, 0.f}, {17.f, 25.f}, {40.f, 50.f}};
+    double worst = 0;
+    for (size_t i = 0; i < sizeof orient / sizeof orient[0]; i++) {
+        double share = self_lit_share(orient[i][0], orient[i][1], 32);
+        print_message("lone square yaw %.0f tilt %.0f deg: light vct adds %.4f of its direct light\n", orient[i][0],
+                      orient[i][1], share);
+        worst = fmax(worst, fabs(share));
+    }
+    assert_true(worst < 0.01);
+}
+
+/* ---- Banding on a turned face ---------------------------------------------- */
+
+/* The Cornell box's short block stands turned about y, so its front face
+ * crosses the voxel columns at an angle. Its indirect light (vct − no GI)
+ * averaged over each pixel column of the face must follow a smooth curve:
+ * the RMS of the column means about their least-squares quadratic, over
+ * their mean. When the cones read the face's own voxels, how much they
+ * read depended on where the face cuts each voxel column, and the face
+ * showed vertical dark and bright bands. */
+static double face_banding(const ImageF *vct, const ImageF *none, const uint8_t *mask, int w, int h)
+{
+    double sx[5] = {0}, sy[3] = {0}, total = 0;
+    int cols = 0;
+    double m[256];
+    int used[256] = {0};
+    for (int x = 0; x < w && x < 256; x++) {
+        double sum = 0;
+        int n = 0;
+        for (int y = 0; y < h; y++)
+            if (mask[(size_t)y * w + x]) {
+                size_t i = (size_t)y * w + x;
+                sum += luminance(vct->rgb + 3 * i) - luminance(none->rgb + 3 * i);
+                n++;
+            }
+        if (n < 4)
+            continue;
+        m[x] = sum / n;
+        used[x] = 1;
+        double t = 1;
+        for (int k = 0; k < 5; k++, t *= x)
+            sx[k] += t;
+        t = 1;
+        for (int k = 0; k < 3; k++, t *= x)
+            sy[k] += t * m[x];
+        total += m[x];
+        cols++;
+    }
+    assert_true(cols >= 8);
+    /* Normal equations of the quadratic a + b x + c x², by Cramer's rule. */
+    double A[3][3] = {{sx[0], sx[1], sx[2]}, {sx[1], sx[2], sx[3]}, {sx[2], sx[3], sx[4]}};
+    double det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                 A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+    double coef[3];
+    for (int k = 0; k < 3; k++) {
+        double B[3][3];
+        memcpy(B, A, sizeof B);
+        for (int r = 0; r < 3; r++)
+            B[r][k] = sy[r];
+        coef[k] = (B[0][0] * (B[1][1] * B[2][2] - B[1][2] * B[2][1]) - B[0][1] * (B[1][0] * B[2][2] - B[1][2] * B[2][0]) +
+                   B[0][2] * (B[1][0] * B[2][1] - B[1][1] * B[2][0])) / det;
+    }
+    double ss = 0;
+    for (int x = 0; x < w && x < 256; x++)
+        if (used[x]) {
+            double fit = coef[0] + coef[1] * x + coef[2] * x * x;
+            ss += (m[x] - fit) * (m[x] - fit);
+            if (getenv("BAND_DUMP")) print_message("col %d mean %.5f fit %.5f\n", x, m[x], fit);
+        }
+    return sqrt(ss / cols) / (total / cols);
+}
+
+#define VCT_BAND_BOUND 1.0
+static void turned_face_has_no_bands(void **state)
+{
+    (void)state;
+    enum { W = 128 };
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    GiParams gp = s.gi;
+    gp.vct_size = 64;
+    gp.vct_trace_scale = 1;
+    ImageF vct, none;
+    test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
+    test_render_gi(&s, W, W, GI_NONE, NULL, &none);
+    uint8_t *mask = malloc((size_t)W * W);
+    assert_non_null(mask);
+    int n = test_surface_mask(&s, W, W, "short_block", PT_FACE_NEG_Z, mask);
+    double band = face_banding(&vct, &none, mask, W, W);
+    print_message("short block's front face (%d px): column means of vct's indirect light vary by %.4f "
+                  "(RMS about a quadratic, over their mean)\n", n, band);
+    assert_true(n > 200);
+    assert_true(band < VCT_BAND_BOUND);
+    free(mask);
+    image_free(&vct);
+    image_free(&none);
+    scene_free(&s);
+}
+
 /* ---- A closed box --------------------------------------------------------- */
 
 /* Inside a closed white box (2 m, ρ = 0.5) with a point light off centre,
@@ -1165,6 +1620,7 @@ static void bad_vct_settings(void **state)
 
 int main(void)
 {
+    if (getenv("SCRATCH")) { const struct CMUnitTest t[] = {cmocka_unit_test(scratch)}; return cmocka_run_group_tests(t, test_gl_setup, test_gl_teardown); }
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(voxelization_is_watertight),
         cmocka_unit_test(floors_on_voxel_boundaries),
@@ -1176,6 +1632,9 @@ int main(void)
         cmocka_unit_test(cornell_against_reference),
         cmocka_unit_test(directional_volumes_composite),
         cmocka_unit_test(cones_see_the_facing_side),
+        cmocka_unit_test(thin_wall_stops_cones),
+        cmocka_unit_test(surfaces_do_not_light_themselves),
+        cmocka_unit_test(turned_face_has_no_bands),
         cmocka_unit_test(closed_box),
         cmocka_unit_test(specular_cone),
         cmocka_unit_test(glossy_cornell),

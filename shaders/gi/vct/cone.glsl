@@ -7,6 +7,36 @@
 // `step` diameters corrects it to 1 − (1 − α)^step (and scales the
 // radiance with it).
 #include "gi/vct/volume.glsl"
+#ifndef VCT_MIPBIAS
+#define VCT_MIPBIAS 0.0
+#endif
+#ifndef VCT_THICK
+#define VCT_THICK 1.0
+#endif
+#ifndef VCT_PUSHFREE
+#define VCT_PUSHFREE 1
+#endif
+#ifndef VCT_PUSHK
+#define VCT_PUSHK 1.5
+#endif
+#ifndef VCT_PUSHMIPS
+#define VCT_PUSHMIPS 2
+#endif
+#ifndef VCT_CAPSLACK
+#define VCT_CAPSLACK 1.5
+#endif
+#ifndef VCT_DENSITY
+#define VCT_DENSITY 1
+#endif
+#ifndef VCT_MIPCLAMP
+#define VCT_MIPCLAMP 1
+#endif
+#ifndef VCT_OUTSIDE
+#define VCT_OUTSIDE 0
+#endif
+#ifndef VCT_SELF
+#define VCT_SELF 0
+#endif
 
 layout(binding = TEX_VCT_RADIANCE) uniform sampler3D u_radiance;
 // The directional volumes, one texture per axis holding both signs
@@ -19,6 +49,11 @@ layout(binding = TEX_VCT_ANISO + 2) uniform sampler3D u_aniso_z;
 // reads every uniform lane by lane.
 struct VctCone {
     vec3 p, d, n;       // apex, unit direction, the surface's unit normal
+    vec3 x;             // the surface point the cone leaves (on its plane)
+    vec3 axis;          // the normal's dominant axis (a unit vector)
+    float sign_a;       // the sign of the normal's component along it
+    float n_a;          // |that component|
+    float spread;       // the plane's slope against that axis: (L1(n) − n_a) / n_a
     float tan_half;     // tan(half-angle)
     float v0;           // level 0's voxel (m)
     float max_mip;      // the coarsest mip
@@ -64,7 +99,17 @@ vec4 vct_sample(VctCone c, int k, vec3 local, float mip, const bool below1)
     float slab = float(max(c.aniso_slab >> int(ceil(lod)), 1));
     float f = float(c.size / 2) / float(c.aniso_slab), h = 0.5 / slab;
     float z = max(min(local.z * f, f - h), h);
-    vec3 side = vec3(lessThan(c.d, vec3(0.0))), w = c.d * c.d;
+    vec3 side = vec3(lessThan(c.d, vec3(0.0)));
+#ifndef VCT_W
+#define VCT_W 0
+#endif
+#if VCT_W == 0
+    vec3 w = c.d * c.d;
+#elif VCT_W == 1
+    vec3 w = abs(c.d);
+#else
+    vec3 w = abs(c.d) / dot(abs(c.d), vec3(1.0));
+#endif
     vec3 slab_z = (vec3(2 * k) + side + z) / float(2 * VCT_CLIP_LEVELS);
     vec4 a = w.x * textureLod(u_aniso_x, vec3(local.xy, slab_z.x), lod) +
              w.y * textureLod(u_aniso_y, vec3(local.xy, slab_z.y), lod) +
@@ -80,6 +125,34 @@ vec4 vct_sample(VctCone c, int k, vec3 local, float mip, const bool below1)
 
 // The diameter of cone c at c.t, at least level 0's voxel.
 float vct_cone_diameter(VctCone c) { return max(c.v0, 2.0 * c.t * c.tan_half); }
+
+// Sample point q moved along the normal's dominant axis, if need be, until
+// the voxels that trilinear filtering reads at mip `mip` (both of the mips
+// it blends, voxels vk·2^floor(mip) and vk·2^ceil(mip), level origin
+// `origin`) all lie beyond those that hold the surface the cone leaves:
+// the surface's voxels reach at most vk past its plane along that axis
+// (conservative voxelization), plus the plane's rise over the filter's
+// footprint (1.5 voxels each side across the axis). In u, the coordinate
+// along the axis turned to the normal's side, the voxel holding the
+// surface's top is floor(top / D), and the lower voxel the filter reads is
+// floor(u / D − 0.5): u ≥ (floor(top / D) + 1.5)·D puts it one above.
+vec3 vct_clear_of_surface(VctCone c, vec3 q, vec3 origin, float vk, float mip)
+{
+    float h = dot(c.n, q - c.x); // height above the surface's plane
+    float u = c.sign_a * dot(c.axis, q - origin);
+    float plane = u - h / c.n_a; // the plane's u at q's place across the axis
+    float need = u;
+    for (int i = 0; i < VCT_PUSHMIPS; i++) {
+        float d = vk * exp2(i == 0 ? floor(mip) : ceil(mip));
+        float top = plane + c.spread * (1.5 * d + 0.5 * vk) + VCT_THICK * vk;
+#if VCT_PUSHFREE
+        need = max(need, top + VCT_PUSHK * d);
+#else
+        need = max(need, (floor(top / d) + VCT_PUSHK) * d);
+#endif
+    }
+    return q + c.axis * (c.sign_a * (need - u));
+}
 
 // One step of cone c: the sample at c.t composited behind what c holds;
 // false where the cone ends instead (it left the volume, or its diameter
@@ -99,11 +172,28 @@ bool vct_cone_step(inout VctCone c, const bool below1)
 {
     const int last = VCT_CLIP_LEVELS - 1;
     float diameter = vct_cone_diameter(c);
+#if VCT_SELF == 0
     float lift = diameter - c.t * dot(c.d, c.n);
     vec3 q = c.p + c.d * c.t + c.n * max(lift, 0.0);
+#else
+    vec3 q = c.p + c.d * c.t;
+#endif
     int k = vct_level_at(q, last > 0 ? diameter : 0.0);
+#if VCT_OUTSIDE
+    if (k < 0) {
+        // Past the coarsest level's side, the sample still reads what its
+        // filter reaches inside (the border is transparent): a cone ends
+        // once that is nothing.
+        vec3 lo = u_vct.level[last].xyz, hi = lo + u_vct.level[last].w * float(c.size);
+        float reach = 2.0 * max(diameter, u_vct.level[last].w);
+        if (any(lessThan(q, lo - reach)) || any(greaterThan(q, hi + reach)))
+            return false;
+        k = last;
+    }
+#else
     if (k < 0)
         return false;
+#endif
 #if VCT_CLIP_LEVELS == 1
     k = 0; // what the line below gives, said so that level[k] is a constant
 #else
@@ -111,14 +201,33 @@ bool vct_cone_step(inout VctCone c, const bool below1)
 #endif
     float vk = u_vct.level[k].w;
     float size = max(diameter, vk); // what the sample spans
-    float mip = log2(size / vk);
+    float mip = max(log2(size / vk) + VCT_MIPBIAS, 0.0);
+#if VCT_MIPCLAMP
+    mip = min(mip, c.max_mip);
+#else
     if (mip > c.max_mip)
         return false;
+#endif
+#if VCT_SELF == 1
+    q = vct_clear_of_surface(c, q, u_vct.level[k].xyz, vk, mip);
+#elif VCT_SELF == 2
+    {
+        float ha = dot(c.n, q - c.x) / c.n_a; // height above the plane along the axis
+        float room = (ha - vk * (VCT_THICK + 0.5 * c.spread)) / (1.5 * (1.0 + c.spread));
+        float cap = room >= 2.0 * vk ? log2(room / vk) - 1.0 : 0.0;
+        mip = min(mip, cap + VCT_CAPSLACK);
+        q = vct_clear_of_surface(c, q, u_vct.level[k].xyz, vk, mip);
+    }
+#endif
     vec3 local = (q - u_vct.level[k].xyz) / (vk * float(c.size));
     vec4 s = vct_sample(c, k, local, mip, below1);
-    float dt = c.step * diameter;
+    float dt = c.step * vk * exp2(mip); // the sampled voxel's size: one diameter unless capped
     if (s.a > 0.0) {
-        float sa = 1.0 - pow(max(1.0 - s.a, 0.0), dt / size);
+#if VCT_DENSITY
+        float sa = 1.0 - exp(-s.a * VCT_OPTICAL_DEPTH * dt / vk);
+#else
+        float sa = 1.0 - pow(max(1.0 - s.a, 0.0), dt / (vk * exp2(mip)));
+#endif
         c.c += (1.0 - c.a) * s.rgb * (sa / s.a);
         if (c.t < c.ao_range)
             c.occlusion += (1.0 - c.occlusion) * sa;
@@ -128,16 +237,28 @@ bool vct_cone_step(inout VctCone c, const bool below1)
     return true;
 }
 
-// Traces a cone from p along unit d with tan(half-angle) `tan_half`,
-// starting at distance t0 (m), from a surface of unit normal n. Returns the
-// radiance gathered (rgb) and the opacity (a); `occlusion` gets the opacity
-// met within u_vct.ao_range.
-vec4 vct_cone(vec3 p, vec3 d, vec3 n, float tan_half, float t0, out float occlusion)
+// Where a surface's cones start: their apex VCT_APEX voxels off the
+// surface along its normal, their first sample one voxel further along
+// the cone.
+const float VCT_APEX = 2.5;
+
+// Traces a cone along unit d with tan(half-angle) `tan_half` from surface
+// point x of unit normal n (voxel: the voxel size there; the apex and the
+// first sample as VCT_APEX says). Returns the radiance gathered (rgb) and
+// the opacity (a); `occlusion` gets the opacity met within u_vct.ao_range.
+vec4 vct_cone(vec3 x, vec3 d, vec3 n, float tan_half, float voxel, out float occlusion)
 {
     VctCone c;
-    c.p = p;
+    c.p = x + n * (VCT_APEX * voxel);
     c.d = d;
     c.n = n;
+    c.x = x;
+    vec3 an = abs(n);
+    c.axis = an.x >= an.y && an.x >= an.z ? vec3(1.0, 0.0, 0.0) : an.y >= an.z ? vec3(0.0, 1.0, 0.0) : vec3(0.0, 0.0, 1.0);
+    float na = dot(c.axis, n);
+    c.sign_a = na < 0.0 ? -1.0 : 1.0;
+    c.n_a = max(abs(na), 1e-3);
+    c.spread = (an.x + an.y + an.z - c.n_a) / c.n_a;
     c.tan_half = tan_half;
     c.v0 = u_vct.level[0].w;
     c.max_mip = float(u_vct.levels - 1);
@@ -148,7 +269,7 @@ vec4 vct_cone(vec3 p, vec3 d, vec3 n, float tan_half, float t0, out float occlus
     c.c = vec3(0.0);
     c.a = 0.0;
     c.occlusion = 0.0;
-    c.t = t0;
+    c.t = voxel;
     float max_distance = u_vct.max_distance;
     int i = 0;
 #if VCT_CLIP_LEVELS == 1 && defined(VCT_ANISO)
@@ -179,10 +300,11 @@ vec4 vct_cone(vec3 p, vec3 d, vec3 n, float tan_half, float t0, out float occlus
     return vec4(c.c, c.a);
 }
 
-// Irradiance E (W/m²) at p with unit normal n from the diffuse cone set:
-// Σ w_i L_i, w_i = ∫cosθ dω over cone i's cell of the hemisphere (Σ w_i =
-// π). `visibility` gets 1 − the cosine-weighted occlusion.
-vec3 vct_irradiance(vec3 p, vec3 n, float t0, out float visibility)
+// Irradiance E (W/m²) at surface point x with unit normal n (voxel: the
+// voxel size there) from the diffuse cone set: Σ w_i L_i, w_i = ∫cosθ dω
+// over cone i's cell of the hemisphere (Σ w_i = π). `visibility` gets 1 −
+// the cosine-weighted occlusion.
+vec3 vct_irradiance(vec3 x, vec3 n, float voxel, out float visibility)
 {
     vec3 t, b;
     basis(n, t, b);
@@ -192,7 +314,7 @@ vec3 vct_irradiance(vec3 p, vec3 n, float t0, out float visibility)
         vec3 cd = u_vct.cone[i].xyz;
         vec3 d = normalize(t * cd.x + b * cd.y + n * cd.z);
         float occ;
-        vec4 l = vct_cone(p, d, n, u_vct.cone_aperture[i].x, t0, occ);
+        vec4 l = vct_cone(x, d, n, u_vct.cone_aperture[i].x, voxel, occ);
         e += u_vct.cone[i].w * l.rgb;
         occluded += u_vct.cone[i].w / PI * occ;
     }

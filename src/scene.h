@@ -52,7 +52,7 @@ typedef struct Texture {
 /* glTF metallic-roughness material (SPEC §1b; the BRDF is src/brdf.h).
  * Built-in surfaces and OBJ materials have specular 0 and metallic 0: they
  * are Lambertian, f = albedo/π. A scene file's "materials" object sets any
- * of these per material name (README "Scene files"). */
+ * of these per material name (docs/guide.md, "Scene files"). */
 typedef struct Material {
     char name[64];
     vec3 albedo;        /* base colour factor, linear; multiplies the texture */

@@ -153,6 +153,7 @@
 #define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2) */
 #define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
 #define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
+#define LOC_LPV_GROUP 14        /* lpv inject/propagate: int, the light group built (gi/lpv/sh.glsl, lpv_group); -1: one group */
 #define LOC_VCT_AXIS 10         /* vct mips: int, the directional volumes' axis 0..2 (x y z) */
 #define LOC_VCT_MIP 12          /* vct mips: int, the directional level written (1..: its children are 2^level level-0 voxels) */
 #define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */

@@ -28,15 +28,6 @@
 // Reads outside the source are transparent (image loads out of bounds
 // return 0): past a level's N/2 voxels a slab holds 0.
 #include "shared/gpu_types.h"
-#ifndef VCT_EDGE
-#define VCT_EDGE 1.0
-#endif
-#ifndef VCT_LITSIDE
-#define VCT_LITSIDE 1
-#endif
-#ifndef VCT_DENSITY
-#define VCT_DENSITY 1
-#endif
 #include "common/math.glsl"
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
@@ -78,25 +69,19 @@ vec4 block(float t_sum, vec3 c_sum, float k)
 // sign): a surface's lit side faces the way the normal volume's w says
 // (inject.comp: the canonical normal's side, signed, weighted by each
 // light's luminance, over the voxel's luminance: lit = n·σ, σ in [−1, 1]).
-// Seen from the front of the lit side (dot(lit, −dir) ≥ ¼) a voxel sends
-// its radiance, from behind (≤ −¼) none, edge-on half, in between a ramp;
-// its opacity is the same from every side. Before, every voxel sent its
+// Seen from its lit side or edge-on (dot(lit, −dir) ≥ 0) a voxel sends
+// its radiance, from behind (≤ −½) none, in between a ramp; its opacity
+// is the same from every side. Before, every voxel sent its
 // radiance every way: the top faces of the Cornell blocks (the brightest
 // surfaces under the light) lit the floor beside them and the wall behind
-// them through their own edges (floor 1.8×, the short block's top 2.6× the
-// reference's indirect light; tests/test_vct.c, lit_side_only).
+// them through their own edges (Cornell 256², with today's cones: floor
+// 2.6×, the short block's top 2.1× the reference's bounce, where this
+// reads 1.0 and 1.2; scripts/gi-regions.sh).
 vec4 seen_along(vec4 v, vec4 n, vec3 dir)
 {
     float lum = dot(v.rgb, vec3(0.2126, 0.7152, 0.0722));
     float sigma = lum > 0.0 ? clamp(n.w / lum, -1.0, 1.0) : 0.0;
-#if VCT_LITSIDE == 1
-    return vec4(v.rgb * clamp(VCT_EDGE + 2.0 * dot(n.xyz * sigma, -dir), 0.0, 1.0), v.a);
-#elif VCT_LITSIDE == 2
-    float proj = abs(dot(n.xyz, dir));
-    return vec4(v.rgb * proj * clamp(0.5 + 2.0 * dot(n.xyz * sigma, -dir), 0.0, 1.0), v.a * proj);
-#else
-    return v;
-#endif
+    return vec4(v.rgb * clamp(1.0 + 2.0 * dot(n.xyz * sigma, -dir), 0.0, 1.0), v.a);
 }
 
 // The four pairs along axis `ax` (a constant) of the block whose children
@@ -110,25 +95,15 @@ vec4 composite(vec4 v[8], vec4 n[8], int ax, bool neg)
     int u = ax == 0 ? 2 : 1, w = ax == 2 ? 2 : 4;
     float t = 0.0;
     vec3 c = vec3(0.0);
-    vec4 osum = vec4(0.0);
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++) {
             int c0 = u * i + w * j, c1 = c0 + along;
             int f = neg ? c1 : c0, b = neg ? c0 : c1;
-#if VCT_DENSITY
             vec3 pc;
             t += pair(seen_along(v[f], n[f], dir), seen_along(v[b], n[b], dir), VCT_OPTICAL_DEPTH, pc);
             c += pc;
-#else
-            vec4 ff = seen_along(v[f], n[f], dir), bb = seen_along(v[b], n[b], dir);
-            osum += ff + (1.0 - ff.a) * bb;
-#endif
         }
-#if VCT_DENSITY
     return block(t, c, VCT_OPTICAL_DEPTH);
-#else
-    return osum * 0.25;
-#endif
 }
 #endif
 
@@ -177,23 +152,13 @@ void main()
     ivec3 first = ivec3(2 * o.xy, slab * 2 * depth + 2 * z);
     float k = VCT_OPTICAL_DEPTH * float(1 << u_mip), t = 0.0;
     vec3 c = vec3(0.0);
-    vec4 osum = vec4(0.0);
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++) {
             ivec3 c0 = first + u * i + w * j, c1 = c0 + step;
-#if VCT_DENSITY
             vec3 pc;
             t += pair(imageLoad(u_src, negative ? c1 : c0), imageLoad(u_src, negative ? c0 : c1), k, pc);
             c += pc;
-#else
-            vec4 ff = imageLoad(u_src, negative ? c1 : c0), bb = imageLoad(u_src, negative ? c0 : c1);
-            osum += ff + (1.0 - ff.a) * bb;
-#endif
         }
-#if VCT_DENSITY
     imageStore(u_dst, o, block(t, c, k));
-#else
-    imageStore(u_dst, o, osum * 0.25);
-#endif
 #endif
 }

@@ -3,40 +3,10 @@
 // opacity, sampling the mip whose voxel equals the cone's diameter there,
 // with the isotropic chain or the six directional volumes (weighted by the
 // squared direction components, the three facing the cone) above mip 0.
-// A sample's opacity stands for a path of one voxel of its mip; a step of
-// `step` diameters corrects it to 1 − (1 − α)^step (and scales the
-// radiance with it).
+// The volumes hold occupancy density β and radiance × β (shared/
+// gpu_types.h, VCT_OPTICAL_DEPTH): a step of dt through a sample is opaque
+// 1 − e^(−β·VCT_OPTICAL_DEPTH·dt/voxel) and sends its radiance rgb/β.
 #include "gi/vct/volume.glsl"
-#ifndef VCT_MIPBIAS
-#define VCT_MIPBIAS 0.0
-#endif
-#ifndef VCT_THICK
-#define VCT_THICK 1.0
-#endif
-#ifndef VCT_PUSHFREE
-#define VCT_PUSHFREE 1
-#endif
-#ifndef VCT_PUSHK
-#define VCT_PUSHK 1.5
-#endif
-#ifndef VCT_PUSHMIPS
-#define VCT_PUSHMIPS 2
-#endif
-#ifndef VCT_CAPSLACK
-#define VCT_CAPSLACK 1.5
-#endif
-#ifndef VCT_DENSITY
-#define VCT_DENSITY 1
-#endif
-#ifndef VCT_MIPCLAMP
-#define VCT_MIPCLAMP 1
-#endif
-#ifndef VCT_OUTSIDE
-#define VCT_OUTSIDE 0
-#endif
-#ifndef VCT_SELF
-#define VCT_SELF 0
-#endif
 
 layout(binding = TEX_VCT_RADIANCE) uniform sampler3D u_radiance;
 // The directional volumes, one texture per axis holding both signs
@@ -99,17 +69,7 @@ vec4 vct_sample(VctCone c, int k, vec3 local, float mip, const bool below1)
     float slab = float(max(c.aniso_slab >> int(ceil(lod)), 1));
     float f = float(c.size / 2) / float(c.aniso_slab), h = 0.5 / slab;
     float z = max(min(local.z * f, f - h), h);
-    vec3 side = vec3(lessThan(c.d, vec3(0.0)));
-#ifndef VCT_W
-#define VCT_W 0
-#endif
-#if VCT_W == 0
-    vec3 w = c.d * c.d;
-#elif VCT_W == 1
-    vec3 w = abs(c.d);
-#else
-    vec3 w = abs(c.d) / dot(abs(c.d), vec3(1.0));
-#endif
+    vec3 side = vec3(lessThan(c.d, vec3(0.0))), w = c.d * c.d;
     vec3 slab_z = (vec3(2 * k) + side + z) / float(2 * VCT_CLIP_LEVELS);
     vec4 a = w.x * textureLod(u_aniso_x, vec3(local.xy, slab_z.x), lod) +
              w.y * textureLod(u_aniso_y, vec3(local.xy, slab_z.y), lod) +
@@ -126,108 +86,83 @@ vec4 vct_sample(VctCone c, int k, vec3 local, float mip, const bool below1)
 // The diameter of cone c at c.t, at least level 0's voxel.
 float vct_cone_diameter(VctCone c) { return max(c.v0, 2.0 * c.t * c.tan_half); }
 
-// Sample point q moved along the normal's dominant axis, if need be, until
-// the voxels that trilinear filtering reads at mip `mip` (both of the mips
-// it blends, voxels vk·2^floor(mip) and vk·2^ceil(mip), level origin
-// `origin`) all lie beyond those that hold the surface the cone leaves:
-// the surface's voxels reach at most vk past its plane along that axis
-// (conservative voxelization), plus the plane's rise over the filter's
-// footprint (1.5 voxels each side across the axis). In u, the coordinate
-// along the axis turned to the normal's side, the voxel holding the
-// surface's top is floor(top / D), and the lower voxel the filter reads is
-// floor(u / D − 0.5): u ≥ (floor(top / D) + 1.5)·D puts it one above.
-vec3 vct_clear_of_surface(VctCone c, vec3 q, vec3 origin, float vk, float mip)
+// Keeping a cone's samples off the surface it leaves (issue 44). A cone
+// within its half-angle of the horizon (the diffuse rings) reads, at the
+// mip of its diameter, the voxels of the surface it leaves: a box filter
+// as wide as the cone, at the height of the cone's axis, reaches down into
+// them. Those voxels are opaque and, seen from above, dark (aniso.comp
+// sends a voxel's light out of its lit side only), so a surface shadowed
+// itself: Cornell 256² read 0.46-0.76 of the reference's bounce on every
+// wall. With every side sending, it had lit itself instead (floor 3.2,
+// back wall 1.8). Two limits keep the filter clear of the surface's voxels
+// (tests/test_vct.c, surfaces_do_not_light_themselves):
+//  - the mip is capped where the sample is low (vct_mip_cap): the sample's
+//    texels, 1.5 of them each side of it, must fit between the sample and
+//    the surface's voxels, which reach VCT_SURFACE_TOP level voxels past
+//    its plane (conservative voxelization) and rise across the filter's
+//    footprint as the plane slopes against its dominant axis (c.spread);
+//    a capped sample is a narrower cone there, and steps by its own texel;
+//  - the sample is moved along the normal's dominant axis, where need be,
+//    until it stands VCT_CLEAR texels of its finer mip above those voxels
+//    (vct_clear_of_surface).
+// Measured on the Cornell box (256², against one-bounce; scripts/
+// gi-regions.sh): a clearance of 2, 2.5, 3 texels gave the whole image
+// 0.88, 1.04, 1.17 of the reference's bounce; 2.5 keeps every surface in
+// 0.89-1.28. A lift along n by one diameter (the code before) left the
+// filter's lower texels on the surface.
+const float VCT_SURFACE_TOP = 1.0;
+const float VCT_CLEAR = 2.5;
+
+// The coarsest mip (of a level of voxel vk) whose filter at sample q stays
+// above the voxels of the surface cone c leaves; at least 1.
+float vct_mip_cap(VctCone c, vec3 q, float vk)
 {
-    float h = dot(c.n, q - c.x); // height above the surface's plane
-    float u = c.sign_a * dot(c.axis, q - origin);
-    float plane = u - h / c.n_a; // the plane's u at q's place across the axis
-    float need = u;
-    for (int i = 0; i < VCT_PUSHMIPS; i++) {
-        float d = vk * exp2(i == 0 ? floor(mip) : ceil(mip));
-        float top = plane + c.spread * (1.5 * d + 0.5 * vk) + VCT_THICK * vk;
-#if VCT_PUSHFREE
-        need = max(need, top + VCT_PUSHK * d);
-#else
-        need = max(need, (floor(top / d) + VCT_PUSHK) * d);
-#endif
-    }
-    return q + c.axis * (c.sign_a * (need - u));
+    float h = dot(c.n, q - c.x) / c.n_a; // height above the plane along the dominant axis
+    float room = (h - vk * (VCT_SURFACE_TOP + 0.5 * c.spread)) / (1.5 * (1.0 + c.spread));
+    return room >= 2.0 * vk ? log2(room / vk) : 1.0;
+}
+
+// Sample q moved along the normal's dominant axis, if need be, until it
+// stands VCT_CLEAR texels of mip floor(mip) (of a level of voxel vk) above
+// the voxels of the surface cone c leaves, their top raised by the plane's
+// slope over the filter's footprint (1.5 texels each side across the axis).
+vec3 vct_clear_of_surface(VctCone c, vec3 q, float vk, float mip)
+{
+    float d = vk * exp2(floor(mip));
+    float above = dot(c.n, q - c.x) / c.n_a; // the sample's height over the plane along the axis
+    float need = c.spread * (1.5 * d + 0.5 * vk) + VCT_SURFACE_TOP * vk + VCT_CLEAR * d;
+    return q + c.axis * (c.sign_a * max(need - above, 0.0));
 }
 
 // One step of cone c: the sample at c.t composited behind what c holds;
-// false where the cone ends instead (it left the volume, or its diameter
-// passed the coarsest mip). `below1` as for vct_sample.
-// Each sample is lifted along n until it stands one sample diameter off the
-// surface's plane: a cone within its half-angle of the horizon (the diffuse
-// rings) otherwise reads the surface's own voxels at every mip, so lit
-// walls light themselves and unlit ones shadow themselves. On the Cornell
-// box (96², point light, against one-bounce) that error grew with the grid:
-// relMSE 0.0102, 0.0192, 0.0222 at 32³, 64³, 128³ (back wall 1.4-2.0× the
-// reference's indirect light, ceiling 0.47-0.26×); lifted: 0.0092, 0.0113,
-// 0.0122. Sponza (320×180): FLIP 0.0465 → 0.0448.
-// With a clipmap each sample reads the finest level that holds it (with
-// the cone's diameter of margin) and whose voxels are no larger than the
-// diameter, unless only a coarser one holds it.
+// false where the cone ends instead (it left the volume). `below1` as for
+// vct_sample. With a clipmap each sample reads the finest level that holds
+// it (with the cone's diameter of margin) and whose voxels are no larger
+// than the diameter, unless only a coarser one holds it. Past the coarsest
+// mip the cone reads that mip. The volumes hold occupancy density
+// (shared/gpu_types.h, VCT_OPTICAL_DEPTH), so a sample's opacity over a
+// step of dt is 1 − e^(−β·VCT_OPTICAL_DEPTH·dt/vk) at any mip.
 bool vct_cone_step(inout VctCone c, const bool below1)
 {
     const int last = VCT_CLIP_LEVELS - 1;
     float diameter = vct_cone_diameter(c);
-#if VCT_SELF == 0
-    float lift = diameter - c.t * dot(c.d, c.n);
-    vec3 q = c.p + c.d * c.t + c.n * max(lift, 0.0);
-#else
     vec3 q = c.p + c.d * c.t;
-#endif
     int k = vct_level_at(q, last > 0 ? diameter : 0.0);
-#if VCT_OUTSIDE
-    if (k < 0) {
-        // Past the coarsest level's side, the sample still reads what its
-        // filter reaches inside (the border is transparent): a cone ends
-        // once that is nothing.
-        vec3 lo = u_vct.level[last].xyz, hi = lo + u_vct.level[last].w * float(c.size);
-        float reach = 2.0 * max(diameter, u_vct.level[last].w);
-        if (any(lessThan(q, lo - reach)) || any(greaterThan(q, hi + reach)))
-            return false;
-        k = last;
-    }
-#else
     if (k < 0)
         return false;
-#endif
 #if VCT_CLIP_LEVELS == 1
     k = 0; // what the line below gives, said so that level[k] is a constant
 #else
     k = max(k, min(int(floor(log2(diameter / c.v0))), last));
 #endif
     float vk = u_vct.level[k].w;
-    float size = max(diameter, vk); // what the sample spans
-    float mip = max(log2(size / vk) + VCT_MIPBIAS, 0.0);
-#if VCT_MIPCLAMP
-    mip = min(mip, c.max_mip);
-#else
-    if (mip > c.max_mip)
-        return false;
-#endif
-#if VCT_SELF == 1
-    q = vct_clear_of_surface(c, q, u_vct.level[k].xyz, vk, mip);
-#elif VCT_SELF == 2
-    {
-        float ha = dot(c.n, q - c.x) / c.n_a; // height above the plane along the axis
-        float room = (ha - vk * (VCT_THICK + 0.5 * c.spread)) / (1.5 * (1.0 + c.spread));
-        float cap = room >= 2.0 * vk ? log2(room / vk) - 1.0 : 0.0;
-        mip = min(mip, cap + VCT_CAPSLACK);
-        q = vct_clear_of_surface(c, q, u_vct.level[k].xyz, vk, mip);
-    }
-#endif
+    float mip = min(min(log2(max(diameter, vk) / vk), c.max_mip), vct_mip_cap(c, q, vk));
+    q = vct_clear_of_surface(c, q, vk, mip);
     vec3 local = (q - u_vct.level[k].xyz) / (vk * float(c.size));
     vec4 s = vct_sample(c, k, local, mip, below1);
-    float dt = c.step * vk * exp2(mip); // the sampled voxel's size: one diameter unless capped
+    float dt = c.step * vk * exp2(mip); // the sampled texel's size: one diameter unless capped
     if (s.a > 0.0) {
-#if VCT_DENSITY
         float sa = 1.0 - exp(-s.a * VCT_OPTICAL_DEPTH * dt / vk);
-#else
-        float sa = 1.0 - pow(max(1.0 - s.a, 0.0), dt / (vk * exp2(mip)));
-#endif
         c.c += (1.0 - c.a) * s.rgb * (sa / s.a);
         if (c.t < c.ao_range)
             c.occlusion += (1.0 - c.occlusion) * sa;

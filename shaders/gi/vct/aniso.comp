@@ -73,9 +73,9 @@ vec4 block(float t_sum, vec3 c_sum, float k)
 // is the same from every side. Before, every voxel sent its
 // radiance every way: the top faces of the Cornell blocks (the brightest
 // surfaces under the light) lit the floor beside them and the wall behind
-// them through their own edges (Cornell 256², with today's cones: floor
-// 2.6×, the short block's top 2.1× the reference's bounce, where this
-// reads 1.0 and 1.2; scripts/gi-regions.sh).
+// them through their own edges (Cornell 256², with the cones of an
+// earlier clearance: floor 2.6×, the short block's top 2.1× the
+// reference's bounce, where this read 1.0 and 0.9; scripts/gi-regions.sh).
 vec4 seen_along(vec4 v, vec4 n, vec3 dir)
 {
     float lum = dot(v.rgb, vec3(0.2126, 0.7152, 0.0722));

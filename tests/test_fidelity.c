@@ -106,18 +106,7 @@ static double relmse_one_bounce(const Fixture *f, GiMode gi)
     int32_t *ids = malloc(sizeof *ids * W * H);
     uint8_t *keep = malloc(W * H);
     assert_true(ids && keep && pt_surface_map(&f->scene, W, H, ids));
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
-            bool ok = true;
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int u = x + dx, v = y + dy;
-                    int32_t id = u >= 0 && v >= 0 && u < W && v < H ? ids[v * W + u] : -1;
-                    const float *e = id >= 0 ? f->scene.materials[id / 6].emission : NULL;
-                    ok = ok && !(e && (e[0] > 0 || e[1] > 0 || e[2] > 0));
-                }
-            keep[y * W + x] = ok;
-        }
+    test_emitter_mask(&f->scene, W, H, ids, keep);
     ImageF img;
     if (gi != GI_NONE)
         test_render_gi(&f->scene, W, H, gi, NULL, &img);

@@ -570,6 +570,7 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddStringToObject(o, "label", e->label);
     cJSON_AddStringToObject(o, "shadow", k_shadow_names[e->shadow]);
     cJSON_AddStringToObject(o, "gi", gi_technique_names()[e->gi]);
+    cJSON_AddStringToObject(o, "paper", gi_techniques[e->gi]->paper);
     cJSON_AddStringToObject(o, "overrides", e->overrides);
     cJSON *set = cJSON_AddObjectToObject(o, "settings");
     Settings s = {e->rs.shadow_params, e->rs.gi_params};

@@ -212,7 +212,9 @@ bool scene_add_default_sun(Scene *s)
 {
     Light sun = {0};
     sun.type = LIGHT_DIRECTIONAL;
-    glm_vec3_copy((vec3){0.25f, -1.0f, 0.12f}, sun.direction);
+    /* High and a little aslant: it lights the floor of an interior open to
+     * the sky (Sponza's atrium), whose bounce then lights the rest. */
+    glm_vec3_copy((vec3){-0.15f, -1.0f, -0.2f}, sun.direction);
     glm_vec3_copy((vec3){4.0f, 3.9f, 3.6f}, sun.color);
     sun.size = glm_rad(0.53f); /* the real sun's angular diameter */
     if (scene_add_light(s, &sun) < 0)
@@ -233,12 +235,15 @@ void scene_default_camera(Scene *s)
      * relative to the model, looking down the long axis: for an interior
      * such as Sponza this is its nave; for an object it is a view from its
      * side. */
+    int other = 2 - axis;
     cam->position[axis] -= 0.28f * ext[axis];
     cam->position[1] = s->bounds_min[1] + 0.2f * ext[1];
-    vec3 target;
+    cam->position[other] -= 0.055f * ext[other];
+    vec3 target; /* up and across the nave: its arcades and the upper floor */
     glm_vec3_copy(c, target);
-    target[axis] += 0.5f * ext[axis];
-    target[1] = s->bounds_min[1] + 0.3f * ext[1];
+    target[axis] += 0.22f * ext[axis];
+    target[1] = s->bounds_min[1] + 0.42f * ext[1];
+    target[other] += 0.055f * ext[other];
     float wide = fmaxf(ext[0], ext[2]);
     if (ext[1] < 0.25f * wide) {
         /* A flat scene (a terrain, a floor, one quad): from eye height it
@@ -252,7 +257,7 @@ void scene_default_camera(Scene *s)
     glm_vec3_cross(cam->forward, (vec3){0, 1, 0}, right);
     glm_vec3_normalize(right);
     glm_vec3_cross(right, cam->forward, cam->up);
-    cam->fov_y = glm_rad(60.f);
+    cam->fov_y = glm_rad(65.f);
     float diag = glm_vec3_norm(ext);
     cam->znear = fmaxf(1e-3f, diag * 1e-4f);
     cam->zfar = diag * 2.f + 0.3f * wide;

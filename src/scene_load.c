@@ -1441,6 +1441,7 @@ static bool load_any(Scene *s, const char *what)
         return false;
     }
     s->shadow.map_size = 2048; /* a sun over a whole model needs the texels */
+    s->exposure = 8.f;         /* a 4 W/m² sun, most of the view in its bounce light */
     if (!scene_add_default_sun(s) || !scene_finalize(s)) {
         scene_free(s); /* logged */
         return false;

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "animation.h"
 #include "log.h"
 #include "util.h"
 
@@ -37,6 +38,7 @@ void scene_free(Scene *s)
     free(s->submeshes);
     free(s->materials);
     free(s->lights);
+    animation_free(s);
     memset(s, 0, sizeof *s);
 }
 
@@ -136,7 +138,7 @@ bool scene_rescale_lights(Scene *s, float scale)
     return add_emitters(s);
 }
 
-static void compute_bounds(Scene *s)
+void scene_compute_bounds(Scene *s)
 {
     glm_vec3_fill(s->bounds_min, INFINITY);
     glm_vec3_fill(s->bounds_max, -INFINITY);
@@ -168,7 +170,7 @@ bool scene_finalize(Scene *s)
 {
     if (!add_emitters(s))
         return false;
-    compute_bounds(s);
+    scene_compute_bounds(s);
     return true;
 }
 
@@ -188,24 +190,30 @@ static bool add_emitters(Scene *s)
             return false; /* logged */
         glm_vec3_scale(l->color, 1.f / (l->size * l->size), s->materials[m].emission);
         s->materials[m].light_index = i;
-        vec3 hu, hv, p[4];
-        glm_vec3_scale(l->quad_u, 0.5f * l->size, hu);
-        glm_vec3_scale(l->quad_v, 0.5f * l->size, hv);
-        /* Wind so that the quad's normal (u×v order) is the emission direction. */
-        vec3 n;
-        glm_vec3_cross(hu, hv, n);
-        if (glm_vec3_dot(n, l->direction) < 0)
-            glm_vec3_negate(hv);
-        for (int c = 0; c < 4; c++) {
-            float su = (c == 0 || c == 3) ? -1.f : 1.f, sv = (c < 2) ? -1.f : 1.f;
-            glm_vec3_copy(l->position, p[c]);
-            glm_vec3_muladds(hu, su, p[c]);
-            glm_vec3_muladds(hv, sv, p[c]);
-        }
+        vec3 p[4];
+        scene_emitter_corners(l, p);
         if (!scene_add_quad(s, m, p[0], p[1], p[2], p[3]))
             return false; /* logged */
     }
     return true;
+}
+
+void scene_emitter_corners(const Light *l, vec3 p[4])
+{
+    vec3 hu, hv;
+    glm_vec3_scale((float *)l->quad_u, 0.5f * l->size, hu);
+    glm_vec3_scale((float *)l->quad_v, 0.5f * l->size, hv);
+    /* Wind so that the quad's normal (u×v order) is the emission direction. */
+    vec3 n;
+    glm_vec3_cross(hu, hv, n);
+    if (glm_vec3_dot(n, (float *)l->direction) < 0)
+        glm_vec3_negate(hv);
+    for (int c = 0; c < 4; c++) {
+        float su = (c == 0 || c == 3) ? -1.f : 1.f, sv = (c < 2) ? -1.f : 1.f;
+        glm_vec3_copy((float *)l->position, p[c]);
+        glm_vec3_muladds(hu, su, p[c]);
+        glm_vec3_muladds(hv, sv, p[c]);
+    }
 }
 
 bool scene_add_default_sun(Scene *s)

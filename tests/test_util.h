@@ -74,6 +74,9 @@ void test_block_ratio_range(const ImageF *tech, const ImageF *none, const ImageF
 /* Writes `content` to RTGI_TEST_TMP/name; returns the path (static buffer,
  * valid until the next call). */
 const char *test_tmp_file(const char *name, const char *content);
+/* Loads the shipped scene file scenes/NAME into s (the test fails if it
+ * does not load). */
+void test_load_scene_file(Scene *s, const char *name);
 
 /* Writes two 8×8 PNGs to RTGI_TEST_TMP for an alpha-masked material: a
  * white albedo, and a mask (map_d) opaque on texel columns 0-3 and

@@ -161,6 +161,12 @@
 #define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */
 #define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
 #define LOC_COUNT_STEP 10       /* gi/count_surfaces.comp: int, the lattice's step */
+#define LOC_TEMPORAL_PREV_VIEW_PROJ 10 /* temporal/accumulate.comp: mat4 (10..13), the previous frame's camera */
+#define LOC_TEMPORAL_PARAMS 14  /* temporal/accumulate.comp: vec4, x: least blend weight α of the new frame,
+                                   y: 1 with a history, z: plane tolerance (fraction of the distance), w: clamp γ */
+/* temporal/accumulate.comp (renderer's temporal accumulation, pass_temporal.h): */
+#define TEX_TEMPORAL_HISTORY 9   /* RGBA32F: the accumulated irradiance of the last frame (a: frames in it) */
+#define TEX_TEMPORAL_SURFACE 10  /* RGBA32UI: the last frame's G-buffer surface (common/gbuffer.glsl) */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile

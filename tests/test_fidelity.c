@@ -59,18 +59,19 @@ static int teardown(void **state)
 
 static const char *const k_face_names[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
 
-/* Renders technique `gi` and checks the indirect ratio against the
- * reference `mode` on every surface seen by MIN_PIXELS or more: within
- * [lo, hi]. Returns the whole image's ratio. */
-static double check_surfaces(const Fixture *f, GiMode gi, PtMode mode, double lo, double hi)
+/* Renders technique `gi` (settings gp; NULL: the scene's) and checks the
+ * indirect ratio against the reference `mode` on every surface seen by
+ * MIN_PIXELS or more: within [lo, hi]. Returns the whole image's ratio. */
+static double check_surfaces_with(const Fixture *f, GiMode gi, const GiParams *gp, PtMode mode, double lo, double hi)
 {
     ImageF img;
-    test_render_gi(&f->scene, W, H, gi, NULL, &img);
+    test_render_gi(&f->scene, W, H, gi, gp, &img);
     const ImageF *ref = &f->ref[mode], *direct = &f->ref[PT_DIRECT];
     uint8_t *mask = malloc((size_t)W * H);
     assert_non_null(mask);
     double whole = test_indirect_ratio(&img, &f->none, ref, direct, NULL);
-    print_message("%s against %s: whole image %.3f\n", gi_technique_names()[gi], pt_mode_names[mode], whole);
+    print_message("%s%s against %s: whole image %.3f\n", gi_technique_names()[gi],
+                  gp && gp->gi_visibility ? " with visibility" : "", pt_mode_names[mode], whole);
     int checked = 0, bad = 0;
     for (int m = 0; m < f->scene.material_count; m++) {
         const Material *mat = &f->scene.materials[m];
@@ -96,6 +97,11 @@ static double check_surfaces(const Fixture *f, GiMode gi, PtMode mode, double lo
     return whole;
 }
 
+static double check_surfaces(const Fixture *f, GiMode gi, PtMode mode, double lo, double hi)
+{
+    return check_surfaces_with(f, gi, NULL, mode, lo, hi);
+}
+
 /* The control: RSM computes exactly one-bounce-novis up to its sampling,
  * so every surface must sit near 1 against it. */
 static void rsm_against_one_bounce_novis(void **state)
@@ -105,9 +111,25 @@ static void rsm_against_one_bounce_novis(void **state)
     assert_true(whole > 0.9 && whole < 1.1);
 }
 
+/* Issue 47: with the visibility of the bounce (imperfect shadow maps) RSM
+ * and VPL gathers compute one-bounce itself. */
+static void visibility_against_one_bounce(void **state)
+{
+    const Fixture *f = *state;
+    GiParams gp = f->scene.gi;
+    gp.gi_visibility = true;
+    const GiMode modes[] = {GI_RSM, GI_VPL_SLC};
+    for (int k = 0; k < 2; k++) {
+        double off = check_surfaces_with(f, modes[k], NULL, PT_ONE_BOUNCE, 0.0, 100.0);
+        double on = check_surfaces_with(f, modes[k], &gp, PT_ONE_BOUNCE, 0.0, 100.0);
+        print_message("%s: whole image off %.3f, on %.3f\n", gi_technique_names()[modes[k]], off, on);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(visibility_against_one_bounce),
         cmocka_unit_test(rsm_against_one_bounce_novis),
     };
     return cmocka_run_group_tests_name("fidelity", tests, setup, teardown);

@@ -36,6 +36,7 @@
 #define SSBO_ISM_POINTS 12 /* ism: vec4[point_count], the scene's point samples (xyz, m) */
 #define SSBO_STATS 13     /* gi/count_surfaces.comp: [0] the count (stats read back on request) */
 #define SSBO_ISM_REPS 14  /* ism from an RSM: uvec4 per map, its block's representative texel (position bits, oct normal) */
+#define SSBO_ISM_CELLS 15 /* ism: uint[grid_n³ + 1], where each cell's points start in SSBO_ISM_POINTS */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -299,20 +300,28 @@
 /* Imperfect shadow maps (std140; src/gi/visibility/ism.c): map m is an
  * size × size paraboloid depth map at (m mod per_row, m / per_row)·size
  * in the atlas, seen from its source (a VPL, or the representative texel
- * of an RSM block) along the source's normal. */
+ * of an RSM block) along the source's normal. Its points: far_points of
+ * the whole scene's (SSBO_ISM_POINTS, sorted by the cells of a grid_n³
+ * grid), and near_points of those in the 3×3×3 cells around the source
+ * (SSBO_ISM_CELLS: cell c's points are [start[c], start[c + 1])). */
 #define GPU_ISM_PARAMS_FIELDS(F, A)                                                    \
     F(int, size)            /* texels per side of one map */                          \
-    F(int, per_row)         /* maps per atlas row */                                  \
-    F(uint, points)         /* points splatted into each map */                        \
-    F(uint, point_count)    /* points in SSBO_ISM_POINTS */                            \
-    F(float, point_area)    /* scene area one of a map's points stands for (m²) */    \
-    F(float, bias_rel)      /* visible while distance <= stored · (1 + bias_rel) + bias_abs */ \
+    F(int, per_row)         /* maps per atlas row (a power of two) */                 \
+    F(uint, far_points)     /* points of the whole scene splatted into each map */    \
+    F(uint, point_count)    /* points in SSBO_ISM_POINTS (a power of two) */           \
+    F(float, far_area)      /* scene area one far point stands for (m²) */            \
+    F(float, bias_rel)      /* visible while distance <= stored + bias (ism.glsl) */  \
     F(float, bias_abs)      /* (m) */                                                  \
     F(uint, maps)           /* maps in the atlas */                                    \
     F(int, blocks)          /* from an RSM: blocks per side of each layer */           \
     F(int, block_texels)    /* from an RSM: texels per side of a block */              \
     F(int, rsm_size)        /* from an RSM: its texels per side */                     \
-    F(uint, maps_per_light) /* from an RSM: maps of each light (light i's start at i times this) */
+    F(uint, maps_per_light) /* from an RSM: maps of each light (light i's start at i times this) */ \
+    F(uint, near_points)    /* points of the cells around the source splatted into each map */ \
+    F(int, grid_n)          /* cells per side of the points' grid */                   \
+    F(float, point_area)    /* scene area one point of the buffer stands for (m²) */  \
+    F(uint, far_stride)     /* far points: odd step through the sorted buffer */       \
+    F(vec4, grid)           /* xyz: the grid's min corner (m); w: its cell size (m) */
 
 /* ---- Declarations --------------------------------------------------------- */
 #ifdef GL_core_profile /* GLSL */
@@ -362,7 +371,7 @@ static_assert(sizeof(GpuGiParams) == 16 * 4, "GpuGiParams: 16 scalars (std140 ro
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 13 * 4, "GpuVplParams: 13 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
-static_assert(sizeof(GpuIsmParams) == 3 * 16, "GpuIsmParams: std140 size");
+static_assert(sizeof(GpuIsmParams) == 5 * 16, "GpuIsmParams: std140 size");
 static_assert(sizeof(GpuVctParams) == 3 * 16 + VCT_MAX_LEVELS * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
 
 #include <string.h>

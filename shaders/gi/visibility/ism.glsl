@@ -61,7 +61,7 @@ ivec2 ism_texel(IsmFrame f, uint m, vec2 uv)
 // radians at radius ρ of the paraboloid) times the tangent of x's
 // incidence nearer than x on x's own surface, times ISM_SLOPE for the
 // splats' footprint and pull-push's averages; then bias_rel·d + bias_abs.
-const float ISM_SLOPE = 1.5;
+const float ISM_SLOPE = 1.0;
 const float ISM_MAX_TAN = 4.0;
 
 float ism_visibility(IsmFrame f, uint m, vec3 xs, vec3 ns, vec3 x, vec3 nx)

@@ -23,9 +23,11 @@
 #define ISM_BIAS_REL 0.05f
 #define ISM_BIAS_ABS 0.002f
 
-/* Scene points the maps draw from: every map takes `points` of them from
- * a hashed offset, so the set is a few tens of maps' worth. */
-#define ISM_POINT_SETS 32
+/* Scene points the maps draw from: a few tens of maps' worth. */
+#define ISM_POINT_SETS 128
+/* Cells per side of the grid the points are sorted by: a map's near points
+ * come from the 3×3×3 cells around its source. */
+#define ISM_GRID 32
 
 static int size_texels(int ism_size) { return 16 << (ism_size < 0 ? 0 : ism_size > 2 ? 2 : ism_size); }
 
@@ -50,8 +52,25 @@ static bool opaque_at(const Scene *s, const Material *mat, const float uv[2])
     return t->rgba[4 * ((size_t)y * t->width + x) + 3] / 255.f >= mat->alpha_cutoff;
 }
 
+/* common/packing.glsl's pack_oct16 of unit n. */
+static uint32_t oct16(const float n[3])
+{
+    float l1 = fabsf(n[0]) + fabsf(n[1]) + fabsf(n[2]);
+    float p[2] = {n[0] / l1, n[1] / l1};
+    if (n[2] < 0.f) {
+        float x = p[0], y = p[1];
+        p[0] = (1.f - fabsf(y)) * (x >= 0.f ? 1.f : -1.f);
+        p[1] = (1.f - fabsf(x)) * (y >= 0.f ? 1.f : -1.f);
+    }
+    uint32_t o[2];
+    for (int k = 0; k < 2; k++)
+        o[k] = (uint32_t)lrintf(fminf(fmaxf(p[k] * 0.5f + 0.5f, 0.f), 1.f) * 65535.f);
+    return o[0] | o[1] << 16;
+}
+
 /* `count` points uniform over the scene's triangles by area, the holes of
- * alpha-masked materials left out, into out[4·i]; the area they cover
+ * alpha-masked materials left out, into out[4·i] (xyz, and the bits of the
+ * triangle's normal, pack_oct16, in w); the area they cover
  * into *area. false after logging if memory runs out. */
 static bool sample_points(const Scene *s, uint32_t count, float *out, double *area)
 {
@@ -99,15 +118,66 @@ static bool sample_points(const Scene *s, uint32_t count, float *out, double *ar
         }
         if (!opaque_at(s, &s->materials[mat_of[lo]], uv))
             continue;
+        const float *a = s->vertices[s->indices[3 * lo]].position, *b = s->vertices[s->indices[3 * lo + 1]].position,
+                    *c = s->vertices[s->indices[3 * lo + 2]].position;
+        vec3 e1 = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2 = {c[0] - a[0], c[1] - a[1], c[2] - a[2]}, n;
+        glm_vec3_cross(e1, e2, n);
+        glm_vec3_normalize(n);
         memcpy(out + 4 * got, p, sizeof p);
-        out[4 * got + 3] = 1.f;
+        uint32_t code = oct16(n);
+        memcpy(out + 4 * got + 3, &code, sizeof code);
         got++;
     }
-    for (uint32_t i = got; i < count; i++) /* a scene with nothing to sample: points nowhere, far away */
-        memcpy(out + 4 * i, (float[4]){1e30f, 1e30f, 1e30f, 0.f}, 4 * sizeof(float));
+    for (uint32_t i = got; i < count; i++) { /* a scene with nothing to sample: points nowhere, far away */
+        memcpy(out + 4 * i, (float[3]){1e30f, 1e30f, 1e30f}, 3 * sizeof(float));
+        memset(out + 4 * i + 3, 0, sizeof(float));
+    }
     *area = tries ? total * (double)got / (double)tries : 0.0;
     free(cdf);
     free(mat_of);
+    return true;
+}
+
+/* Sorts the points by the cell of the grid (origin, cell size, n per side)
+ * that holds them (a counting sort; x fastest) and writes where each
+ * cell's points start into start[n³ + 1]. false after logging if memory
+ * runs out. */
+static bool sort_points(float *pts, uint32_t count, const float origin[3], float cell, int n, uint32_t *start)
+{
+    uint32_t cells = (uint32_t)(n * n * n), *of = malloc(sizeof(uint32_t) * (count + 1));
+    float *sorted = malloc(sizeof(float) * 4 * (count + 1));
+    if (!of || !sorted) {
+        free(of);
+        free(sorted);
+        log_error("ism", "out of memory sorting %u points", count);
+        return false;
+    }
+    memset(start, 0, sizeof(uint32_t) * (cells + 1));
+    for (uint32_t i = 0; i < count; i++) {
+        int c[3];
+        for (int k = 0; k < 3; k++) {
+            float f = (pts[4 * i + k] - origin[k]) / cell;
+            c[k] = f < 0.f || !(f == f) ? 0 : f >= (float)n ? n - 1 : (int)f;
+        }
+        of[i] = (uint32_t)((c[2] * n + c[1]) * n + c[0]);
+        start[of[i] + 1]++;
+    }
+    for (uint32_t c = 0; c < cells; c++)
+        start[c + 1] += start[c];
+    uint32_t *fill = malloc(sizeof(uint32_t) * cells);
+    if (!fill) {
+        free(of);
+        free(sorted);
+        log_error("ism", "out of memory sorting %u points", count);
+        return false;
+    }
+    memcpy(fill, start, sizeof(uint32_t) * cells);
+    for (uint32_t i = 0; i < count; i++)
+        memcpy(sorted + 4 * fill[of[i]]++, pts + 4 * i, 4 * sizeof(float));
+    memcpy(pts, sorted, sizeof(float) * 4 * count);
+    free(fill);
+    free(of);
+    free(sorted);
     return true;
 }
 
@@ -120,8 +190,8 @@ static GLuint program(Ism *m, const char *label, const char *comp, const char *d
 
 void ism_destroy(Ism *m)
 {
-    GLuint bufs[3] = {m->point_buffer, m->reps, m->ubo};
-    glDeleteBuffers(3, bufs);
+    GLuint bufs[4] = {m->point_buffer, m->reps, m->ubo, m->cells};
+    glDeleteBuffers(4, bufs);
     glDeleteTextures(1, &m->atlas);
     free(m->blocks);
     free(m->block_texels);
@@ -203,40 +273,55 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
     m->ubo = gi_ubo_make(sizeof(GpuIsmParams), "ism.params");
     if (source == ISM_FROM_RSM)
         m->reps = gl_buffer_make((uint64_t)m->maps * 16, NULL, 0, "ism.representatives");
+    /* The points' grid: cubic cells over the scene's bounds. */
+    vec3 ext;
+    glm_vec3_sub((float *)s->bounds_max, (float *)s->bounds_min, ext);
+    float cell = fmaxf(fmaxf(ext[0], ext[1]), fmaxf(ext[2], 1e-6f)) / (float)ISM_GRID * 1.001f;
+    uint32_t cells = ISM_GRID * ISM_GRID * ISM_GRID;
     float *pts = malloc(sizeof(float) * 4 * m->point_count);
+    uint32_t *start = malloc(sizeof(uint32_t) * (cells + 1));
     double area = 0;
-    bool ok = progs && m->atlas && m->ubo && (source == ISM_FROM_VPLS || m->reps) && pts &&
-              sample_points(s, m->point_count, pts, &area);
-    if (!pts)
+    bool ok = progs && m->atlas && m->ubo && (source == ISM_FROM_VPLS || m->reps) && pts && start &&
+              sample_points(s, m->point_count, pts, &area) &&
+              sort_points(pts, m->point_count, s->bounds_min, cell, ISM_GRID, start);
+    if (!pts || !start)
         log_error("ism", "out of memory for %u points", m->point_count);
     if (ok)
-        ok = (m->point_buffer = gl_buffer_make(sizeof(float) * 4 * (uint64_t)m->point_count, pts, 0, "ism.points")) != 0;
+        ok = (m->point_buffer = gl_buffer_make(sizeof(float) * 4 * (uint64_t)m->point_count, pts, 0, "ism.points")) &&
+             (m->cells = gl_buffer_make(sizeof(uint32_t) * (uint64_t)(cells + 1), start, 0, "ism.cells"));
     free(pts);
+    free(start);
     if (!ok) {
         ism_destroy(m);
         return false;
     }
-    m->point_area = (float)(area / m->points);
-    vec3 ext;
-    glm_vec3_sub((float *)s->bounds_max, (float *)s->bounds_min, ext);
     GpuIsmParams *g = &m->gpu;
     g->size = m->size;
     g->per_row = m->per_row;
-    g->points = (uint32_t)m->points;
+    g->far_points = (uint32_t)(m->points - m->points / 2);
+    g->near_points = (uint32_t)(m->points / 2);
     g->point_count = m->point_count;
-    g->point_area = m->point_area;
+    g->point_area = (float)(area / m->point_count);
+    g->far_area = (float)(area / g->far_points);
+    g->far_stride = (uint32_t)(0.6180339887 * m->point_count) | 1u; /* odd: a permutation of the buffer */
+    g->grid_n = ISM_GRID;
+    glm_vec3_copy((float *)s->bounds_min, g->grid);
+    g->grid[3] = cell;
     g->bias_rel = ISM_BIAS_REL;
     g->bias_abs = ISM_BIAS_ABS * glm_vec3_norm(ext);
     g->maps = m->maps;
     g->maps_per_light = m->maps_per_light;
     glNamedBufferSubData(m->ubo, 0, sizeof *g, g);
+    log_debug("ism", "%u maps of %d² (%s), %u points over %.4g m² (%.3g m² each), %d points per map", m->maps, m->size,
+              source == ISM_FROM_VPLS ? "one per VPL" : "one per block of RSM texels", m->point_count, area,
+              g->point_area, m->points);
     return true;
 }
 
 uint64_t ism_gpu_bytes(const Ism *m)
 {
-    const GLuint bufs[3] = {m->point_buffer, m->reps, m->ubo};
-    return gl_texture_bytes(m->atlas) + gl_buffers_bytes(bufs, 3);
+    const GLuint bufs[4] = {m->point_buffer, m->reps, m->ubo, m->cells};
+    return gl_texture_bytes(m->atlas) + gl_buffers_bytes(bufs, 4);
 }
 
 const char *ism_defines(const Ism *m)
@@ -316,7 +401,8 @@ void ism_update(Ism *m, const GiFrame *f)
     glClearTexImage(m->atlas, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &empty);
     glBindImageTexture(IMG_OUT, m->atlas, 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32UI);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_ISM_POINTS, m->point_buffer);
-    uint32_t point_groups = ((uint32_t)m->points + 255u) / 256u; /* 64 invocations of 4 points */
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_ISM_CELLS, m->cells);
+    uint32_t point_groups = ((uint32_t)m->points + 255u) / 256u; /* 64 invocations of 4 points: far, then near */
     if (m->source == ISM_FROM_VPLS) {
         light_stage_bind_vpls(ls);
         glUseProgram(m->splat[0][0]);

@@ -38,7 +38,7 @@ typedef struct Ism {
     IsmSource source;
     ProgramCache *pc;      /* borrowed: owns the programs */
     int size;              /* texels per side of one map */
-    int points;            /* points splatted into each map */
+    int points;            /* points splatted into each map: half the scene's, half near its source */
     int per_row;           /* maps per atlas row (a power of two) */
     uint32_t maps;         /* maps in the atlas */
     uint32_t maps_per_light; /* ISM_FROM_RSM: maps of each light's blocks */
@@ -47,9 +47,9 @@ typedef struct Ism {
     int *block_texels;     /* ISM_FROM_RSM: texels per side of a block */
     GLuint atlas;          /* R32UI, per_row·size × rows·size: distances' bits; mips: pull-push's levels */
     int levels;            /* the atlas's mips: one texel per map at the last */
-    GLuint point_buffer;   /* vec4[point_count] */
+    GLuint point_buffer;   /* vec4[point_count], sorted by grid cell */
     uint32_t point_count;  /* a power of two */
-    float point_area;      /* scene area one of a map's points stands for (m²) */
+    GLuint cells;          /* uint[grid³ + 1]: where each cell's points start */
     GLuint reps;           /* ISM_FROM_RSM: uvec4 per map */
     GLuint ubo;            /* GpuIsmParams, per light (ISM_FROM_RSM: its block layout) */
     GpuIsmParams gpu;      /* as last uploaded */

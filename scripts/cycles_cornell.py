@@ -28,13 +28,9 @@ import bpy
 from mathutils import Matrix, Vector
 
 
-def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    p = argparse.ArgumentParser(prog="cycles_cornell.py")
-    src = p.add_mutually_exclusive_group(required=True)
-    src.add_argument("--facts", help="the Cornell box facts (JSON)")
-    src.add_argument("--scene", help="an rtgi scene file of quads, quad lights and a camera")
-    p.add_argument("--size", default="128x128")
+def add_render_args(p, size):
+    """The options of render() (and of scripts/cycles_mesh.py)."""
+    p.add_argument("--size", default=size)
     p.add_argument("--spp", type=int, default=1024)
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--threads", type=int, default=0)
@@ -44,11 +40,24 @@ def parse_args():
                    help="indirect bounces (0: direct light only, as rtgi reference --mode direct; "
                         "1: --mode one-bounce; 64: --mode full)")
     p.add_argument("--out", required=True)
-    a = p.parse_args(argv)
+
+
+def parse_render_args(p):
+    """The arguments after Blender's "--", and the image's width and height."""
+    a = p.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
     w, h = (int(v) for v in a.size.lower().split("x"))
     if w < 1 or h < 1 or a.spp < 1 or a.bounces < 0:
         p.error("--size and --spp must be positive, --bounces not negative")
     return a, w, h
+
+
+def parse_args():
+    p = argparse.ArgumentParser(prog="cycles_cornell.py")
+    src = p.add_mutually_exclusive_group(required=True)
+    src.add_argument("--facts", help="the Cornell box facts (JSON)")
+    src.add_argument("--scene", help="an rtgi scene file of quads, quad lights and a camera")
+    add_render_args(p, "128x128")
+    return parse_render_args(p)
 
 
 def node_material(name):
@@ -169,19 +178,20 @@ def from_rtgi_scene(scene, doc):
     add_camera(scene, cam["position"], forward, cam.get("up", [0, 1, 0]), cam["fov_y_deg"])
 
 
-def main():
-    a, w, h = parse_args()
-    # An empty scene: the factory startup's cube, lamp and camera go.
+def empty_scene():
+    """The factory startup's cube, lamp and camera removed."""
     for obj in list(bpy.data.objects):
         bpy.data.objects.remove(obj, do_unlink=True)
-    scene = bpy.context.scene
-    with open(a.facts or a.scene) as f:
-        doc = json.load(f)
-    if a.facts:
-        cornell_from_facts(scene, doc)
-    else:
-        from_rtgi_scene(scene, doc)
+    return bpy.context.scene
 
+
+def render(scene, a, w, h, transparent_bounces=0):
+    """Renders `scene` to a.out (linear float EXR) with the settings of
+    this check: a black world, Cycles on the CPU, a.spp samples without
+    adaptive sampling, denoising or clamping, a.bounces diffuse bounces
+    (none glossy), a box filter a.filter_width wide, no view transform.
+    `transparent_bounces`: how many transparent surfaces (alpha-masked
+    texels) a ray may pass (scripts/cycles_mesh.py)."""
     world = bpy.data.worlds.new("black")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
@@ -196,7 +206,7 @@ def main():
     cy.seed = a.seed
     cy.max_bounces = cy.diffuse_bounces = a.bounces
     cy.glossy_bounces = cy.transmission_bounces = cy.volume_bounces = 0
-    cy.transparent_max_bounces = 0
+    cy.transparent_max_bounces = transparent_bounces
     cy.sample_clamp_direct = cy.sample_clamp_indirect = 0.0
     cy.light_sampling_threshold = 0.0
     cy.filter_type = "BOX"
@@ -219,4 +229,17 @@ def main():
     bpy.ops.render.render(write_still=True)
 
 
-main()
+def main():
+    a, w, h = parse_args()
+    scene = empty_scene()
+    with open(a.facts or a.scene) as f:
+        doc = json.load(f)
+    if a.facts:
+        cornell_from_facts(scene, doc)
+    else:
+        from_rtgi_scene(scene, doc)
+    render(scene, a, w, h)
+
+
+if __name__ == "__main__":  # scripts/cycles_mesh.py imports the functions above
+    main()

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The HTML report of every technique against the path-traced reference:
-# a thin wrapper over `rtgi bench` (see the README, "Benchmarks").
+# a thin wrapper over `rtgi bench` (see docs/measuring.md, "Benchmarks").
 # Usage: scripts/report.sh [SCENE] [WxH] [SPP] → out/report/<scene>_<size>/report.html
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -6,6 +6,12 @@
 
 #include <math.h>
 
+/* max(x, 0) and clamp(x, 0, 1) as compares, which compile inline (fmaxf
+ * and fminf are library calls without -ffinite-math-only); a NaN gives 0,
+ * as fmaxf(NaN, 0) does. */
+static inline float pos0(float x) { return x > 0.f ? x : 0.f; }
+static inline float sat(float x) { return x > 0.f ? (x < 1.f ? x : 1.f) : 0.f; }
+
 void brdf_surface(const vec3 base, float metallic, float roughness, float specular, BrdfSurface *out)
 {
     for (int c = 0; c < 3; c++) {
@@ -29,7 +35,7 @@ float brdf_f90(const vec3 f0)
 void brdf_fresnel(const vec3 f0, float cos_theta, vec3 out)
 {
     float f90 = brdf_f90(f0);
-    float m = 1.f - fminf(fmaxf(cos_theta, 0.f), 1.f);
+    float m = 1.f - sat(cos_theta);
     float m5 = m * m * m * m * m;
     for (int c = 0; c < 3; c++)
         out[c] = f0[c] + (f90 - f0[c]) * m5;
@@ -122,7 +128,7 @@ void brdf_specular_albedo(const vec3 f0, float roughness, float n_dot_v, vec3 ou
 
 float brdf_ggx_d(float n_dot_h, float alpha)
 {
-    return ggx_d_cs(n_dot_h * n_dot_h, fmaxf(0.f, 1.f - n_dot_h * n_dot_h), alpha);
+    return ggx_d_cs(n_dot_h * n_dot_h, pos0(1.f - n_dot_h * n_dot_h), alpha);
 }
 
 float brdf_smith_lambda(float c, float alpha)
@@ -160,7 +166,7 @@ void brdf_eval_lobes(const BrdfSurface *s, const vec3 n, const vec3 v, const vec
     glm_vec3_add((float *)v, (float *)l, h);
     glm_vec3_normalize(h);
     glm_vec3_cross((float *)n, h, nxh);
-    float nh = fmaxf(glm_vec3_dot((float *)n, h), 0.f), vh = fmaxf(glm_vec3_dot((float *)v, h), 0.f);
+    float nh = pos0(glm_vec3_dot((float *)n, h)), vh = pos0(glm_vec3_dot((float *)v, h));
     brdf_fresnel(s->f0, vh, f);
     float a = brdf_alpha(s->roughness);
     /* A view below the shading normal's horizon (interpolated normals near
@@ -251,7 +257,11 @@ float brdf_spec_prob(const BrdfSurface *s, float n_dot_v)
 
 bool brdf_sample(const BrdfSurface *s, const vec3 wo, float u0, float u1, float u2, vec3 wi)
 {
-    float p = brdf_spec_prob(s, wo[2]);
+    return brdf_sample_p(s, wo, brdf_spec_prob(s, wo[2]), u0, u1, u2, wi);
+}
+
+bool brdf_sample_p(const BrdfSurface *s, const vec3 wo, float p, float u0, float u1, float u2, vec3 wi)
+{
     if (u0 < p) {
         vec3 h;
         brdf_sample_vndf(wo, brdf_alpha(s->roughness), u1, u2, h);
@@ -262,7 +272,7 @@ bool brdf_sample(const BrdfSurface *s, const vec3 wo, float u0, float u1, float 
         float r = sqrtf(u1), phi = 2.f * GLM_PIf * u2;
         wi[0] = r * cosf(phi);
         wi[1] = r * sinf(phi);
-        wi[2] = sqrtf(fmaxf(0.f, 1.f - u1));
+        wi[2] = sqrtf(pos0(1.f - u1));
     }
     return wi[2] > 0.f;
 }
@@ -276,4 +286,34 @@ float brdf_pdf(const BrdfSurface *s, const vec3 wo, const vec3 wi)
     if (p > 0.f)
         pdf += p * brdf_spec_pdf(wo, wi, brdf_alpha(s->roughness));
     return pdf;
+}
+
+void brdf_eval_pdf(const BrdfSurface *s, const vec3 wo, const vec3 wi, float p, vec3 f, float *pdf)
+{
+    float nv = wo[2], nl = wi[2];
+    glm_vec3_zero(f);
+    *pdf = 0.f;
+    if (nl <= 0.f)
+        return;
+    /* One half vector for both: brdf_eval_lobes' h and brdf_spec_pdf's. */
+    vec3 h;
+    glm_vec3_add((float *)wo, (float *)wi, h);
+    float len = glm_vec3_norm(h);
+    if (len > 0.f)
+        glm_vec3_scale(h, 1.f / len, h);
+    float a = brdf_alpha(s->roughness);
+    float oh = glm_vec3_dot((float *)wo, h);
+    float d = ggx_d_cs(h[2] * h[2], h[0] * h[0] + h[1] * h[1], a);
+    vec3 fh, fv, fl;
+    brdf_fresnel(s->f0, pos0(oh), fh);
+    brdf_fresnel(s->f0, nv, fv);
+    brdf_fresnel(s->f0, nl, fl);
+    float dv = nv > 0.f && len > 0.f ? d * brdf_smith_v(nv, nl, a) : 0.f;
+    for (int c = 0; c < 3; c++)
+        f[c] = brdf_diffuse_transmission(fv[c], fl[c], s->f0[c]) * s->diffuse[c] / GLM_PIf + fh[c] * dv;
+    /* brdf_pdf: (1 − p) cos/π + p · VNDF density / (4 wo·h), where the VNDF
+     * density is G1(wo)·(wo·h)·D / wo.z. */
+    *pdf = (1.f - p) * nl / GLM_PIf;
+    if (p > 0.f && len > 0.f && nv > 0.f && h[2] > 0.f && oh > 0.f)
+        *pdf += p * brdf_smith_g1(nv, a) * d / (4.f * nv);
 }

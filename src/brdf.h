@@ -104,7 +104,15 @@ float brdf_spec_prob(const BrdfSurface *s, float n_dot_v);
 /* Samples wi (local frame) for wo (wo.z > 0); false if the sample falls
  * below the surface. u0 picks the lobe, (u1, u2) the direction. */
 bool brdf_sample(const BrdfSurface *s, const vec3 wo, float u0, float u1, float u2, vec3 wi);
+/* brdf_sample with the specular probability p = brdf_spec_prob(s, wo[2])
+ * given (the path tracer computes it once per surface point). */
+bool brdf_sample_p(const BrdfSurface *s, const vec3 wo, float p, float u0, float u1, float u2, vec3 wi);
 /* Density of brdf_sample's wi (local frame). */
 float brdf_pdf(const BrdfSurface *s, const vec3 wo, const vec3 wi);
+/* brdf_eval and brdf_pdf in one (local frame, n = +z), sharing the half
+ * vector and D: f(wo, wi) and the density of wi, with p =
+ * brdf_spec_prob(s, wo[2]). Equal to the two apart up to rounding
+ * (test_brdf). */
+void brdf_eval_pdf(const BrdfSurface *s, const vec3 wo, const vec3 wi, float p, vec3 f, float *pdf);
 
 #endif

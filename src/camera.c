@@ -25,15 +25,30 @@ bool camera_project(const Camera *c, int w, int h, const vec3 world, float *px, 
     return true;
 }
 
+void camera_ray_basis(const Camera *c, int w, int h, CameraRayBasis *b)
+{
+    b->tan_half = tanf(0.5f * c->fov_y);
+    b->width = (float)w;
+    b->height = (float)h;
+    glm_vec3_copy((float *)c->forward, b->forward);
+    glm_vec3_copy((float *)c->up, b->up);
+    glm_vec3_cross((float *)c->forward, (float *)c->up, b->right);
+    glm_vec3_normalize(b->right);
+}
+
+void camera_ray_dir(const CameraRayBasis *b, float px, float py, vec3 dir)
+{
+    float t = b->tan_half;
+    float sx = (2.f * px / b->width - 1.f) * t * b->width / b->height;
+    float sy = (1.f - 2.f * py / b->height) * t;
+    for (int i = 0; i < 3; i++)
+        dir[i] = b->forward[i] + sx * b->right[i] + sy * b->up[i];
+    glm_vec3_normalize(dir);
+}
+
 void camera_ray(const Camera *c, int w, int h, float px, float py, vec3 dir)
 {
-    float t = tanf(0.5f * c->fov_y);
-    float sx = (2.f * px / (float)w - 1.f) * t * (float)w / (float)h;
-    float sy = (1.f - 2.f * py / (float)h) * t;
-    vec3 right;
-    glm_vec3_cross((float *)c->forward, (float *)c->up, right);
-    glm_vec3_normalize(right);
-    for (int i = 0; i < 3; i++)
-        dir[i] = c->forward[i] + sx * right[i] + sy * c->up[i];
-    glm_vec3_normalize(dir);
+    CameraRayBasis b;
+    camera_ray_basis(c, w, h, &b);
+    camera_ray_dir(&b, px, py, dir);
 }

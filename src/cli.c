@@ -215,8 +215,8 @@ int cli_check_files(int n, int outputs, const char *const opts[], const char *co
         /* The writers' own temporary file, created and removed: what the
          * write will meet, permissions as the kernel applies them (root
          * included); directories, devices and FIFOs refused. */
-        AtomicFile af;
-        if (!util_atomic_open(&af, "cli", paths[i]))
+        AtomicFile af; /* tagged with the command: it is the output's problem, not the command line's */
+        if (!util_atomic_open(&af, g_command ? g_command : "rtgi", paths[i]))
             return 1;
         util_atomic_abort(&af);
     }

@@ -1,7 +1,7 @@
 /* cmd_bench.c — `rtgi bench`: every listed technique (shadow × GI × settings)
  * of one scene rendered in-process with per-pass timings, measured against a
  * cached path-traced reference with the emitters masked out, written as
- * DIR/bench.json (schema in the README, "Benchmarks") and the self-contained
+ * DIR/bench.json (schema in docs/measuring.md, "Benchmarks") and the self-contained
  * DIR/report.html (report_html.c). Every output is written into a staging
  * directory DIR/.bench-PID-XXXXXX and moved into DIR only when all of them
  * are written: a failed run leaves DIR as it was (a killed one leaves its
@@ -283,10 +283,30 @@ static bool stage_commit(char *stage, const char *out)
      * leaves DIR only with its hidden staging directory. */
     bool ok = make_dir(to) && drain_dir(from, to, DRAIN_CHECK) && drain_dir(stage, out, DRAIN_CHECK) &&
               drain_dir(from, to, DRAIN_MOVE) && drain_dir(stage, out, DRAIN_MOVE);
-    if (ok && rmdir(from) == 0 && rmdir(stage) == 0)
+    if (ok && rmdir(from) == 0 && rmdir(stage) == 0) {
+        util_live_dir_remove(stage);
         stage[0] = 0;
+    }
     util_end_deferral();
     return ok;
+}
+
+/* Two runs into one DIR: the second's results replace the first's. Said,
+ * with the run they replace (its commit and date, from its bench.json). */
+static void warn_if_replacing(const char *out)
+{
+    char path[1100];
+    snprintf(path, sizeof path, "%s/bench.json", out);
+    char *text = util_read_file(path, NULL);
+    if (!text)
+        return;
+    cJSON *old = cJSON_Parse(text);
+    free(text);
+    const cJSON *commit = cJSON_GetObjectItem(old, "commit"), *date = cJSON_GetObjectItem(old, "date");
+    log_warn("bench", "%s: replacing the results of an earlier run (%s, %s); give another --out to keep both", out,
+             cJSON_IsString(commit) ? commit->valuestring : "commit unknown",
+             cJSON_IsString(date) ? date->valuestring : "date unknown");
+    cJSON_Delete(old);
 }
 
 /* true if something (even a dangling link) is at `path`. */
@@ -1098,6 +1118,11 @@ int cmd_bench(int argc, char **argv)
     cJSON *doc = NULL;
     if (!make_dir(args.cache) || !make_dir(out) || !stage_open(out, stage, sizeof stage))
         goto done; /* a bad --cache leaves no DIR */
+    /* Ctrl-C or SIGTERM before the outputs are moved into DIR leaves no
+     * staging directory behind, nor a DIR that this run made. */
+    if (made_out)
+        util_live_dir_add(out, false);
+    util_live_dir_add(stage, true);
     snprintf(images_dir, sizeof images_dir, "%s/images", stage);
     if (!bench_prepare_reference(&args, &scene, images_dir, &ref) || !(gl = gl_context_create(false)) ||
         !(doc = bench_doc_create(&args, &scene, gl, &ref)))
@@ -1110,13 +1135,18 @@ int cmd_bench(int argc, char **argv)
          * timer is reset by the next one. */
         cJSON_AddItemToArray(cJSON_GetObjectItem(doc, "techniques"), entry_json(&entries[i], &r));
     }
-    if (!bench_write_outputs(stage, doc, &ref, entries, n) || !stage_commit(stage, out))
+    if (!bench_write_outputs(stage, doc, &ref, entries, n))
+        goto done;
+    warn_if_replacing(out);
+    if (!stage_commit(stage, out))
         goto done;
     if (args.markdown)
         print_markdown(doc);
     rc = 0;
     log_info("bench", "wrote %s/bench.json, %s/report.html and %s/bench.csv (%d techniques)", out, out, out, n);
 done:
+    util_live_dir_remove(stage);
+    util_live_dir_remove(out);
     if (stage[0])
         stage_remove(stage);
     if (rc != 0 && made_images)

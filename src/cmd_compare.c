@@ -20,7 +20,8 @@ void cmd_compare_help(void)
            "  TEST, REFERENCE    .pfm or .exr (OpenEXR, half or float: linear radiance) or .png\n"
            "                     (sRGB, decoded to linear)\n"
            "  --metric rmse|relmse|ssim|flip|all   (default: all)\n"
-           "  --heatmap FILE.png per-pixel error of the first metric (FLIP map for all)\n"
+           "  --heatmap FILE.png per-pixel error of the first metric (FLIP map for all), with a\n"
+           "                     colour bar below it labelled with the value at full heat\n"
            "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"
            "  --mask-emitters FILE  the same, with the mask that render/reference --emitter-mask\n"
            "                     write: pixels that see an emitter (and their neighbours) do not count\n"
@@ -88,6 +89,8 @@ typedef struct CompareResults {
     double ratio[4];      /* mean ratio of luminance, then of r, g, b */
     ShadowArtefacts sa;   /* with --unshadowed */
     float *map;           /* with --heatmap: per-pixel values in [0,1] (owned), else NULL */
+    int map_metric;       /* the metric it shows (index of rmse, relmse, ssim, flip) */
+    double map_full;      /* that metric's value at 1 (full heat) */
 } CompareResults;
 
 /* The results as one JSON object; strings escaped, non-finite numbers as
@@ -318,6 +321,15 @@ static bool compare_load_inputs(const CompareArgs *args, CompareInputs *in)
         return false;
     log_debug("compare", "test %s: %dx%d; reference %s: %dx%d", files[0], t->width, t->height, files[1], r->width,
               r->height);
+    /* A PNG holds a tone-mapped image (exposure, clamp, sRGB), a PFM or EXR
+     * radiance: numbers between the two measure the tone mapping too. */
+    bool display[2];
+    for (int k = 0; k < 2; k++)
+        display[k] = util_ends_with(files[k], ".png") || util_ends_with(files[k], ".PNG");
+    if (display[0] != display[1])
+        log_warn("compare", "%s is a tone-mapped image (PNG) but %s is linear radiance: the numbers measure the "
+                 "exposure, clamp and sRGB curve too; compare two radiance files (.pfm, .exr) or two PNGs",
+                 files[display[0] ? 0 : 1], files[display[0] ? 1 : 0]);
     if (t->width != r->width || t->height != r->height) {
         log_error("compare", "%s is %dx%d but %s is %dx%d: sizes must match", files[0], t->width, t->height,
                   files[1], r->width, r->height);
@@ -377,8 +389,9 @@ static bool block_metrics(const ImageF *t, const ImageF *r, const uint8_t *mask,
 }
 
 /* Scales the heat map of metric `k` to [0,1] with 1 the worst: RMSE by
- * its maximum, SSIM as 1 − SSIM; relMSE and FLIP as they are. */
-static void heatmap_normalise(float *map, size_t np, int k)
+ * its maximum, SSIM as 1 − SSIM; relMSE and FLIP as they are. Returns the
+ * metric's value at 1 (the colour bar's label). */
+static double heatmap_normalise(float *map, size_t np, int k)
 {
     if (k == 0) {
         float mx = 0;
@@ -386,11 +399,16 @@ static void heatmap_normalise(float *map, size_t np, int k)
             mx = map[i] > mx ? map[i] : mx;
         for (size_t i = 0; mx > 0 && i < np; i++)
             map[i] /= mx;
-    } else if (k == 2) {
+        return mx;
+    }
+    if (k == 2)
         for (size_t i = 0; i < np; i++)
             map[i] = 1.f - map[i];
-    }
+    return 1.0;
 }
+
+/* The colour bar's name of metric k's heat map. */
+static const char *const k_heatmap_names[] = {"rmse", "relmse", "1-ssim", "flip"};
 
 /* Every metric asked for, the block averages', the mean ratios, the
  * shadow artefacts and the heat map into *res, before anything is printed:
@@ -434,8 +452,10 @@ static bool compare_metrics(const CompareArgs *args, const CompareInputs *in, Co
     if (res->block && (res->want[0] || res->want[1]) &&
         !block_metrics(t, r, mask, res->block, res->want, res->block_val))
         return false;
-    if (map)
-        heatmap_normalise(map, np, mm);
+    if (map) {
+        res->map_full = heatmap_normalise(map, np, mm);
+        res->map_metric = mm;
+    }
     return true;
 }
 
@@ -452,7 +472,8 @@ int cmd_compare(int argc, char **argv)
         goto done;
     /* With --json - the JSON alone goes to stdout, the lines to stderr. */
     print_results(args.json && !strcmp(args.json, "-") ? stderr : stdout, &args, &res);
-    if (res.map && !metric_write_heatmap(args.heatmap, res.map, res.width, res.height))
+    if (res.map && !metric_write_heatmap_bar(args.heatmap, res.map, res.width, res.height,
+                                             k_heatmap_names[res.map_metric], res.map_full))
         goto done;
     if (args.json && !write_json(&args, &res)) {
         if (args.heatmap)

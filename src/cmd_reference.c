@@ -17,7 +17,13 @@ void cmd_reference_help(void)
     printf("usage: rtgi reference [options]\n"
            "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
            "  --mode full|direct|one-bounce|one-bounce-novis|indirect   (default: full)\n"
-           "  --spp N            samples per pixel (default: 64)\n"
+           "  --spp N            samples per pixel (default: 64; with --target-relmse or --time\n"
+           "                     and no --spp, at most 16777216)\n"
+           "  --target-relmse E  stop once the relMSE estimated from the per-pixel variance is at\n"
+           "                     most E (checked after each pass, from 16 spp on; with the default\n"
+           "                     Sobol' sampler the real error is usually lower than the estimate)\n"
+           "  --time T           stop before a pass that would end past T seconds of rendering\n"
+           "                     (the first pass always runs)\n"
            "  --sampler sobol|independent   Owen-scrambled Sobol' or independent random numbers (default: sobol)\n"
            "  --seed S           random seed (default: 1); same seed → same image\n"
            "  --threads T        worker threads (default: all cores)\n"
@@ -35,8 +41,11 @@ void cmd_reference_help(void)
            "  --png FILE.png     also write the tone-mapped PNG\n"
            "  --emitter-mask FILE.png   also write the mask of pixels that see an emitter\n"
            "                     (black; render --emitter-mask writes the same one)\n"
-           "  --quiet            errors only: no progress (else on stderr: samples, rays/s, time left)\n"
+           "  --quiet            errors only: no progress (else on stderr: after the first pass the\n"
+           "                     time the rest will take, then samples, rays/s, time left)\n"
            "  --verbose          debug lines too\n"
+           "Prints on stdout: spp (reached), relmse_estimate, and 'stopped: target-relmse' or\n"
+           "'stopped: time' when one of those ended it.\n"
            "Ctrl-C (SIGINT) finishes the current pass (a few samples per pixel) and writes the\n"
            "image with the samples reached ('spp:' line; EXR attribute rtgi_spp); a second\n"
            "Ctrl-C ends the program at once, or once the outputs being written are whole\n"
@@ -44,7 +53,7 @@ void cmd_reference_help(void)
 }
 
 /* The options this command knows (for "did you mean"). */
-static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--threads", "--variance", NULL};
+static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--target-relmse", "--threads", "--time", "--variance", NULL};
 
 /* Set by SIGINT: the path tracer finishes its pass and stops. */
 static volatile int g_interrupted;
@@ -90,6 +99,7 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
     set->threads = cores > 0 ? (int)cores : 1;
     CliArgs a = {.argc = argc, .argv = argv};
     const char *opt, *v;
+    bool spp_given = false;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_reference_help();
@@ -115,6 +125,19 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 1, 1 << 24, &set->spp))
                 return 2;
+            spp_given = true;
+        } else if (!strcmp(opt, "--target-relmse")) {
+            CLI_VALUE(&a, v);
+            float e;
+            if (!cli_float(opt, v, 1e-9f, 1e3f, &e))
+                return 2;
+            set->target_relmse = e;
+        } else if (!strcmp(opt, "--time")) {
+            CLI_VALUE(&a, v);
+            float t;
+            if (!cli_float(opt, v, 1e-3f, 1e7f, &t))
+                return 2;
+            set->time_budget = t;
         } else if (!strcmp(opt, "--seed")) {
             CLI_VALUE(&a, v);
             int s;
@@ -186,6 +209,9 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
     }
     if (cli_failed(&a))
         return 2;
+    /* A target or a budget without --spp: the samples are what they need. */
+    if (!spp_given && (set->target_relmse > 0.0 || set->time_budget > 0.0))
+        set->spp = 1 << 24;
     const char *const opts[] = {"--out", "--png", "--variance", "--emitter-mask", "--scene"};
     const char *const paths[] = {args->out, args->png, args->var_out, args->emitter_mask, args->scene_name};
     return cli_check_files(5, 4, opts, paths);
@@ -216,17 +242,23 @@ static bool reference_write_outputs(const ReferenceArgs *args, const Scene *scen
 }
 
 /* The result lines on stdout (scripts read them). */
-static void reference_print(const ReferenceArgs *args, const Scene *scene, const PtStats *st)
+static void reference_print(const ReferenceArgs *args, const Scene *scene, const PtStats *st, double cpu_s)
 {
     const PtSettings *set = &args->set;
     printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene->source,
            pt_mode_names[set->mode], set->width, set->height, st->spp, set->threads,
            (unsigned long long)set->seed);
     printf("spp: %d\n", st->spp);
-    if (st->spp < set->spp)
+    if (st->stopped == PT_STOP_INTERRUPTED)
         printf("interrupted: %d of %d spp\n", st->spp, set->spp);
+    else if (st->stopped == PT_STOP_TARGET)
+        printf("stopped: target-relmse %g reached at %d spp\n", set->target_relmse, st->spp);
+    else if (st->stopped == PT_STOP_TIME)
+        printf("stopped: time %g s reached at %d spp\n", set->time_budget, st->spp);
+    printf("relmse_estimate: %.6g\n", st->relmse_estimate);
     printf("sampler: %s\n", pt_sampler_names[set->sampler]);
     printf("time_s: %.3f\n", st->seconds);
+    printf("cpu_s: %.3f\n", cpu_s);
     printf("rays: %llu\n", (unsigned long long)st->rays);
     printf("rays_per_s: %.0f\n", st->seconds > 0 ? st->rays / st->seconds : 0.0);
     log_info("reference", "wrote %s", args->out);
@@ -265,16 +297,18 @@ int cmd_reference(int argc, char **argv)
     sa.sa_flags = SA_RESETHAND;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, &old_sa);
+    double cpu0 = util_cpu_seconds();
     bool rendered = pt_render(&scene, set, &mean, args.var_out ? &var : NULL, &st);
+    double cpu_s = util_cpu_seconds() - cpu0; /* BVH build and render, every thread */
     sigaction(SIGINT, &old_sa, NULL);
-    if (rendered && st.spp < set->spp)
+    if (rendered && st.stopped == PT_STOP_INTERRUPTED)
         log_info("reference", "interrupted: writing the partial image with %d of %d spp", st.spp, set->spp);
     /* All outputs or none, also under a second Ctrl-C or a SIGTERM: the
      * signal waits until every file is written (ms to seconds). */
     util_defer_ending_signals();
     rc = 1;
     if (rendered && reference_write_outputs(&args, &scene, &mean, &var, &st)) {
-        reference_print(&args, &scene, &st);
+        reference_print(&args, &scene, &st, cpu_s);
         rc = 0;
     }
     util_end_deferral();

@@ -46,7 +46,7 @@ static void frame(Renderer *r, const Camera *cam, FrameClock *c)
     c->done++;
     if (c->first_s < 0)
         c->first_s = s;
-    if (c->first_s > c->slow_s)
+    if (c->first_s > c->slow_s && renderer_frames_whole(r)) /* a failed frame has logged its line, and only that */
         log_progress("render: frame %d of %d took %.1f s; about %.0f s left", c->done, c->total, s,
                      s * (c->total - c->done));
 }

@@ -25,7 +25,7 @@ typedef struct GpuScene {
     GLuint vao;
     GLuint vbo;       /* Vertex[] */
     GLuint ibo;       /* uint32 indices, each submesh's triangles in cluster order */
-    GLuint *textures; /* one per Scene.textures, sRGB (colour) or RGBA8 (linear data) with mipmaps */
+    GLuint *textures; /* one per Scene.textures: RGBA16F, linear (colour decoded), with mipmaps */
     int texture_count;
     GpuCluster *clusters; /* submesh by submesh, in scene order */
     int cluster_count;

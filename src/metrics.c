@@ -397,25 +397,99 @@ done:
 
 /* ------------------------------------------------------------ heat maps */
 
-int metric_write_heatmap(const char *path, const float *map, int w, int h)
+/* Approximate magma, 9 stops: v in [0,1] (clamped; NaN as 0) to 8-bit RGB. */
+static void magma(float v, uint8_t *out)
 {
-    /* Approximate magma, 9 stops. */
     static const float stops[9][3] = {{0, 0, 4},      {28, 16, 68},   {79, 18, 123},   {129, 37, 129}, {181, 54, 122},
                                       {229, 80, 100}, {251, 135, 97}, {254, 194, 135}, {252, 253, 191}};
+    v = v < 0 || !isfinite(v) ? 0 : (v > 1 ? 1 : v);
+    float x = v * 8.f;
+    int k = (int)x;
+    if (k >= 8)
+        k = 7;
+    float f = x - k;
+    for (int c = 0; c < 3; c++)
+        out[c] = (uint8_t)lrintf(stops[k][c] * (1 - f) + stops[k + 1][c] * f);
+}
+
+/* A 5×7 pixel font for the colour bar's labels: each glyph is 7 rows of 5
+ * bits, the high bit leftmost. */
+static const struct {
+    char c;
+    uint8_t rows[7];
+} k_glyphs[] = {
+    {'0', {14, 17, 19, 21, 25, 17, 14}}, {'1', {4, 12, 4, 4, 4, 4, 14}},     {'2', {14, 17, 1, 2, 4, 8, 31}},
+    {'3', {30, 1, 1, 14, 1, 1, 30}},     {'4', {2, 6, 10, 18, 31, 2, 2}},    {'5', {31, 16, 30, 1, 1, 17, 14}},
+    {'6', {6, 8, 16, 30, 17, 17, 14}},   {'7', {31, 1, 2, 4, 8, 8, 8}},      {'8', {14, 17, 17, 14, 17, 17, 14}},
+    {'9', {14, 17, 17, 15, 1, 2, 12}},   {'.', {0, 0, 0, 0, 0, 12, 12}},     {'-', {0, 0, 0, 31, 0, 0, 0}},
+    {'+', {0, 4, 4, 31, 4, 4, 0}},       {'e', {0, 0, 14, 17, 31, 16, 14}},  {'r', {0, 0, 22, 25, 16, 16, 16}},
+    {'m', {0, 0, 26, 21, 21, 21, 21}},   {'s', {0, 0, 15, 16, 14, 1, 30}},   {'l', {12, 4, 4, 4, 4, 4, 14}},
+    {'f', {6, 9, 8, 28, 8, 8, 8}},       {'i', {4, 0, 12, 4, 4, 4, 14}},     {'p', {0, 0, 30, 17, 30, 16, 16}},
+    {'S', {15, 16, 16, 14, 1, 1, 30}},   {'I', {14, 4, 4, 4, 4, 4, 14}},     {'M', {17, 27, 21, 21, 17, 17, 17}},
+    {'F', {31, 16, 16, 30, 16, 16, 16}}, {'L', {16, 16, 16, 16, 16, 16, 31}}, {'P', {30, 17, 17, 30, 16, 16, 16}},
+    {'R', {30, 17, 17, 30, 20, 18, 17}}, {'E', {31, 16, 16, 30, 16, 16, 31}},
+};
+
+/* Draws `text` into the w-wide RGB image px with its top-left corner at
+ * (x, y), each font pixel s×s; characters without a glyph are spaces.
+ * Returns the text's width. */
+static int draw_text(uint8_t *px, int w, int h, int x, int y, int s, const char *text, const uint8_t rgb[3])
+{
+    int x0 = x;
+    for (const char *t = text; *t; t++, x += 6 * s) {
+        const uint8_t *rows = NULL;
+        for (size_t g = 0; g < sizeof k_glyphs / sizeof k_glyphs[0] && !rows; g++)
+            if (k_glyphs[g].c == *t)
+                rows = k_glyphs[g].rows;
+        for (int r = 0; rows && r < 7 * s; r++)
+            for (int c = 0; c < 5 * s; c++) {
+                int u = x + c, v = y + r;
+                if (u >= 0 && v >= 0 && u < w && v < h && (rows[r / s] >> (4 - c / s) & 1))
+                    memcpy(px + 3 * ((size_t)v * w + u), rgb, 3);
+            }
+    }
+    return x - x0;
+}
+
+int metric_write_heatmap_bar(const char *path, const float *map, int w, int h, const char *name, double full)
+{
+    /* Below the map: a band of the scale from 0 to 1, then "0", the
+     * metric's name and the value of full heat, in a 5×7 font (2× from 240
+     * pixels wide). Too narrow for the text (under 60 pixels): the band alone. */
+    int s = w >= 240 ? 2 : 1, band = 6 * s, text_h = w >= 60 ? 11 * s : 0, bar = band + text_h + 2 * s;
+    size_t n = (size_t)w * ((size_t)h + (size_t)bar);
+    uint8_t *px = util_malloc("compare", "the heat map image", n, 3);
+    if (!px)
+        return 0;
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        magma(map[i], px + 3 * i);
+    memset(px + 3 * (size_t)w * h, 24, 3 * (size_t)w * bar); /* dark grey under the map */
+    for (int y = h + s; y < h + s + band; y++)
+        for (int x = 0; x < w; x++)
+            magma(w > 1 ? (float)x / (float)(w - 1) : 1.f, px + 3 * ((size_t)y * w + x));
+    if (text_h) {
+        static const uint8_t white[3] = {235, 235, 235};
+        char hi[32];
+        snprintf(hi, sizeof hi, "%.3g", full);
+        int y = h + 2 * s + band, wide = (int)strlen(hi) * 6 * s;
+        draw_text(px, w, h + bar, s, y, s, "0", white);
+        draw_text(px, w, h + bar, w - wide, y, s, hi, white);
+        int name_w = (int)strlen(name) * 6 * s;
+        if (name_w + wide + 12 * s < w) /* the name, where it fits between them */
+            draw_text(px, w, h + bar, (w - name_w) / 2, y, s, name, white);
+    }
+    int ok = image_write_png8(path, w, h + bar, px);
+    free(px);
+    return ok;
+}
+
+int metric_write_heatmap(const char *path, const float *map, int w, int h)
+{
     uint8_t *px = util_malloc("compare", "the heat map image", (size_t)w * h, 3);
     if (!px)
         return 0;
-    for (size_t i = 0; i < (size_t)w * h; i++) {
-        float v = map[i];
-        v = v < 0 || !isfinite(v) ? 0 : (v > 1 ? 1 : v);
-        float x = v * 8.f;
-        int k = (int)x;
-        if (k >= 8)
-            k = 7;
-        float f = x - k;
-        for (int c = 0; c < 3; c++)
-            px[3 * i + c] = (uint8_t)lrintf(stops[k][c] * (1 - f) + stops[k + 1][c] * f);
-    }
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        magma(map[i], px + 3 * i);
     int ok = image_write_png8(path, w, h, px);
     free(px);
     return ok;

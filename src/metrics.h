@@ -62,5 +62,11 @@ bool metric_block_average(const ImageF *img, const uint8_t *mask, int block, Ima
 
 /* Writes a heat map of values in [0,1] (clamped) as a PNG, magma-like colours. */
 int metric_write_heatmap(const char *path, const float *map, int width, int height);
+/* The same with a colour bar below the map (a band from 0 to 1, labelled
+ * "0", `name` and `full`, the metric's value at full heat; the band alone
+ * under 60 pixels wide): the PNG is width × (height + bar) pixels, the map
+ * in its top `height` rows. */
+int metric_write_heatmap_bar(const char *path, const float *map, int width, int height, const char *name,
+                             double full);
 
 #endif

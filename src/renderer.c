@@ -88,7 +88,7 @@ static bool fxaa_target_make(Renderer *r)
         color_target_destroy(&r->ldr_pre);
     if (r->settings.aa != AA_FXAA)
         return true;
-    return color_target_create(&r->ldr_pre, GL_SRGB8_ALPHA8, r->settings.width, r->settings.height, "ldr.pre_fxaa");
+    return display_target_create(&r->ldr_pre, r->settings.width, r->settings.height, "ldr.pre_fxaa");
 }
 
 /* GPU bytes per shading pixel, rounded up: G-buffer (36), HDR/LDR (20), the
@@ -109,7 +109,7 @@ static bool targets_create(Renderer *r, int w, int h)
     if (!gpu_budget_check((uint64_t)sw * (uint64_t)sh * BYTES_PER_PIXEL, what))
         return false;
     if (!gbuffer_create(&r->gbuffer, sw, sh) || !color_target_create(&r->hdr, GL_RGBA32F, w, h, "hdr") ||
-        !color_target_create(&r->ldr, GL_SRGB8_ALPHA8, w, h, "ldr"))
+        !display_target_create(&r->ldr, w, h, "ldr"))
         return false;
     if (n > 1 && !color_target_create(&r->hdr_ss, GL_RGBA32F, sw, sh, "hdr.supersampled"))
         return false;
@@ -181,13 +181,10 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
     program_cache_create(&r->programs);
     LightStageDesc ld = light_desc(rs);
     ProgramCache *pc = &r->programs;
-    glCreateVertexArrays(1, &r->empty_vao);
     if (!gpu_scene_create(&r->gpu_scene, s) || !light_stage_create(&r->lights, s, &ld, pc) ||
         !targets_create(r, rs->width, rs->height) || !pass_gbuffer_create(&r->pass_gbuffer, pc) ||
-        !pass_direct_create(&r->pass_direct, pc, r->empty_vao) ||
-        !pass_composite_create(&r->pass_composite, pc, r->empty_vao) ||
-        !pass_tonemap_create(&r->pass_tonemap, pc, r->empty_vao) ||
-        !pass_resolve_create(&r->pass_resolve, pc, r->empty_vao) || !pass_fxaa_create(&r->pass_fxaa, pc, r->empty_vao))
+        !pass_direct_create(&r->pass_direct, pc) || !pass_shade_create(&r->pass_shade, pc) ||
+        !pass_finish_create(&r->pass_finish, pc) || !pass_fxaa_create(&r->pass_fxaa, pc))
         return false;
     r->frame_ubo = gi_ubo_make(sizeof(GpuFrame), "frame");
     r->brdf_albedo = brdf_albedo_texture_make();
@@ -201,14 +198,12 @@ void renderer_destroy(Renderer *r)
 {
     technique_destroy(r);
     pass_fxaa_destroy(&r->pass_fxaa);
-    pass_resolve_destroy(&r->pass_resolve);
-    pass_tonemap_destroy(&r->pass_tonemap);
-    pass_composite_destroy(&r->pass_composite);
+    pass_finish_destroy(&r->pass_finish);
+    pass_shade_destroy(&r->pass_shade);
     pass_direct_destroy(&r->pass_direct);
     pass_gbuffer_destroy(&r->pass_gbuffer);
     glDeleteBuffers(1, &r->frame_ubo);
     glDeleteTextures(1, &r->brdf_albedo);
-    glDeleteVertexArrays(1, &r->empty_vao);
     targets_destroy(r);
     light_stage_destroy(&r->lights);
     gpu_scene_destroy(&r->gpu_scene);
@@ -309,8 +304,11 @@ void renderer_frame(Renderer *r, const Camera *cam)
 
     bool cull = !r->settings.no_cull;
     bool fxaa = r->settings.aa == AA_FXAA;
-    /* A forward frame of one light with nothing between its shading and the
-     * final image tone-maps as it shades (pass_direct_forward's display). */
+    ColorTarget *display = fxaa ? &r->ldr_pre : &r->ldr; /* where the tone map writes */
+    /* Whether the shading wrote the display image as it shaded: a forward
+     * frame of one light with nothing between its shading and the final
+     * image (pass_direct_forward's display), or the deferred shading's last
+     * dispatch where no resolve follows. */
     bool tonemapped = false, display_only = false;
     if (renderer_forward(r)) {
         tonemapped = n == 1 && !fxaa && r->lights.light_count <= 1;
@@ -330,45 +328,40 @@ void renderer_frame(Renderer *r, const Camera *cam)
         gpu_timer_begin(t, "gbuffer");
         pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
         gpu_timer_end(t);
-        gpu_timer_begin(t, "direct");
-        pass_direct_run(&r->pass_direct, &r->lights, &r->gbuffer, radiance);
-        gpu_timer_end(t);
-    }
-
-    if (r->gi_state) {
-        GiFrame f = {
-            .scene = r->scene,
-            .gpu_scene = &r->gpu_scene,
-            .camera = cam,
-            .params = &r->settings.gi_params,
-            .exposure = r->settings.exposure,
-            .gbuffer = &r->gbuffer,
-            .lights = &r->lights,
-            .timer = t,
-            .irradiance = r->irradiance,
-            .specular = r->specular,
-            .brdf_albedo = r->brdf_albedo,
-        };
-        if (!r->gi->run(r->gi_state, &f))
-            r->gi_failed = true;
-        r->last_frame = f;
-        gpu_timer_begin(t, "composite");
-        pass_composite_run(&r->pass_composite, &r->gbuffer, r->irradiance,
-                           (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, r->brdf_albedo,
-                           scene_has_glossy(r->scene), radiance);
-        gpu_timer_end(t);
-    }
-
-    if (n > 1) {
-        gpu_timer_begin(t, "resolve");
-        pass_resolve_run(&r->pass_resolve, &r->hdr_ss, n, &r->hdr);
+        /* The technique reads the G-buffer and the light products, never
+         * the direct radiance: it runs first, so that one shading pass
+         * adds the direct light and its result and tone-maps. */
+        ShadeGi gi = {0};
+        if (r->gi_state) {
+            GiFrame f = {
+                .scene = r->scene,
+                .gpu_scene = &r->gpu_scene,
+                .camera = cam,
+                .params = &r->settings.gi_params,
+                .exposure = r->settings.exposure,
+                .gbuffer = &r->gbuffer,
+                .lights = &r->lights,
+                .timer = t,
+                .irradiance = r->irradiance,
+                .specular = r->specular,
+                .brdf_albedo = r->brdf_albedo,
+            };
+            if (!r->gi->run(r->gi_state, &f))
+                r->gi_failed = true;
+            r->last_frame = f;
+            gi = (ShadeGi){r->irradiance, (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, r->brdf_albedo};
+        }
+        tonemapped = n == 1;
+        gpu_timer_begin(t, "shade");
+        pass_shade_run(&r->pass_shade, &r->pass_direct, &r->lights, &r->gbuffer, &gi, radiance,
+                       tonemapped ? display : NULL);
         gpu_timer_end(t);
     }
 
     r->radiance_kept = !display_only;
     if (!tonemapped) {
-        gpu_timer_begin(t, "tonemap");
-        pass_tonemap_run(&r->pass_tonemap, &r->hdr, r->settings.exposure, fxaa ? &r->ldr_pre : &r->ldr);
+        gpu_timer_begin(t, n > 1 ? "resolve" : "tonemap");
+        pass_finish_run(&r->pass_finish, radiance, n, &r->hdr, display);
         gpu_timer_end(t);
     }
 

@@ -18,12 +18,11 @@
 #include "gpu_timer.h"
 #include "image.h"
 #include "light_stage.h"
-#include "passes/pass_composite.h"
 #include "passes/pass_direct.h"
+#include "passes/pass_finish.h"
 #include "passes/pass_fxaa.h"
 #include "passes/pass_gbuffer.h"
-#include "passes/pass_resolve.h"
-#include "passes/pass_tonemap.h"
+#include "passes/pass_shade.h"
 #include "scene.h"
 #include "targets.h"
 
@@ -92,7 +91,6 @@ typedef struct Renderer {
     GLuint specular;           /* RGBA32F indirect specular radiance, techniques with GI_HAS_SPECULAR */
     GLuint brdf_albedo;        /* RG32F: the GGX lobe's directional albedo table (brdf_albedo_table) */
     GLuint frame_ubo;          /* GpuFrame */
-    GLuint empty_vao;          /* for the full-screen passes */
     const GiTechnique *gi;     /* the selected row */
     void *gi_state;            /* its state (NULL for "none") */
     bool gi_failed;            /* a frame's technique run failed (logged); see renderer_frames_whole */
@@ -100,9 +98,8 @@ typedef struct Renderer {
     GiFrame last_frame;        /* what the technique saw last (for its stats) */
     PassGbuffer pass_gbuffer;
     PassDirect pass_direct;
-    PassComposite pass_composite;
-    PassTonemap pass_tonemap;
-    PassResolve pass_resolve;
+    PassShade pass_shade;
+    PassFinish pass_finish;
     PassFxaa pass_fxaa;
     int remakes;               /* renderer_apply calls that remade something (technique, light products,
                                   targets, timer); an exposure change remakes nothing */

@@ -52,7 +52,7 @@ typedef struct Texture {
 /* glTF metallic-roughness material (SPEC §1b; the BRDF is src/brdf.h).
  * Built-in surfaces and OBJ materials have specular 0 and metallic 0: they
  * are Lambertian, f = albedo/π. A scene file's "materials" object sets any
- * of these per material name (README "Scene files"). */
+ * of these per material name (docs/guide.md, "Scene files"). */
 typedef struct Material {
     char name[64];
     vec3 albedo;        /* base colour factor, linear; multiplies the texture */
@@ -111,6 +111,10 @@ typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } Vct
 typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
 
 typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
+/* How a propagation step moves light (shaders/gi/lpv/propagate.comp):
+ * along the directions it travels in, or through the paper's 5 faces per
+ * neighbour, re-emitted towards the faces' normals. */
+typedef enum LpvPropagation { LPV_PROPAGATION_DIRECTIONAL = 0, LPV_PROPAGATION_FACES = 1 } LpvPropagation;
 
 typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;
 
@@ -150,6 +154,8 @@ typedef struct GiParams {
     float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
     bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
     int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
+    int lpv_propagation;   /* LpvPropagation: directional (light keeps its direction) or the paper's faces */
+    int lpv_groups;        /* 1, or 2: the light of surfaces facing +x/+y/+z and of those facing away propagated apart */
     /* Voxel cone tracing (SPEC §6). */
     int vct_size;          /* voxels per side of the volume over the scene bounds (of each clipmap level) */
     int vct_levels;        /* 1: one volume over the bounds; 2–4: a clipmap centred on the camera */

@@ -1,7 +1,7 @@
 /* scene_load.c — scene files (JSON, cJSON) and meshes (assimp).
  * A scene file names a built-in scene or a mesh file (relative to the scene
  * file), optional inline quads, lights, camera, exposure and technique
- * parameters. See the files under scenes/ and README.md for the format. */
+ * parameters. See the files under scenes/ and docs/guide.md ("Scene files") for the format. */
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
@@ -9,6 +9,7 @@
 #include <assimp/scene.h>
 #include <cjson/cJSON.h>
 #include <limits.h>
+#include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -27,7 +28,7 @@
 
 /* ------------------------------------------------------------------ mesh */
 
-/* Limits on what a mesh file may bring (README "Scene files"). */
+/* Limits on what a mesh file may bring (docs/guide.md, "Scene files"). */
 #define MESH_MAX_VERTICES ((uint32_t)1 << 27) /* 4 GiB of Vertex */
 #define MESH_MAX_INDICES ((uint32_t)1 << 28)  /* 1 GiB of indices */
 #define TEXTURE_MAX_SIZE 16384                /* texels per side (GL_MAX_TEXTURE_SIZE of common GPUs) */
@@ -521,6 +522,81 @@ static void log_import_error(const char *path)
         log_error("scene", "%s: cannot import mesh (%s)", path, e);
 }
 
+/* A mesh over this many vertices is large: its import and each
+ * post-processing step are announced and timed (the environment's
+ * RTGI_MESH_LARGE_VERTICES sets it; the tests make a small mesh large). */
+#define MESH_LARGE_VERTICES 1000000u
+
+static unsigned mesh_large_vertices(void)
+{
+    const char *v = getenv("RTGI_MESH_LARGE_VERTICES");
+    char *end = NULL;
+    unsigned long n = v && *v ? strtoul(v, &end, 10) : 0;
+    return end && !*end ? (unsigned)n : MESH_LARGE_VERTICES;
+}
+
+static unsigned mesh_vertex_count(const struct aiScene *ai)
+{
+    unsigned n = 0;
+    for (unsigned i = 0; i < ai->mNumMeshes; i++)
+        n += ai->mMeshes[i]->mNumVertices;
+    return n;
+}
+
+/* assimp's post-processing, a step at a time so that a large mesh says
+ * which step runs and how long it took (an 8M-triangle OBJ had sat five
+ * minutes in JoinIdenticalVertices without a word). Steps a file does not
+ * need are skipped: smooth normals where every mesh has normals, joining
+ * identical vertices where the meshes already share them (indexed glTF:
+ * at most 1.5 vertices per triangle, where a mesh is about 0.5 to 1 and an
+ * OBJ's unshared corners 2 (quads) or 3); an OBJ's corners are joined,
+ * which keeps its vertex buffer a third of the size. The order is assimp's own. Releases `ai` and returns
+ * NULL after logging on failure. */
+static const struct aiScene *mesh_post_process(const struct aiScene *ai, const char *path)
+{
+    bool normals = true;
+    for (unsigned i = 0; i < ai->mNumMeshes; i++)
+        normals = normals && ai->mMeshes[i]->mNormals;
+    unsigned verts = mesh_vertex_count(ai);
+    bool large = verts > mesh_large_vertices();
+    static const struct {
+        unsigned flag;
+        const char *name;
+    } steps[] = {
+        {aiProcess_Triangulate, "triangulating"},
+        {aiProcess_GenSmoothNormals, "smooth normals"},
+        {aiProcess_PreTransformVertices, "applying node transforms"},
+        {aiProcess_JoinIdenticalVertices, "joining identical vertices"},
+        {aiProcess_SortByPType, "sorting primitives"},
+        {aiProcess_FlipUVs, "flipping texture coordinates"},
+    };
+    for (size_t k = 0; k < sizeof steps / sizeof steps[0] && ai; k++) {
+        unsigned flag = steps[k].flag;
+        if (flag == aiProcess_GenSmoothNormals && normals)
+            continue;
+        if (flag == aiProcess_JoinIdenticalVertices) {
+            bool shared = true;
+            for (unsigned i = 0; i < ai->mNumMeshes && shared; i++)
+                shared = 2 * (unsigned long)ai->mMeshes[i]->mNumVertices <= 3 * (unsigned long)ai->mMeshes[i]->mNumFaces;
+            if (shared)
+                continue;
+        }
+        double t0 = util_seconds();
+        if (large)
+            log_progress("scene: %s: %s (%u vertices)...", path, steps[k].name, mesh_vertex_count(ai));
+        ai = aiApplyPostProcessing(ai, flag); /* releases the scene on failure */
+        if (large)
+            log_progress("scene: %s: %s took %.1f s", path, steps[k].name, util_seconds() - t0);
+    }
+    if (!ai || !ai->mRootNode) {
+        log_import_error(path);
+        if (ai)
+            aiReleaseImport(ai);
+        return NULL;
+    }
+    return ai;
+}
+
 /* The mesh file imported: rtgi's checks of the file, assimp's import with
  * its validation, the checks of what that misses, then post-processing
  * (triangulated, smooth normals, node transforms applied). NULL after
@@ -536,7 +612,14 @@ static const struct aiScene *mesh_import(const char *path)
      * post-process: its steps assert (abort) on inconsistent meshes. */
     MeshIo io = {.io = {.OpenProc = mesh_io_open, .CloseProc = mesh_io_close}};
     io.io.UserData = (aiUserData)&io;
+    struct stat st;
+    bool big = stat(path, &st) == 0 && st.st_size > (off_t)64 * 1024 * 1024;
+    double t0 = util_seconds();
+    if (big)
+        log_progress("scene: %s: importing %.0f MB through assimp...", path, (double)st.st_size / (1024.0 * 1024.0));
     const struct aiScene *ai = aiImportFileEx(path, aiProcess_ValidateDataStructure, &io.io);
+    if (big && ai)
+        log_progress("scene: %s: imported in %.1f s", path, util_seconds() - t0);
     if (!mesh_io_check(&io, path) || !ai || !ai->mRootNode) {
         if (!io.refused_kind)
             log_import_error(path);
@@ -548,16 +631,7 @@ static const struct aiScene *mesh_import(const char *path)
         aiReleaseImport(ai);
         return NULL;
     }
-    unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_PreTransformVertices |
-                     aiProcess_JoinIdenticalVertices | aiProcess_SortByPType | aiProcess_FlipUVs;
-    ai = aiApplyPostProcessing(ai, flags); /* releases the scene on failure */
-    if (!ai || !ai->mRootNode) {
-        log_import_error(path);
-        if (ai)
-            aiReleaseImport(ai);
-        return NULL;
-    }
-    return ai;
+    return mesh_post_process(ai, path);
 }
 
 /* Where a mesh file's meshes go and what they added so far. */
@@ -732,7 +806,7 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 
 /* ------------------------------------------------------------------ JSON */
 
-/* Limits on scene-file values (README "Scene files"): beyond them the
+/* Limits on scene-file values (docs/guide.md, "Scene files"): beyond them the
  * renderers' float arithmetic overflows or the GPU cannot hold the scene. */
 #define SCENE_MAX_COORD 1e6f      /* |coordinate| of positions and vectors (m) */
 #define SCENE_MAX_LIGHTS 32       /* lights per scene: each gets shadow maps and an RSM */
@@ -1167,8 +1241,43 @@ static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "m
                                          "materials", "camera", "lights",     "exposure",       "shadow",
                                          "gi",        NULL};
 
+/* What most likely broke JSON text where the parser stopped (*at, cJSON's
+ * error position), the mistakes people make by hand: a comma before a
+ * closing bracket, a missing comma, an unclosed string or bracket. *at
+ * moves to the place to point at (the stray comma). */
+static const char *json_syntax_hint(const char *text, const char **at)
+{
+    const char *p = *at, *prev;
+    /* cJSON stops past a closing bracket or an opening single quote that
+     * it could not take: the character to blame is the one before. */
+    if (p > text && strchr("}]'", p[-1]) && (!*p || isspace((unsigned char)*p) || isalnum((unsigned char)*p)))
+        p--;
+    *at = prev = p;
+    while (prev > text && strchr(" \t\r\n", prev[-1]))
+        prev--;
+    char before = prev > text ? prev[-1] : 0;
+    if (!*p)
+        return "the file ends inside a value (a '}', ']' or '\"' is missing)";
+    if (before == ',' && (*p == '}' || *p == ']')) {
+        *at = prev - 1;
+        return *p == '}' ? "a comma before '}' (JSON allows no trailing comma)"
+                         : "a comma before ']' (JSON allows no trailing comma)";
+    }
+    if (*p == '"' && before && strchr("\"0123456789el}]", before))
+        return "a ',' is missing before this member";
+    if ((*p == '{' || *p == '[' || isdigit((unsigned char)*p) || *p == '-') && before && strchr("\"0123456789el}]", before))
+        return "a ',' is missing before this value";
+    if (*p == '\'')
+        return "strings take double quotes (\"...\"), not single ones";
+    if (*p == '/' || *p == '#')
+        return "JSON has no comments";
+    if (isalpha((unsigned char)*p))
+        return "a bare word: keys and strings take double quotes; values may be numbers, true, false or null";
+    return "unexpected character here";
+}
+
 /* The file parsed, a JSON object; NULL (logged with the line and column
- * where the JSON broke) if not. */
+ * where the JSON broke, and what most likely broke it) if not. */
 static cJSON *read_json(const char *path)
 {
     char *text = util_read_input("scene", "scene file", path, SCENE_MAX_BYTES, NULL);
@@ -1177,8 +1286,9 @@ static cJSON *read_json(const char *path)
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     if (!root) {
+        const char *at = end ? end : text, *why = json_syntax_hint(text, &at);
         int line = 1, col = 1;
-        for (const char *p = text; end && p < end && *p; p++) {
+        for (const char *p = text; p < at && *p; p++) {
             if (*p == '\n') {
                 line++;
                 col = 1;
@@ -1186,7 +1296,7 @@ static cJSON *read_json(const char *path)
                 col++;
             }
         }
-        log_error("scene", "%s:%d:%d: malformed JSON", path, line, col);
+        log_error("scene", "%s:%d:%d: malformed JSON: %s", path, line, col, why);
     } else if (!cJSON_IsObject(root)) {
         log_error("scene", "%s: top level must be a JSON object", path);
         cJSON_Delete(root);

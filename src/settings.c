@@ -17,6 +17,7 @@
 static const char *const k_weightings[] = {"paper", "unbiased", "importance", NULL};
 static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 static const char *const k_lpv_inject[] = {"compute", "points", NULL};
+static const char *const k_lpv_propagation[] = {"directional", "faces", NULL};
 static const char *const k_vct_cones[] = {"6", "9", "16", NULL};
 static const char *const k_area_lights[] = {"exact", "point", NULL};
 static const char *const k_pcf_filters[] = {"disk", "grid", NULL};
@@ -91,7 +92,7 @@ const SettingDesc settings_table[] = {
      "vpl-all: keep a random fraction Q of the VPLs, weighted 1/Q"},
     {"gi", "vpl_seed", "--vpl-seed", SETTING_UINT, GI(vpl_seed), 0, 0, 2147483647, 0, NULL,
      "seed of the VPLs' random xi (SLC culling, subsets)"},
-    /* Visibility of the bounce (SPEC §9, docs/visibility.md). */
+    /* Visibility of the bounce (SPEC §9, docs/techniques.md: Visibility). */
     {"gi", "gi_visibility", "--gi-visibility", SETTING_BOOL, GI(gi_visibility), 0, 0, 1, 0, NULL,
      "RSM and VPL techniques: test each VPL's visibility of the shaded point (off: the papers' one-bounce-novis)"},
     {"gi", "gi_visibility_method", "--gi-visibility-method", SETTING_ENUM, GI(gi_visibility_method), 0, 0, 0, 0,
@@ -103,20 +104,27 @@ const SettingDesc settings_table[] = {
     {"gi", "ism_maps", "--ism-maps", SETTING_INT, GI(ism_maps), 0, 1, 65536, 4096, NULL,
      "ism: RSM gathers' maps per light, one per block of RSM texels (VPL techniques: one per VPL)"},
     /* Light propagation volumes (SPEC §5). */
-    {"gi", "lpv_size", "--lpv-size", SETTING_INT, GI(lpv_size), 0, 2, 256, 32, NULL,
+    {"gi", "lpv_size", "--lpv-size", SETTING_INT, GI(lpv_size), 0, 2, 256, 16, NULL,
      "lpv: cells per side of each grid"},
     {"gi", "lpv_cascades", "--lpv-cascades", SETTING_INT, GI(lpv_cascades), 0, 1, LPV_MAX_CASCADES, 1, NULL,
      "lpv: 1 = one grid on the scene bounds; 2-3 = nested grids around the camera"},
     {"gi", "lpv_iterations", "--lpv-iterations", SETTING_INT, GI(lpv_iterations), 0, 0, 1024, 0, NULL,
-     "lpv: propagation steps; 0 = the grid size"},
+     "lpv: propagation steps; 0 = enough to cross the grid's diagonal (directional: 3 x the grid size; faces: the "
+     "grid size)"},
     {"gi", "lpv_occlusion", "--lpv-occlusion", SETTING_BOOL, GI(lpv_occlusion), 0, 0, 1, 1, NULL,
      "lpv: attenuate propagation by the geometry volume"},
     {"gi", "lpv_offset", "--lpv-offset", SETTING_FLOAT, GI(lpv_offset), 0, 0, 2, 0.5, NULL,
      "lpv: injection offset of a VPL along its normal (cells)"},
-    {"gi", "lpv_gbuffer_occlusion", "--lpv-gbuffer-occlusion", SETTING_BOOL, GI(lpv_gbuffer_occlusion), 0, 0, 1, 0,
+    {"gi", "lpv_gbuffer_occlusion", "--lpv-gbuffer-occlusion", SETTING_BOOL, GI(lpv_gbuffer_occlusion), 0, 0, 1, 1,
      NULL, "lpv: also inject the camera's G-buffer into the geometry volume"},
     {"gi", "lpv_inject", "--lpv-inject", SETTING_ENUM, GI(lpv_inject), 0, 0, 1, 0, k_lpv_inject,
      "lpv: inject light and geometry by compute (fixed-point atomics, resolve) or points (layered draws, blending)"},
+    {"gi", "lpv_propagation", "--lpv-propagation", SETTING_ENUM, GI(lpv_propagation), 0, 0, 1, 0, k_lpv_propagation,
+     "lpv: a step moves light along the directions it travels in (directional) or through the paper's 5 faces per "
+     "neighbour, re-emitted towards the faces' normals (faces)"},
+    {"gi", "lpv_groups", "--lpv-groups", SETTING_INT, GI(lpv_groups), 0, 1, 2, 2, NULL,
+     "lpv: 2 = the light of surfaces facing +x/+y/+z and of those facing -x/-y/-z propagate in separate volumes (flows "
+     "from facing surfaces do not merge); 1 = one volume"},
     /* Voxel cone tracing (SPEC §6). */
     {"gi", "vct_size", "--vct-size", SETTING_INT, GI(vct_size), 0, 8, 256, 128, NULL,
      "vct: voxels per side of the volume over the scene bounds"},

@@ -2,7 +2,7 @@
  * its scene-file key, command-line option, type, place, range, default and
  * help. One parser and one validator serve the command line and the scene
  * file (so the two cannot disagree), `--help` is printed from the table, and
- * tests check the README against it. Adding a setting is adding a row (and
+ * tests check the guide (docs/guide.md) against it. Adding a setting is adding a row (and
  * its field in ShadowParams/GiParams, scene.h). */
 #ifndef RTGI_SETTINGS_H
 #define RTGI_SETTINGS_H

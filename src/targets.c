@@ -1,5 +1,7 @@
 #include "targets.h"
 
+#include <stdio.h>
+
 #include "gl_resources.h"
 #include "log.h"
 
@@ -132,8 +134,28 @@ bool color_target_create(ColorTarget *t, GLenum fmt, int w, int h, const char *l
     return t->texture && fbo_make(&t->fbo, &t->texture, 1, 0, false, label);
 }
 
+bool display_target_create(ColorTarget *t, int w, int h, const char *label)
+{
+    t->width = w;
+    t->height = h;
+    t->storage = gl_texture_make(GL_TEXTURE_2D, GL_RGBA8, w, h, label); /* logs a failure */
+    if (!t->storage)
+        return false;
+    glGenTextures(1, &t->texture); /* a view's name must not be bound before glTextureView */
+    glTextureView(t->texture, GL_TEXTURE_2D, t->storage, GL_SRGB8_ALPHA8, 0, 1, 0, 1);
+    char view[96];
+    snprintf(view, sizeof view, "%s.srgb", label);
+    glObjectLabel(GL_TEXTURE, t->texture, -1, view);
+    glTextureParameteri(t->texture, GL_TEXTURE_MIN_FILTER, GL_NEAREST); /* a view has its own sampling state */
+    glTextureParameteri(t->texture, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t->texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t->texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return fbo_make(&t->fbo, &t->texture, 1, 0, false, label);
+}
+
 void color_target_destroy(ColorTarget *t)
 {
+    glDeleteTextures(1, &t->storage);
     glDeleteTextures(1, &t->texture);
     glDeleteFramebuffers(1, &t->fbo);
     *t = (ColorTarget){0};

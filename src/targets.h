@@ -17,7 +17,8 @@ typedef struct GBuffer {
 typedef struct ColorTarget {
     int width, height;
     GLuint fbo;
-    GLuint texture;
+    GLuint texture; /* what passes sample and the framebuffer holds (a display target's sRGB view) */
+    GLuint storage; /* a display target's RGBA8 storage, which compute passes write; else 0 */
 } ColorTarget;
 
 /* An immutable texture (2D or cube) with nearest filtering and clamped
@@ -45,6 +46,11 @@ void fullscreen_draw(GLuint program, GLuint vao, GLuint fbo, int width, int heig
 bool gbuffer_create(GBuffer *g, int width, int height);
 void gbuffer_destroy(GBuffer *g);
 bool color_target_create(ColorTarget *t, GLenum format, int width, int height, const char *label);
+/* A display target: RGBA8 storage that compute passes write sRGB-encoded
+ * bytes into (image stores take no sRGB format), and an SRGB8_ALPHA8 view
+ * of it, the texture that passes sample (decoded to linear) and that the
+ * framebuffer holds. */
+bool display_target_create(ColorTarget *t, int width, int height, const char *label);
 void color_target_destroy(ColorTarget *t);
 
 #endif

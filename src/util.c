@@ -1,3 +1,4 @@
+#define _GNU_SOURCE /* syscall(SYS_getdents64): a directory removed from a signal handler */
 #include "util.h"
 
 #include <errno.h>
@@ -8,6 +9,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/syscall.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -231,6 +234,14 @@ double util_seconds(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+double util_cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0)
+        return 0.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 size_t util_physical_memory(void)
 {
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
@@ -373,11 +384,80 @@ static void live_remove(const char *tmp)
             s_live_used[i] = 0;
 }
 
+/* Directories an ending signal removes (util_live_dir_add): a staging
+ * directory with what is in it (`tree`), or a directory the command made,
+ * if it is empty by then. Entries are removed in reverse order of adding. */
+enum { LIVE_DIRS = 4 };
+static char s_live_dir[LIVE_DIRS][UTIL_PATH_MAX];
+static volatile sig_atomic_t s_live_dir_used[LIVE_DIRS], s_live_dir_tree[LIVE_DIRS];
+
+void util_live_dir_add(const char *dir, bool tree)
+{
+    size_t n = strlen(dir);
+    for (int i = 0; i < LIVE_DIRS && n < UTIL_PATH_MAX; i++)
+        if (!s_live_dir_used[i]) {
+            memcpy(s_live_dir[i], dir, n + 1);
+            s_live_dir_tree[i] = tree;
+            s_live_dir_used[i] = 1;
+            return;
+        }
+}
+
+void util_live_dir_remove(const char *dir)
+{
+    for (int i = 0; i < LIVE_DIRS; i++)
+        if (s_live_dir_used[i] && !strcmp(s_live_dir[i], dir))
+            s_live_dir_used[i] = 0;
+}
+
+/* Removes the files of `dir` and of its subdirectories, `depth` levels
+ * down, then the directories, with system calls alone (async-signal-safe:
+ * no opendir, no allocation). */
+static void remove_tree_signal_safe(const char *dir, int depth)
+{
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0)
+        return;
+    char buf[4096] __attribute__((aligned(8)));
+    for (long n; (n = syscall(SYS_getdents64, fd, buf, sizeof buf)) > 0;)
+        for (long off = 0; off < n;) {
+            const struct linux_dirent64 {
+                uint64_t ino;
+                int64_t off;
+                unsigned short reclen;
+                unsigned char type;
+                char name[];
+            } *e = (const void *)(buf + off);
+            off += e->reclen;
+            if (!strcmp(e->name, ".") || !strcmp(e->name, ".."))
+                continue;
+            if (unlinkat(fd, e->name, 0) == 0 || errno != EISDIR || depth <= 0)
+                continue;
+            char sub[UTIL_PATH_MAX];
+            size_t a = strlen(dir), b = strlen(e->name);
+            if (a + 1 + b >= sizeof sub)
+                continue;
+            memcpy(sub, dir, a);
+            sub[a] = '/';
+            memcpy(sub + a + 1, e->name, b + 1);
+            remove_tree_signal_safe(sub, depth - 1);
+        }
+    close(fd);
+    rmdir(dir);
+}
+
 static void remove_temporaries(void)
 {
     for (int i = 0; i < LIVE_TEMPORARIES; i++)
         if (s_live_used[i])
             unlink(s_live_tmp[i]); /* async-signal-safe */
+    for (int i = LIVE_DIRS - 1; i >= 0; i--)
+        if (s_live_dir_used[i]) {
+            if (s_live_dir_tree[i])
+                remove_tree_signal_safe(s_live_dir[i], 2);
+            else
+                rmdir(s_live_dir[i]);
+        }
 }
 
 /* An ending signal that came while the outputs were being written: it is
@@ -559,6 +639,9 @@ int util_edit_distance(const char *a, const char *b)
 
 const char *util_nearest(const char *s, const char *const *names)
 {
+    for (int i = 0; names && names[i]; i++)
+        if (!strcasecmp(s, names[i]))
+            return names[i]; /* "PCSS" for "pcss", however long the word */
     const char *best = NULL;
     int best_d = 1 << 30;
     for (int i = 0; names && names[i]; i++) {

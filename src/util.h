@@ -77,6 +77,12 @@ void util_atomic_abort(AtomicFile *af);
  * remove the temporary file of every AtomicFile being written (main.c
  * installs this; `reference` takes SIGINT for itself while it renders). */
 void util_handle_ending_signals(void);
+/* Directories that such a signal removes before it ends the program: with
+ * what is in them, two levels down (`tree`: a staging directory), or only
+ * if empty by then (a directory the command made for its outputs). Up to
+ * four; removed in reverse order of adding. */
+void util_live_dir_add(const char *dir, bool tree);
+void util_live_dir_remove(const char *dir);
 /* Between these two such a signal waits: a command's set of outputs is
  * written whole (all of them or none), then the signal ends the program. */
 void util_defer_ending_signals(void);
@@ -89,7 +95,8 @@ void util_end_deferral(void);
 int util_edit_distance(const char *a, const char *b);
 /* The name in the NULL-terminated `names` nearest to `s` by edit distance,
  * or NULL when none is near enough to be a likely typo (distance more than
- * 1 for names up to 4 bytes, else max(2, strlen(s)/3)). For "unknown key 'x', did you mean 'y'?". */
+ * 1 for names up to 4 bytes, else max(2, strlen(s)/3)). A name that differs
+ * only in ASCII case is the nearest ("PCSS": "pcss"). For "unknown key 'x', did you mean 'y'?". */
 const char *util_nearest(const char *s, const char *const *names);
 /* Writes `s` as a JSON string literal (quotes, escapes) to f; bytes that
  * do not start valid UTF-8 are written as \ufffd. */
@@ -119,6 +126,9 @@ void util_ensure_parent_dir(const char *path);
 uint64_t util_hash_bytes(uint64_t h, const void *p, size_t n);
 /* Monotonic wall-clock seconds. */
 double util_seconds(void);
+/* CPU seconds of this process so far, every thread (0 if unknown): a
+ * benchmark's cost on a machine it shares. */
+double util_cpu_seconds(void);
 /* This machine's physical memory in bytes (0 if unknown): the commands
  * refuse buffers over half of it before they allocate. */
 size_t util_physical_memory(void);

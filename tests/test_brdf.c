@@ -226,6 +226,51 @@ static void mixture_estimates_agree(void **state)
     assert_true(s1 < s2); /* and importance sampling helps */
 }
 
+/* brdf_eval_pdf (the path tracer's one call per direction) equals
+ * brdf_eval and brdf_pdf apart, over random surfaces (dielectric, metal,
+ * Lambertian; smooth to rough) and directions on both sides, and
+ * brdf_sample_p with p = brdf_spec_prob gives brdf_sample's direction. */
+static void eval_pdf_matches_parts(void **state)
+{
+    (void)state;
+    Rng rng = rng_make(11, 3);
+    double worst_f = 0, worst_pdf = 0;
+    int compared = 0;
+    for (int i = 0; i < 20000; i++) {
+        BrdfSurface s;
+        vec3 base = {rng_float(&rng), rng_float(&rng), rng_float(&rng)};
+        int kind = i % 3; /* 0: Lambertian (specular 0), 1: dielectric, 2: metal */
+        brdf_surface(base, kind == 2 ? rng_float(&rng) : 0.f, rng_float(&rng), kind == 0 ? 0.f : 1.f, &s);
+        vec3 wo, wi, n = {0, 0, 1}, f, g;
+        for (int k = 0; k < 3; k++) {
+            wo[k] = 2.f * rng_float(&rng) - 1.f;
+            wi[k] = 2.f * rng_float(&rng) - 1.f;
+        }
+        wo[2] = fabsf(wo[2]) * (i % 10 == 0 ? -1.f : 1.f); /* some views below the shading horizon */
+        glm_vec3_normalize(wo);
+        glm_vec3_normalize(wi);
+        float p = brdf_spec_prob(&s, wo[2]), pdf;
+        brdf_eval_pdf(&s, wo, wi, p, f, &pdf);
+        brdf_eval(&s, n, wo, wi, g);
+        float want_pdf = brdf_pdf(&s, wo, wi);
+        for (int c = 0; c < 3; c++)
+            worst_f = fmax(worst_f, fabs(f[c] - g[c]) / fmax(fabs(g[c]), 1e-3));
+        worst_pdf = fmax(worst_pdf, fabs(pdf - want_pdf) / fmax(want_pdf, 1e-3));
+        compared += wi[2] > 0.f && pdf > 0.f;
+        float u[3] = {rng_float(&rng), rng_float(&rng), rng_float(&rng)};
+        vec3 a, b;
+        bool ok_a = brdf_sample(&s, wo, u[0], u[1], u[2], a), ok_b = brdf_sample_p(&s, wo, p, u[0], u[1], u[2], b);
+        assert_int_equal(ok_a, ok_b);
+        if (ok_a)
+            assert_memory_equal(a, b, sizeof a);
+    }
+    print_message("brdf_eval_pdf against brdf_eval and brdf_pdf: worst relative difference f %.2e, pdf %.2e (%d "
+                  "directions above the surface)\n", worst_f, worst_pdf, compared);
+    assert_true(compared > 8000);
+    assert_true(worst_f < 1e-5);
+    assert_true(worst_pdf < 1e-5);
+}
+
 /* ---- Furnace, reciprocity, energy ---------------------------------------- */
 
 /* ∫ f(wo, wi) cos θi dωi over the hemisphere (green channel) by midpoint
@@ -982,6 +1027,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(vndf_sampling_fits_pdf),
         cmocka_unit_test(mixture_estimates_agree),
+        cmocka_unit_test(eval_pdf_matches_parts),
         cmocka_unit_test(white_furnace),
         cmocka_unit_test(rendered_furnace),
         cmocka_unit_test(reciprocity_and_energy),

@@ -434,6 +434,10 @@ static void maps_of_both_kinds_in_one_scene(void **state)
         ImageF b, p, sp, sum, drop_p, drop_s;
         GiParams gp = both.gi;
         gp.lpv_occlusion = false; /* its geometry volume takes every light's surfels: not linear in the lights */
+        /* Nor is the directional propagation (a cell's light is read as one
+         * lobe: 2.4e-4 here); the paper's faces are, up to their clamp. */
+        gp.lpv_propagation = LPV_PROPAGATION_FACES;
+        gp.lpv_groups = 1;
         RenderStats sb = test_render_gi(&both, W, H, modes[m], &gp, &b);
         RenderStats spt = test_render_gi(&point, W, H, modes[m], &gp, &p);
         RenderStats sst = test_render_gi(&spot, W, H, modes[m], &gp, &sp);

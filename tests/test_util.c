@@ -271,6 +271,16 @@ void test_expect_no_gl_error(const char *where)
                  (unsigned)e);
 }
 
+/* Progress lines ("frame i of n took … s", the reference's time left)
+ * depend on how fast this machine draws: a new machine's cold shader cache
+ * or a loaded CPU makes a frame slow enough to print them, and a test that
+ * expects one error line then sees two. Every command a test runs (through
+ * run_argv, system or popen) inherits this; a test of the progress lines
+ * sets RTGI_PROGRESS_S itself and restores it with test_progress_off. */
+__attribute__((constructor)) static void progress_off_by_default(void) { test_progress_off(); }
+
+void test_progress_off(void) { setenv("RTGI_PROGRESS_S", "1e9", 1); }
+
 static int run_argv(char **out, char **err, const char *exe, const char *first, va_list ap)
 {
     const char *argv[64];

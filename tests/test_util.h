@@ -88,6 +88,9 @@ const char *test_masked_leaf_obj(const char *name);
  * tests' context is not a debug one: glGetError is what reports there);
  * `where` names the step in the failure. */
 void test_expect_no_gl_error(const char *where);
+/* Test programs run with RTGI_PROGRESS_S=1e9 (no progress lines, whatever
+ * the machine's speed); a test that sets it restores it with this. */
+void test_progress_off(void);
 /* Runs build/rtgi with the given arguments (NULL-terminated); returns its
  * exit status and, if `err` is not NULL, what it wrote on stderr (caller
  * frees). */

@@ -2,7 +2,7 @@
 // light_stage_bind_shadow) reflects toward the viewer, with the BRDF of
 // common/brdf.glsl (Lambert + GGX; Lambertian surfaces have F0 = 0):
 // f · irradiance from the light model · shadow visibility. Deferred
-// (frame/direct.frag, from the G-buffer) and forward (frame/forward.frag,
+// (frame/shade.comp, from the G-buffer) and forward (frame/forward.frag,
 // from the scene's interpolants) shading both call direct_light.
 // Quad lights (u_area_light = AREA_LIGHT_EXACT and a size > 0): the diffuse
 // lobe takes the polygon's exact unoccluded irradiance (Lambert's formula,

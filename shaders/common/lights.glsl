@@ -3,7 +3,7 @@
 
 // FLAT_UNIFORMS (the direct-light programs, pass_direct.c): the light block
 // reaches the fragment shader as a flat input that the vertex shader copied
-// from u_light (frame/scene.vert, frame/fullscreen.vert), and u_light names
+// from u_light (frame/scene.vert), and u_light names
 // it here; the forward draw's material constants, eye and exposure likewise
 // (common/material.glsl, frame/forward.frag). The same values, bit for bit;
 // but llvmpipe 22.3 reads a uniform in a fragment shader lane by lane (its
@@ -17,7 +17,7 @@ flat in GpuLight v_light;
 #define u_light v_light
 #endif
 
-// The light's LIGHT_* type. A program built for one type (frame/direct.frag's
+// The light's LIGHT_* type. A program built for one type (frame/shade.comp's
 // variants, see pass_direct.c) defines LIGHT_FIXED_TYPE so that the compiler
 // drops the other types' code: llvmpipe pays for code behind branches that
 // no pixel takes (the direct pass of a sun: 119 -> 56 ms without the quad

@@ -19,17 +19,21 @@ flat in vec4 v_pbr;
 
 // Linear base colour; discards alpha-masked texels. Programs compiled with
 // OPAQUE_DRAW draw only opaque materials (gpu_scene_draw_split) and hold no
-// discard, so their depth test can run before shading.
+// discard, so their depth test can run before shading. The mask is read
+// from the base level, as the path tracer reads it: the mip chain's mean
+// alpha crosses the cutoff where the texels' does not (Sponza's leaves, 38%
+// opaque, vanished with distance; their shadows too), which put the direct
+// light 1% high (issue 49).
 vec3 material_albedo(vec2 uv)
 {
 #ifdef UNTEXTURED
     vec4 t = vec4(1.0); // programs for materials without textures (gpu_scene.h DrawPrograms)
 #else
     vec4 t = u_has_tex != 0 ? texture(u_albedo_tex, uv) : vec4(1.0);
-#endif
 #ifndef OPAQUE_DRAW
-    if (u_alpha_cutoff >= 0.0 && t.a < u_alpha_cutoff)
+    if (u_alpha_cutoff >= 0.0 && u_has_tex != 0 && textureLod(u_albedo_tex, uv, 0.0).a < u_alpha_cutoff)
         discard;
+#endif
 #endif
     return u_albedo * t.rgb;
 }

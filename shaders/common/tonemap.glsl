@@ -1,13 +1,11 @@
 // tonemap.glsl — the display transform: radiance × exposure, clamped to
-// [0, 1] (tonemap), then sRGB-encoded. The tone-mapping pass
-// (frame/tonemap.frag) leaves the encoding to its SRGB8_ALPHA8 target
-// (GL_FRAMEBUFFER_SRGB); the forward draw that tone-maps as it shades
-// (frame/forward.frag) encodes with srgb_encode and writes the bytes as
-// they are. On llvmpipe each is the cheaper way for its pass: the target's
-// conversion cost the forward draw 0.8 ms more than srgb_encode (13.4
-// against 12.6 ms, pcf_sun.json 800×600, one thread), srgb_encode the
-// full-screen pass 0.6 ms more (3.5 against 2.9). GPUs pay a few
-// instructions either way.
+// [0, 1] (tonemap), then sRGB-encoded by srgb_encode. Every pass that
+// writes the display image encodes in the shader: the compute passes
+// (frame/shade.comp, frame/finish.comp, frame/fxaa.comp), whose image
+// stores take no sRGB format, and the forward draw that tone-maps as it
+// shades (frame/forward.frag), where the target's conversion cost llvmpipe
+// 0.8 ms more than srgb_encode (13.4 against 12.6 ms, pcf_sun.json
+// 800×600, one thread). GPUs pay a few instructions either way.
 #ifndef TONEMAP_GLSL
 #define TONEMAP_GLSL
 

@@ -1,6 +1,6 @@
 // frame/forward.frag — forward direct shading of one light
 // (common/direct_light.glsl) while drawing the scene: what frame/gbuffer.frag
-// would pack and frame/direct.frag unpack, evaluated in place, for frames
+// would pack and frame/shade.comp unpack, evaluated in place, for frames
 // that need no G-buffer (no GI technique; pass_direct_forward). Built with
 // OPAQUE_DRAW for every material: alpha-masked ones too, whose holes the
 // depth pre-pass discarded (pass_direct.c). The surface as

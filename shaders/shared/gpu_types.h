@@ -71,6 +71,8 @@
 #define TEX_VCT_ANISO 17    /* vct: directional volumes of x, y, z (each both signs, GpuVctParams), 17..19 */
 /* Image units */
 #define IMG_OUT 0        /* image written by GI compute passes */
+#define IMG_HDR 0        /* the frame's compute passes: radiance (RGBA32F) read and written */
+#define IMG_LDR 1        /* the frame's compute passes: display image written (RGBA8, sRGB-encoded bytes) */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
 #define IMG_LPV_STEP_SRC 0 /* lpv propagation: the last step's SH light, R, G, B side by side in x (3N × N × N) */
 #define IMG_LPV_STEP_DST 1 /* lpv propagation: this step's, the same layout */
@@ -114,11 +116,20 @@
 /* Per-program uniforms (each program's own locations, from 10 up). */
 #define LOC_RSM_FACE_AXIS 12    /* rsm.frag: vec3 unit axis of the face / spot (past scene.vert's FLAT_UNIFORMS locations) */
 #define LOC_RSM_TEXEL_AREA 13   /* rsm.frag: float texel area on the projection plane */
-#define LOC_DIRECT_EMISSION 10  /* direct.frag: int, first light of the frame: add emitted radiance, unblended */
-#define LOC_DIRECT_AREA_LIGHT 11 /* direct.frag: int, AREA_LIGHT_EXACT or AREA_LIGHT_POINT */
-#define LOC_TONEMAP_EXPOSURE 10 /* tonemap.frag: float */
-#define LOC_RESOLVE_FACTOR 10   /* resolve.frag: int, supersampling factor N */
-#define LOC_COMPOSITE_SPECULAR 10 /* composite.frag: int, add the specular image */
+#define LOC_DIRECT_EMISSION 10  /* forward.frag: int, first light of the frame: add emitted radiance, unblended */
+#define LOC_DIRECT_AREA_LIGHT 11 /* forward.frag, shade.comp: int, AREA_LIGHT_EXACT or AREA_LIGHT_POINT */
+#define LOC_SHADE_STEPS 10      /* frame/shade.comp: int, SHADE_* bits: what this dispatch does */
+#define LOC_COMPOSITE_SPECULAR 12 /* frame/shade.comp: int, add the technique's specular image */
+#define LOC_FINISH_FACTOR 10    /* frame/finish.comp: int, supersampling factor N (1: tone map only) */
+#define LOC_FINISH_RADIANCE 11  /* frame/finish.comp: int, 1: write the resolved radiance too */
+/* frame/shade.comp's steps (LOC_SHADE_STEPS): a frame of one light and no
+ * supersampling is one dispatch with every bit but SHADE_ACCUMULATE. */
+#define SHADE_ACCUMULATE 1 /* add to the radiance image (lights after the first) */
+#define SHADE_EMISSION 2   /* add the surfaces' emitted radiance (the first light's dispatch) */
+#define SHADE_LIGHT 4      /* the light bound at UBO_LIGHT (none: a frame without lights) */
+#define SHADE_COMPOSITE 8  /* add the GI technique's indirect light (the last dispatch) */
+#define SHADE_TONEMAP 16   /* write the display image at IMG_LDR (the last dispatch, no supersampling) */
+#define SHADE_GROUP 8      /* work group: SHADE_GROUP² pixels (shade, finish, fxaa) */
 #define LOC_VPL_STRIDE 10       /* vpl_extract.comp: int, keep every stride-th texel per axis */
 #define LOC_AB_MODE 10          /* ui/ab_view.frag: int, 0 render, 1 reference, 2 split, 3 difference */
 #define LOC_AB_SPLIT 11         /* ui/ab_view.frag: float, split position in [0, 1] of the width */
@@ -142,6 +153,7 @@
 #define LOC_LPV_SURFEL_AREA 11  /* lpv geometry: float, max surfel area (m^2) */
 #define LOC_LPV_EXCLUDE 12      /* lpv inject: int, skip VPLs inside this (finer) cascade; -1: none */
 #define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
+#define LOC_LPV_GROUP 14        /* lpv inject/propagate: int, the light group built (gi/lpv/sh.glsl, lpv_group); -1: one group */
 #define LOC_VCT_AXIS 10         /* vct mips: int, the directional volumes' axis 0..2 (x y z) */
 #define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */

@@ -84,8 +84,10 @@ double gi_cost_evaluations(int gi, const GiParams *p, const Scene *s, double px)
     case GI_VPL_METALIGHTS:
         return px * vpls / subsets;
     case GI_LPV: {
-        double cells = pow(p->lpv_size, 3) * p->lpv_cascades;
-        int steps = p->lpv_iterations > 0 ? p->lpv_iterations : p->lpv_size;
+        double cells = pow(p->lpv_size, 3) * p->lpv_cascades * p->lpv_groups;
+        int steps = p->lpv_iterations > 0 ? p->lpv_iterations
+                    : p->lpv_propagation == LPV_PROPAGATION_DIRECTIONAL ? 3 * p->lpv_size
+                                                                         : p->lpv_size;
         return (cells * steps * 6 + rsm_texels(s, p, gi, false) * p->lpv_cascades + px) * VOLUME_EVAL_COST;
     }
     case GI_VCT: {

@@ -13,8 +13,8 @@
 #include "shared/gpu_types.h"
 #include "shader.h"
 
-/* In every program of this pass: the light block (and the forward draw's
- * other constants) as flat inputs (common/lights.glsl). */
+/* In every forward program: the light block and the draw's other
+ * constants as flat inputs (common/lights.glsl). */
 #define FLAT_UNIFORMS_DEFINE "#define FLAT_UNIFORMS\n"
 
 /* The forward program for kind k of material draw with `defines` before:
@@ -24,24 +24,21 @@ static GLuint forward_program(ProgramCache *pc, int k, const char *defines)
 {
     static const char *const kinds[2] = {FLAT_UNIFORMS_DEFINE "#define OPAQUE_DRAW\n",
                                          FLAT_UNIFORMS_DEFINE "#define OPAQUE_DRAW\n#define UNTEXTURED\n"};
-    char all[320];
+    char all[400];
     snprintf(all, sizeof all, "%s%s", defines, kinds[k]);
     return program_cache_get(pc, &(ShaderProgramDesc){.label = "forward", .vert = "frame/scene.vert",
                                                       .frag = "frame/forward.frag", .defines = all});
 }
 
-bool pass_direct_create(PassDirect *p, ProgramCache *pc, GLuint vao)
+bool pass_direct_create(PassDirect *p, ProgramCache *pc)
 {
-    p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert",
-                                                            .frag = "frame/direct.frag", .defines = FLAT_UNIFORMS_DEFINE});
     for (int k = 0; k < 2; k++)
         p->forward[k] = forward_program(pc, k, "");
-    if (!p->program || !p->forward[0] || !p->forward[1])
+    if (!p->forward[0] || !p->forward[1])
         return false;
     p->pc = pc;
     glCreateBuffers(1, &p->shadow_ubo);
     glNamedBufferStorage(p->shadow_ubo, sizeof(GpuShadowParams), NULL, GL_DYNAMIC_STORAGE_BIT);
-    p->vao = vao;
     return true;
 }
 
@@ -134,16 +131,8 @@ static int shadow_grid_taps(float radius)
     return k < 8 ? k : 8;
 }
 
-/* The defines that specialise a program to light `l`'s type and the shadow
- * mode: with both fixed at compile time the compiler drops the other types'
- * and filters' code, which llvmpipe would otherwise pay for although no
- * pixel takes it (pcf_sun.json 800x600 with PCF, one thread: 160-210 ->
- * 35-63 ms, the image bit for bit the same, see test_direct). A scene
- * without glossy materials drops the GGX code too (10-12 ms of the
- * unshadowed pass's ~35 in one measurement, within the noise in another).
- * NULL light: the general program (no light, or PassDirect.general). */
-static void variant_defines(const PassDirect *p, const Scene *s, const Light *l, const char *extra, char *out,
-                            size_t size)
+void pass_direct_variant_defines(const PassDirect *p, const Scene *s, const Light *l, const char *extra, char *out,
+                                 size_t size)
 {
     if (!l || p->general) {
         snprintf(out, size, "%s", extra);
@@ -165,51 +154,8 @@ static void variant_defines(const PassDirect *p, const Scene *s, const Light *l,
              scene_has_glossy(s) ? "" : "#define DIRECT_DIFFUSE_ONLY\n", extra);
 }
 
-/* The deferred program for light `l` (variant_defines). Variants are built
- * on first use; one that does not build falls back to the general program
- * (logged once by the cache). */
-static GLuint direct_program(PassDirect *p, const Scene *s, const Light *l)
-{
-    if (p->general)
-        return p->program;
-    char defines[256];
-    variant_defines(p, s, l, FLAT_UNIFORMS_DEFINE, defines, sizeof defines);
-    GLuint prog = program_cache_get(
-        p->pc, &(ShaderProgramDesc){.label = "direct", .vert = "frame/fullscreen.vert", .frag = "frame/direct.frag",
-                                    .defines = defines});
-    return prog ? prog : p->program;
-}
-
-/* One light's draw with `prog`. The first draw of a frame writes
- * without blending, so the target needs no clear and no read-back of what it
- * held; background pixels write zero there and are discarded after. */
-static void direct_draw(PassDirect *p, GLuint prog, bool first, ColorTarget *hdr)
-{
-    glProgramUniform1i(prog, LOC_DIRECT_AREA_LIGHT, p->area_light);
-    glProgramUniform1i(prog, LOC_DIRECT_EMISSION, first ? 1 : 0);
-    fullscreen_draw(prog, p->vao, hdr->fbo, hdr->width, hdr->height, !first);
-}
-
-void pass_direct_run(PassDirect *p, const LightStage *ls, const GBuffer *gb, ColorTarget *hdr)
-{
-    glBindBufferBase(GL_UNIFORM_BUFFER, UBO_SHADOW, p->shadow_ubo);
-    glBindTextureUnit(TEX_GB_SURFACE, gb->surface);
-    glBindTextureUnit(TEX_GB_MATERIAL, gb->material);
-    if (ls->light_count == 0) {
-        /* No light: slot 0 of the light array is all zero (zero light
-         * colour), so the draw adds emission only. */
-        light_stage_bind_shadow(ls, 0);
-        direct_draw(p, p->program, true, hdr);
-        return;
-    }
-    for (int i = 0; i < ls->light_count; i++) {
-        light_stage_bind_shadow(ls, i);
-        direct_draw(p, direct_program(p, ls->scene, &ls->scene->lights[i]), i == 0, hdr);
-    }
-}
-
-/* Light `l`'s forward programs (variant_defines; NULL: no light), each
- * falling back to the general one as direct_program does. Alpha-masked
+/* Light `l`'s forward programs (pass_direct_variant_defines; NULL: no light), each
+ * falling back to the general one (logged once by the cache). Alpha-masked
  * materials draw with the textured opaque program: the depth pre-pass
  * discarded their holes, and at GL_EQUAL a hole's fragment (nearer than
  * what the pre-pass left there) fails the test. So no fragment of the
@@ -221,8 +167,8 @@ static void forward_programs(PassDirect *p, const Scene *s, const Light *l, GLui
     progs[1] = p->forward[1];
     if (!l || p->general)
         return;
-    char defines[256];
-    variant_defines(p, s, l, "", defines, sizeof defines);
+    char defines[320];
+    pass_direct_variant_defines(p, s, l, "", defines, sizeof defines);
     for (int k = 0; k < 2; k++) {
         GLuint prog = forward_program(p->pc, k, defines);
         progs[k] = prog ? prog : progs[k];

@@ -2,9 +2,9 @@
 
 #include "shared/gpu_types.h"
 
-bool pass_fxaa_create(PassFxaa *p, ProgramCache *pc, GLuint vao)
+bool pass_fxaa_create(PassFxaa *p, ProgramCache *pc)
 {
-    p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "fxaa", .vert = "frame/fullscreen.vert", .frag = "frame/fxaa.frag"});
+    p->program = program_cache_get(pc, &(ShaderProgramDesc){.label = "fxaa", .comp = "frame/fxaa.comp"});
     if (!p->program)
         return false;
     glCreateSamplers(1, &p->sampler);
@@ -13,7 +13,6 @@ bool pass_fxaa_create(PassFxaa *p, ProgramCache *pc, GLuint vao)
     glSamplerParameteri(p->sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glSamplerParameteri(p->sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glObjectLabel(GL_SAMPLER, p->sampler, -1, "fxaa.linear");
-    p->vao = vao;
     return true;
 }
 
@@ -27,8 +26,12 @@ void pass_fxaa_run(PassFxaa *p, const ColorTarget *in, ColorTarget *out)
 {
     glBindTextureUnit(TEX_LDR, in->texture);
     glBindSampler(TEX_LDR, p->sampler);
-    glEnable(GL_FRAMEBUFFER_SRGB);
-    fullscreen_draw(p->program, p->vao, out->fbo, out->width, out->height, false);
-    glDisable(GL_FRAMEBUFFER_SRGB);
+    glBindImageTexture(IMG_LDR, out->storage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
+    glUseProgram(p->program);
+    glDispatchCompute((GLuint)(out->width + SHADE_GROUP - 1) / SHADE_GROUP,
+                      (GLuint)(out->height + SHADE_GROUP - 1) / SHADE_GROUP, 1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glUseProgram(0);
     glBindSampler(TEX_LDR, 0);
 }

@@ -1,17 +1,25 @@
+/* SCHED_IDLE (Linux) for the background renderer's threads (pt_job_pass). */
+#define _GNU_SOURCE
 #include "reference/pathtracer.h"
 
 #include "brdf.h"
 #include <math.h>
 #include <pthread.h>
+#include <sched.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
+#if defined(__SSE2__)
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+#endif
 
 #include "camera.h"
 #include "log.h"
+#include "reference/pt_job.h"
 #include "reference/pt_scene.h"
 #include "reference/rng.h"
 #include "reference/sampler.h"
@@ -38,17 +46,20 @@ void pt_settings_default(PtSettings *s)
     s->sampler = PT_SAMPLER_SOBOL;
 }
 
-typedef struct Job {
-    const Scene *scene;
-    const PtSettings *set;
-    PtScene ps;
+/* pt_job.h's job. */
+typedef struct PtJob {
+    const Scene *scene;        /* borrowed */
+    const PtSettings *set;     /* borrowed */
+    PtScene ps;                /* owned: Embree's scene */
     int tiles_x, tiles_y;
-    atomic_int next_tile;
-    atomic_int tiles_done;
+    atomic_int next_tile;      /* the running pass: next tile to take */
+    atomic_int tiles_done;     /* the running pass: tiles rendered */
     atomic_uint_fast64_t rays;
-    double *sum, *sum2;    /* per pixel and channel: sums of the samples and their squares */
-    int s0, s1;            /* the current pass: sample indices [s0, s1) */
-    double printed_at;     /* when the last progress line was printed (s since the start) */
+    double *sum, *sum2;        /* per pixel and channel: sums of the samples and their squares (owned) */
+    int s0, s1;                /* the running pass: sample indices [s0, s1) */
+    const atomic_int *cancel;  /* the running pass: no new tile once non-zero (may be NULL) */
+    pthread_t *threads;        /* room for set->threads − 1 helpers (owned) */
+    CameraRayBasis cam;        /* the scene camera's rays at this size */
 } Job;
 
 /* ---------------------------------------------------------------- lights
@@ -190,49 +201,71 @@ static bool light_sample(const Light *l, const vec3 o, const float u[2], LightSa
     return false;
 }
 
-/* World vector → the local frame of unit n (z = n), the basis of to_world. */
-static void to_local(const vec3 n, const vec3 w, vec3 out)
+/* A surface point as one path vertex sees it: the BRDF, the shading frame
+ * and the view direction in it, made once per vertex for its light samples
+ * and its bounce. */
+typedef struct Shade {
+    BrdfSurface surf;
+    vec3 t, b, n;     /* the shading frame (onb of the shading normal n: to_world's) */
+    vec3 wo;          /* toward the viewer, in that frame */
+    float spec_prob;  /* brdf_spec_prob at wo: how often the bounce samples the specular lobe */
+    bool lambert;     /* F0 = 0: f = ρ/π and pdf = cos/π exactly (brdf.h), with no Fresnel to evaluate */
+    vec3 rho_pi;      /* lambert: ρ/π */
+} Shade;
+
+static float dot3(const vec3 a, const vec3 b) { return glm_vec3_dot((float *)a, (float *)b); }
+
+static void shade_make(const PtScene *ps, const PtHit *h, const vec3 wo, Shade *sh)
 {
-    vec3 t, b;
-    onb(n, t, b);
-    out[0] = glm_vec3_dot((float *)w, t);
-    out[1] = glm_vec3_dot((float *)w, b);
-    out[2] = glm_vec3_dot((float *)w, (float *)n);
+    pt_surface(ps, h, &sh->surf);
+    glm_vec3_copy((float *)h->ns, sh->n);
+    onb(sh->n, sh->t, sh->b);
+    sh->wo[0] = dot3(wo, sh->t);
+    sh->wo[1] = dot3(wo, sh->b);
+    sh->wo[2] = dot3(wo, sh->n);
+    const float *f0 = sh->surf.f0;
+    sh->lambert = f0[0] <= 0.f && f0[1] <= 0.f && f0[2] <= 0.f;
+    sh->spec_prob = sh->lambert ? 0.f : brdf_spec_prob(&sh->surf, sh->wo[2]);
+    glm_vec3_scale(sh->surf.diffuse, 1.f / GLM_PIf, sh->rho_pi);
 }
 
-/* Density of BSDF-sampling wi (world) at hit h seen from wo (world). */
-static float bsdf_pdf(const PtHit *h, const BrdfSurface *surf, const vec3 wo, const vec3 wi)
+/* f and the BSDF-sampling density of world direction wi, at cosine c =
+ * wi·n > 0 with the shading normal. */
+static void shade_eval(const Shade *sh, const vec3 wi, float c, vec3 f, float *pdf)
 {
-    vec3 lo, li;
-    to_local(h->ns, wo, lo);
-    to_local(h->ns, wi, li);
-    return brdf_pdf(surf, lo, li);
+    if (sh->lambert) {
+        glm_vec3_copy((float *)sh->rho_pi, f);
+        *pdf = c / GLM_PIf;
+        return;
+    }
+    vec3 l = {dot3(wi, sh->t), dot3(wi, sh->b), c};
+    brdf_eval_pdf(&sh->surf, sh->wo, l, sh->spec_prob, f, pdf);
 }
 
-/* Direct light at hit h seen from wo (unit, toward the viewer): one sample
- * of every light, times the BRDF (brdf.h) and the cosine, with MIS against
- * the BSDF sample for emitters BSDF rays can hit (when `mis`). */
-static void direct_light(Job *j, const PtHit *h, const BrdfSurface *surf, const vec3 wo, Sampler *smp, bool mis,
+/* Direct light at hit h (shade: its vertex; o: its point moved off the
+ * surface, pt_offset): one sample of every light, times the BRDF (brdf.h)
+ * and the cosine, with MIS against the BSDF sample for emitters BSDF rays
+ * can hit (when `mis`). */
+static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, Sampler *smp, bool mis,
                          uint64_t *rays, vec3 out)
 {
     glm_vec3_zero(out);
-    vec3 o;
-    pt_offset(h->p, h->ng, o);
     for (int i = 0; i < j->scene->light_count; i++) {
         float u[2];
         sampler_2d(smp, u);
         LightSample ls;
         if (!light_sample(&j->scene->lights[i], o, u, &ls))
             continue;
-        float c = glm_vec3_dot(ls.wi, (float *)h->ns);
-        if (c <= 0.f || glm_vec3_dot(ls.wi, (float *)h->ng) <= 0.f)
+        float c = dot3(ls.wi, sh->n);
+        if (c <= 0.f || dot3(ls.wi, h->ng) <= 0.f)
             continue;
         vec3 e, f;
-        brdf_eval(surf, h->ns, wo, ls.wi, f);
+        float pdf_bsdf;
+        shade_eval(sh, ls.wi, c, f, &pdf_bsdf);
         glm_vec3_scale(ls.li, c, e);
         glm_vec3_mul(e, f, e);
         if (mis && ls.pdf > 0.f)
-            glm_vec3_scale(e, power_heuristic(ls.pdf, bsdf_pdf(h, surf, wo, ls.wi)), e);
+            glm_vec3_scale(e, power_heuristic(ls.pdf, pdf_bsdf), e);
         if (e[0] <= 0.f && e[1] <= 0.f && e[2] <= 0.f)
             continue;
         (*rays)++;
@@ -243,30 +276,35 @@ static void direct_light(Job *j, const PtHit *h, const BrdfSurface *surf, const 
     }
 }
 
-/* Samples the BSDF at hit h for wo (world): the direction `wi`, its
+/* Samples the BSDF at hit h (shade: its vertex): the direction `wi`, its
  * density and the weight f·cos/pdf. The lobe choice takes a number only
  * when both lobes may be picked, so a Lambertian surface draws the same
  * numbers as plain cosine sampling. false if the sample is unusable. */
-static bool bsdf_sample(const PtHit *h, const BrdfSurface *surf, const vec3 wo, Sampler *smp, vec3 wi, float *pdf,
-                        vec3 weight)
+static bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi, float *pdf, vec3 weight)
 {
-    vec3 lo, li, f;
-    to_local(h->ns, wo, lo);
-    float p = brdf_spec_prob(surf, lo[2]);
+    float p = sh->spec_prob;
     float u0 = p <= 0.f ? 1.f : p >= 1.f ? 0.f : sampler_1d(smp);
     float u[2];
     sampler_2d(smp, u);
-    if (!brdf_sample(surf, lo, u0, u[0], u[1], li))
+    vec3 l;
+    if (!brdf_sample_p(&sh->surf, sh->wo, p, u0, u[0], u[1], l))
         return false;
-    to_world(h->ns, li[0], li[1], li[2], wi);
+    for (int i = 0; i < 3; i++)
+        wi[i] = l[0] * sh->t[i] + l[1] * sh->b[i] + l[2] * sh->n[i];
     glm_vec3_normalize(wi);
-    float c = glm_vec3_dot(wi, (float *)h->ns);
-    if (c <= 0.f || glm_vec3_dot(wi, (float *)h->ng) <= 0.f)
+    float c = dot3(wi, sh->n);
+    if (c <= 0.f || dot3(wi, h->ng) <= 0.f)
         return false;
-    *pdf = bsdf_pdf(h, surf, wo, wi);
+    if (sh->lambert) {
+        /* f·cos/pdf = ρ/π · c / (c/π) */
+        *pdf = c / GLM_PIf;
+        glm_vec3_copy((float *)sh->surf.diffuse, weight);
+        return true;
+    }
+    vec3 f;
+    shade_eval(sh, wi, c, f, pdf);
     if (!(*pdf > 0.f))
         return false;
-    brdf_eval(surf, h->ns, wo, wi, f);
     glm_vec3_scale(f, c / *pdf, weight);
     return true;
 }
@@ -322,49 +360,51 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
         }
         if (depth > max_direct)
             break;
-        BrdfSurface surf;
-        pt_surface(ps, &h, &surf);
         vec3 wo;
         glm_vec3_negate_to(d, wo);
+        Shade sh;
+        shade_make(ps, &h, wo, &sh);
+        pt_offset(h.p, h.ng, o); /* where this vertex's shadow rays and bounce start */
         if (depth >= min_direct) {
             vec3 e;
-            direct_light(j, &h, &surf, wo, smp, mis, rays, e);
+            direct_light(j, &h, &sh, o, smp, mis, rays, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (novis) {
             /* One bounce without visibility on x1 → x2: every surface along
              * the BSDF-sampled ray contributes its direct light. */
-            vec3 dir, o1, t1, w;
+            vec3 dir, t1, w;
             float pdf;
-            if (!bsdf_sample(&h, &surf, wo, smp, dir, &pdf, w))
+            if (!bsdf_sample(&h, &sh, smp, dir, &pdf, w))
                 break;
-            pt_offset(h.p, h.ng, o1);
             glm_vec3_mul(thr, w, t1);
             vec3 wo2;
             glm_vec3_negate_to(dir, wo2);
             PtHit hits[MAX_ALL_HITS];
             (*rays)++;
-            int n = pt_intersect_all(ps, o1, dir, INFINITY, hits, MAX_ALL_HITS);
+            int n = pt_intersect_all(ps, o, dir, INFINITY, hits, MAX_ALL_HITS);
             for (int k = 0; k < n; k++) {
-                BrdfSurface s2;
-                vec3 e;
-                pt_surface(ps, &hits[k], &s2);
-                direct_light(j, &hits[k], &s2, wo2, smp, false, rays, e);
+                Shade s2;
+                vec3 e, o2;
+                shade_make(ps, &hits[k], wo2, &s2);
+                pt_offset(hits[k].p, hits[k].ng, o2);
+                direct_light(j, &hits[k], &s2, o2, smp, false, rays, e);
                 glm_vec3_muladd(t1, e, L);
             }
             break;
         }
         if (s->russian_roulette && depth > s->rr_depth) {
-            float p = fminf(fmaxf(thr[0], fmaxf(thr[1], thr[2])), 0.95f);
+            float p = thr[0] > thr[1] ? thr[0] : thr[1];
+            p = p > thr[2] ? p : thr[2];
+            p = p < 0.95f ? p : 0.95f;
             if (sampler_1d(smp) >= p)
                 break;
             glm_vec3_scale(thr, 1.f / p, thr);
         }
         vec3 w;
-        if (!bsdf_sample(&h, &surf, wo, smp, d, &pdf_prev, w))
+        if (!bsdf_sample(&h, &sh, smp, d, &pdf_prev, w))
             break;
         glm_vec3_mul(thr, w, thr); /* f·cos/pdf; Lambertian: ρ */
-        pt_offset(h.p, h.ng, o);
         if (thr[0] <= 0.f && thr[1] <= 0.f && thr[2] <= 0.f)
             break;
     }
@@ -386,7 +426,7 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
                 if (s->pixel_jitter)
                     sampler_2d(&smp, jit);
                 vec3 d, L;
-                camera_ray(&j->scene->camera, s->width, s->height, x + jit[0], y + jit[1], d);
+                camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d);
                 radiance(j, j->scene->camera.position, d, &smp, rays, L);
                 for (int c = 0; c < 3; c++) {
                     float v = isfinite(L[c]) ? L[c] : 0.f;
@@ -397,32 +437,198 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
         }
 }
 
-static void *worker(void *arg)
+/* Renders tiles of the running pass until none is left or the pass is
+ * cancelled; the calling thread calls tick(ctx) between tiles if given. */
+static void work_tiles(Job *j, void (*tick)(void *), void *ctx)
 {
-    Job *j = arg;
+    /* Denormals flushed to zero, as Embree asks of every thread that traces
+     * (its kernels slow down severely on denormal operands); this thread's
+     * mode is restored on return (the caller's thread works too). */
+#if defined(__SSE2__)
+    unsigned int csr = _mm_getcsr();
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+#endif
     int n = j->tiles_x * j->tiles_y;
-    for (int t; (t = atomic_fetch_add(&j->next_tile, 1)) < n;) {
+    for (int t; !(j->cancel && atomic_load(j->cancel)) && (t = atomic_fetch_add(&j->next_tile, 1)) < n;) {
         uint64_t rays = 0;
         render_tile(j, t, &rays);
         atomic_fetch_add(&j->rays, rays);
         atomic_fetch_add(&j->tiles_done, 1);
+        if (tick)
+            tick(ctx);
     }
+#if defined(__SSE2__)
+    _mm_setcsr(csr);
+#endif
+}
+
+static void *worker(void *arg)
+{
+    work_tiles(arg, NULL, NULL);
     return NULL;
 }
+
+bool pt_thread_start(pthread_t *t, void *(*fn)(void *), void *arg, bool background)
+{
+#if defined(SCHED_IDLE)
+    pthread_attr_t attr;
+    struct sched_param prio = {0};
+    if (background && pthread_attr_init(&attr) == 0) {
+        bool ok = pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED) == 0 &&
+                  pthread_attr_setschedpolicy(&attr, SCHED_IDLE) == 0 &&
+                  pthread_attr_setschedparam(&attr, &prio) == 0 && pthread_create(t, &attr, fn, arg) == 0;
+        pthread_attr_destroy(&attr);
+        if (ok)
+            return true;
+        /* A system that refuses the policy: an ordinary thread. */
+    }
+#else
+    (void)background;
+#endif
+    return pthread_create(t, NULL, fn, arg) == 0;
+}
+
+Job *pt_job_create(const Scene *scene, const PtSettings *set)
+{
+    sampler_init();
+    Job *j = calloc(1, sizeof *j);
+    size_t npix = (size_t)set->width * (size_t)set->height;
+    int helpers = set->threads > 1 ? set->threads - 1 : 0;
+    if (j) {
+        j->sum = calloc(npix * 3, sizeof(double));
+        j->sum2 = calloc(npix * 3, sizeof(double));
+        j->threads = calloc((size_t)helpers + 1, sizeof(pthread_t));
+    }
+    if (!j || !j->sum || !j->sum2 || !j->threads) {
+        log_error("reference", "cannot allocate the %dx%d sums (%.2f GiB)", set->width, set->height,
+                  (double)(npix * 6 * sizeof(double)) / (1u << 30));
+    } else if (pt_scene_create(&j->ps, scene)) { /* logs */
+        j->scene = scene;
+        j->set = set;
+        camera_ray_basis(&scene->camera, set->width, set->height, &j->cam);
+        j->tiles_x = (set->width + TILE - 1) / TILE;
+        j->tiles_y = (set->height + TILE - 1) / TILE;
+        atomic_init(&j->rays, 0);
+        return j;
+    }
+    if (j)
+        free(j->sum), free(j->sum2), free(j->threads);
+    free(j);
+    return NULL;
+}
+
+void pt_job_destroy(Job *j)
+{
+    if (!j)
+        return;
+    free(j->sum);
+    free(j->sum2);
+    free(j->threads);
+    pt_scene_destroy(&j->ps);
+    free(j);
+}
+
+void pt_job_clear(Job *j)
+{
+    size_t n = 3 * (size_t)j->set->width * (size_t)j->set->height;
+    memset(j->sum, 0, n * sizeof(double));
+    memset(j->sum2, 0, n * sizeof(double));
+    atomic_store(&j->rays, 0);
+    camera_ray_basis(&j->scene->camera, j->set->width, j->set->height, &j->cam);
+}
+
+/* Passes of about 2^18 samples: short enough that a stop request or a
+ * time budget ends a render within a second or so, long enough that the
+ * threads stay busy. The schedule depends on the size only. */
+int pt_job_pass_spp(const Job *j)
+{
+    size_t npix = (size_t)j->set->width * (size_t)j->set->height;
+    int pass_spp = (int)((((size_t)1 << 18) + npix - 1) / npix);
+    return pass_spp < 1 ? 1 : pass_spp;
+}
+
+bool pt_job_pass(Job *j, int s0, int s1, int nthreads, bool background, const atomic_int *cancel,
+                 void (*tick)(void *), void *ctx)
+{
+    j->s0 = s0;
+    j->s1 = s1;
+    j->cancel = cancel;
+    atomic_store(&j->next_tile, 0);
+    atomic_store(&j->tiles_done, 0);
+    int helpers = nthreads - 1, max = j->set->threads > 1 ? j->set->threads - 1 : 0;
+    helpers = helpers < 0 ? 0 : helpers > max ? max : helpers;
+    int started = 0;
+    for (; started < helpers; started++)
+        if (!pt_thread_start(&j->threads[started], worker, j, background))
+            break; /* the threads started do the work */
+    work_tiles(j, tick, ctx);
+    for (int i = 0; i < started; i++)
+        pthread_join(j->threads[i], NULL);
+    return atomic_load(&j->tiles_done) == j->tiles_x * j->tiles_y;
+}
+
+int pt_job_tiles_done(const Job *j, int *total)
+{
+    *total = j->tiles_x * j->tiles_y;
+    return atomic_load(&j->tiles_done);
+}
+
+double pt_job_relmse_estimate(const Job *j, int spp)
+{
+    if (spp < 2)
+        return 0.0;
+    size_t n = 3 * (size_t)j->set->width * (size_t)j->set->height;
+    double acc = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double m = j->sum[i] / spp, var = (j->sum2[i] - spp * m * m) / (spp - 1);
+        acc += fmax(var, 0.0) / spp / (m * m + 0.01);
+    }
+    return acc / (double)n;
+}
+
+void pt_job_resolve(const Job *j, int spp, ImageF *mean, ImageF *variance)
+{
+    for (size_t i = 0; i < 3 * (size_t)j->set->width * (size_t)j->set->height; i++) {
+        double m = spp > 0 ? j->sum[i] / spp : 0.0;
+        mean->rgb[i] = (float)m;
+        if (variance) {
+            double var = spp > 1 ? (j->sum2[i] - spp * m * m) / (spp - 1) : 0.0;
+            variance->rgb[i] = (float)(fmax(var, 0.0) / spp);
+        }
+    }
+}
+
+uint64_t pt_job_rays(const Job *j)
+{
+    return atomic_load(&j->rays);
+}
+
+/* ---------------------------------------------------------------- pt_render */
+
+/* What pt_render's progress needs between tiles. */
+typedef struct Progress {
+    Job *job;
+    double t0;          /* when the render started (util_seconds) */
+    double printed_at;  /* when the last line was printed (s since t0) */
+    double drawn_at;    /* when the bar was last drawn (s since t0) */
+    int spp_goal;       /* the samples per pixel the render expects to stop at */
+} Progress;
 
 /* Progress on stderr: a bar redrawn in place on a terminal, else one line
  * every 5 s (logs; RTGI_PROGRESS_S sets the interval, log_progress_seconds)
  * and a last one; with the samples reached, rays/s and the time left. */
-static void draw_progress(Job *j, double frac, double elapsed, bool last)
+static void draw_progress(Progress *p, int spp, double frac, bool last)
 {
+    double elapsed = util_seconds() - p->t0;
     bool tty = isatty(STDERR_FILENO);
     double every = log_progress_seconds(5.0);
     /* Off a terminal a render shorter than the interval prints nothing (the
      * final line only closes earlier ones; with an interval of 0, always). */
-    if (!tty && (last ? j->printed_at <= 0 && every > 0 : elapsed - j->printed_at < every))
+    if (!tty && (last ? p->printed_at <= 0 && every > 0 : elapsed - p->printed_at < every))
         return;
-    j->printed_at = elapsed;
-    double rps = elapsed > 0 ? (double)atomic_load(&j->rays) / elapsed : 0.0;
+    p->printed_at = elapsed;
+    double rps = elapsed > 0 ? (double)pt_job_rays(p->job) / elapsed : 0.0;
     /* The time left is unknown until a pass has finished: "ETA ?" then. */
     char eta[32] = "?";
     if (frac > 0)
@@ -433,83 +639,84 @@ static void draw_progress(Job *j, double frac, double elapsed, bool last)
         bar[i] = i < filled ? '#' : ' ';
     bar[40] = 0;
     fprintf(stderr, "%sreference [%s] %3d%%  %d/%d spp  %.1f s  %.2f Mrays/s  ETA %s%s", tty ? "\r" : "", bar,
-            (int)(100 * frac), j->s0, j->set->spp, elapsed, rps / 1e6, eta, tty && !last ? "" : "\n");
+            (int)(100 * frac), spp, p->spp_goal, elapsed, rps / 1e6, eta, tty && !last ? "" : "\n");
     fflush(stderr);
 }
 
-/* The job's sums and scene, or NULL (logged, nothing left allocated). */
-static Job *job_make(const Scene *scene, const PtSettings *set)
+/* Between tiles: the bar, at most every 0.2 s. */
+static void progress_tick(void *ctx)
 {
-    Job *j = calloc(1, sizeof *j);
-    size_t npix = (size_t)set->width * (size_t)set->height;
-    if (j) {
-        j->sum = calloc(npix * 3, sizeof(double));
-        j->sum2 = calloc(npix * 3, sizeof(double));
-    }
-    if (!j || !j->sum || !j->sum2) {
-        log_error("reference", "cannot allocate the %dx%d sums (%.2f GiB)", set->width, set->height,
-                  (double)(npix * 6 * sizeof(double)) / (1u << 30));
-    } else if (pt_scene_create(&j->ps, scene)) { /* logs */
-        j->scene = scene;
-        j->set = set;
-        j->tiles_x = (set->width + TILE - 1) / TILE;
-        j->tiles_y = (set->height + TILE - 1) / TILE;
-        atomic_init(&j->rays, 0);
-        return j;
-    }
-    if (j)
-        free(j->sum), free(j->sum2);
-    free(j);
-    return NULL;
+    Progress *p = ctx;
+    double now = util_seconds() - p->t0;
+    if (now - p->drawn_at < 0.2)
+        return;
+    p->drawn_at = now;
+    int total, done = pt_job_tiles_done(p->job, &total);
+    double spp_done = p->job->s0 + (double)done / total * (p->job->s1 - p->job->s0);
+    draw_progress(p, p->job->s0, fmin(1.0, spp_done / p->spp_goal), false);
 }
 
-static void job_free(Job *j)
+/* The line before a long render, after its first pass (`spp` samples per
+ * pixel in `secs` seconds): what the rest will take. */
+static void log_forecast(const PtSettings *set, Job *j, int spp, double secs, int *goal)
 {
-    free(j->sum);
-    free(j->sum2);
-    pt_scene_destroy(&j->ps);
-    free(j);
+    double per_spp = secs / spp;
+    if (set->target_relmse > 0.0) {
+        /* relMSE ∝ 1/spp: the samples that bring the estimate to the target. */
+        double est = pt_job_relmse_estimate(j, spp);
+        double need = est > 0.0 ? ceil(spp * est / set->target_relmse) : spp;
+        need = fmax(need, PT_TARGET_MIN_SPP);
+        *goal = need < set->spp ? (int)need : set->spp;
+        log_info("reference", "estimated relMSE %.3g at %d spp; the target %g needs about %d spp: about %.1f s "
+                 "(%.3f s per spp)", est, spp, set->target_relmse, *goal, per_spp * *goal, per_spp);
+    } else if (set->time_budget > 0.0 && per_spp * set->spp > set->time_budget) {
+        *goal = (int)fmax(spp, set->time_budget / per_spp);
+        log_info("reference", "time budget %.1f s: about %d of %d spp (%.3f s per spp)", set->time_budget, *goal,
+                 set->spp, per_spp);
+    } else {
+        log_info("reference", "%d spp: about %.1f s (%.3f s per spp, from the first %d)", set->spp,
+                 per_spp * set->spp, per_spp, spp);
+    }
 }
 
-/* Every pass of samples over the image on `nthreads` threads (th: room for
- * them), until the samples are done or set->stop is raised between passes;
- * returns the samples per pixel done. Passes of about 2^18 samples: short
- * enough that a stop request ends within seconds, long enough that threads
- * stay busy. The schedule depends on the size only, so a seed gives one
- * image. */
-static int run_passes(Job *j, pthread_t *th, int nthreads, double t0)
+/* Every pass until the samples are done, set->stop is raised, the
+ * estimated relMSE reaches set->target_relmse or the next pass would end
+ * past set->time_budget; the samples per pixel reached. */
+static int run_passes(Job *j, const PtSettings *set, Progress *p, PtStop *why)
 {
-    const PtSettings *set = j->set;
-    size_t npix = (size_t)set->width * (size_t)set->height;
-    int pass_spp = (int)((((size_t)1 << 18) + npix - 1) / npix);
-    pass_spp = pass_spp < 1 ? 1 : (pass_spp > set->spp ? set->spp : pass_spp);
-    int total = j->tiles_x * j->tiles_y;
-    bool stopped = false;
-    for (j->s0 = 0; j->s0 < set->spp && !stopped; j->s0 = j->s1) {
-        j->s1 = j->s0 + pass_spp < set->spp ? j->s0 + pass_spp : set->spp;
-        atomic_store(&j->next_tile, 0);
-        atomic_store(&j->tiles_done, 0);
-        int started = 0;
-        for (; started < nthreads; started++)
-            if (pthread_create(&th[started], NULL, worker, j) != 0)
-                break;
-        if (started == 0) /* no thread at all: render on this one */
-            worker(j);
-        while (set->progress && atomic_load(&j->tiles_done) < total) {
-            double frac = (j->s0 + (double)atomic_load(&j->tiles_done) / total * (j->s1 - j->s0)) / set->spp;
-            draw_progress(j, frac, util_seconds() - t0, false);
-            nanosleep(&(struct timespec){0, 200000000L}, NULL);
+    int pass_spp = pt_job_pass_spp(j), nthreads = set->threads < 1 ? 1 : set->threads;
+    int spp = 0;
+    *why = PT_STOP_SPP;
+    for (int pass = 0; spp < set->spp; pass++) {
+        int s1 = spp + pass_spp < set->spp ? spp + pass_spp : set->spp;
+        double started = util_seconds();
+        pt_job_pass(j, spp, s1, nthreads, false, NULL, set->progress ? progress_tick : NULL, p);
+        double now = util_seconds(), took = now - started;
+        spp = s1;
+        if (spp >= set->spp)
+            break;
+        if (pass == 0 && set->progress)
+            log_forecast(set, j, spp, now - p->t0, &p->spp_goal);
+        if (set->stop && *set->stop) {
+            *why = PT_STOP_INTERRUPTED;
+            break;
         }
-        for (int i = 0; i < started; i++)
-            pthread_join(th[i], NULL);
-        stopped = set->stop && *set->stop;
+        if (set->target_relmse > 0.0 && spp >= PT_TARGET_MIN_SPP &&
+            pt_job_relmse_estimate(j, spp) <= set->target_relmse) {
+            *why = PT_STOP_TARGET;
+            break;
+        }
+        /* The next pass is about as long as this one. */
+        if (set->time_budget > 0.0 && now + took - p->t0 > set->time_budget) {
+            *why = PT_STOP_TIME;
+            break;
+        }
     }
-    return j->s0; /* the passes completed */
+    return spp;
 }
 
 bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *variance, PtStats *stats)
 {
-    sampler_init();
     memset(mean, 0, sizeof *mean);
     if (variance)
         memset(variance, 0, sizeof *variance);
@@ -521,39 +728,27 @@ bool pt_render(const Scene *scene, const PtSettings *set, ImageF *mean, ImageF *
         image_free(mean);
         return false;
     }
-    int nthreads = set->threads < 1 ? 1 : set->threads;
-    pthread_t *th = calloc((size_t)nthreads, sizeof(pthread_t));
-    if (!th)
-        log_error("reference", "cannot allocate the job of %d threads", nthreads);
-    Job *j = th ? job_make(scene, set) : NULL;
+    Job *j = pt_job_create(scene, set);
     if (!j) {
-        free(th);
         image_free(mean);
         if (variance)
             image_free(variance);
         return false;
     }
-
-    double t0 = util_seconds();
-    int spp = run_passes(j, th, nthreads, t0);
-    free(th);
+    Progress p = {.job = j, .t0 = util_seconds(), .spp_goal = set->spp};
+    PtStop why;
+    int spp = run_passes(j, set, &p, &why);
     if (set->progress)
-        draw_progress(j, (double)spp / set->spp, util_seconds() - t0, true);
-    /* Each pixel's mean and the variance of that mean. */
-    for (size_t i = 0; i < 3 * (size_t)set->width * (size_t)set->height; i++) {
-        double m = j->sum[i] / spp;
-        mean->rgb[i] = (float)m;
-        if (variance) {
-            double var = spp > 1 ? (j->sum2[i] - spp * m * m) / (spp - 1) : 0.0;
-            variance->rgb[i] = (float)(fmax(var, 0.0) / spp);
-        }
-    }
+        draw_progress(&p, spp, fmin(1.0, (double)spp / p.spp_goal), true);
+    pt_job_resolve(j, spp, mean, variance);
     if (stats) {
-        stats->seconds = util_seconds() - t0;
-        stats->rays = atomic_load(&j->rays);
+        stats->seconds = util_seconds() - p.t0;
+        stats->rays = pt_job_rays(j);
         stats->spp = spp;
+        stats->stopped = why;
+        stats->relmse_estimate = pt_job_relmse_estimate(j, spp);
     }
-    job_free(j);
+    pt_job_destroy(j);
     return true;
 }
 

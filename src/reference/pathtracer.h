@@ -10,8 +10,8 @@
  * scrambled Sobol' pairs by default, or independent numbers (sampler.h) —
  * so the result is identical for a given seed whatever the thread count.
  * The image is rendered in passes of a few samples per pixel each (about
- * 2^18 samples a pass), summed in double precision; `stop` ends it after
- * the current pass with the samples reached.
+ * 2^18 samples a pass), summed in double precision; `stop`, a target
+ * relMSE or a time budget end it after a pass with the samples reached.
  * Rays leave surfaces offset by 256 ulps of each coordinate along the
  * geometric normal (Wächter & Binder 2019; pt_scene.h).
  *
@@ -60,12 +60,32 @@ typedef struct PtSettings {
     const volatile int *stop; /* may be NULL; when it becomes non-zero (e.g. from a SIGINT handler) the
                                  render finishes its current pass and stops there (PtStats.spp) */
     PtSampler sampler;     /* default: PT_SAMPLER_SOBOL */
+    double target_relmse;  /* > 0: stop after the pass at which the relMSE estimated from the per-pixel
+                              variance is at most this (from PT_TARGET_MIN_SPP samples on) */
+    double time_budget;    /* > 0: seconds; stop before a pass that would end past it (the first pass
+                              always runs) */
 } PtSettings;
+
+/* The samples a target relMSE needs before its estimate is trusted (the
+ * variance of few samples is itself noisy). */
+enum { PT_TARGET_MIN_SPP = 16 };
+
+/* Why a render stopped. */
+typedef enum PtStop {
+    PT_STOP_SPP = 0,       /* PtSettings.spp reached */
+    PT_STOP_TARGET,        /* the estimated relMSE reached PtSettings.target_relmse */
+    PT_STOP_TIME,          /* the next pass would have ended past PtSettings.time_budget */
+    PT_STOP_INTERRUPTED,   /* PtSettings.stop was raised */
+} PtStop;
 
 typedef struct PtStats {
     double seconds;
     uint64_t rays;         /* closest-hit, all-hit and shadow rays */
     int spp;               /* samples per pixel reached: PtSettings.spp unless stopped early */
+    PtStop stopped;        /* why it stopped */
+    double relmse_estimate;/* the relMSE of the mean estimated from the per-pixel variance (0 below 2 spp):
+                              exact in expectation for independent samples, an overestimate for Sobol'
+                              ones (pt_job.h) */
 } PtStats;
 
 void pt_settings_default(PtSettings *s);

@@ -31,31 +31,37 @@ static void embree_error(void *user, enum RTCError code, const char *msg)
     log_error("embree", "error %d: %s", (int)code, msg ? msg : "");
 }
 
+/* x wrapped into [0, n). */
+static inline int wrap(int x, int n)
+{
+    x %= n;
+    return x < 0 ? x + n : x;
+}
+
 /* Texel fetch with wrap-around; row 0 of the image is v = 0. */
 static const uint8_t *texel(const Texture *t, int x, int y)
 {
-    x %= t->width;
-    y %= t->height;
-    if (x < 0)
-        x += t->width;
-    if (y < 0)
-        y += t->height;
-    return t->rgba + 4 * ((size_t)y * t->width + x);
+    return t->rgba + 4 * ((size_t)wrap(y, t->height) * t->width + wrap(x, t->width));
 }
 
-static void tri_uv(const Scene *s, uint32_t tri, float bu, float bv, float uv[2])
+static void tri_uv(const PtTri *t, float bu, float bv, float uv[2])
 {
-    const Vertex *a = &s->vertices[s->indices[3 * tri]], *b = &s->vertices[s->indices[3 * tri + 1]],
-                 *c = &s->vertices[s->indices[3 * tri + 2]];
     float w = 1.f - bu - bv;
-    uv[0] = w * a->uv[0] + bu * b->uv[0] + bv * c->uv[0];
-    uv[1] = w * a->uv[1] + bu * b->uv[1] + bv * c->uv[1];
+    uv[0] = w * t->uv[0][0] + bu * t->uv[1][0] + bv * t->uv[2][0];
+    uv[1] = w * t->uv[0][1] + bu * t->uv[1][1] + bv * t->uv[2][1];
 }
 
+/* Alpha at uv, bilinear as the colour (texture_bilinear) and as the
+ * rasterizer's sampler and glTF's LINEAR filter read it. It was the
+ * nearest texel's: a mask of lone opaque texels covered 25% here and
+ * (1 − ln 2)/2 = 15.3% in the rasterizer (issue 49). */
 static float alpha_at(const Texture *t, const float uv[2])
 {
-    int x = (int)floorf(uv[0] * t->width), y = (int)floorf(uv[1] * t->height);
-    return texel(t, x, y)[3] / 255.f;
+    float x = uv[0] * t->width - 0.5f, y = uv[1] * t->height - 0.5f;
+    int x0 = (int)floorf(x), y0 = (int)floorf(y);
+    float fx = x - x0, fy = y - y0;
+    return ((1 - fx) * (1 - fy) * texel(t, x0, y0)[3] + fx * (1 - fy) * texel(t, x0 + 1, y0)[3] +
+            (1 - fx) * fy * texel(t, x0, y0 + 1)[3] + fx * fy * texel(t, x0 + 1, y0 + 1)[3]) / 255.f;
 }
 
 /* Rejects hits on texels below the material's alpha cutoff. */
@@ -65,14 +71,33 @@ static void alpha_filter(const struct RTCFilterFunctionNArguments *args)
     for (unsigned i = 0; i < args->N; i++) {
         if (args->valid[i] != -1)
             continue;
-        uint32_t prim = hitn_prim(args->hit, args->N, i);
-        uint32_t tri = ps->prim_tri[1][prim];
-        const Material *m = &ps->scene->materials[ps->tri_material[tri]];
+        const PtTri *t = &ps->tris[ps->tri_base[1] + hitn_prim(args->hit, args->N, i)];
+        const Material *m = &ps->scene->materials[t->material];
         float uv[2];
-        tri_uv(ps->scene, tri, hitn_u(args->hit, args->N, i), hitn_v(args->hit, args->N, i), uv);
+        tri_uv(t, hitn_u(args->hit, args->N, i), hitn_v(args->hit, args->N, i), uv);
         if (m->albedo_tex >= 0 && alpha_at(&ps->scene->textures[m->albedo_tex], uv) < m->alpha_cutoff)
             args->valid[i] = 0;
     }
+}
+
+/* The record of triangle `tri` of the scene (material m). */
+static void tri_record(const Scene *s, uint32_t tri, uint32_t m, PtTri *t)
+{
+    memset(t, 0, sizeof *t);
+    const Vertex *v[3];
+    for (int k = 0; k < 3; k++)
+        v[k] = &s->vertices[s->indices[3 * tri + k]];
+    glm_vec3_copy((float *)v[0]->position, t->p0);
+    glm_vec3_sub((float *)v[1]->position, (float *)v[0]->position, t->e1);
+    glm_vec3_sub((float *)v[2]->position, (float *)v[0]->position, t->e2);
+    glm_vec3_cross(t->e1, t->e2, t->ng);
+    glm_vec3_normalize(t->ng);
+    for (int k = 0; k < 3; k++) {
+        glm_vec3_copy((float *)v[k]->normal, t->n[k]);
+        t->uv[k][0] = v[k]->uv[0];
+        t->uv[k][1] = v[k]->uv[1];
+    }
+    t->material = m;
 }
 
 bool pt_scene_create(PtScene *ps, const Scene *s)
@@ -92,25 +117,38 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
 
     uint32_t ntri = s->index_count / 3;
     size_t table = sizeof(uint32_t) * ((size_t)ntri + 1);
-    ps->tri_material = malloc(table);
-    for (int g = 0; g < 2; g++)
-        ps->prim_tri[g] = malloc(table);
-    if (!ps->tri_material || !ps->prim_tri[0] || !ps->prim_tri[1]) {
-        log_error("reference", "cannot allocate the triangle tables of %u triangles (3 × %zu bytes)", ntri, table);
+    size_t records = sizeof(PtTri) * ((size_t)ntri + 1);
+    uint32_t *tri_material = malloc(table), *prim_tri = malloc(table);
+    ps->tris = aligned_alloc(128, records);
+    if (!tri_material || !prim_tri || !ps->tris) {
+        log_error("reference", "cannot allocate the triangle records of %u triangles (%zu bytes)", ntri,
+                  records + 2 * table);
+        free(tri_material);
+        free(prim_tri);
         pt_scene_destroy(ps);
         return false;
     }
     for (int k = 0; k < s->submesh_count; k++)
         for (uint32_t t = s->submeshes[k].first_index / 3;
              t < (s->submeshes[k].first_index + s->submeshes[k].index_count) / 3; t++)
-            ps->tri_material[t] = (uint32_t)s->submeshes[k].material;
+            tri_material[t] = (uint32_t)s->submeshes[k].material;
 
+    /* Opaque triangles first (geometry 0), then alpha-masked (geometry 1):
+     * prim_tri maps a record to its scene triangle. */
     uint32_t count[2] = {0, 0};
+    for (uint32_t t = 0; t < ntri; t++)
+        count[s->materials[tri_material[t]].alpha_mask ? 1 : 0]++;
+    ps->tri_base[0] = 0;
+    ps->tri_base[1] = count[0];
+    uint32_t fill[2] = {0, count[0]};
     for (uint32_t t = 0; t < ntri; t++) {
-        int g = s->materials[ps->tri_material[t]].alpha_mask ? 1 : 0;
-        ps->prim_tri[g][count[g]++] = t;
+        uint32_t i = fill[s->materials[tri_material[t]].alpha_mask ? 1 : 0]++;
+        prim_tri[i] = t;
+        tri_record(s, t, tri_material[t], &ps->tris[i]);
     }
-    for (int g = 0; g < 2; g++) {
+    free(tri_material);
+    bool ok = true;
+    for (int g = 0; g < 2 && ok; g++) {
         if (count[g] == 0)
             continue;
         RTCGeometry geo = rtcNewGeometry(ps->device, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -124,11 +162,11 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
             log_error("reference", "cannot allocate the index buffer of %u triangles (%zu bytes)", count[g],
                       (size_t)count[g] * 3 * sizeof(uint32_t));
             rtcReleaseGeometry(geo);
-            pt_scene_destroy(ps);
-            return false;
+            ok = false;
+            break;
         }
         for (uint32_t i = 0; i < count[g]; i++)
-            memcpy(ib + 3 * i, s->indices + 3 * ps->prim_tri[g][i], 3 * sizeof(uint32_t));
+            memcpy(ib + 3 * i, s->indices + 3 * prim_tri[ps->tri_base[g] + i], 3 * sizeof(uint32_t));
         if (g == 1) {
             rtcSetGeometryUserData(geo, ps);
             rtcSetGeometryIntersectFilterFunction(geo, alpha_filter);
@@ -137,6 +175,11 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
         rtcCommitGeometry(geo);
         rtcAttachGeometryByID(ps->rtc, geo, (unsigned)g);
         rtcReleaseGeometry(geo);
+    }
+    free(prim_tri);
+    if (!ok) {
+        pt_scene_destroy(ps);
+        return false;
     }
     rtcCommitScene(ps->rtc);
     ps->diag = glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
@@ -155,9 +198,7 @@ void pt_scene_destroy(PtScene *ps)
         rtcReleaseScene(ps->rtc);
     if (ps->device)
         rtcReleaseDevice(ps->device);
-    free(ps->prim_tri[0]);
-    free(ps->prim_tri[1]);
-    free(ps->tri_material);
+    free(ps->tris);
     memset(ps, 0, sizeof *ps);
 }
 
@@ -178,37 +219,28 @@ static void init_ray(struct RTCRay *r, const vec3 o, const vec3 d, float tmax)
 }
 
 /* Fills a PtHit from Embree's geometry/primitive/barycentrics. */
-static void fill_hit(const PtScene *ps, const vec3 o, const vec3 d, float t, unsigned geom, unsigned prim,
-                     float bu, float bv, PtHit *h)
+static void fill_hit(const PtScene *ps, const vec3 d, float t, unsigned geom, unsigned prim, float bu, float bv,
+                     PtHit *h)
 {
-    const Scene *s = ps->scene;
-    uint32_t tri = ps->prim_tri[geom][prim];
-    const Vertex *a = &s->vertices[s->indices[3 * tri]], *b = &s->vertices[s->indices[3 * tri + 1]],
-                 *c = &s->vertices[s->indices[3 * tri + 2]];
+    const PtTri *tr = &ps->tris[ps->tri_base[geom] + prim];
     h->t = t;
-    (void)o;
     /* The hit point from the barycentrics rather than o + t·d: its rounding
      * error is a few ulps of the vertices' coordinates, whatever the ray's
      * length (Wächter & Binder 2019, §6.2), which pt_offset relies on. */
-    vec3 e1, e2;
-    glm_vec3_sub((float *)b->position, (float *)a->position, e1);
-    glm_vec3_sub((float *)c->position, (float *)a->position, e2);
     for (int i = 0; i < 3; i++)
-        h->p[i] = a->position[i] + bu * e1[i] + bv * e2[i];
-    glm_vec3_cross(e1, e2, h->ng);
-    glm_vec3_normalize(h->ng);
+        h->p[i] = tr->p0[i] + bu * tr->e1[i] + bv * tr->e2[i];
+    glm_vec3_copy((float *)tr->ng, h->ng);
     float w = 1.f - bu - bv;
     for (int i = 0; i < 3; i++)
-        h->ns[i] = w * a->normal[i] + bu * b->normal[i] + bv * c->normal[i];
+        h->ns[i] = w * tr->n[0][i] + bu * tr->n[1][i] + bv * tr->n[2][i];
     glm_vec3_normalize(h->ns);
     h->front = glm_vec3_dot(h->ng, (float *)d) < 0.f;
     if (!h->front)
         glm_vec3_negate(h->ng);
     if (glm_vec3_dot(h->ns, h->ng) < 0.f)
         glm_vec3_negate(h->ns);
-    h->uv[0] = w * a->uv[0] + bu * b->uv[0] + bv * c->uv[0];
-    h->uv[1] = w * a->uv[1] + bu * b->uv[1] + bv * c->uv[1];
-    h->material = (int)ps->tri_material[tri];
+    tri_uv(tr, bu, bv, h->uv);
+    h->material = (int)tr->material;
 }
 
 bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h)
@@ -222,14 +254,14 @@ bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtH
     rtcIntersect1(ps->rtc, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return false;
-    fill_hit(ps, o, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, h);
+    fill_hit(ps, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, h);
     return true;
 }
 
 typedef struct AllHitsContext {
     struct RTCIntersectContext base; /* first member: Embree passes &base */
     const PtScene *ps;
-    const float *o, *d;
+    const float *d;
     PtHit *hits;
     int max, count;
 } AllHitsContext;
@@ -242,7 +274,7 @@ static void collect_filter(const struct RTCFilterFunctionNArguments *args)
         if (args->valid[i] != -1)
             continue;
         if (c->count < c->max)
-            fill_hit(c->ps, c->o, c->d, rayn_tfar(args->ray, args->N, i), hitn_geom(args->hit, args->N, i),
+            fill_hit(c->ps, c->d, rayn_tfar(args->ray, args->N, i), hitn_geom(args->hit, args->N, i),
                      hitn_prim(args->hit, args->N, i), hitn_u(args->hit, args->N, i),
                      hitn_v(args->hit, args->N, i), &c->hits[c->count++]);
         args->valid[i] = 0;
@@ -255,7 +287,6 @@ int pt_intersect_all(const PtScene *ps, const vec3 o, const vec3 d, float tmax, 
     rtcInitIntersectContext(&c.base);
     c.base.filter = collect_filter;
     c.ps = ps;
-    c.o = o;
     c.d = d;
     c.hits = hits;
     c.max = max;
@@ -283,14 +314,22 @@ bool pt_occluded(const PtScene *ps, const vec3 o, const vec3 d, float tmax)
 static void texture_bilinear(const Texture *t, const float uv[2], vec3 out)
 {
     float x = uv[0] * t->width - 0.5f, y = uv[1] * t->height - 0.5f;
-    int x0 = (int)floorf(x), y0 = (int)floorf(y);
-    float fx = x - x0, fy = y - y0;
-    const uint8_t *p[4] = {texel(t, x0, y0), texel(t, x0 + 1, y0), texel(t, x0, y0 + 1), texel(t, x0 + 1, y0 + 1)};
+    float fx0 = floorf(x), fy0 = floorf(y);
+    float fx = x - fx0, fy = y - fy0;
+    /* Wrapped once per axis; the next texel wraps by a compare. */
+    int x0 = wrap((int)fx0, t->width), y0 = wrap((int)fy0, t->height);
+    int x1 = x0 + 1 < t->width ? x0 + 1 : 0, y1 = y0 + 1 < t->height ? y0 + 1 : 0;
+    const uint8_t *r0 = t->rgba + 4 * (size_t)y0 * t->width, *r1 = t->rgba + 4 * (size_t)y1 * t->width;
+    const uint8_t *p[4] = {r0 + 4 * x0, r0 + 4 * x1, r1 + 4 * x0, r1 + 4 * x1};
     float wgt[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
     for (int c = 0; c < 3; c++) {
         float v = 0;
-        for (int k = 0; k < 4; k++)
-            v += wgt[k] * (t->linear ? p[k][c] / 255.f : g_srgb_lut[p[k][c]]);
+        if (t->linear)
+            for (int k = 0; k < 4; k++)
+                v += wgt[k] * (p[k][c] / 255.f);
+        else
+            for (int k = 0; k < 4; k++)
+                v += wgt[k] * g_srgb_lut[p[k][c]];
         out[c] = v;
     }
 }

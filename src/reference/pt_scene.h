@@ -14,12 +14,26 @@
 #include "brdf.h"
 #include "scene.h"
 
+/* What a hit needs of its triangle, in one 128-byte record (two cache
+ * lines) in Embree's primitive order: a hit reads this and nothing of the
+ * Scene's index and vertex arrays. The values are the Scene's, copied. */
+typedef struct PtTri {
+    float p0[3];      /* vertex 0's position */
+    float e1[3], e2[3]; /* edges to vertices 1 and 2 (the very differences a hit used to compute) */
+    float ng[3];      /* unit geometric normal e1 × e2 (the winding's front) */
+    float n[3][3];    /* vertex normals */
+    float uv[3][2];   /* vertex texture coordinates */
+    uint32_t material;
+    uint32_t pad_[4];
+} PtTri;
+_Static_assert(sizeof(PtTri) == 128, "PtTri is two cache lines");
+
 typedef struct PtScene {
     const Scene *scene;     /* borrowed */
     RTCDevice device;       /* owned */
     RTCScene rtc;           /* owned */
-    uint32_t *prim_tri[2];  /* per geometry: primitive → global triangle index (owned) */
-    uint32_t *tri_material; /* global triangle → material (owned) */
+    PtTri *tris;            /* per primitive, geometry 0's then geometry 1's (owned, 128-byte aligned) */
+    uint32_t tri_base[2];   /* per geometry: index in `tris` of its primitive 0 */
     float diag;             /* scene bounds diagonal (m), > 0 */
 } PtScene;
 

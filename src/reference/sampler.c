@@ -3,7 +3,7 @@
 
 #include <pthread.h>
 
-uint32_t sobol1_table[3][256];
+uint32_t sobol1_rev_table[3][256];
 
 static pthread_once_t g_once = PTHREAD_ONCE_INIT;
 
@@ -19,7 +19,7 @@ static void fill_tables(void)
             for (int k = 0; k < 8; k++)
                 if (x >> k & 1u)
                     acc ^= dir[8 * b + k];
-            sobol1_table[b][x] = acc;
+            sobol1_rev_table[b][x] = util_reverse_bits(acc);
         }
 }
 

@@ -6,7 +6,7 @@
 // Inputs: SSBO_VPL (the light stage's VPL buffer, or a test's), cascade
 // LOC_LPV_CASCADE, and LOC_LPV_EXCLUDE: a finer cascade whose VPLs this
 // volume leaves out (see lpv.c on cascades). Output: a point on layer z at
-// cell (x, y).
+// cell (x, y), layer z of the VPL's light group (lpv_group_layer).
 #include "shared/gpu_types.h"
 #include "gi/lpv/sh.glsl"
 #include "common/vpl_record.glsl"
@@ -14,6 +14,7 @@
 layout(std430, binding = SSBO_VPL) readonly buffer VplBlock { GpuVpl vpls[]; };
 layout(location = LOC_LPV_CASCADE) uniform int u_cascade;
 layout(location = LOC_LPV_EXCLUDE) uniform int u_exclude; // a finer cascade whose VPLs are left out, or -1
+layout(location = LOC_LPV_GROUP) uniform int u_group;     // the light group drawn (sh.glsl), or -1
 
 flat out int v_layer;
 flat out vec4 v_a;
@@ -27,7 +28,7 @@ void main()
     int k = u_cascade, size = u_lpv.size;
     vec3 p = vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[k].w);
     ivec3 c = lpv_cell(k, p);
-    v_layer = lpv_inside(c, size) ? c.z : -1;
+    v_layer = lpv_inside(c, size) && lpv_in_group(n, u_group) ? c.z + lpv_group_layer(u_group, size) : -1;
     if (u_exclude >= 0 &&
         lpv_inside(lpv_cell(u_exclude, vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[u_exclude].w)), size))
         v_layer = -1;

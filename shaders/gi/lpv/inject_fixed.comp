@@ -18,6 +18,7 @@ layout(std430, binding = SSBO_LPV_FIXED) buffer FixedBlock { int sums[]; };
 layout(location = LOC_LPV_CASCADE) uniform int u_cascade;
 layout(location = LOC_LPV_EXCLUDE) uniform int u_exclude;
 layout(location = LOC_LPV_FIXED_SCALE) uniform float u_scale;
+layout(location = LOC_LPV_GROUP) uniform int u_group; // only VPLs of this light group (sh.glsl); -1: all
 
 // Adds one cell's summed units to its 12 sums (cell index `base`; < 0:
 // none), skipping zeros.
@@ -61,7 +62,8 @@ void main()
         vec3 p = vpl_position(v), n = vpl_shading_normal(v);
         vec4 flux = v.flux;
         ivec3 c = lpv_cell(k, p + n * offset);
-        bool take = lpv_inside(c, size) && !(exclude >= 0 && lpv_inside(lpv_cell(exclude, p + n * offset_x), size));
+        bool take = lpv_inside(c, size) && lpv_in_group(n, u_group) &&
+                    !(exclude >= 0 && lpv_inside(lpv_cell(exclude, p + n * offset_x), size));
         int at = take ? 12 * (c.x + size * (c.y + size * c.z)) : -1;
         if (at != base) {
             flush(base, r, g, b);

@@ -8,7 +8,7 @@
 // texels the points reached keep theirs. A map no point reached stays
 // ISM_EMPTY (visible). (A work group per map with the pyramid in shared
 // memory took 643 ms for 4056 maps of 32² on llvmpipe, its barriers
-// serialised; these passes ... see docs/visibility.md.)
+// serialised; these passes ... see docs/techniques.md, Visibility.)
 #include "shared/gpu_types.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;

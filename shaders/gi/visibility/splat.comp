@@ -15,7 +15,7 @@
 // pull-push (pull_push.comp) fills what the points miss. Uniform points
 // alone left a map's near field nearly empty: on Sponza a column 1 m from a
 // VPL held a few of 2048 points, and the maps missed a quarter of the
-// occluded light (docs/visibility.md).
+// occluded light (docs/techniques.md: Visibility).
 // Sources: ISM_FROM_VPLS: VPL m (none past the buffer's count);
 // ISM_FROM_RSM: the representative of block m − u_ism_map_base (reps.comp).
 #include "shared/gpu_types.h"

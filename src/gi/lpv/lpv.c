@@ -3,19 +3,25 @@
  *   lpv_inject     every VPL (every lit RSM texel, from the light stage's
  *                  VPL buffer) moved half a cell along its normal adds
  *                  Φ/π · SH(max(0, n·ω)) to its cell in three RGBA32F 3D
- *                  textures (R, G, B; 2-band SH each), so the grid holds
- *                  the RSM's flux: by compute with integer atomics in fixed
- *                  point into a buffer and a resolve pass (default; 2–3×
- *                  faster on llvmpipe), or (--lpv-inject points) as a point
- *                  drawn into the textures' layers with additive blending
- *   lpv_geometry   every RSM texel (and G-buffer pixel, optionally) as a
- *                  surfel into the geometry volume, offset by half a cell
- *                  (normal tensor; see shaders/gi/lpv/geometry.vert)
- *   lpv_propagate  `iterations` face-based gathering steps from the 6
- *                  neighbours through 5 faces each, attenuated by the
- *                  geometry volume (each face's factor computed once per
- *                  build into a buffer), ping-pong, summed into the
- *                  accumulated volume
+ *                  textures (R, G, B; 2-band SH each), in the layers of its
+ *                  light group (--lpv-groups 2: surfaces facing +x/+y/+z
+ *                  and those facing away apart; see lpv_in_group), so the
+ *                  grid holds the RSM's flux: by compute with integer
+ *                  atomics in fixed point into a buffer and a resolve pass
+ *                  (default; 2–3× faster on llvmpipe), or (--lpv-inject
+ *                  points) as a point drawn into the textures' layers with
+ *                  additive blending
+ *   lpv_geometry   every RSM texel and (--lpv-gbuffer-occlusion, default
+ *                  on) G-buffer pixel as a surfel into the geometry volume,
+ *                  offset by half a cell (normal tensor; see
+ *                  shaders/gi/lpv/geometry.vert)
+ *   lpv_propagate  `iterations` gathering steps from the 6 neighbours per
+ *                  light group, attenuated by the geometry volume (each
+ *                  face's factor computed once per build into an image),
+ *                  ping-pong, summed into the accumulated volume: light
+ *                  keeps its direction (--lpv-propagation directional,
+ *                  default) or goes through the paper's 5 faces per
+ *                  neighbour (faces); see shaders/gi/lpv/propagate.comp
  *   lpv_lookup     trilinear, half a cell along the normal, cosine lobe →
  *                  irradiance E into GiFrame.irradiance
  * Grids: one of N³ cells fitted to the scene bounds (a cell of margin on
@@ -30,9 +36,10 @@
  * fades to the next coarser one.
  * Inputs: light stage (RSMs, VPL buffer), G-buffer, camera. Output:
  * irradiance. Owns: its 3D textures (per cascade and set: injected,
- * accumulated; per cascade: geometry; shared: the ping-pong pair), their
- * layered framebuffers, a UBO, an indirect draw buffer, the fixed-point
- * buffers of compute injection, the face factors; programs come from the renderer's cache.
+ * accumulated, the light groups stacked in z; per cascade: geometry;
+ * shared: the ping-pong pair), their layered framebuffers, a UBO, an
+ * indirect draw buffer, the fixed-point buffers of compute injection, the
+ * face factors; programs come from the renderer's cache.
  * Shaders: shaders/gi/lpv/. */
 #include "gi/lpv/lpv.h"
 
@@ -55,8 +62,9 @@
 enum { SET_ALL, SET_OUTER, SETS };
 
 typedef struct LpvCascade {
-    GLuint inject[SETS][3];  /* RGBA32F N³: SH of the injected intensity, per channel */
-    GLuint sum[SETS][3];     /* RGBA32F N³: accumulated */
+    GLuint inject[SETS][3];  /* RGBA32F N × N × groups·N: SH of the injected intensity, per channel, the groups
+                                stacked in z */
+    GLuint sum[SETS][3];     /* the same layout: accumulated */
     GLuint gv[2];            /* RGBA32F (N+1)³: normal tensor (xx yy zz, xy xz yz) */
     GLuint fbo_inject[SETS]; /* layered: inject[set][0..2] */
     GLuint fbo_gv;           /* layered: gv[0..1] */
@@ -66,6 +74,7 @@ typedef struct LpvGi {
     GiParams params;
     ProgramCache *pc;       /* borrowed: owns the programs */
     int n;                  /* cells per side */
+    int groups;             /* light groups propagated apart (--lpv-groups; see lpv_group in sh.glsl) */
     int cascades;
     int iterations;
     vec3 bmin, bmax;        /* scene bounds */
@@ -88,6 +97,7 @@ typedef struct LpvGi {
     GpuLpvParams gpu;       /* as last uploaded */
     uint64_t built_for;     /* the light products and grids the volumes hold (0: none) */
     int builds;             /* times the volumes were injected and propagated */
+    int last_step;          /* pp[last_step]: the last step of the last volume propagated (lpv_read_volume) */
     uint32_t vpls_injected; /* last build (stats) */
     int width, height;
 } LpvGi;
@@ -98,9 +108,10 @@ static unsigned lpv_needs(const GiParams *p)
     return LIGHT_NEEDS_RSM | LIGHT_NEEDS_VPLS;
 }
 
-static GLuint volume(GLenum fmt, int n, const char *label)
+/* n × n × depth, trilinear. */
+static GLuint volume(GLenum fmt, int n, int depth, const char *label)
 {
-    return gl_texture3d_make(fmt, n, n, n, 1, TEX_FILTER_LINEAR, label);
+    return gl_texture3d_make(fmt, n, n, depth, 1, TEX_FILTER_LINEAR, label);
 }
 
 static GLuint layered_fbo(const GLuint *tex, int count, const char *label)
@@ -154,6 +165,12 @@ static bool lpv_resize(void *state, int w, int h)
     return true;
 }
 
+static bool directional(const LpvGi *l) { return l->params.lpv_propagation == LPV_PROPAGATION_DIRECTIONAL; }
+
+/* Texels per cell of the propagation's face factors (propagate.comp):
+ * directional 6 factors in 2, faces 30 in 8. */
+static int face_texels(const GiParams *p) { return p->lpv_propagation == LPV_PROPAGATION_DIRECTIONAL ? 2 : 8; }
+
 static GLuint program(LpvGi *l, const char *label, const char *vert, const char *geom, const char *frag,
                       const char *comp, const char *defines)
 {
@@ -171,9 +188,10 @@ static uint64_t lpv_bytes(const GiParams *p)
 {
     uint64_t n = (uint64_t)p->lpv_size, n3 = n * n * n, g3 = (n + 1) * (n + 1) * (n + 1), texel = 16;
     uint64_t sets = 1 + 2 * (uint64_t)(p->lpv_cascades - 1);
-    uint64_t bytes = sets * 2 * 3 * n3 * texel + (uint64_t)p->lpv_cascades * 2 * g3 * texel + 2 * 3 * n3 * texel;
+    uint64_t bytes = sets * 2 * 3 * n3 * (uint64_t)p->lpv_groups * texel + (uint64_t)p->lpv_cascades * 2 * g3 * texel +
+                     2 * 3 * n3 * texel;
     if (p->lpv_occlusion)
-        bytes += 8 * n3 * texel;
+        bytes += (uint64_t)face_texels(p) * n3 * texel;
     if (p->lpv_inject == LPV_INJECT_COMPUTE)
         bytes += 4 * (12 * n3 + 6 * g3);
     return bytes;
@@ -191,16 +209,19 @@ static bool lpv_programs(LpvGi *l)
                            "gi/lpv/accumulate.frag", NULL, "#define GBUFFER\n");
     /* Occlusion is compiled in: the faces' factors are then read from
      * `faces`, else they are constants (llvmpipe runs a branch's both arms). */
-    const char *occlusion = l->params.lpv_occlusion ? "#define OCCLUSION\n" : NULL;
-    l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", occlusion);
-    if (l->params.lpv_occlusion && !(l->propagate_faces = program(l, "lpv_propagate_faces", NULL, NULL, NULL,
-                                                                  "gi/lpv/propagate.comp",
-                                                                  "#define OCCLUSION\n#define MODE_FACES\n")))
+    const char *mode = directional(l) ? "#define DIRECTIONAL\n" : "";
+    char defs[192];
+    snprintf(defs, sizeof defs, "%s%s", mode, l->params.lpv_occlusion ? "#define OCCLUSION\n" : "");
+    l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", defs);
+    snprintf(defs, sizeof defs, "%s#define OCCLUSION\n#define MODE_FACES\n", mode);
+    if (l->params.lpv_occlusion &&
+        !(l->propagate_faces = program(l, "lpv_propagate_faces", NULL, NULL, NULL, "gi/lpv/propagate.comp", defs)))
         return false;
     /* The cascade count is compiled in: with it known, every cascade's
      * fetches name their samplers (gi/lpv/lookup.comp). */
-    char cascades_def[48];
-    snprintf(cascades_def, sizeof cascades_def, "#define LPV_CASCADES %d\n", l->cascades);
+    char cascades_def[192];
+    snprintf(cascades_def, sizeof cascades_def, "%s#define LPV_CASCADES %d\n#define LPV_GROUPS %d\n", mode, l->cascades,
+             l->groups);
     l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", cascades_def);
     if (!l->inject || !l->geom_rsm[0] || !l->geom_rsm[1] || !l->geom_gbuf || !l->propagate || !l->lookup)
         return false;
@@ -225,7 +246,8 @@ static bool lpv_volumes(LpvGi *l)
     int n = l->n;
     bool ok = true;
     if (l->params.lpv_occlusion)
-        ok = (l->faces = gl_texture3d_make(GL_RGBA32F, 8 * n, n, n, 1, TEX_FILTER_NEAREST, "lpv.faces")) != 0;
+        ok = (l->faces = gl_texture3d_make(GL_RGBA32F, face_texels(&l->params) * n, n, n, 1, TEX_FILTER_NEAREST,
+                                           "lpv.faces")) != 0;
     if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
         size_t n3 = (size_t)n * n * n, g3 = (size_t)(n + 1) * (n + 1) * (n + 1);
         ok = (l->fixed = gl_buffer_make(sizeof(int32_t) * 12 * n3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.fixed")) &&
@@ -235,12 +257,12 @@ static bool lpv_volumes(LpvGi *l)
         LpvCascade *c = &l->c[k];
         for (int set = 0; ok && set < (k > 0 ? SETS : 1); set++) {
             for (int i = 0; ok && i < 3; i++)
-                ok = (c->inject[set][i] = volume(GL_RGBA32F, n, "lpv.inject")) &&
-                     (c->sum[set][i] = volume(GL_RGBA32F, n, "lpv.sum"));
+                ok = (c->inject[set][i] = volume(GL_RGBA32F, n, l->groups * n, "lpv.inject")) &&
+                     (c->sum[set][i] = volume(GL_RGBA32F, n, l->groups * n, "lpv.sum"));
             ok = ok && (c->fbo_inject[set] = layered_fbo(c->inject[set], 3, "lpv.inject"));
         }
         for (int i = 0; ok && i < 2; i++)
-            ok = (c->gv[i] = volume(GL_RGBA32F, n + 1, "lpv.geometry")) != 0;
+            ok = (c->gv[i] = volume(GL_RGBA32F, n + 1, n + 1, "lpv.geometry")) != 0;
         ok = ok && (c->fbo_gv = layered_fbo(c->gv, 2, "lpv.geometry"));
     }
     for (int i = 0; ok && i < 2; i++)
@@ -283,7 +305,10 @@ static void *lpv_create(const GiCreateInfo *ci)
     l->pc = ci->programs;
     l->n = ci->params->lpv_size;
     l->cascades = ci->params->lpv_cascades;
-    l->iterations = ci->params->lpv_iterations > 0 ? ci->params->lpv_iterations : l->n;
+    l->groups = ci->params->lpv_groups;
+    /* 0: enough steps to cross the grid's diagonal, √3·N cells (directional:
+     * LPV_SPEED = 1/√3 cells a step; faces: a cell a step along an axis). */
+    l->iterations = ci->params->lpv_iterations > 0 ? ci->params->lpv_iterations : directional(l) ? 3 * l->n : l->n;
     glm_vec3_copy((float *)ci->scene->bounds_min, l->bmin);
     glm_vec3_copy((float *)ci->scene->bounds_max, l->bmax);
     l->width = ci->width;
@@ -336,22 +361,25 @@ static void inject_light_fixed(LpvGi *l, const GiFrame *f)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_LPV_FIXED, l->fixed);
     glProgramUniform1f(l->inject_fixed, LOC_LPV_FIXED_SCALE, scale);
     glProgramUniform1f(l->inject_resolve, LOC_LPV_FIXED_SCALE, scale);
-    GLuint groups = (GLuint)(l->n + 7) / 8;
+    GLuint wg = (GLuint)(l->n + 7) / 8;
     for (int k = 0; k < l->cascades; k++) {
         LpvCascade *c = &l->c[k];
-        for (int set = 0; set < (k > 0 ? SETS : 1); set++) {
-            glClearNamedBufferData(l->fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
-            glProgramUniform1i(l->inject_fixed, LOC_LPV_CASCADE, k);
-            glProgramUniform1i(l->inject_fixed, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
-            glUseProgram(l->inject_fixed);
-            glDispatchCompute((capacity + 64 * LPV_INJECT_RUN - 1) / (64 * LPV_INJECT_RUN), 1, 1);
-            glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-            for (int i = 0; i < 3; i++)
-                glBindImageTexture(IMG_LPV_DST + i, c->inject[set][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-            glUseProgram(l->inject_resolve);
-            glDispatchCompute(groups, groups, (GLuint)l->n);
-            glMemoryBarrier(GL_ALL_BARRIER_BITS);
-        }
+        for (int set = 0; set < (k > 0 ? SETS : 1); set++)
+            for (int g = 0; g < l->groups; g++) {
+                glClearNamedBufferData(l->fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
+                glProgramUniform1i(l->inject_fixed, LOC_LPV_CASCADE, k);
+                glProgramUniform1i(l->inject_fixed, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
+                glProgramUniform1i(l->inject_fixed, LOC_LPV_GROUP, l->groups > 1 ? g : -1);
+                glUseProgram(l->inject_fixed);
+                glDispatchCompute((capacity + 64 * LPV_INJECT_RUN - 1) / (64 * LPV_INJECT_RUN), 1, 1);
+                glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+                for (int i = 0; i < 3; i++)
+                    glBindImageTexture(IMG_LPV_DST + i, c->inject[set][i], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+                glProgramUniform1i(l->inject_resolve, LOC_LPV_GROUP, g);
+                glUseProgram(l->inject_resolve);
+                glDispatchCompute(wg, wg, (GLuint)l->n);
+                glMemoryBarrier(GL_ALL_BARRIER_BITS);
+            }
     }
 }
 
@@ -382,7 +410,10 @@ static void inject_light(LpvGi *l, const GiFrame *f)
             glBindFramebuffer(GL_FRAMEBUFFER, c->fbo_inject[set]);
             glProgramUniform1i(l->inject, LOC_LPV_CASCADE, k);
             glProgramUniform1i(l->inject, LOC_LPV_EXCLUDE, set == SET_OUTER ? k - 1 : -1);
-            glDrawArraysIndirect(GL_POINTS, NULL);
+            for (int g = 0; g < l->groups; g++) { /* each group into its layers */
+                glProgramUniform1i(l->inject, LOC_LPV_GROUP, l->groups > 1 ? g : -1);
+                glDrawArraysIndirect(GL_POINTS, NULL);
+            }
         }
     }
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
@@ -473,27 +504,30 @@ static void inject_geometry(LpvGi *l, const GiFrame *f)
     }
 }
 
-/* Propagates one volume set of cascade c: injected → ping-pong[0] and the
- * sum, then `iterations` steps, each adding to the sum. */
-static void propagate_set(LpvGi *l, const LpvCascade *c, int set)
+/* Propagates light group g of volume set `set` of cascade c: its injected
+ * light → ping-pong[0] and the sum, then `iterations` steps, each adding
+ * to the sum. */
+static void propagate_set(LpvGi *l, const LpvCascade *c, int set, int g)
 {
     int n = l->n;
-    GLuint groups = (GLuint)(n + 7) / 8; /* propagate.comp: 8×8×1 per group */
+    GLuint wg = (GLuint)(n + 7) / 8; /* propagate.comp: 8×8×1 per work group */
     for (int i = 0; i < 3; i++) {
-        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, l->pp[0], GL_TEXTURE_3D, 0, i * n, 0, 0, n, n,
-                           n);
-        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, c->sum[set][i], GL_TEXTURE_3D, 0, 0, 0, 0, n,
+        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, g * n, l->pp[0], GL_TEXTURE_3D, 0, i * n, 0, 0, n,
                            n, n);
+        glCopyImageSubData(c->inject[set][i], GL_TEXTURE_3D, 0, 0, 0, g * n, c->sum[set][i], GL_TEXTURE_3D, 0, 0, 0,
+                           g * n, n, n, n);
         glBindImageTexture(IMG_LPV_SUM + i, c->sum[set][i], 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
     }
+    glProgramUniform1i(l->propagate, LOC_LPV_GROUP, g);
     int cur = 0;
     for (int it = 0; it < l->iterations; it++) {
         glBindImageTexture(IMG_LPV_STEP_SRC, l->pp[cur], 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
         glBindImageTexture(IMG_LPV_STEP_DST, l->pp[1 - cur], 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
-        glDispatchCompute(groups, groups, (GLuint)n);
+        glDispatchCompute(wg, wg, (GLuint)n);
         glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
         cur = 1 - cur;
     }
+    l->last_step = cur;
 }
 
 /* Each cascade: with occlusion, its faces' factors from its geometry
@@ -513,7 +547,8 @@ static void propagate(LpvGi *l)
         }
         glUseProgram(l->propagate);
         for (int set = 0; set < (k > 0 ? SETS : 1); set++)
-            propagate_set(l, &l->c[k], set);
+            for (int g = 0; g < l->groups; g++)
+                propagate_set(l, &l->c[k], set, g);
     }
 }
 
@@ -540,12 +575,17 @@ static bool lpv_run(void *state, const GiFrame *f)
     place_grids(l, f->camera);
     /* Injection and propagation depend on the light products and where the
      * grids stand (the cascades follow the camera), and, with G-buffer
-     * occlusion, on the camera's view: kept while those stand still. */
+     * occlusion, on the camera's view (the G-buffer's objects move only
+     * with the light products): kept while those stand still. */
     uint64_t key = util_hash_bytes(light_stage_products_key(f->lights), &l->gpu, sizeof l->gpu);
     key = util_hash_bytes(key, &l->test_vpls, sizeof l->test_vpls);
     key = util_hash_bytes(key, &l->test_count, sizeof l->test_count);
-    if (l->params.lpv_gbuffer_occlusion)
-        key = 0;
+    key = util_hash_bytes(key, &l->iterations, sizeof l->iterations);
+    if (l->params.lpv_gbuffer_occlusion) {
+        key = util_hash_bytes(key, f->camera, sizeof *f->camera);
+        key = util_hash_bytes(key, &l->width, sizeof l->width);
+        key = util_hash_bytes(key, &l->height, sizeof l->height);
+    }
     if (key != 0 && key == l->built_for) {
         gpu_timer_begin(t, "lpv_lookup");
         lookup(l, f);
@@ -617,6 +657,8 @@ void lpv_set_vpls(void *state, const GpuVpl *vpls, int count)
 
 int lpv_grid_size(const void *state) { return ((const LpvGi *)state)->n; }
 
+int lpv_groups(const void *state) { return ((const LpvGi *)state)->groups; }
+
 void lpv_grid(const void *state, int cascade, float origin[3], float *cell)
 {
     const LpvGi *l = state;
@@ -628,15 +670,37 @@ void lpv_grid(const void *state, int cascade, float origin[3], float *cell)
 bool lpv_read_volume(void *state, int cascade, LpvVolume which, float *out)
 {
     LpvGi *l = state;
-    if (cascade < 0 || cascade >= l->cascades)
+    if (cascade < 0 || cascade >= l->cascades || (which == LPV_VOLUME_INJECTED_OUTER && cascade == 0))
         return false;
-    size_t n3 = (size_t)l->n * (size_t)l->n * (size_t)l->n;
+    size_t n = (size_t)l->n, n3 = n * n * n, gn3 = n3 * (size_t)l->groups;
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    if (which == LPV_VOLUME_STEP) { /* R, G, B side by side in x: one row at a time */
+        float *row = malloc(sizeof(float) * 4 * 3 * n3);
+        if (!row)
+            return false;
+        glGetTextureImage(l->pp[l->last_step], 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * 3 * n3), row);
+        memset(out, 0, sizeof(float) * 4 * 3 * gn3);
+        for (size_t zy = 0; zy < n * n; zy++)
+            for (size_t c = 0; c < 3; c++)
+                memcpy(out + (c * gn3 + zy * n) * 4, row + (zy * 3 * n + c * n) * 4, sizeof(float) * 4 * n);
+        free(row);
+        return true;
+    }
     for (int i = 0; i < 3; i++) {
-        GLuint tex = which == LPV_VOLUME_INJECTED ? l->c[cascade].inject[SET_ALL][i] : l->c[cascade].sum[SET_ALL][i];
-        glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out + (size_t)i * n3 * 4);
+        const LpvCascade *c = &l->c[cascade];
+        GLuint tex = which == LPV_VOLUME_INJECTED         ? c->inject[SET_ALL][i]
+                     : which == LPV_VOLUME_INJECTED_OUTER ? c->inject[SET_OUTER][i]
+                                                          : c->sum[SET_ALL][i];
+        glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(gn3 * 4 * sizeof(float)), out + (size_t)i * gn3 * 4);
     }
     return true;
+}
+
+void lpv_set_iterations(void *state, int iterations)
+{
+    LpvGi *l = state;
+    l->iterations = iterations;
+    l->built_for = 0;
 }
 
 bool lpv_read_geometry(void *state, int cascade, float *out)

@@ -19,7 +19,7 @@
  * (scale: the scene's diagonal): the nearest point in a texel's cone lies
  * up to its angular width (about 4/size radians) times the tangent of the
  * incidence nearer than the shaded point on the point's own surface, and
- * pull-push averages depths into the holes. Measured in docs/visibility.md. */
+ * pull-push averages depths into the holes. Measured in docs/techniques.md (Visibility). */
 #define ISM_BIAS_REL 0.05f
 #define ISM_BIAS_ABS 0.002f
 

@@ -1,4 +1,4 @@
-// frame/fxaa.frag — FXAA-class post-process anti-aliasing of the tone-mapped
+// frame/fxaa.comp — FXAA-class post-process anti-aliasing of the tone-mapped
 // image, written from the published description of the algorithm (Lottes,
 // "FXAA", NVIDIA white paper 2009/2011):
 //  1. local contrast: skip pixels whose 4-neighbourhood luma range is below
@@ -12,13 +12,17 @@
 //     the nearer end of the edge (0.5 at an end, 0 in the middle), or by a
 //     sub-pixel amount from the 3×3 low-pass where that is larger, and take
 //     one bilinear sample there.
-// Input: the tone-mapped colour (sRGB texture, read as linear, bilinear).
-// Output: the final display colour (sRGB target).
+// A compute pass (pass_fxaa.h), one invocation per pixel.
+// Input: the tone-mapped colour (sRGB texture view, read as linear,
+// bilinear). Output: the final display colour (IMG_LDR: sRGB-encoded bytes).
 #include "shared/gpu_types.h"
+#include "common/tonemap.glsl"
 
+layout(local_size_x = SHADE_GROUP, local_size_y = SHADE_GROUP) in;
 layout(binding = TEX_LDR) uniform sampler2D u_ldr;
+layout(binding = IMG_LDR, rgba8) uniform writeonly image2D u_out;
 
-out vec4 o_color;
+void write_color(ivec2 px, vec3 c) { imageStore(u_out, px, vec4(srgb_encode(c), 1.0)); }
 
 const float EDGE_THRESHOLD = 0.125;     // min contrast, relative to the local max luma
 const float EDGE_THRESHOLD_MIN = 0.0312; // min contrast in dark areas
@@ -33,8 +37,11 @@ float search_stride(int i) { return i < 4 ? 1.0 : i == 4 ? 1.5 : i < 8 ? 2.0 : i
 
 void main()
 {
+    ivec2 px = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(px, imageSize(u_out))))
+        return;
     vec2 texel = 1.0 / vec2(textureSize(u_ldr, 0));
-    vec2 uv = gl_FragCoord.xy * texel; // pixel centre
+    vec2 uv = (vec2(px) + 0.5) * texel; // pixel centre
     vec3 centre = textureLod(u_ldr, uv, 0.0).rgb;
     float m = luma(centre);
     float n = luma_at(uv + vec2(0, texel.y)), s = luma_at(uv - vec2(0, texel.y));
@@ -44,7 +51,7 @@ void main()
     float range = lmax - lmin;
     // 1. Not an edge: the pixel as it is.
     if (range < max(EDGE_THRESHOLD_MIN, lmax * EDGE_THRESHOLD)) {
-        o_color = vec4(centre, 1.0);
+        write_color(px, centre);
         return;
     }
     float ne = luma_at(uv + texel), sw = luma_at(uv - texel);
@@ -104,5 +111,5 @@ void main()
     float edge_offset = end_below != centre_below ? offset : 0.0;
     float f = max(edge_offset, sub);
     vec2 at = uv + (horizontal ? vec2(0.0, f * across) : vec2(f * across, 0.0));
-    o_color = vec4(textureLod(u_ldr, at, 0.0).rgb, 1.0);
+    write_color(px, textureLod(u_ldr, at, 0.0).rgb);
 }

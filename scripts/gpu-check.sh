@@ -1,0 +1,76 @@
+#!/bin/sh
+# gpu-check.sh — one command for a machine with a GPU: every number of
+# docs/gpu.md in under 4 minutes on an NVIDIA H100, printed as Markdown.
+#   1. the device (nvidia-smi when present) and GL renderer;
+#   2. every technique's cold, steady and steady-GPU frame at 1920x1080
+#      with PCSS on the Cornell box and on Sponza (scripts/frame-times.sh),
+#      and the steady frame's passes (GPU ms from timer queries) on Sponza;
+#   3. the 3840x2160 frame without GI;
+#   4. `rtgi probe` (what the device sustains on gather-shaped work).
+#   scripts/gpu-check.sh [OUT_DIR]        (default out/gpu-check; the tables also go to OUT_DIR/gpu-check.md)
+#   FRAMES=10 SIZE=1920x1080 GI="none rsm vct" scripts/gpu-check.sh    (the defaults, and a subset)
+# Run from the checkout's root after building (or with RTGI=path/to/rtgi:
+# a binary built elsewhere runs with the shared libraries it was bundled
+# with, LD_LIBRARY_PATH=DIR, see docs/gpu.md). Sponza rows need
+# ../shared/assets/sponza (scenes/sponza.json); they are skipped without it.
+set -eu
+out=${1:-out/gpu-check}
+frames=${FRAMES:-10}
+size=${SIZE:-1920x1080}
+rtgi=${RTGI:-build/rtgi}
+gi=${GI:-"none rsm rsm-interp rsm-interleaved vpl-clamped vpl-slc vpl-interleaved vpl-metalights vpl-all lpv vct"}
+mkdir -p "$out"
+report="$out/gpu-check.md"
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+export RTGI_GPU_BUDGET_MIB=${RTGI_GPU_BUDGET_MIB:-32768} # a data-centre GPU holds 4K frames and large RSMs
+start=$(date +%s)
+{
+    echo "# rtgi gpu-check, $(date -u +%Y-%m-%dT%H:%M:%SZ), $("$rtgi" --version)"
+    echo
+    if command -v nvidia-smi >/dev/null 2>&1; then
+        nvidia-smi --query-gpu=name,driver_version,clocks.max.sm,memory.total --format=csv,noheader |
+            sed 's/^/device: /'
+    fi
+    "$rtgi" render --size 16x16 --timings --frames 1 --quiet --out "$out/probe.png" | sed -n 's/^renderer: /GL renderer: /p'
+    echo
+    for scene in cornell scenes/sponza.json; do
+        if [ "$scene" != cornell ] && [ ! -r ../shared/assets/sponza/Sponza.gltf ]; then
+            echo "($scene: ../shared/assets/sponza is absent: skipped)"
+            continue
+        fi
+        echo "## $scene, $size"
+        echo
+        GI="$gi" RTGI="$rtgi" scripts/frame-times.sh "$scene" "$size" pcss "$frames"
+        echo
+    done
+    if [ -r ../shared/assets/sponza/Sponza.gltf ]; then
+        echo "## Sponza $size, steady frame, GPU ms per pass (timer queries)"
+        echo
+        echo "| --gi | passes |"
+        echo "|---|---|"
+        for g in $gi; do
+            "$rtgi" render --scene scenes/sponza.json --size "$size" --gi "$g" --timings --frames "$frames" \
+                --quiet --out "$out/pass.png" >"$log"
+            # steady_PASS_ms: timer queries on a GPU (wall times on a software rasterizer)
+            passes=$(sed -n 's/^steady_\(.*\)_ms: \(.*\)/\1 \2/p' "$log" | grep -v '^total ' |
+                awk '{printf "%s %.2f, ", $1, $2}')
+            echo "| $g | ${passes%, } |"
+        done
+        echo
+    fi
+    echo "## 3840x2160, no GI"
+    echo
+    GI=none RTGI="$rtgi" scripts/frame-times.sh cornell 3840x2160 pcss "$frames" | tail -n 1
+    if [ -r ../shared/assets/sponza/Sponza.gltf ]; then
+        GI=none RTGI="$rtgi" scripts/frame-times.sh scenes/sponza.json 3840x2160 pcss "$frames" | tail -n 1
+    fi
+    echo
+    echo "## rtgi probe"
+    echo
+    echo '```'
+    "$rtgi" probe --quiet
+    echo '```'
+    echo
+    echo "(gpu-check took $(( $(date +%s) - start )) s)"
+} | tee "$report"

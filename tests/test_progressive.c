@@ -1,0 +1,186 @@
+/* test_progressive.c — the reference path tracer converging in the
+ * background (src/reference/pt_progressive.h): its image after n samples
+ * is pt_render's for n samples, a restart takes the scene's state at the
+ * call (and only that), a target relMSE stops it, pause and destroy stop
+ * its threads. No GL, no timing assertions: every wait polls the status
+ * until a state is reached (ctest's timeout catches a hang). */
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#include "test_util.h"
+#include "reference/pathtracer.h"
+#include "reference/pt_progressive.h"
+
+static void nap(void)
+{
+    nanosleep(&(struct timespec){0, 20 * 1000 * 1000}, NULL);
+}
+
+/* Polls until the renderer is done, collecting the sample counts published
+ * on the way (at most `max` of them; seen may be NULL). */
+static int wait_done(PtProgressive *p, PtProgressiveStatus *st, int *seen, int max)
+{
+    int n = 0, last = -1;
+    for (;;) {
+        pt_progressive_status(p, st);
+        if (seen && st->spp != last && st->spp > 0 && n < max)
+            seen[n++] = st->spp;
+        last = st->spp;
+        if (st->done)
+            return n;
+        nap();
+    }
+}
+
+/* The Cornell box rendered at size² on 2 threads up to `spp` (target:
+ * the target relMSE, 0 for none), started. */
+static PtProgressive *start(Scene *s, PtSettings *set, int size, int spp, double target)
+{
+    scene_build_cornell(s);
+    scene_finalize(s);
+    pt_settings_default(set);
+    set->width = set->height = size;
+    set->spp = spp;
+    set->threads = 2;
+    set->target_relmse = target;
+    PtProgressive *p = pt_progressive_create(s, set);
+    assert_non_null(p);
+    return p;
+}
+
+/* Three passes (64² has 64 spp a pass), published one by one, and the
+ * final image is pt_render's for 192 spp to the bit. */
+static void matches_pt_render(void **state)
+{
+    (void)state;
+    Scene s;
+    PtSettings set;
+    PtProgressive *p = start(&s, &set, 64, 192, 0.0);
+    PtProgressiveStatus st;
+    int seen[16];
+    int n = wait_done(p, &st, seen, 16);
+    for (int i = 0; i < n; i++)
+        print_message("published %d spp\n", seen[i]);
+    assert_int_equal(st.spp, 192);
+    for (int i = 0; i < n; i++)
+        assert_int_equal(seen[i] % 64, 0); /* whole passes only */
+    assert_true(st.relmse_estimate > 0);
+    ImageF live, ref;
+    assert_true(image_alloc(&live, 64, 64));
+    assert_true(pt_progressive_read(p, &live, &st));
+    assert_int_equal(st.spp, 192);
+    assert_true(pt_render(&s, &set, &ref, NULL, NULL));
+    assert_memory_equal(live.rgb, ref.rgb, sizeof(float) * 3 * 64 * 64);
+    /* A wrong size is refused, not overrun. */
+    ImageF small;
+    assert_true(image_alloc(&small, 32, 32));
+    assert_false(pt_progressive_read(p, &small, NULL));
+    image_free(&small);
+    pt_progressive_destroy(p);
+    image_free(&live);
+    image_free(&ref);
+    scene_free(&s);
+}
+
+/* A restart renders the camera and lights of the call: after the caller
+ * moves its camera, doubles its light and restarts, then changes its own
+ * scene again (the light off), the image is pt_render's of the state at
+ * the restart. */
+static void restart_takes_the_state_of_the_call(void **state)
+{
+    (void)state;
+    Scene s;
+    PtSettings set;
+    PtProgressive *p = start(&s, &set, 32, 64, 0.0);
+    PtProgressiveStatus st;
+    wait_done(p, &st, NULL, 0);
+    assert_int_equal(st.restarts, 0);
+    ImageF before, after, ref;
+    assert_true(image_alloc(&before, 32, 32));
+    assert_true(image_alloc(&after, 32, 32));
+    assert_true(pt_progressive_read(p, &before, NULL));
+
+    s.camera.position[0] += 0.05f;
+    glm_vec3_scale(s.lights[0].color, 2.f, s.lights[0].color);
+    assert_true(pt_progressive_restart(p, &s));
+    assert_true(pt_render(&s, &set, &ref, NULL, NULL)); /* the state of the restart */
+    glm_vec3_zero(s.lights[0].color);                    /* not seen by the renderer */
+    pt_progressive_status(p, &st);
+    assert_int_equal(st.restarts, 1);
+    wait_done(p, &st, NULL, 0);
+    assert_true(pt_progressive_read(p, &after, &st));
+    assert_int_equal(st.spp, 64);
+    assert_memory_equal(after.rgb, ref.rgb, sizeof(float) * 3 * 32 * 32);
+    assert_memory_not_equal(after.rgb, before.rgb, sizeof(float) * 3 * 32 * 32);
+    pt_progressive_destroy(p);
+    image_free(&before);
+    image_free(&after);
+    image_free(&ref);
+    scene_free(&s);
+}
+
+/* A target relMSE stops the renderer once the estimate reaches it: at
+ * 32² (256 spp a pass) 3e-4 takes a few passes (the estimate is about
+ * 8e-4 after the first). */
+static void target_stops_it(void **state)
+{
+    (void)state;
+    Scene s;
+    PtSettings set;
+    PtProgressive *p = start(&s, &set, 32, 1 << 20, 3e-4);
+    PtProgressiveStatus st;
+    int seen[64];
+    int n = wait_done(p, &st, seen, 64);
+    print_message("target 3e-4: done at %d spp, estimate %.3g, after %d images\n", st.spp, st.relmse_estimate, n);
+    assert_true(st.spp > 256 && st.spp < 1 << 20);
+    assert_true(st.relmse_estimate <= 3e-4);
+    pt_progressive_destroy(p);
+    scene_free(&s);
+}
+
+/* Paused, it publishes nothing more once idle, and goes on when resumed;
+ * destroy stops it in the middle of a pass (no samples cap in sight). */
+static void pause_and_destroy(void **state)
+{
+    (void)state;
+    Scene s;
+    PtSettings set;
+    PtProgressive *p = start(&s, &set, 64, 1 << 20, 0.0);
+    PtProgressiveStatus st;
+    do {
+        pt_progressive_status(p, &st);
+        nap();
+    } while (st.spp == 0);
+    pt_progressive_pause(p, true);
+    do {
+        pt_progressive_status(p, &st);
+        nap();
+    } while (!st.idle);
+    int held = st.spp;
+    for (int i = 0; i < 5; i++)
+        nap();
+    pt_progressive_status(p, &st);
+    assert_true(st.paused && st.idle && !st.done);
+    assert_int_equal(st.spp, held);
+    pt_progressive_pause(p, false);
+    do {
+        pt_progressive_status(p, &st);
+        nap();
+    } while (st.spp == held);
+    assert_true(st.spp > held && !st.paused);
+    pt_progressive_destroy(p); /* a pass is running: it stops within a tile */
+    pt_progressive_destroy(NULL);
+    scene_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(matches_pt_render),
+        cmocka_unit_test(restart_takes_the_state_of_the_call),
+        cmocka_unit_test(target_stops_it),
+        cmocka_unit_test(pause_and_destroy),
+    };
+    return cmocka_run_group_tests_name("progressive", tests, NULL, NULL);
+}

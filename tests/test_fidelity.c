@@ -62,8 +62,10 @@ static const char *const k_face_names[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
 
 /* Renders technique `gi` (settings gp; NULL: the scene's) and checks the
  * indirect ratio against the reference `mode` on every surface seen by
- * MIN_PIXELS or more: within [lo, hi]. Returns the whole image's ratio. */
-static double check_surfaces_with(const Fixture *f, GiMode gi, const GiParams *gp, PtMode mode, double lo, double hi)
+ * MIN_PIXELS or more: within [lo, hi]. Returns the whole image's ratio;
+ * with `region`, the ratio over its pixels into *region_ratio. */
+static double check_region_with(const Fixture *f, GiMode gi, const GiParams *gp, PtMode mode, double lo, double hi,
+                                const uint8_t *region, double *region_ratio)
 {
     ImageF img;
     test_render_gi(&f->scene, W, H, gi, gp, &img);
@@ -71,6 +73,8 @@ static double check_surfaces_with(const Fixture *f, GiMode gi, const GiParams *g
     uint8_t *mask = malloc((size_t)W * H);
     assert_non_null(mask);
     double whole = test_indirect_ratio(&img, &f->none, ref, direct, NULL);
+    if (region)
+        *region_ratio = test_indirect_ratio(&img, &f->none, ref, direct, region);
     print_message("%s%s against %s: whole image %.3f\n", gi_technique_names()[gi],
                   gp && gp->gi_visibility ? " with visibility" : "", pt_mode_names[mode], whole);
     int checked = 0, bad = 0;
@@ -100,7 +104,7 @@ static double check_surfaces_with(const Fixture *f, GiMode gi, const GiParams *g
 
 static double check_surfaces(const Fixture *f, GiMode gi, PtMode mode, double lo, double hi)
 {
-    return check_surfaces_with(f, gi, NULL, mode, lo, hi);
+    return check_region_with(f, gi, NULL, mode, lo, hi, NULL, NULL);
 }
 
 /* The control: RSM computes exactly one-bounce-novis up to its sampling,
@@ -112,19 +116,61 @@ static void rsm_against_one_bounce_novis(void **state)
     assert_true(whole > 0.9 && whole < 1.1);
 }
 
+/* The back wall's pixels (−z face) in the image columns of the tall
+ * block, above it: the strip whose bounce from the floor in front of the
+ * block the block hides. Into mask; returns the count. */
+static int strip_behind_tall_block(const Fixture *f, uint8_t *mask)
+{
+    uint8_t *block = malloc((size_t)W * H);
+    assert_non_null(block);
+    test_surface_mask(&f->scene, W, H, "tall_block", -1, block);
+    int x0 = W, x1 = -1;
+    for (int i = 0; i < W * H; i++)
+        if (block[i]) {
+            x0 = i % W < x0 ? i % W : x0;
+            x1 = i % W > x1 ? i % W : x1;
+        }
+    test_surface_mask(&f->scene, W, H, "back_wall", PT_FACE_NEG_Z, mask);
+    int n = 0;
+    for (int i = 0; i < W * H; i++) {
+        mask[i] = mask[i] && i % W >= x0 && i % W <= x1;
+        n += mask[i];
+    }
+    free(block);
+    return n;
+}
+
 /* Issue 47: with the visibility of the bounce (imperfect shadow maps) RSM
- * and VPL gathers compute one-bounce itself. */
+ * and VPL gathers compute one-bounce itself. Without it they compute
+ * one-bounce-novis, the baseline every bound here is set against (measured
+ * with it, 128²: whole image rsm 1.125, vpl-slc 1.093; the floor 1.92 and
+ * 1.84, the left wall 1.37 and 1.34, the strip 1.15 and 1.14). With it:
+ * whole 0.969 and 0.945, every surface 0.92-1.32 (the floor, near the
+ * blocks' feet, keeps the most: the maps' depth bias), the strip 0.99
+ * and 0.97. vpl-slc's bound is lower by what its 4096 VPLs read below
+ * rsm's gather without visibility (1.093 against 1.125). */
 static void visibility_against_one_bounce(void **state)
 {
     const Fixture *f = *state;
     GiParams gp = f->scene.gi;
     gp.gi_visibility = true;
+    uint8_t *strip = malloc((size_t)W * H);
+    assert_non_null(strip);
+    int n = strip_behind_tall_block(f, strip);
+    assert_true(n >= MIN_PIXELS);
     const GiMode modes[] = {GI_RSM, GI_VPL_SLC};
+    const double whole_lo[] = {0.95, 0.92};
     for (int k = 0; k < 2; k++) {
-        double off = check_surfaces_with(f, modes[k], NULL, PT_ONE_BOUNCE, 0.0, 100.0);
-        double on = check_surfaces_with(f, modes[k], &gp, PT_ONE_BOUNCE, 0.0, 100.0);
-        print_message("%s: whole image off %.3f, on %.3f\n", gi_technique_names()[modes[k]], off, on);
+        double s_off, s_on;
+        double off = check_region_with(f, modes[k], NULL, PT_ONE_BOUNCE, 0.0, 100.0, strip, &s_off);
+        double on = check_region_with(f, modes[k], &gp, PT_ONE_BOUNCE, 0.85, 1.4, strip, &s_on);
+        print_message("%s: whole image off %.3f, on %.3f; back wall behind the tall block (%d px) off %.3f, on %.3f\n",
+                      gi_technique_names()[modes[k]], off, on, n, s_off, s_on);
+        assert_true(off > 1.05 && s_off > 1.1); /* the baseline fails the bounds below */
+        assert_true(on >= whole_lo[k] && on <= 1.05);
+        assert_true(s_on >= 0.9 && s_on <= 1.1);
     }
+    free(strip);
 }
 
 /* Light propagation volumes (the defaults: 16³, directional propagation, two

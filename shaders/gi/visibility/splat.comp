@@ -11,8 +11,13 @@
 // texels as its share of the scene's area subtends (area·|cos| / d², its
 // triangle's normal against the direction, over a texel's solid angle
 // 16 / (S² (1 + ρ²)²) at radius ρ of the paraboloid),
-// as a square of (2r + 1)² texels no larger than that, r ≤ ISM_MAX_SPLAT;
-// pull-push (pull_push.comp) fills what the points miss. Uniform points
+// as a square of (2r + 1)² ≈ ISM_COVER times that, r ≤ ISM_MAX_SPLAT: the
+// points land at random, so splats of their own footprint left a third of
+// a surface's texels empty, and a surface behind it (a receiver's own
+// points) showed through them: a wall hid half the bounce
+// (test_visibility). ISM_COVER 4 leaves e⁻⁴ ≈ 2% of them empty; the
+// silhouettes it widens cost the Cornell box 3% of its visible bounce.
+// Pull-push (pull_push.comp) fills what the points miss. Uniform points
 // alone left a map's near field nearly empty: on Sponza a column 1 m from a
 // VPL held a few of 2048 points, and the maps missed a quarter of the
 // occluded light (docs/techniques.md: Visibility).
@@ -38,6 +43,9 @@ layout(location = LOC_ISM_MAP_BASE) uniform uint u_splat_base;
 const int POINTS_PER_INVOCATION = 4;
 const float ISM_PLANE = 0.02; // sine of the elevation under which a point lies on the source's own plane
 const int ISM_MAX_SPLAT = 4;  // a point covers at most (2·4 + 1)² texels
+#ifndef ISM_COVER
+#define ISM_COVER 4.0
+#endif
 
 // The 3×3×3 cells around cell c: nine runs of three cells along x, each
 // contiguous in the sorted buffer; run k spans [runs[k].x, runs[k].y).
@@ -124,7 +132,7 @@ void main()
         float s = 1.0 + dot(cc, cc);
         float facing = abs(dot(unpack_oct16(p.w), d)) / len; // the point's surface seen from the source
         float texels = area * facing / len2 * S * S * s * s / 16.0;
-        int r = min(int(0.5 * sqrt(texels) - 0.5), ISM_MAX_SPLAT);
+        int r = min(int(0.5 * sqrt(ISM_COVER * texels) - 0.5 + 0.5), ISM_MAX_SPLAT);
         ivec2 px = clamp(ivec2((cc * 0.5 + 0.5) * S), ivec2(0), ivec2(size - 1));
         uint depth = floatBitsToUint(len);
         for (int y = -r; y <= r; y++)

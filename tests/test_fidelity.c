@@ -145,10 +145,10 @@ static int strip_behind_tall_block(const Fixture *f, uint8_t *mask)
  * one-bounce-novis, the baseline every bound here is set against (measured
  * with it, 128²: whole image rsm 1.125, vpl-slc 1.093; the floor 1.92 and
  * 1.84, the left wall 1.37 and 1.34, the strip 1.15 and 1.14). With it:
- * whole 0.969 and 0.945, every surface 0.92-1.32 (the floor, near the
- * blocks' feet, keeps the most: the maps' depth bias), the strip 0.99
- * and 0.97. vpl-slc's bound is lower by what its 4096 VPLs read below
- * rsm's gather without visibility (1.093 against 1.125). */
+ * whole 0.955 and 0.932, every surface 0.91-1.10, the strip 0.985 and
+ * 0.967 (the maps' widened silhouettes read a few percent low). vpl-slc's
+ * whole-image bound is lower by what its 4096 VPLs read below rsm's gather
+ * without visibility (1.093 against 1.125). */
 static void visibility_against_one_bounce(void **state)
 {
     const Fixture *f = *state;
@@ -163,7 +163,7 @@ static void visibility_against_one_bounce(void **state)
     for (int k = 0; k < 2; k++) {
         double s_off, s_on;
         double off = check_region_with(f, modes[k], NULL, PT_ONE_BOUNCE, 0.0, 100.0, strip, &s_off);
-        double on = check_region_with(f, modes[k], &gp, PT_ONE_BOUNCE, 0.85, 1.4, strip, &s_on);
+        double on = check_region_with(f, modes[k], &gp, PT_ONE_BOUNCE, 0.85, 1.2, strip, &s_on);
         print_message("%s: whole image off %.3f, on %.3f; back wall behind the tall block (%d px) off %.3f, on %.3f\n",
                       gi_technique_names()[modes[k]], off, on, n, s_off, s_on);
         assert_true(off > 1.05 && s_off > 1.1); /* the baseline fails the bounds below */

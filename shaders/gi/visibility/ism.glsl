@@ -59,13 +59,15 @@ ivec2 ism_texel(IsmFrame f, uint m, vec2 uv)
 // nothing from the VPL anyway (its cosine is 0): 1. The bias: the nearest
 // point in a texel's cone lies up to the cone's width (4 / (S (1 + ρ²))
 // radians at radius ρ of the paraboloid) times the tangent of x's
-// incidence nearer than x on x's own surface, times ISM_SLOPE for the
-// splats' footprint (splat.comp's squares reach about 1.5 texels out) and
-// pull-push's averages; then bias_rel·d + bias_abs. Measured on the
-// Cornell box (128², indirect ratio against one-bounce): 1.0 darkened
-// every surface (rsm whole 0.84), 3.5 let the floor by the blocks' feet
-// keep 1.43 of its bounce (off: 1.92); 3.0: whole 0.97, floor 1.32.
-const float ISM_SLOPE = 3.0;
+// incidence nearer than x on x's own surface, times ISM_SLOPE for
+// pull-push's averages and the splats' planes (splat.comp); then
+// bias_rel·d + bias_abs. Measured (rsm, indirect ratio against
+// one-bounce; without visibility Cornell 1.125, its floor 1.92, Lambertian
+// Sponza 1.51): 1.0: Cornell 0.946, floor 0.90, Sponza 0.81; 2.0: 0.973,
+// 1.10, 1.01. With flat splats (at the point's distance) 3.0 had been
+// needed on the Cornell box, and let Sponza's upper galleries keep 5-30
+// times their bounce (whole 1.16): the term grows with the distance.
+const float ISM_SLOPE = 2.0;
 const float ISM_MAX_TAN = 4.0;
 
 float ism_visibility(IsmFrame f, uint m, vec3 xs, vec3 ns, vec3 x, vec3 nx)

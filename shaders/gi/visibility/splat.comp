@@ -15,9 +15,12 @@
 // points land at random, so splats of their own footprint left a third of
 // a surface's texels empty, and a surface behind it (a receiver's own
 // points) showed through them: a wall hid half the bounce
-// (test_visibility). ISM_COVER 4 leaves e⁻⁴ ≈ 2% of them empty; the
-// silhouettes it widens cost the Cornell box 3% of its visible bounce.
-// Pull-push (pull_push.comp) fills what the points miss. Uniform points
+// (test_visibility). ISM_COVER 4 leaves e⁻⁴ ≈ 2% of them empty (3:
+// the wall let 1.7-2.1% through); the silhouettes it widens cost the
+// Cornell box about 4% of its visible bounce. Each texel of a splat takes
+// the depth of the point's plane in its direction, so that a splat does
+// not stand in front of its own surface. Pull-push (pull_push.comp) fills
+// what the points miss. Uniform points
 // alone left a map's near field nearly empty: on Sponza a column 1 m from a
 // VPL held a few of 2048 points, and the maps missed a quarter of the
 // occluded light (docs/techniques.md: Visibility).
@@ -130,16 +133,28 @@ void main()
             continue; // behind the source, or on its own plane (it hides nothing in front of it)
         vec2 cc = l.xy / (1.0 + l.z); // in the unit disk
         float s = 1.0 + dot(cc, cc);
-        float facing = abs(dot(unpack_oct16(p.w), d)) / len; // the point's surface seen from the source
+        vec3 np = unpack_oct16(p.w);
+        float facing = abs(dot(np, d)) / len; // the point's surface seen from the source
         float texels = area * facing / len2 * S * S * s * s / 16.0;
-        int r = min(int(0.5 * sqrt(ISM_COVER * texels) - 0.5 + 0.5), ISM_MAX_SPLAT);
+        int r = min(int(0.5 * sqrt(ISM_COVER * texels)), ISM_MAX_SPLAT);
         ivec2 px = clamp(ivec2((cc * 0.5 + 0.5) * S), ivec2(0), ivec2(size - 1));
-        uint depth = floatBitsToUint(len);
+        // Texels around the point take the distance to the point's plane
+        // in their own direction (within a factor 2 of the point's): a
+        // splat wider than the point lies on its surface, where a flat
+        // square at the point's distance would stand in front of the rest
+        // of that surface, and shadow it.
+        vec3 pl = l * len, nl = vec3(dot(np, t), dot(np, b), dot(np, ns));
+        float plane = dot(pl, nl);
         for (int y = -r; y <= r; y++)
             for (int x = -r; x <= r; x++) {
                 ivec2 q = px + ivec2(x, y);
-                if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, ivec2(size))))
-                    imageAtomicMin(o_atlas, tile + q, depth);
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(size))))
+                    continue;
+                vec2 c = (vec2(q) + 0.5) / S * 2.0 - 1.0;
+                float c2 = dot(c, c);
+                vec3 dir = vec3(2.0 * c, 1.0 - c2) / (1.0 + c2);
+                float along = dot(dir, nl), at = along * plane > 0.0 ? plane / along : len;
+                imageAtomicMin(o_atlas, tile + q, floatBitsToUint(clamp(at, 0.5 * len, 2.0 * len)));
             }
     }
 }

@@ -116,26 +116,6 @@ static void wall_hides_the_bounce(void **state)
     }
 }
 
-/* scenes/sponza.json (NULL without the asset) with its materials made
- * Lambertian and a parallel sun, as test_sponza's: the path tracer's
- * bounce then has no glossy paths the gathers cannot have. */
-static bool sponza_lambert(Scene *s)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/assets/sponza/Sponza.gltf", RTGI_SHARED_DIR);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return false;
-    fclose(f);
-    snprintf(path, sizeof path, "%s/scenes/sponza.json", RTGI_SOURCE_DIR);
-    assert_true(scene_load(s, path));
-    assert_true(scene_rescale_lights(s, 0.f));
-    for (int i = 0; i < s->material_count; i++)
-        if (s->materials[i].light_index < 0)
-            s->materials[i].specular = s->materials[i].metallic = 0.f;
-    return true;
-}
-
 /* Sponza, 160×90: the whole image's indirect ratio against one-bounce
  * within [0.9, 1.1] for rsm (defaults) with visibility, against 1.5
  * without; vpl-slc at 16384 VPLs (bench's count: at 4096 the VPL grid
@@ -145,11 +125,12 @@ static bool sponza_lambert(Scene *s)
 static void sponza_against_one_bounce(void **state)
 {
     (void)state;
-    Scene s;
-    if (!sponza_lambert(&s)) {
+    if (!test_sponza_file()) {
         print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
         skip();
     }
+    Scene s;
+    test_sponza_lambert(&s); /* materials Lambertian, a parallel sun (as test_sponza's) */
     enum { SW = 160, SH = 90 };
     ImageF none, ref, direct;
     test_render_gi(&s, SW, SH, GI_NONE, NULL, &none);

@@ -526,33 +526,16 @@ static void disk_vpls_bound_the_singularity(void **state)
  * 0.98 at 4096, but moved metalights' error against brute force on the
  * Cornell box from 0.0026 to 0.0024-0.0107 over draws (random subsets
  * 0.0031-0.0062): the VPL set stays the paper's grid. */
-static const char *sponza_scene(void)
-{
-    static char path[1024];
-    snprintf(path, sizeof path, "%s/assets/sponza/Sponza.gltf", RTGI_SHARED_DIR);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fclose(f);
-    snprintf(path, sizeof path, "%s/scenes/sponza.json", RTGI_SOURCE_DIR);
-    return path;
-}
-
 static void vpls_sum_the_rsm_on_sponza(void **state)
 {
     (void)state;
-    const char *file = sponza_scene();
-    if (!file) {
+    if (!test_sponza_file()) {
         print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
         skip();
     }
     enum { SW = 80, SH = 45 };
     Scene s;
-    assert_true(scene_load(&s, file));
-    scene_rescale_lights(&s, 0.f); /* a parallel sun */
-    for (int i = 0; i < s.material_count; i++)
-        if (s.materials[i].light_index < 0)
-            s.materials[i].specular = s.materials[i].metallic = 0.f;
+    test_sponza_lambert(&s); /* a parallel sun */
     GiParams gp = s.gi;
     ImageF none, rsm, rsm64, img;
     test_render_gi(&s, SW, SH, GI_NONE, &gp, &none);

@@ -213,9 +213,7 @@ static void rsm_destroy(void *state)
     RsmGi *g = state;
     if (!g)
         return;
-    if (g->ism)
-        ism_destroy(g->ism);
-    free(g->ism);
+    ism_free(g->ism);
     importance_destroy(g);
     rsm_free_sized(g);
     glDeleteBuffers(1, &g->ubo);
@@ -232,16 +230,10 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
     g->variant = variant;
     g->params = *ci->params;
     g->pc = ci->programs;
-    if (g->params.gi_visibility) {
-        g->ism = malloc(sizeof *g->ism);
-        if (!g->ism || !ism_create(g->ism, g->params.exhaustive ? ISM_FROM_VPLS : ISM_FROM_RSM, ci)) {
-            if (!g->ism)
-                log_error("rsm", "out of memory");
-            free(g->ism);
-            g->ism = NULL;
-            rsm_destroy(g);
-            return NULL;
-        }
+    if (g->params.gi_visibility &&
+        !(g->ism = ism_new(g->params.exhaustive ? ISM_FROM_VPLS : ISM_FROM_RSM, ci, "rsm"))) {
+        rsm_destroy(g);
+        return NULL;
     }
     bool ok;
     switch (variant) {

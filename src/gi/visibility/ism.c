@@ -19,7 +19,8 @@
  * (scale: the scene's diagonal): the nearest point in a texel's cone lies
  * up to its angular width (about 4/size radians) times the tangent of the
  * incidence nearer than the shaded point on the point's own surface, and
- * pull-push averages depths into the holes. Measured in docs/techniques.md (Visibility). */
+ * pull-push averages depths into the holes (ism.glsl's ism_visibility adds
+ * the slope term). Measured in docs/techniques.md, "Visibility of the bounce". */
 #define ISM_BIAS_REL 0.05f
 #define ISM_BIAS_ABS 0.002f
 
@@ -316,6 +317,26 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
               source == ISM_FROM_VPLS ? "one per VPL" : "one per block of RSM texels", m->point_count, area,
               g->point_area, m->points);
     return true;
+}
+
+Ism *ism_new(IsmSource source, const GiCreateInfo *ci, const char *tag)
+{
+    Ism *m = malloc(sizeof *m);
+    if (!m)
+        log_error(tag, "out of memory for the visibility maps");
+    else if (!ism_create(m, source, ci)) {
+        free(m);
+        m = NULL;
+    }
+    return m;
+}
+
+void ism_free(Ism *m)
+{
+    if (!m)
+        return;
+    ism_destroy(m);
+    free(m);
 }
 
 uint64_t ism_gpu_bytes(const Ism *m)

@@ -18,7 +18,9 @@
  * Passes (GPU timer scopes): ism_reps (ISM_FROM_RSM: the blocks'
  * representatives), ism_splat (clear, points into the maps), ism_pull_push
  * (holes). The points are drawn once, on the CPU, when the maps are made
- * (uniform over the scene's area, alpha-masked holes excluded). The maps
+ * (uniform over the scene's area, alpha-masked holes excluded, sorted by
+ * the cells of a 32³ grid); a map splats half its points from the whole
+ * scene and half from the 3×3×3 cells around its source. The maps
  * are rebuilt only when the light products change
  * (light_stage_products_key, and the VPL extraction).
  * Inputs: the scene (borrowed), the light stage. Owns: the atlas, the
@@ -65,6 +67,11 @@ typedef struct Ism {
  * atlas from the VPL buffer's capacity. false after logging. */
 bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci);
 void ism_destroy(Ism *m);
+/* ism_create into a new allocation: NULL after logging (`tag`: the
+ * technique's log tag, for running out of memory). */
+Ism *ism_new(IsmSource source, const GiCreateInfo *ci, const char *tag);
+/* ism_destroy and free; NULL does nothing. */
+void ism_free(Ism *m);
 /* Builds the maps if the light products changed since the last build
  * (timer scopes ism_reps, ism_splat, ism_pull_push). */
 void ism_update(Ism *m, const GiFrame *f);

@@ -127,9 +127,7 @@ static void vpl_destroy(void *state)
     if (!v)
         return;
     vpl_free_sized(v);
-    if (v->ism)
-        ism_destroy(v->ism);
-    free(v->ism);
+    ism_free(v->ism);
     GLuint bufs[4] = {v->ubo, v->gi_ubo, v->ranges, v->subsets};
     glDeleteBuffers(4, bufs);
     free(v);
@@ -154,16 +152,9 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
     v->params = *ci->params;
     v->pc = ci->programs;
     v->vpl_capacity = ci->lights->vpls.capacity ? ci->lights->vpls.capacity : 1;
-    if (v->params.gi_visibility) {
-        v->ism = malloc(sizeof *v->ism);
-        if (!v->ism || !ism_create(v->ism, ISM_FROM_VPLS, ci)) {
-            if (!v->ism)
-                log_error("vpl", "out of memory");
-            free(v->ism);
-            v->ism = NULL;
-            vpl_destroy(v);
-            return NULL;
-        }
+    if (v->params.gi_visibility && !(v->ism = ism_new(ISM_FROM_VPLS, ci, "vpl"))) {
+        vpl_destroy(v);
+        return NULL;
     }
     bool ok = true;
     if (tiled(v)) {

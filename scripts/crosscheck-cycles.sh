@@ -2,7 +2,7 @@
 # crosscheck-cycles.sh — `rtgi reference` against Blender's Cycles on the
 # Cornell box (scripts/cycles_cornell.py builds it from the published facts),
 # for full GI, one bounce and direct light; or, given a scene file with a
-# glTF mesh (e.g. scenes/sponza.json), on that scene with its materials made
+# glTF mesh (e.g. scenes/sponza_nave.json), on that scene with its materials made
 # Lambertian (scripts/cycles_mesh.py), for full GI and direct light, and
 # the indirect light as their difference. Each renderer renders two
 # independent seeds, so that the noise of a comparison is measured beside it:

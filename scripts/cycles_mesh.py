@@ -1,5 +1,5 @@
 # scripts/cycles_mesh.py — an rtgi scene file with a glTF mesh (e.g.
-# scenes/sponza.json) rendered by Blender's Cycles, so that `rtgi reference`
+# scenes/sponza_nave.json) rendered by Blender's Cycles, so that `rtgi reference`
 # can be checked against an independent renderer on textured, alpha-masked
 # geometry (scripts/crosscheck-cycles.sh runs both and compares them).
 #
@@ -26,7 +26,7 @@
 #     of the scene file; a black world; shadow terminator offsets 0.
 #
 # blender -b --factory-startup -noaudio -P scripts/cycles_mesh.py -- \
-#     --scene scenes/sponza.json --size 320x180 --spp 1024 --seed 1 --bounces 64 --out out/cycles.exr
+#     --scene scenes/sponza_nave.json --size 320x180 --spp 1024 --seed 1 --bounces 64 --out out/cycles.exr
 # Blender 3.4's glTF importer needs numpy (Debian: python3-numpy).
 import argparse
 import json

@@ -43,11 +43,11 @@ mkdir -p "$DIR"
 
 scenes=("cornell|cornell|$CORNELL|$CORNELL_SPP|--surfaces")
 if [ -f ../shared/assets/sponza/Sponza.gltf ]; then
-  scenes+=("sponza|scenes/sponza.json|$SPONZA|$SPONZA_SPP|")
+  scenes+=("sponza|scenes/sponza_nave.json|$SPONZA|$SPONZA_SPP|")
   if [ "${LAMBERTIAN:-0}" = 1 ]; then
     python3 - "$DIR/sponza_lambertian.json" <<'PY'
 import json, os, sys
-scene = json.load(open("scenes/sponza.json"))
+scene = json.load(open("scenes/sponza_nave.json"))
 gltf = os.path.abspath(os.path.join("scenes", scene["mesh"]))
 names = [m["name"] for m in json.load(open(gltf))["materials"] if m.get("name")]
 scene["mesh"] = gltf

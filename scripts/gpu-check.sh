@@ -12,7 +12,7 @@
 # Run from the checkout's root after building (or with RTGI=path/to/rtgi:
 # a binary built elsewhere runs with the shared libraries it was bundled
 # with, LD_LIBRARY_PATH=DIR, see docs/gpu.md). Sponza rows need
-# ../shared/assets/sponza (scenes/sponza.json); they are skipped without it.
+# ../shared/assets/sponza (scenes/sponza_nave.json); they are skipped without it.
 set -eu
 out=${1:-out/gpu-check}
 frames=${FRAMES:-10}
@@ -34,7 +34,7 @@ start=$(date +%s)
     fi
     "$rtgi" render --size 16x16 --timings --frames 1 --quiet --out "$out/probe.png" | sed -n 's/^renderer: /GL renderer: /p'
     echo
-    for scene in cornell scenes/sponza.json; do
+    for scene in cornell scenes/sponza_nave.json; do
         if [ "$scene" != cornell ] && [ ! -r ../shared/assets/sponza/Sponza.gltf ]; then
             echo "($scene: ../shared/assets/sponza is absent: skipped)"
             continue
@@ -50,7 +50,7 @@ start=$(date +%s)
         echo "| --gi | passes |"
         echo "|---|---|"
         for g in $gi; do
-            "$rtgi" render --scene scenes/sponza.json --size "$size" --gi "$g" --timings --frames "$frames" \
+            "$rtgi" render --scene scenes/sponza_nave.json --size "$size" --gi "$g" --timings --frames "$frames" \
                 --quiet --out "$out/pass.png" >"$log"
             # steady_PASS_ms: timer queries on a GPU (wall times on a software rasterizer)
             passes=$(sed -n 's/^steady_\(.*\)_ms: \(.*\)/\1 \2/p' "$log" | grep -v '^total ' |
@@ -63,7 +63,7 @@ start=$(date +%s)
     echo
     GI=none RTGI="$rtgi" scripts/frame-times.sh cornell 3840x2160 pcss "$frames" | tail -n 1
     if [ -r ../shared/assets/sponza/Sponza.gltf ]; then
-        GI=none RTGI="$rtgi" scripts/frame-times.sh scenes/sponza.json 3840x2160 pcss "$frames" | tail -n 1
+        GI=none RTGI="$rtgi" scripts/frame-times.sh scenes/sponza_nave.json 3840x2160 pcss "$frames" | tail -n 1
     fi
     echo
     echo "## rtgi probe"

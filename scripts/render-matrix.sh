@@ -23,7 +23,7 @@ fi
 DIR=${1:?usage: scripts/render-matrix.sh DIR [RTGI]}
 RTGI=${2:-build/rtgi}
 mkdir -p "$DIR"
-SPONZA=scenes/sponza.json
+SPONZA=scenes/sponza_nave.json
 scenes=("cornell|cornell|96x96")
 if [ -f ../shared/assets/sponza/Sponza.gltf ]; then scenes+=("sponza|$SPONZA|160x90"); fi
 for s in "${scenes[@]}"; do

@@ -25,6 +25,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "animation.h"
 #include "cli.h"
 #include "commands.h"
 #include "gl_context.h"
@@ -32,6 +33,7 @@
 #include "log.h"
 #include "version.h" /* generated: RTGI_VERSION */
 #include "metrics.h"
+#include "metrics_temporal.h"
 #include "reference/pathtracer.h"
 #include "render_options.h"
 #include "renderer.h"
@@ -68,7 +70,13 @@ void cmd_bench_help(void)
            "  --spp N            reference samples per pixel (default: 256)\n"
            "  --ref-mode MODE    full|direct|one-bounce|one-bounce-novis|indirect (default: full)\n"
            "  --frames N         timed frames per technique after one warm-up frame (on a GPU,\n"
-           "                     warm-up frames for 0.5 s) (default: 3)\n"
+           "                     warm-up frames for 0.5 s) (default: 3); with --animate: the\n"
+           "                     sequence's frames (at least 3)\n"
+           "  --animate          measure over the scene file's animation: every technique renders\n"
+           "                     --frames frames spread over its duration (or at --fps F), each\n"
+           "                     against its own cached reference; adds per-frame relMSE, flicker\n"
+           "                     and a kymograph per technique (the metrics are the middle frame's)\n"
+           "  --fps F            with --animate: frame i at i/F s\n"
            "  --ssaa N           render every technique N x N supersampled, box-filtered to\n"
            "                     WxH (default: 1, off), as `rtgi render --ssaa`\n"
            "  --exposure E       exposure of FLIP and SSIM (default: the scene's)\n"
@@ -96,6 +104,12 @@ typedef struct BenchEntry {
     ImageF img;             /* radiance */
     float *flip_map;        /* per-pixel FLIP */
     double rmse, relmse, ssim, flip, mean_ratio;
+    /* --animate: */
+    double *relmse_frames;  /* relMSE of every frame against its reference (owned) */
+    int frames;             /* in relmse_frames */
+    double flicker;         /* metrics_temporal.h */
+    double reference_flicker; /* the reference sequence's (the same for every entry) */
+    ImageF kymograph;       /* the middle row of every frame */
 } BenchEntry;
 
 /* FNV-1a over what decides the reference's pixels, field by field (no
@@ -491,9 +505,12 @@ static void entries_free(BenchEntry *entries, int n)
         free(entries[i].label);
         free(entries[i].overrides);
         image_free(&entries[i].img);
+        image_free(&entries[i].kymograph);
         free(entries[i].flip_map);
+        free(entries[i].relmse_frames);
         entries[i].label = entries[i].overrides = NULL;
         entries[i].flip_map = NULL;
+        entries[i].relmse_frames = NULL;
     }
 }
 
@@ -570,6 +587,7 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddStringToObject(o, "label", e->label);
     cJSON_AddStringToObject(o, "shadow", k_shadow_names[e->shadow]);
     cJSON_AddStringToObject(o, "gi", gi_technique_names()[e->gi]);
+    cJSON_AddStringToObject(o, "paper", gi_techniques[e->gi]->paper);
     cJSON_AddStringToObject(o, "overrides", e->overrides);
     cJSON *set = cJSON_AddObjectToObject(o, "settings");
     Settings s = {e->rs.shadow_params, e->rs.gi_params};
@@ -632,6 +650,20 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddStringToObject(img, "exr", p);
     snprintf(p, sizeof p, "images/%s_flip.png", e->id);
     cJSON_AddStringToObject(img, "flip_png", p);
+    if (e->relmse_frames) { /* --animate */
+        cJSON *tj = cJSON_AddObjectToObject(o, "temporal");
+        cJSON *per = cJSON_AddArrayToObject(tj, "relmse_per_frame");
+        double mean = 0;
+        for (int i = 0; i < e->frames; i++) {
+            cJSON_AddItemToArray(per, json_num(e->relmse_frames[i]));
+            mean += e->relmse_frames[i] / e->frames;
+        }
+        cJSON_AddItemToObject(tj, "relmse_mean", json_num(mean));
+        cJSON_AddItemToObject(tj, "flicker", json_num(e->flicker));
+        cJSON_AddItemToObject(tj, "reference_flicker", json_num(e->reference_flicker));
+        snprintf(p, sizeof p, "images/%s_kymograph.png", e->id);
+        cJSON_AddStringToObject(tj, "kymograph", p);
+    }
     return o;
 }
 
@@ -671,6 +703,17 @@ static void print_markdown(const cJSON *doc)
         printf(" | %.1f | %.1f | %.0f | %.0f | %.5f | %.5f | %.4f | %.3f |\n", num(e, "gpu_ms"), num(e, "frame_ms"),
                num(st, "vpl_count"), ev, num(m, "rmse"), num(m, "relmse"), num(m, "flip"), num(m, "mean_ratio"));
     }
+    const cJSON *anim = cJSON_GetObjectItem(doc, "animation");
+    if (!anim)
+        return;
+    printf("\nOver the animation's %d frames (the metrics above are its middle frame's):\n\n"
+           "| technique | mean relMSE | flicker | reference flicker | ms/frame |\n|---|---|---|---|---|\n",
+           (int)num(anim, "frames"));
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(doc, "techniques")) {
+        const cJSON *t = cJSON_GetObjectItem(e, "temporal");
+        printf("| %s | %.5f | %.5f | %.5f | %.1f |\n", cJSON_GetObjectItem(e, "label")->valuestring,
+               num(t, "relmse_mean"), num(t, "flicker"), num(t, "reference_flicker"), num(e, "frame_ms"));
+    }
 }
 
 /* Writes `text` atomically to DIR/name. */
@@ -690,7 +733,7 @@ static bool write_text(const char *dir, const char *name, const char *text)
  * %.9g, empty where bench.json has null. Each file's columns are a table
  * of where in bench.json a field comes from, so a header and its rows are
  * one list. */
-typedef enum CsvFrom { FROM_DOC, FROM_REFERENCE, FROM_TECHNIQUE, FROM_STATS, FROM_METRICS, FROM_PASS } CsvFrom;
+typedef enum CsvFrom { FROM_DOC, FROM_REFERENCE, FROM_TECHNIQUE, FROM_STATS, FROM_METRICS, FROM_TEMPORAL, FROM_PASS } CsvFrom;
 
 typedef struct CsvColumn {
     const char *name;
@@ -728,6 +771,9 @@ static const CsvColumn k_csv_techniques[] = {
     {"ssim", FROM_METRICS, NULL, false},
     {"flip", FROM_METRICS, NULL, false},
     {"mean_ratio", FROM_METRICS, NULL, false},
+    {"relmse_mean", FROM_TEMPORAL, NULL, false}, /* --animate: empty without it */
+    {"flicker", FROM_TEMPORAL, NULL, false},
+    {"reference_flicker", FROM_TEMPORAL, NULL, false},
 };
 
 static const CsvColumn k_csv_passes[] = {
@@ -775,7 +821,7 @@ static bool write_csv(const char *dir, const cJSON *doc)
     const cJSON *e, *pass;
     cJSON_ArrayForEach(e, cJSON_GetObjectItem(doc, "techniques")) {
         const cJSON *objects[] = {doc, cJSON_GetObjectItem(doc, "reference"), e, cJSON_GetObjectItem(e, "stats"),
-                                  cJSON_GetObjectItem(e, "metrics"), NULL};
+                                  cJSON_GetObjectItem(e, "metrics"), cJSON_GetObjectItem(e, "temporal"), NULL};
         csv_row(&t, k_csv_techniques, NT, objects);
         cJSON_ArrayForEach(pass, cJSON_GetObjectItem(e, "passes")) {
             objects[FROM_PASS] = pass;
@@ -789,7 +835,7 @@ static bool write_csv(const char *dir, const cJSON *doc)
     return ok;
 }
 
-static const char *const k_bench_own[] = {"--cache", "--exposure", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--ssaa", "--threads", NULL};
+static const char *const k_bench_own[] = {"--animate", "--cache", "--exposure", "--fps", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--ssaa", "--threads", NULL};
 
 /* What the command line asked for. */
 typedef struct BenchArgs {
@@ -803,6 +849,8 @@ typedef struct BenchArgs {
     int ssaa;                /* --ssaa */
     float exposure;          /* --exposure of FLIP and SSIM; < 0: the scene's */
     bool markdown;           /* --markdown */
+    bool animate;            /* --animate: `frames` frames of the scene's animation */
+    float fps;               /* --fps (0: the frames spread over the duration) */
     PtSettings ps;           /* the reference's settings */
     Settings base;           /* the technique settings every entry starts from ... */
     bool base_given[64];     /* ... and which of them were given, by settings-table row */
@@ -881,6 +929,12 @@ static int bench_parse_args(int argc, char **argv, BenchArgs *args)
                 return 2;
         } else if (!strcmp(opt, "--markdown")) {
             args->markdown = true;
+        } else if (!strcmp(opt, "--animate")) {
+            args->animate = true;
+        } else if (!strcmp(opt, "--fps")) {
+            CLI_VALUE(&a, v);
+            if (!cli_float(opt, v, 1e-3f, 1e6f, &args->fps))
+                return 2;
         } else if ((d = settings_find_option(opt))) {
             if (d->type != SETTING_FLAG)
                 CLI_VALUE(&a, v);
@@ -905,6 +959,14 @@ static int bench_parse_args(int argc, char **argv, BenchArgs *args)
         cli_error(NULL, "--out DIR is required");
         return 2;
     }
+    if (args->fps > 0 && !args->animate) {
+        cli_error(NULL, "--fps: needs --animate");
+        return 2;
+    }
+    if (args->animate && args->frames < 3) {
+        cli_error(NULL, "--animate --frames %d: flicker needs at least 3 frames", args->frames);
+        return 2;
+    }
     if (strlen(args->out) > BENCH_MAX_DIR) {
         cli_error(NULL, "--out: DIR is longer than %d bytes", BENCH_MAX_DIR);
         return 2;
@@ -926,6 +988,14 @@ typedef struct BenchReference {
     size_t masked;           /* pixels left out (they see an emitter) */
     float metric_exposure;   /* of FLIP and SSIM */
     double display_exposure; /* of the PNGs and the page */
+    /* --animate: the sequence (img and mask above are its middle frame's). */
+    int frames;              /* 0 without --animate */
+    ImageF *seq;             /* [frames] the reference of every frame */
+    uint8_t **seq_mask;      /* [frames] the pixels measured in each (no emitter seen) */
+    int mid;                 /* the middle frame */
+    int kymograph_row;       /* the row the kymographs show */
+    double flicker;          /* the reference's own (its noise: the floor) */
+    ImageF kymograph;
 } BenchReference;
 
 static void bench_reference_free(BenchReference *ref)
@@ -933,6 +1003,72 @@ static void bench_reference_free(BenchReference *ref)
     image_free(&ref->img);
     free(ref->mask);
     ref->mask = NULL;
+    for (int i = 0; i < ref->frames; i++) {
+        if (ref->seq)
+            image_free(&ref->seq[i]);
+        if (ref->seq_mask)
+            free(ref->seq_mask[i]);
+    }
+    free(ref->seq);
+    free(ref->seq_mask);
+    ref->seq = NULL;
+    ref->seq_mask = NULL;
+    ref->frames = 0;
+    image_free(&ref->kymograph);
+}
+
+/* ---- --animate (issue 50): the reference of every frame ---------------- */
+
+/* The time of frame i. */
+static double frame_time(const BenchArgs *args, const Scene *scene, int i)
+{
+    return animation_frame_time(scene, i, args->frames, args->fps);
+}
+
+/* Every frame's reference (cached per frame: the cache key is the scene's
+ * state), its emitter mask, the reference's flicker and kymograph, and its
+ * kymograph PNG into images_dir; the scene is left at the middle frame,
+ * whose reference bench_prepare_reference then reads back as the one the
+ * still metrics use. false after logging. */
+static bool bench_prepare_sequence(const BenchArgs *args, Scene *scene, const char *images_dir, BenchReference *ref)
+{
+    int n = args->frames;
+    size_t np = (size_t)args->width * args->height;
+    if (!animation_check_frames(scene, n, args->fps, "--animate"))
+        return false;
+    ref->seq = util_calloc("bench", "the reference sequence", (size_t)n, sizeof(ImageF));
+    ref->seq_mask = util_calloc("bench", "the reference sequence", (size_t)n, sizeof(uint8_t *));
+    if (!ref->seq || !ref->seq_mask)
+        return false;
+    ref->frames = n;
+    ref->mid = n / 2;
+    ref->kymograph_row = args->height / 2;
+    if (!image_alloc(&ref->kymograph, args->width, n))
+        return false;
+    FlickerSum fl = {0};
+    bool ok = true, all_reused = true;
+    for (int i = 0; i < n && ok; i++) {
+        animation_apply(scene, frame_time(args, scene, i), NULL);
+        char path[1400];
+        bool reused = false;
+        log_info("bench", "reference frame %d of %d (t = %.4g s)", i + 1, n, frame_time(args, scene, i));
+        ok = get_reference(scene, &args->ps, args->cache, &ref->seq[i], path, sizeof path, &reused) &&
+             (ref->seq_mask[i] = util_malloc("bench", "the emitter mask", np, 1)) != NULL &&
+             pt_emitter_mask(scene, args->width, args->height, ref->seq_mask[i]);
+        all_reused = all_reused && reused;
+        if (ok) {
+            flicker_add(&fl, &ref->seq[i], ref->seq_mask[i]);
+            kymograph_add(&ref->kymograph, i, &ref->seq[i], ref->kymograph_row);
+        }
+    }
+    ref->flicker = flicker_value(&fl);
+    flicker_free(&fl);
+    animation_apply(scene, frame_time(args, scene, ref->mid), NULL);
+    if (!ok)
+        return false;
+    log_info("bench", "reference flicker %.5f over %d frames%s", ref->flicker, n,
+             all_reused ? " (every frame from the cache)" : "");
+    return true;
 }
 
 /* The reference (cached or rendered), the emitter mask and the exposures
@@ -964,7 +1100,10 @@ static bool bench_prepare_reference(const BenchArgs *args, const Scene *scene, c
     if (!image_write_exr(p, &ref->img, false, NULL, 0))
         return false;
     snprintf(p, sizeof p, "%s/reference.png", images_dir);
-    return image_write_png(p, &ref->img, (float)ref->display_exposure);
+    if (!image_write_png(p, &ref->img, (float)ref->display_exposure))
+        return false;
+    snprintf(p, sizeof p, "%s/reference_kymograph.png", images_dir);
+    return !ref->frames || image_write_png(p, &ref->kymograph, (float)ref->display_exposure);
 }
 
 /* The entry's render settings: the scene's, the command line's base
@@ -991,13 +1130,74 @@ static void entry_render_settings(const BenchArgs *args, const Scene *scene, Ben
 
 /* Renders one entry (bench_render), measures it against the reference and
  * writes its EXR, PNG and FLIP map into images_dir. false after logging. */
-static bool bench_run_entry(Renderer *r, bool *created, const BenchArgs *args, const Scene *scene,
+/* --animate: renders the entry over the sequence, light products cached
+ * (what a moved light or object invalidates is redrawn, the rest kept, as
+ * in the window): one warm-up frame at the first frame's time, then every
+ * frame timed (wall time with glFinish), read back and measured against
+ * its reference; e->img is the middle frame. false after logging. */
+static bool bench_render_sequence(Renderer *r, bool *created, const BenchArgs *args, Scene *scene,
+                                  const BenchReference *ref, BenchEntry *e)
+{
+    int n = args->frames;
+    e->rs.cache = true;
+    SceneChange c;
+    animation_apply(scene, frame_time(args, scene, 0), &c);
+    if (*created && !renderer_scene_changed(r, &c))
+        return false;
+    bool ok = *created ? renderer_apply(r, &e->rs) : renderer_create(r, scene, &e->rs);
+    *created = true;
+    e->frames = n;
+    if (!ok || !(e->relmse_frames = util_calloc("bench", "the per-frame errors", (size_t)n, sizeof(double))) ||
+        !image_alloc(&e->kymograph, args->width, n))
+        return false;
+    renderer_invalidate(r);
+    renderer_warm_up(r, &scene->camera, 1); /* compiles, allocates; on a GPU, raises the clocks */
+    pass_temporal_reset(&r->pass_temporal); /* the sequence starts without history */
+    gpu_timer_reset(&r->timer);
+    FlickerSum fl = {0};
+    double wall = 0;
+    ImageF img = {0};
+    for (int i = 0; i < n && ok; i++) {
+        animation_apply(scene, frame_time(args, scene, i), &c);
+        double t0 = util_seconds();
+        ok = renderer_scene_changed(r, &c);
+        if (ok)
+            renderer_frame(r, &scene->camera);
+        glFinish();
+        wall += util_seconds() - t0;
+        ok = ok && renderer_frames_whole(r) && renderer_read_hdr(r, &img) && image_check_finite(&img, e->label);
+        if (!ok)
+            break;
+        e->relmse_frames[i] = metric_relmse(&img, &ref->seq[i], ref->seq_mask[i], NULL);
+        flicker_add(&fl, &img, ref->seq_mask[i]);
+        kymograph_add(&e->kymograph, i, &img, ref->kymograph_row);
+        if (i == ref->mid) {
+            e->img = img; /* kept: the still metrics' image */
+            img = (ImageF){0};
+        }
+        image_free(&img);
+    }
+    image_free(&img);
+    e->flicker = flicker_value(&fl);
+    flicker_free(&fl);
+    if (!ok)
+        return false;
+    e->frame_ms = 1e3 * wall / n;
+    renderer_collect_stats(r);
+    e->gpu_ms = 0;
+    for (int i = 0; i < r->timer.pass_count; i++)
+        e->gpu_ms += r->timer.passes[i].gpu_ms / (r->timer.frames > 0 ? r->timer.frames : 1);
+    return true;
+}
+
+static bool bench_run_entry(Renderer *r, bool *created, const BenchArgs *args, Scene *scene,
                             const BenchReference *ref, const char *images_dir, BenchEntry *e)
 {
     size_t np = (size_t)args->width * args->height;
     const uint8_t *mask = ref->mask;
     entry_render_settings(args, scene, e);
-    if (!bench_render(r, created, scene, e, args->frames))
+    if (!(args->animate ? bench_render_sequence(r, created, args, scene, ref, e)
+                        : bench_render(r, created, scene, e, args->frames)))
         return false;
     if (!(e->flip_map = util_malloc("bench", "the FLIP map", np, sizeof(float))))
         return false;
@@ -1023,7 +1223,16 @@ static bool bench_run_entry(Renderer *r, bool *created, const BenchArgs *args, c
         return false;
     log_info("bench", "  %.2f ms/frame (GPU %.2f ms), relmse %.5f, flip %.4f, mean ratio %.3f", e->frame_ms,
              e->gpu_ms, e->relmse, e->flip, e->mean_ratio);
-    return true;
+    if (!args->animate)
+        return true;
+    double mean = 0;
+    for (int i = 0; i < args->frames; i++)
+        mean += e->relmse_frames[i] / args->frames;
+    e->reference_flicker = ref->flicker;
+    log_info("bench", "  over %d frames: mean relmse %.5f, flicker %.5f (reference %.5f)", args->frames, mean,
+             e->flicker, ref->flicker);
+    snprintf(p, sizeof p, "%s/%s_kymograph.png", images_dir, e->id);
+    return image_write_png(p, &e->kymograph, (float)ref->display_exposure);
 }
 
 /* bench.json's facts of the run, with an empty "techniques" array for
@@ -1063,6 +1272,19 @@ static cJSON *bench_doc_create(const BenchArgs *args, const Scene *scene, const 
     cJSON_AddNumberToObject(doc, "metric_exposure", ref->metric_exposure);
     cJSON_AddNumberToObject(doc, "display_exposure", ref->display_exposure);
     cJSON_AddNumberToObject(doc, "masked_pixels", (double)ref->masked);
+    if (ref->frames) { /* --animate */
+        cJSON *aj = cJSON_AddObjectToObject(doc, "animation");
+        cJSON_AddNumberToObject(aj, "frames", ref->frames);
+        cJSON_AddItemToObject(aj, "fps", args->fps > 0 ? cJSON_CreateNumber(args->fps) : cJSON_CreateNull());
+        cJSON_AddNumberToObject(aj, "duration", animation_duration(scene));
+        cJSON *times = cJSON_AddArrayToObject(aj, "times");
+        for (int i = 0; i < ref->frames; i++)
+            cJSON_AddItemToArray(times, cJSON_CreateNumber(frame_time(args, scene, i)));
+        cJSON_AddNumberToObject(aj, "middle_frame", ref->mid);
+        cJSON_AddItemToObject(aj, "reference_flicker", json_num(ref->flicker));
+        cJSON_AddNumberToObject(aj, "kymograph_row", ref->kymograph_row);
+        cJSON_AddStringToObject(aj, "reference_kymograph", "images/reference_kymograph.png");
+    }
     cJSON_AddStringToObject(doc, "timing",
                             "gpu_ms: timer queries; wall_ms: glFinish around each pass; frame_ms: wall "
                             "time per frame; means over the timed frames after one warm-up frame");
@@ -1080,13 +1302,22 @@ static bool bench_write_outputs(const char *stage, const cJSON *doc, const Bench
     free(text);
     if (!ok)
         return false;
-    ReportImage imgs[BENCH_MAX_ENTRIES + 1];
-    imgs[0] = (ReportImage){"reference", &ref->img, NULL};
+    ReportImage imgs[2 * (BENCH_MAX_ENTRIES + 1)];
+    char kymo_ids[BENCH_MAX_ENTRIES][64];
+    int k = 0;
+    imgs[k++] = (ReportImage){"reference", &ref->img, NULL};
     for (int i = 0; i < n; i++)
-        imgs[i + 1] = (ReportImage){entries[i].id, &entries[i].img, entries[i].flip_map};
+        imgs[k++] = (ReportImage){entries[i].id, &entries[i].img, entries[i].flip_map};
+    if (ref->frames) { /* --animate: the kymographs, "<id>_kymograph" */
+        imgs[k++] = (ReportImage){"reference_kymograph", &ref->kymograph, NULL};
+        for (int i = 0; i < n; i++) {
+            snprintf(kymo_ids[i], sizeof kymo_ids[i], "%s_kymograph", entries[i].id);
+            imgs[k++] = (ReportImage){kymo_ids[i], &entries[i].kymograph, NULL};
+        }
+    }
     char p[1400];
     snprintf(p, sizeof p, "%s/report.html", stage);
-    return report_html_write(p, doc, imgs, n + 1);
+    return report_html_write(p, doc, imgs, k);
 }
 
 int cmd_bench(int argc, char **argv)
@@ -1127,7 +1358,8 @@ int cmd_bench(int argc, char **argv)
         util_live_dir_add(out, false);
     util_live_dir_add(stage, true);
     snprintf(images_dir, sizeof images_dir, "%s/images", stage);
-    if (!bench_prepare_reference(&args, &scene, images_dir, &ref) || !(gl = gl_context_create(false)) ||
+    if ((args.animate && !bench_prepare_sequence(&args, &scene, images_dir, &ref)) ||
+        !bench_prepare_reference(&args, &scene, images_dir, &ref) || !(gl = gl_context_create(false)) ||
         !(doc = bench_doc_create(&args, &scene, gl, &ref)))
         goto done;
     for (int i = 0; i < n; i++) {

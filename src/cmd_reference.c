@@ -5,11 +5,13 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "animation.h"
 #include "cli.h"
 #include "commands.h"
 #include "image.h"
 #include "log.h"
 #include "reference/pathtracer.h"
+#include "sequence.h"
 #include "util.h"
 
 void cmd_reference_help(void)
@@ -41,6 +43,11 @@ void cmd_reference_help(void)
            "  --png FILE.png     also write the tone-mapped PNG\n"
            "  --emitter-mask FILE.png   also write the mask of pixels that see an emitter\n"
            "                     (black; render --emitter-mask writes the same one)\n"
+           "  --at T             the scene file's animation at T s (one instant; --time is the\n"
+           "                     time budget)\n"
+           "  --animate          the animation's --frames N frames (spread over its duration, or\n"
+           "                     frame i at i/F s with --fps F) into --out's pattern (frame_%%04d.exr),\n"
+           "                     each at --spp with the same seed\n"
            "  --quiet            errors only: no progress (else on stderr: after the first pass the\n"
            "                     time the rest will take, then samples, rays/s, time left)\n"
            "  --verbose          debug lines too\n"
@@ -53,7 +60,7 @@ void cmd_reference_help(void)
 }
 
 /* The options this command knows (for "did you mean"). */
-static const char *const k_reference_options[] = {"--emitter-mask", "--exposure", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--target-relmse", "--threads", "--time", "--variance", NULL};
+static const char *const k_reference_options[] = {"--animate", "--at", "--emitter-mask", "--exposure", "--fps", "--frames", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--target-relmse", "--threads", "--time", "--variance", NULL};
 
 /* Set by SIGINT: the path tracer finishes its pass and stops. */
 static volatile int g_interrupted;
@@ -62,6 +69,17 @@ static void on_sigint(int sig)
 {
     (void)sig;
     g_interrupted = 1;
+}
+
+/* SIGINT sets g_interrupted (once: a second one ends the program); the
+ * old action into *old. */
+static void catch_sigint(struct sigaction *old)
+{
+    struct sigaction sa = {0};
+    sa.sa_handler = on_sigint;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, old);
 }
 
 /* Writes the mean image by extension; an EXR carries the samples per pixel. */
@@ -84,7 +102,22 @@ typedef struct ReferenceArgs {
     float exposure;           /* --exposure for PNG output; < 0: the scene's */
     float light_scale;        /* --light-scale; < 0: the scene's lights as they are */
     bool half;                /* --half: EXR output as half floats */
+    bool animate;             /* --animate: a sequence of `frames` frames into --out's pattern */
+    int frames;               /* --frames (0: not given) */
+    float fps;                /* --fps (0: the frames spread over the duration) */
+    float time;               /* --at (< 0: not given) */
 } ReferenceArgs;
+
+/* The time options agree: 0, or 2 after a usage error. */
+static int reference_check_time(const ReferenceArgs *args)
+{
+    const char *single = args->png ? "--png" : args->var_out ? "--variance" : args->emitter_mask ? "--emitter-mask"
+                                                                                                : NULL;
+    SequenceOptions so = {.animate = args->animate, .frames_given = args->frames > 0, .frames = args->frames,
+                          .frames_need_animate = true, .fps = args->fps, .time = args->time, .time_opt = "--at", .single = single,
+                          .out = args->out};
+    return sequence_check_options(&so);
+}
 
 /* Parses argv into *args. 0: go on; -1: --help was shown; else an exit
  * status (2 for usage, 1 for an output that cannot be written:
@@ -92,7 +125,7 @@ typedef struct ReferenceArgs {
 static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
 {
     *args = (ReferenceArgs){.scene_name = "cornell", .out = "out/reference.pfm", .exposure = -1.f,
-                            .light_scale = -1.f};
+                            .light_scale = -1.f, .time = -1.f};
     PtSettings *set = &args->set;
     pt_settings_default(set);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
@@ -202,6 +235,20 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
             set->russian_roulette = false;
         } else if (!strcmp(opt, "--no-jitter")) {
             set->pixel_jitter = false;
+        } else if (!strcmp(opt, "--animate")) {
+            args->animate = true;
+        } else if (!strcmp(opt, "--frames")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 1000000, &args->frames))
+                return 2;
+        } else if (!strcmp(opt, "--fps")) {
+            CLI_VALUE(&a, v);
+            if (!cli_float(opt, v, 1e-3f, 1e6f, &args->fps))
+                return 2;
+        } else if (!strcmp(opt, "--at")) {
+            CLI_VALUE(&a, v);
+            if (!cli_float(opt, v, 0.f, 1e6f, &args->time))
+                return 2;
         } else {
             cli_unknown_option(opt, k_reference_options);
             return 2;
@@ -212,8 +259,15 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
     /* A target or a budget without --spp: the samples are what they need. */
     if (!spp_given && (set->target_relmse > 0.0 || set->time_budget > 0.0))
         set->spp = 1 << 24;
+    int rc = reference_check_time(args);
+    if (rc)
+        return rc;
+    char first[UTIL_PATH_MAX]; /* a sequence's frames are checked as its first */
+    if (args->animate)
+        sequence_path(args->out, 0, first, sizeof first);
     const char *const opts[] = {"--out", "--png", "--variance", "--emitter-mask", "--scene"};
-    const char *const paths[] = {args->out, args->png, args->var_out, args->emitter_mask, args->scene_name};
+    const char *const paths[] = {args->animate ? first : args->out, args->png, args->var_out, args->emitter_mask,
+                                 args->scene_name};
     return cli_check_files(5, 4, opts, paths);
 }
 
@@ -264,6 +318,55 @@ static void reference_print(const ReferenceArgs *args, const Scene *scene, const
     log_info("reference", "wrote %s", args->out);
 }
 
+/* --animate: each frame of the sequence path-traced at --spp with the
+ * same seed (a frame's image depends on the scene at its time alone) and
+ * written as it is done. Ctrl-C finishes the frame being traced with the
+ * samples reached, writes it, and ends the sequence there; the frames
+ * before it stay. Returns the exit status. */
+static int reference_sequence(ReferenceArgs *args, Scene *scene)
+{
+    PtSettings *set = &args->set;
+    struct sigaction old_sa;
+    catch_sigint(&old_sa);
+    float e = args->exposure >= 0.f ? args->exposure : scene->exposure;
+    int done = 0;
+    bool ok = true;
+    double seconds = 0;
+    for (int i = 0; i < args->frames && ok && !g_interrupted; i++) {
+        double t = animation_frame_time(scene, i, args->frames, args->fps);
+        animation_apply(scene, t, NULL);
+        if (set->progress)
+            log_progress("reference: frame %d of %d (t = %.4g s)", i + 1, args->frames, t);
+        ImageF mean = {0};
+        PtStats st = {0};
+        char path[UTIL_PATH_MAX];
+        sequence_path(args->out, i, path, sizeof path);
+        ok = pt_render(scene, set, &mean, NULL, &st);
+        util_defer_ending_signals();
+        ok = ok && write_mean(path, &mean, e, args->half, st.spp, set->spp);
+        util_end_deferral();
+        image_free(&mean);
+        seconds += st.seconds;
+        done += ok;
+    }
+    sigaction(SIGINT, &old_sa, NULL);
+    if (!ok) {
+        sequence_remove(args->out, done); /* all frames or none */
+        return 1;
+    }
+    printf("reference: %s, mode %s, %dx%d, %d spp, %d threads, seed %llu\n", scene->source,
+           pt_mode_names[set->mode], set->width, set->height, set->spp, set->threads,
+           (unsigned long long)set->seed);
+    printf("frames: %d\n", done);
+    if (done < args->frames)
+        printf("interrupted: %d of %d frames\n", done, args->frames);
+    printf("time_s: %.3f\n", seconds);
+    char first[UTIL_PATH_MAX];
+    sequence_path(args->out, 0, first, sizeof first);
+    log_info("reference", "wrote %d frames from %s", done, first);
+    return 0;
+}
+
 int cmd_reference(int argc, char **argv)
 {
     ReferenceArgs args;
@@ -289,14 +392,23 @@ int cmd_reference(int argc, char **argv)
     Scene scene;
     if (!scene_load_scaled(&scene, args.scene_name, args.light_scale))
         return 1;
+    bool timed = args.time >= 0 ? animation_check_time(&scene, args.time, "--at")
+               : args.animate   ? animation_check_frames(&scene, args.frames, args.fps, "--animate")
+                                : true;
+    if (!timed) {
+        scene_free(&scene);
+        return 1;
+    }
+    if (args.animate) {
+        rc = reference_sequence(&args, &scene);
+        scene_free(&scene);
+        return rc;
+    }
     ImageF mean = {0}, var = {0};
     PtStats st = {0};
     /* Ctrl-C: finish the pass, write what was reached; a second one kills. */
-    struct sigaction sa = {0}, old_sa;
-    sa.sa_handler = on_sigint;
-    sa.sa_flags = SA_RESETHAND;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_sa);
+    struct sigaction old_sa;
+    catch_sigint(&old_sa);
     double cpu0 = util_cpu_seconds();
     bool rendered = pt_render(&scene, set, &mean, args.var_out ? &var : NULL, &st);
     double cpu_s = util_cpu_seconds() - cpu0; /* BVH build and render, every thread */

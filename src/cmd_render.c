@@ -13,6 +13,7 @@
 #include "image.h"
 #include "log.h"
 #include "render_options.h"
+#include "render_sequence.h"
 #include "reference/pathtracer.h"
 #include "renderer.h"
 #include "util.h"
@@ -223,6 +224,10 @@ int cmd_render(int argc, char **argv)
     Scene scene;
     if (!render_options_load_scene(&o, &scene))
         return 1;
+    if (!render_time_apply(&o, &scene)) { /* --time, --animate (render_sequence.c) */
+        scene_free(&scene);
+        return 1;
+    }
 
     RenderSettings rs;
     render_options_settings(&o, &scene, &rs);
@@ -239,6 +244,12 @@ int cmd_render(int argc, char **argv)
     if (!gl) {
         scene_free(&scene);
         return 1;
+    }
+    if (o.animate) {
+        rc = render_sequence(&o, &scene, &rs, gl_context_renderer(gl));
+        gl_context_destroy(gl);
+        scene_free(&scene);
+        return rc;
     }
     rc = 1;
     Renderer r;

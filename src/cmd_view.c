@@ -1,7 +1,11 @@
 /* cmd_view.c — `rtgi view`: the renderer in a window (GLFW) with a Dear
  * ImGui panel (src/ui/view_panel.c): camera, technique and settings,
  * timings, captures, shader hot reload and the A/B view of --compare.
- * The window's render size is its framebuffer size. --frames N exits after
+ * The window is the image (its render size) with the panel docked on its
+ * right. This file is the window's thread: events, input, layout, the
+ * panel and the last finished image, drawn only when something changed;
+ * frames are drawn on the render thread (src/ui/view_render.c), which it
+ * asks for them without waiting, except in scripted runs. --frames N exits after
  * N frames and --out saves the last frame (scripted screenshots, e.g. under
  * xvfb-run); --ui-test DIR runs a fixed script through the panel's actions
  * and reports what it measured (src/ui/view_script.c; tests/test_view.c). */
@@ -9,6 +13,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,7 +26,9 @@
 #include "shader.h"
 #include "ui/ab_view.h"
 #include "ui/ui.h"
+#include "ui/view_input.h"
 #include "ui/view_panel.h"
+#include "ui/view_render.h"
 #include "ui/view_script.h"
 #include "util.h"
 
@@ -36,10 +43,13 @@ void cmd_view_help(void)
            "  ask for a click first), +/- exposure, F FXAA on/off, C cycle the A/B view,\n"
            "  T print timings, P save the image, Shift-P save the window (panel included),\n"
            "  F5 reload shaders (from --shader-dir, else the source tree's shaders/),\n"
-           "  H hide/show the panel, Esc quit.\n"
+           "  H hide/show the panel (the window shrinks or grows by it; the image keeps its size),\n"
+           "  Esc quit. Frames are drawn on a thread of their own: the window answers while a\n"
+           "  slow one is drawn, and draws nothing while nothing changes.\n"
            "options:\n"
            "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
-           "  --size WxH                    window and render size (default: 512x512)\n"
+           "  --size WxH                    render size: the window's image area, the panel docked\n"
+           "                                beside it (default: 512x512)\n"
            "  --shadow none|hard|pcf|pcss   shadow technique (default: pcss)\n"
            "  --gi TECHNIQUE                indirect light (default: none), see below\n"
            "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
@@ -66,99 +76,68 @@ void cmd_view_help(void)
     render_options_help_settings();
 }
 
-/* ---- Input ------------------------------------------------------------------ */
+/* ---- The loop's state and the window's callbacks ------------------------------ */
 
-static void view_set_angles(View *v, const Camera *c)
-{
-    v->yaw = atan2f(c->forward[0], c->forward[2]);
-    v->pitch = asinf(fmaxf(-1.f, fminf(1.f, c->forward[1])));
-}
+/* What the window's loop carries from one pass to the next (the GLFW
+ * window's user pointer). */
+typedef struct ViewLoop {
+    View *v;
+    GLFWwindow *win;
+    ViewRender *render;
+    AbView *present;        /* draws the image area (the A/B view, or the frame alone) */
+    ViewScript script;      /* --ui-test: its state (dir NULL: none) */
+    bool sync;              /* scripted: each window frame asks for a scene frame and waits for it */
+    int frame;              /* window frames drawn while sync: --frames and the script's steps count them */
+    int passes;             /* passes of the loop (each after events or a timeout) */
+    int redraws;            /* window frames drawn */
+    double redraw_at;       /* when the last one was (glfwGetTime) */
+    bool dirty;             /* something new to show: input, an image, the render thread's state */
+    int settle;             /* window frames still owed after input (ImGui settles over a couple) */
+    bool moving;            /* a movement key is held: the camera moves every pass */
+    double last;            /* the last pass (camera movement) */
+    ViewImage image;        /* the image shown */
+    unsigned state_version, stats_version, rmse_count; /* of what was last taken from the render thread */
+    char busy_shown[96];    /* the busy indicator as last drawn */
+    bool panel_docked;      /* the window is sized for the panel beside the image */
+    int expect_w, expect_h; /* a framebuffer size the loop asked for and has not seen yet */
+    double expect_until;    /* when to stop waiting for it (a window manager may refuse) */
+    float scale;            /* framebuffer pixels per screen coordinate */
+    bool capture_failed;    /* the scripted --window-out capture failed: the command fails */
+} ViewLoop;
 
-static void view_update_camera(View *v)
+/* Any input: the window is drawn again (and a couple more times after, for
+ * ImGui's hover and focus states). */
+static void loop_wake(ViewLoop *l)
 {
-    Camera *c = &v->camera;
-    c->forward[0] = cosf(v->pitch) * sinf(v->yaw);
-    c->forward[1] = sinf(v->pitch);
-    c->forward[2] = cosf(v->pitch) * cosf(v->yaw);
-    vec3 right;
-    glm_vec3_cross(c->forward, (vec3){0, 1, 0}, right);
-    glm_vec3_normalize(right);
-    glm_vec3_cross(right, c->forward, c->up);
+    l->dirty = true;
+    l->settle = 2;
 }
 
 static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
 {
     (void)scancode;
-    View *v = glfwGetWindowUserPointer(w);
-    if (action != GLFW_PRESS || ui_wants_keyboard())
-        return;
-    RenderSettings *s = &v->settings;
-    bool shift = (mods & GLFW_MOD_SHIFT) != 0;
-    switch (key) {
-    case GLFW_KEY_ESCAPE:
-        glfwSetWindowShouldClose(w, GLFW_TRUE);
-        break;
-    case GLFW_KEY_1: case GLFW_KEY_2: case GLFW_KEY_3: case GLFW_KEY_4:
-        s->shadow = (ShadowMode)(key - GLFW_KEY_1);
-        v->dirty = true;
-        break;
-    case GLFW_KEY_G:
-        view_cycle_gi(v, shift ? -1 : 1);
-        break;
-    case GLFW_KEY_EQUAL: case GLFW_KEY_KP_ADD:
-        s->exposure *= 1.25f;
-        v->dirty = true;
-        break;
-    case GLFW_KEY_MINUS: case GLFW_KEY_KP_SUBTRACT:
-        s->exposure /= 1.25f;
-        v->dirty = true;
-        break;
-    case GLFW_KEY_F:
-        s->aa = s->aa == AA_FXAA ? AA_NONE : AA_FXAA;
-        v->dirty = true;
-        log_info("view", "AA: %s", s->aa == AA_FXAA ? "fxaa" : "none");
-        break;
-    case GLFW_KEY_C:
-        if (v->ab)
-            v->ab->mode = (AbMode)((v->ab->mode + 1) % AB_MODE_COUNT);
-        break;
-    case GLFW_KEY_R:
-        v->camera = v->home;
-        view_set_angles(v, &v->camera);
-        break;
-    case GLFW_KEY_T:
-        v->print_timings = true;
-        break;
-    case GLFW_KEY_P:
-        if (shift)
-            v->window_shot = true;
-        else
-            v->screenshot = true;
-        break;
-    case GLFW_KEY_F5:
-        v->reload = true;
-        break;
-    case GLFW_KEY_H:
-        v->show_panel = !v->show_panel;
-        break;
-    default:
-        break;
-    }
+    ViewLoop *l = glfwGetWindowUserPointer(w);
+    loop_wake(l);
+    if (action == GLFW_PRESS && !ui_wants_keyboard())
+        view_key(l->v, key, mods);
 }
 
 static void on_button(GLFWwindow *w, int button, int action, int mods)
 {
     (void)mods;
-    View *v = glfwGetWindowUserPointer(w);
+    ViewLoop *l = glfwGetWindowUserPointer(w);
+    loop_wake(l);
     if (button == GLFW_MOUSE_BUTTON_LEFT) {
-        v->dragging = action == GLFW_PRESS && !ui_wants_mouse();
-        glfwGetCursorPos(w, &v->last_x, &v->last_y);
+        l->v->dragging = action == GLFW_PRESS && !ui_wants_mouse();
+        glfwGetCursorPos(w, &l->v->last_x, &l->v->last_y);
     }
 }
 
 static void on_cursor(GLFWwindow *w, double x, double y)
 {
-    View *v = glfwGetWindowUserPointer(w);
+    ViewLoop *l = glfwGetWindowUserPointer(w);
+    View *v = l->v;
+    loop_wake(l);
     if (!v->dragging)
         return;
     v->yaw -= (float)(x - v->last_x) * 0.004f;
@@ -166,6 +145,44 @@ static void on_cursor(GLFWwindow *w, double x, double y)
     v->pitch = fmaxf(-1.55f, fminf(1.55f, v->pitch));
     v->last_x = x;
     v->last_y = y;
+}
+
+static void on_scroll(GLFWwindow *w, double x, double y)
+{
+    (void)x;
+    (void)y;
+    loop_wake(glfwGetWindowUserPointer(w));
+}
+
+static void on_char(GLFWwindow *w, unsigned c)
+{
+    (void)c;
+    loop_wake(glfwGetWindowUserPointer(w));
+}
+
+static void on_flag(GLFWwindow *w, int flag) /* focus, cursor enter */
+{
+    (void)flag;
+    loop_wake(glfwGetWindowUserPointer(w));
+}
+
+static void on_refresh(GLFWwindow *w) { loop_wake(glfwGetWindowUserPointer(w)); }
+
+/* The framebuffer's new size: the loop's own resize (H) keeps the image's
+ * size; any other (the user's) gives the image what the panel leaves. */
+static void on_framebuffer_size(GLFWwindow *w, int fw, int fh)
+{
+    ViewLoop *l = glfwGetWindowUserPointer(w);
+    loop_wake(l);
+    if (fw == l->expect_w && fh == l->expect_h) {
+        l->expect_w = l->expect_h = 0;
+        return;
+    }
+    if (fw <= 0 || fh <= 0) /* minimised */
+        return;
+    int panel = l->panel_docked ? (int)lroundf(VIEW_PANEL_WIDTH * l->scale) : 0;
+    l->v->settings.width = fw - panel > 16 ? fw - panel : 16;
+    l->v->settings.height = fh > 16 ? fh : 16;
 }
 
 /* GLFW's last error while the window is being made (the failure's one
@@ -181,42 +198,13 @@ static void on_glfw_error(int code, const char *msg)
         snprintf(s_glfw_error, sizeof s_glfw_error, "%s", msg);
 }
 
-/* Shader errors (and other errors) of the window go to the panel's status. */
-static void on_log(LogLevel level, const char *tag, const char *message, void *user)
-{
-    View *v = user;
-    if (level < LOG_ERROR)
-        return;
-    size_t len = strlen(v->status);
-    if (v->reloading && v->status_error && len + 4 < sizeof v->status) /* a reload's errors, first one first */
-        snprintf(v->status + len, sizeof v->status - len, " | [%s] %s", tag, message);
-    else
-        snprintf(v->status, sizeof v->status, "[%s] %s", tag, message);
-    v->status_error = true;
-}
-
-/* Continuous movement from the keys held this frame. */
-static void view_move(View *v, GLFWwindow *w, float dt)
-{
-    if (ui_wants_keyboard())
-        return;
-    float step = v->speed * dt * (glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 4.f : 1.f);
-    vec3 right;
-    glm_vec3_cross(v->camera.forward, v->camera.up, right);
-    struct { int key; float *axis; float sign; } moves[] = {
-        {GLFW_KEY_W, v->camera.forward, 1}, {GLFW_KEY_S, v->camera.forward, -1}, {GLFW_KEY_D, right, 1},
-        {GLFW_KEY_A, right, -1},            {GLFW_KEY_E, (vec3){0, 1, 0}, 1},    {GLFW_KEY_Q, (vec3){0, 1, 0}, -1},
-    };
-    for (size_t i = 0; i < sizeof moves / sizeof moves[0]; i++)
-        if (glfwGetKey(w, moves[i].key) == GLFW_PRESS)
-            glm_vec3_muladds(moves[i].axis, moves[i].sign * step, v->camera.position);
-}
-
 /* ---- The window -------------------------------------------------------------- */
 
-/* GLFW, and a window of --size with an OpenGL 4.5 core context made
- * current; NULL after logging why (GLFW is terminated then). */
-static GLFWwindow *view_window_open(const RenderOptions *o)
+/* GLFW, the window (the image of --size and the panel beside it) with an
+ * OpenGL 4.5 core context made current, and a hidden window whose context
+ * shares its objects (*render_context: the render thread's). NULL after
+ * logging why (GLFW is terminated then). */
+static GLFWwindow *view_window_open(const RenderOptions *o, GLFWwindow **render_context)
 {
     glfwSetErrorCallback(on_glfw_error);
     if (!glfwInit()) {
@@ -229,28 +217,38 @@ static GLFWwindow *view_window_open(const RenderOptions *o)
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
     glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, o->debug ? GLFW_TRUE : GLFW_FALSE);
-    GLFWwindow *win = glfwCreateWindow(o->width, o->height, "rtgi", NULL, NULL);
-    if (!win) {
-        log_error("view", "cannot create a window with an OpenGL 4.5 core context%s%s", s_glfw_error[0] ? ": " : "",
+    int width = o->width + (o->no_panel ? 0 : VIEW_PANEL_WIDTH);
+    GLFWwindow *win = glfwCreateWindow(width, o->height, "rtgi", NULL, NULL);
+    GLFWwindow *hidden = NULL;
+    if (win) {
+        glfwMakeContextCurrent(win);
+        glfwWindowHint(GLFW_VISIBLE, GLFW_FALSE);
+        hidden = glfwCreateWindow(1, 1, "rtgi render thread", NULL, win);
+    }
+    if (!hidden) {
+        log_error("view", "cannot create a window with an OpenGL 4.5 core context%s%s%s",
+                  win ? " shared with a second one (the render thread's)" : "", s_glfw_error[0] ? ": " : "",
                   s_glfw_error);
+        if (win)
+            glfwDestroyWindow(win);
         glfwTerminate();
         return NULL;
     }
     s_glfw_window_up = true;
-    glfwMakeContextCurrent(win);
     glfwSwapInterval(o->frames > 0 || o->ui_test ? 0 : 1);
     if (o->debug)
         gl_install_debug_callback();
+    *render_context = hidden;
     return win;
 }
 
 /* The view's state from the options and the scene (needs the context:
  * the timer's mode depends on the GL renderer). */
-static void view_init(View *v, const RenderOptions *o, const Scene *scene, Renderer *r)
+static void view_init(View *v, const RenderOptions *o, const Scene *scene, ViewStatus *status)
 {
     memset(v, 0, sizeof *v);
     v->scene = scene;
-    v->renderer = r;
+    v->status = status;
     v->slow_ms = o->slow_ms;
     v->half = o->half;
     v->pending_gi = -1;
@@ -265,108 +263,150 @@ static void view_init(View *v, const RenderOptions *o, const Scene *scene, Rende
      * rasterizer only with glFinish around each pass (see
      * gl_renderer_is_software); a GPU's timestamps need no stall. */
     v->settings.timing_sync = gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
+    /* The window shows the final image; the A/B view also reads the radiance. */
+    v->settings.display_only = o->compare == NULL;
     v->edit.shadow = v->settings.shadow_params;
     v->edit.gi = v->settings.gi_params;
     v->camera = v->home = scene->camera;
     view_set_angles(v, &v->camera);
+    view_update_camera(v);
     v->speed = 0.25f * glm_vec3_distance((float *)scene->bounds_min, (float *)scene->bounds_max);
 }
 
-/* The window's input callbacks, ImGui and, with --compare, the A/B view
- * (*have_ab: `ab` was made and needs ab_view_destroy). False after a
- * failure (it logged). */
-static bool view_ui_open(GLFWwindow *win, View *v, const RenderOptions *o, AbView *ab, bool *have_ab)
+/* The window's input callbacks, ImGui and the image area's view (with
+ * --compare, its reference). False after a failure (it logged). */
+static bool view_ui_open(ViewLoop *l, const RenderOptions *o, bool *have_present)
 {
-    glfwSetWindowUserPointer(win, v);
+    GLFWwindow *win = l->win;
+    glfwSetWindowUserPointer(win, l);
     /* Ours first: ImGui's callbacks chain to them. */
     glfwSetKeyCallback(win, on_key);
     glfwSetMouseButtonCallback(win, on_button);
     glfwSetCursorPosCallback(win, on_cursor);
-    *have_ab = false;
+    glfwSetScrollCallback(win, on_scroll);
+    glfwSetCharCallback(win, on_char);
+    glfwSetWindowFocusCallback(win, on_flag);
+    glfwSetCursorEnterCallback(win, on_flag);
+    glfwSetWindowRefreshCallback(win, on_refresh);
+    glfwSetFramebufferSizeCallback(win, on_framebuffer_size);
+    *have_present = false;
     if (!ui_create(win))
         return false;
-    if (!o->compare)
-        return true;
-    *have_ab = ab_view_create(ab, o->compare);
-    v->ab = *have_ab ? ab : NULL;
-    if (*have_ab && v->show_panel) /* the split starts mid-way across the image beside the panel */
-        ab->split = 0.5f + (6.f + view_panel_width(o->width)) / (2.f * (float)o->width);
-    return *have_ab;
+    *have_present = ab_view_create(l->present);
+    if (!*have_present)
+        return false;
+    if (o->compare && !ab_view_load_reference(l->present, o->compare))
+        return false;
+    l->v->ab = o->compare ? l->present : NULL;
+    return true;
 }
 
 /* ---- The loop ------------------------------------------------------------------ */
 
-/* What the loop carries from one frame to the next. */
-typedef struct ViewLoop {
-    GLFWwindow *win;
-    ViewScript script;      /* --ui-test: its state (dir NULL: none) */
-    int frame;              /* frames drawn */
-    int interval_frames;    /* frames in the timing interval */
-    bool interval_clean;    /* no remake, reload or first frame in the interval: its time is a cost */
-    double last;            /* when the last frame began (glfwGetTime) */
-    double interval_start;  /* when the interval began */
-    bool capture_failed;    /* the scripted --window-out capture failed: the command fails */
-} ViewLoop;
-
-/* The window's size, a shader reload and changed settings, applied
- * before a frame. False when the renderer could not take them (it logged). */
-static bool view_apply_changes(View *v, ViewLoop *l, int fw, int fh)
+/* Sizes the window for the image and, when shown, the panel beside it. */
+static void loop_resize(ViewLoop *l)
 {
-    Renderer *r = v->renderer;
-    if (fw > 0 && fh > 0 && (fw != v->settings.width || fh != v->settings.height)) {
-        v->settings.width = fw;
-        v->settings.height = fh;
-        v->dirty = true;
-    }
-    if (v->reload) {
-        view_reload_shaders(v);
-        v->reload = false;
-        l->interval_clean = false;
-    }
-    if (v->dirty) {
-        l->interval_clean = false;
-        const RenderSettings *was = &r->settings, *want = &v->settings;
-        if (memcmp(&was->gi_params, &want->gi_params, sizeof was->gi_params) ||
-            memcmp(&was->shadow_params, &want->shadow_params, sizeof was->shadow_params) ||
-            was->shadow != want->shadow || was->ssaa != want->ssaa || was->aa != want->aa)
-            memset(v->measured_px, 0, sizeof v->measured_px); /* the measured costs were for other settings */
-        /* Remakes only what the change touches (nothing for exposure). */
-        bool applied = renderer_apply(r, &v->settings);
-        v->dirty = false;
-        if (!applied)
-            return false;
-    }
-    /* The window shows the final image; the A/B view reads the radiance. */
-    v->settings.display_only = v->ab == NULL;
-    return r->settings.display_only == v->settings.display_only || renderer_apply(r, &v->settings);
+    View *v = l->v;
+    int panel = l->panel_docked ? (int)lroundf(VIEW_PANEL_WIDTH * l->scale) : 0;
+    l->expect_w = v->settings.width + panel;
+    l->expect_h = v->settings.height;
+    l->expect_until = glfwGetTime() + 1.0;
+    glfwSetWindowSize(l->win, (int)lroundf((float)l->expect_w / l->scale),
+                      (int)lroundf((float)l->expect_h / l->scale));
+    l->dirty = true;
+    /* A scripted window waits for it (a window manager may refuse: then
+     * the panel overlaps what it must). */
+    while (l->sync && l->expect_w && glfwGetTime() < l->expect_until)
+        glfwWaitEventsTimeout(0.01);
 }
 
-/* One frame: input and camera, the changes applied, the image (or the A/B
- * view), the panel, the captures, the script's step, the swap. False when
- * the changes could not be applied (it logged): the frame was abandoned. */
-static bool view_frame_step(View *v, ViewLoop *l, const RenderOptions *o)
+/* H (or the panel's close button) changed whether the panel is shown: the
+ * window grows or shrinks by it, the image keeps its size. */
+static void loop_layout(ViewLoop *l)
 {
-    Renderer *r = v->renderer;
-    glfwPollEvents();
-    double now = glfwGetTime();
-    view_move(v, l->win, (float)(now - l->last));
-    l->last = now;
-    view_update_camera(v);
+    if (l->v->show_panel == l->panel_docked)
+        return;
+    l->panel_docked = l->v->show_panel;
+    loop_resize(l);
+}
+
+/* How long the window may sleep before its next pass (< 0: until an
+ * event): a frame in flight ticks its busy indicator, a held key moves the
+ * camera, input is followed by a couple of redraws, and the script's next
+ * step is due; otherwise an idle window draws nothing. */
+static double loop_timeout(const ViewLoop *l, const ViewRenderState *st, double now)
+{
+    double t = -1;
+    if (l->moving || l->settle > 0)
+        t = 1.0 / 60.0;
+    else if (st->busy) {
+        double busy = now - st->busy_since;
+        t = busy < 0.25 ? 0.25 - busy : 0.1;
+    }
+    if (l->script.async && l->script.deadline > 0) {
+        double d = fmax(l->script.deadline - now, 0.0);
+        t = t < 0 ? d : fmin(t, d);
+    }
+    return t;
+}
+
+/* What the render thread published since the last pass, into the View. */
+static void loop_absorb(ViewLoop *l, const ViewRenderState *st, double now)
+{
+    View *v = l->v;
+    if (st->version != l->state_version) {
+        l->state_version = st->version;
+        l->dirty = true;
+    }
+    v->busy = st->busy;
+    v->busy_s = st->busy ? now - st->busy_since : 0;
+    if (st->stats_version != l->stats_version) {
+        l->stats_version = st->stats_version;
+        v->stats = st->stats;
+        char title[768];
+        snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms/frame — H: panel", v->scene->source,
+                 (const char *[]){"none", "hard", "pcf", "pcss"}[v->settings.shadow],
+                 gi_techniques[v->settings.gi]->name, v->stats.frame_ms);
+        glfwSetWindowTitle(l->win, title);
+    }
+    if (st->rmse_count != l->rmse_count) {
+        l->rmse_count = st->rmse_count;
+        v->ab_rmse = st->rmse;
+    }
+    GLuint program = view_render_take_program(l->render);
+    if (program)
+        ab_view_set_program(l->present, program);
+    if (view_render_take(l->render, &l->image))
+        l->dirty = true;
+    if (st->diff_frame && st->diff_frame == l->image.frame && v->ab_auto_scale != st->diff_scale) {
+        v->ab_auto_scale = st->diff_scale;
+        l->dirty = true;
+    }
+}
+
+/* The window: the image at the top left at its size, the panel docked
+ * right of it, the busy indicator over the image; the captures of this
+ * frame and the script's step; the swap. */
+static void loop_draw(ViewLoop *l, const RenderOptions *o, const ViewRenderState *st)
+{
+    View *v = l->v;
     int fw, fh;
     glfwGetFramebufferSize(l->win, &fw, &fh);
-    if (!view_apply_changes(v, l, fw, fh))
-        return false;
-    renderer_frame(r, &v->camera);
-    if (v->ab)
-        ab_view_draw(v->ab, r, fw, fh);
-    else
-        glBlitNamedFramebuffer(r->ldr.fbo, 0, 0, 0, r->ldr.width, r->ldr.height, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT,
-                               GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fw, fh);
+    glClearColor(0.f, 0.f, 0.f, 1.f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    int iw = v->settings.width, ih = v->settings.height;
+    if (l->image.ldr) /* a frame of another size (the window was resized, its frame is coming) is stretched */
+        ab_view_draw(l->present, l->image.ldr, l->image.hdr, l->image.exposure, view_heat_scale(v), 0, fh - ih, iw,
+                     ih);
     ui_frame_begin();
-    view_panel_draw(v, fw, fh);
+    view_panel_draw(v, (float)iw / l->scale, (float)fh / l->scale);
+    view_busy_draw(v);
     ui_frame_end();
+    view_busy_text(v, l->busy_shown, sizeof l->busy_shown);
     bool scripted_shot = o->window_out && o->frames > 0 && l->frame == o->frames - 1; /* the last frame's window */
-    if (scripted_shot && !renderer_frames_whole(r)) {
+    if (scripted_shot && !st->whole) {
         l->capture_failed = true; /* not written: see cmd_view's check after the loop */
         scripted_shot = false;
     }
@@ -377,43 +417,96 @@ static bool view_frame_step(View *v, ViewLoop *l, const RenderOptions *o)
             l->capture_failed = true;
         v->window_shot = false;
     }
-    if (v->screenshot) {
-        view_save_image(v, v->shot_path);
-        v->screenshot = false;
-    }
-    if (l->script.dir && !view_script_step(&l->script, v, l->frame, fw, fh))
-        glfwSetWindowShouldClose(l->win, GLFW_TRUE);
+    if (l->script.dir && l->sync && !view_script_step(&l->script, v, l->frame, fw, fh))
+        l->sync = false; /* the script's second part: the window as a user has it */
+    else if (l->script.async)
+        view_script_capture(&l->script, v, fw, fh);
     glfwSwapBuffers(l->win);
-    l->frame++;
-    l->interval_frames++;
-    return true;
+    l->redraws++;
+    l->redraw_at = glfwGetTime();
+    l->dirty = false;
+    if (l->settle > 0)
+        l->settle--;
 }
 
-/* After a frame: the timings table on T, and every half second (or 30
- * frames) the interval's timings recorded and the window's title. */
-static void view_interval_update(View *v, ViewLoop *l)
+/* One pass: events (or the wait for them), input, the request to the
+ * render thread (waited for when scripted), what it published, and the
+ * window drawn again if anything changed. False when the render thread
+ * failed (it logged). */
+static bool loop_pass(ViewLoop *l, const RenderOptions *o)
 {
-    Renderer *r = v->renderer;
-    double end = glfwGetTime();
-    if (v->print_timings) {
-        /* Before the first interval is measured: this frame's wall time. */
-        render_options_print_timings(r, (const char *)glGetString(GL_RENDERER),
-                                     v->frame_ms > 0 ? v->frame_ms : 1e3 * (end - l->last));
-        v->print_timings = false;
+    View *v = l->v;
+    ViewRenderState st;
+    view_render_state(l->render, &st);
+    double now = glfwGetTime();
+    if (l->sync)
+        glfwPollEvents();
+    else {
+        double t = loop_timeout(l, &st, now);
+        if (t < 0)
+            glfwWaitEvents();
+        else
+            glfwWaitEventsTimeout(t);
+        now = glfwGetTime();
     }
-    bool script_timing = l->script.dir && l->frame < 3; /* the script's table holds frames 1-2 */
-    if ((end - l->interval_start > 0.5 || l->interval_frames >= 30) && r->timer.frames > 0 && !script_timing) {
-        view_record_timings(v, 1e3 * (end - l->interval_start) / l->interval_frames, l->interval_clean);
-        char title[768];
-        snprintf(title, sizeof title, "rtgi — %s — shadow %s, gi %s — %.1f ms/frame — H: panel", v->scene->source,
-                 (const char *[]){"none", "hard", "pcf", "pcss"}[v->settings.shadow],
-                 gi_techniques[v->settings.gi]->name, v->frame_ms);
-        glfwSetWindowTitle(l->win, title);
-        gpu_timer_reset(&r->timer);
-        l->interval_start = end;
-        l->interval_frames = 0;
-        l->interval_clean = true;
+    l->passes++;
+    if (l->expect_w && now > l->expect_until) /* the window manager kept its own size */
+        l->expect_w = l->expect_h = 0;
+    if (l->script.async) {
+        view_render_state(l->render, &st);
+        ViewScriptPass p = {.now = now, .redraws = l->redraws, .redraw_at = l->redraw_at, .wakeups = l->passes,
+                            .state = st};
+        if (!view_script_tick(&l->script, v, &p))
+            glfwSetWindowShouldClose(l->win, GLFW_TRUE); /* the script is over */
     }
+    /* The camera: movement keys held since the last pass (none the pass a
+     * key goes down: a tap moves by what it was held, not by how long the
+     * window slept before it). */
+    bool was_moving = l->moving;
+    l->moving = view_move(v, l->win, was_moving ? (float)(now - l->last) : 0.f);
+    l->last = now;
+    if (l->moving)
+        l->dirty = true; /* the panel's camera follows */
+    view_update_camera(v);
+    if (v->quit)
+        glfwSetWindowShouldClose(l->win, GLFW_TRUE);
+    loop_layout(l);
+
+    ViewRequest req;
+    memset(&req, 0, sizeof req);
+    req.scene.settings = v->settings;
+    req.scene.camera = v->camera;
+    req.scene.time = v->time;
+    req.force = l->sync || l->passes == 1;
+    req.jobs = v->jobs;
+    if (v->jobs & VIEW_JOB_SAVE) {
+        snprintf(req.save_path, sizeof req.save_path, "%s", v->shot_path);
+        req.half = v->half;
+    }
+    v->jobs = 0;
+    req.diff_scale = v->ab && v->ab->mode == AB_DIFFERENCE && v->ab->diff_auto;
+    req.hold_timer = l->script.dir && l->sync && l->frame < 3; /* the script's table of frames 1-2 */
+    req.test_sleep_s = l->script.sleep_s;
+    l->script.sleep_s = 0;
+    view_render_submit(l->render, &req);
+    if (l->sync)
+        view_render_wait(l->render);
+
+    view_render_state(l->render, &st);
+    if (st.failed)
+        return false;
+    loop_absorb(l, &st, now);
+    char busy[96];
+    view_busy_text(v, busy, sizeof busy);
+    if (strcmp(busy, l->busy_shown))
+        l->dirty = true;
+    if (l->sync || l->dirty || l->settle > 0 || v->window_shot) {
+        bool sync = l->sync;
+        loop_draw(l, o, &st);
+        if (sync)
+            l->frame++;
+    }
+    return true;
 }
 
 /* ---- The command ------------------------------------------------------------- */
@@ -428,49 +521,89 @@ int cmd_view(int argc, char **argv)
     Scene scene;
     if (!render_options_load_scene(&o, &scene))
         return 1;
-    GLFWwindow *win = view_window_open(&o);
+    GLFWwindow *render_context = NULL;
+    GLFWwindow *win = view_window_open(&o, &render_context);
     if (!win) {
         scene_free(&scene);
         return 1;
     }
 
-    Renderer r;
+    ViewStatus status;
+    memset(&status, 0, sizeof status);
+    pthread_mutex_init(&status.lock, NULL);
     View v;
-    view_init(&v, &o, &scene, &r);
-    AbView ab;
-    bool have_ab;
-    bool ok = view_ui_open(win, &v, &o, &ab, &have_ab);
-    bool have_renderer = ok; /* a failed create is destroyed too */
-    if (ok)
-        ok = renderer_create(&r, &scene, &v.settings);
-    log_set_hook(on_log, &v);
-    ViewLoop loop = {.win = win, .script = {.dir = o.ui_test}};
-    loop.last = loop.interval_start = glfwGetTime();
-    while (ok && !loop.capture_failed && !glfwWindowShouldClose(win) && (o.frames == 0 || loop.frame < o.frames)) {
-        ok = view_frame_step(&v, &loop, &o);
-        if (ok)
-            view_interval_update(&v, &loop);
+    view_init(&v, &o, &scene, &status);
+    AbView present;
+    ViewLoop loop;
+    memset(&loop, 0, sizeof loop);
+    loop.v = &v;
+    loop.win = win;
+    loop.present = &present;
+    loop.script.dir = o.ui_test;
+    loop.sync = o.frames > 0 || o.ui_test;
+    loop.panel_docked = v.show_panel;
+    int ww, wh, fw, fh;
+    glfwGetWindowSize(win, &ww, &wh);
+    glfwGetFramebufferSize(win, &fw, &fh);
+    loop.scale = ww > 0 ? (float)fw / (float)ww : 1.f;
+    bool have_present;
+    bool ok = view_ui_open(&loop, &o, &have_present);
+    if (ok && loop.scale != 1.f) /* screen coordinates are not pixels (a HiDPI screen): the image keeps --size */
+        loop_resize(&loop);
+    log_set_hook(view_status_log_hook, &status);
+    if (ok) {
+        ViewRequest first;
+        memset(&first, 0, sizeof first);
+        first.scene.settings = v.settings;
+        first.scene.camera = v.camera;
+        ViewRenderDesc d = {.context = render_context, .scene = &scene, .ab = v.ab, .status = &status,
+                            .first = &first, .gl_renderer = (const char *)glGetString(GL_RENDERER),
+                            .debug = o.debug};
+        loop.render = view_render_start(&d);
+        loop.script.render = loop.render;
+        loop.script.win = win;
+        ok = loop.render != NULL;
     }
-    log_set_hook(NULL, NULL);
-    ok = ok && !loop.capture_failed;
+    loop.last = glfwGetTime();
+    while (ok && !loop.capture_failed && !glfwWindowShouldClose(win) && (o.frames == 0 || loop.frame < o.frames))
+        ok = loop_pass(&loop, &o);
+    ViewRenderState st;
+    memset(&st, 0, sizeof st);
+    if (loop.render)
+        view_render_state(loop.render, &st);
+    ok = ok && !loop.capture_failed && !st.failed;
     /* A scripted run (--frames N) is a command that writes images: like
      * render, it fails where a program did not build or a technique's run
      * failed, which the window itself goes on through. */
-    if (ok && o.frames > 0 && !renderer_frames_whole(&r))
+    if (ok && o.frames > 0 && !st.whole)
         ok = false;
     rc = ok ? 0 : 1;
-    if (ok && o.out && o.frames > 0 && !view_save_image(&v, o.out)) {
-        rc = 1;
-        if (o.window_out)
-            remove(o.window_out); /* all outputs or none */
+    if (ok && o.out && o.frames > 0) {
+        view_render_jobs(loop.render, VIEW_JOB_SAVE, o.out, o.half);
+        view_render_wait(loop.render);
+        view_render_state(loop.render, &st);
+        if (!st.save_ok) {
+            rc = 1;
+            if (o.window_out)
+                remove(o.window_out); /* all outputs or none */
+        }
     }
-    if (have_renderer)
-        renderer_destroy(&r);
-    if (have_ab)
-        ab_view_destroy(&ab);
+    glfwHideWindow(win); /* gone at once, though the render thread finishes its frame */
+    if (loop.render) {
+        view_render_state(loop.render, &st);
+        if (st.busy && glfwGetTime() - st.busy_since > 1.0) /* a compute dispatch cannot be cut short */
+            log_info("view", "closing once the frame being drawn is done (%.0f s so far)",
+                     glfwGetTime() - st.busy_since);
+    }
+    view_render_stop(loop.render);
+    log_set_hook(NULL, NULL);
+    if (have_present)
+        ab_view_destroy(&present);
     ui_destroy();
+    glfwDestroyWindow(render_context);
     glfwDestroyWindow(win);
     glfwTerminate();
+    pthread_mutex_destroy(&status.lock);
     scene_free(&scene);
     return rc;
 }

@@ -127,6 +127,9 @@ static uint64_t scene_bytes(const Scene *s)
     return bytes;
 }
 
+/* Versions of geometry uploaded, in the process (GpuScene.version). */
+static uint64_t s_versions;
+
 /* ---- textures ---------------------------------------------------------- */
 
 /* The source texels [first, first + count) that texel d of a src → dst
@@ -260,9 +263,11 @@ bool gpu_scene_create(GpuScene *g, const Scene *s)
     }
     /* An empty scene still gets a (1-byte, undefined) buffer of each. */
     uint64_t vb = sizeof(Vertex) * (uint64_t)s->vertex_count, ib = sizeof(uint32_t) * (uint64_t)s->index_count;
-    g->vbo = gl_buffer_make(vb ? vb : 1, vb ? s->vertices : NULL, 0, "scene.vertices");
+    /* Vertices are updatable: animated objects move (gpu_scene_update_vertices). */
+    g->vbo = gl_buffer_make(vb ? vb : 1, vb ? s->vertices : NULL, GL_DYNAMIC_STORAGE_BIT, "scene.vertices");
     g->ibo = gl_buffer_make(ib ? ib : 1, ib ? indices : NULL, 0, "scene.indices");
-    free(indices);
+    g->cluster_indices = indices;
+    g->version = ++s_versions;
     g->textures = calloc((size_t)s->texture_count + 1, sizeof(GLuint));
     if (!g->vbo || !g->ibo || !g->textures) { /* gl_buffer_make logs its failure */
         if (!g->textures)
@@ -301,6 +306,19 @@ bool gpu_scene_create(GpuScene *g, const Scene *s)
     return true;
 }
 
+void gpu_scene_update_vertices(GpuScene *g, const Scene *s, uint32_t first, uint32_t count)
+{
+    if (count == 0 || first >= s->vertex_count)
+        return;
+    if (count > s->vertex_count - first)
+        count = s->vertex_count - first;
+    glNamedBufferSubData(g->vbo, (GLintptr)(sizeof(Vertex) * first), (GLsizeiptr)(sizeof(Vertex) * count),
+                         s->vertices + first);
+    for (int i = 0; i < g->cluster_count; i++)
+        cluster_bounds(&g->clusters[i], s, g->cluster_indices);
+    g->version = ++s_versions;
+}
+
 uint64_t gpu_scene_bytes(const GpuScene *g)
 {
     const GLuint bufs[2] = {g->vbo, g->ibo};
@@ -314,6 +332,7 @@ void gpu_scene_destroy(GpuScene *g)
     free(g->textures);
     free(g->clusters);
     free(g->draw_items);
+    free(g->cluster_indices);
     glDeleteVertexArrays(1, &g->vao);
     glDeleteBuffers(1, &g->vbo);
     glDeleteBuffers(1, &g->ibo);

@@ -29,11 +29,18 @@ typedef struct GpuScene {
     int texture_count;
     GpuCluster *clusters; /* submesh by submesh, in scene order */
     int cluster_count;
+    uint32_t *cluster_indices; /* the index buffer's order on the CPU (cluster bounds after a move) */
+    uint64_t version; /* which geometry the buffers hold: unique in the process, new after every move
+                         (light products and voxels drawn from it keep it in their keys) */
     struct GpuDrawItem *draw_items; /* [cluster_count]: a draw's visible clusters (scratch, gpu_scene.c) */
 } GpuScene;
 
 bool gpu_scene_create(GpuScene *g, const Scene *s);
 void gpu_scene_destroy(GpuScene *g);
+/* After the scene's vertices [first, first + count) moved (animation_apply):
+ * uploads them, recomputes the bounds of every cluster and takes a new
+ * version. */
+void gpu_scene_update_vertices(GpuScene *g, const Scene *s, uint32_t first, uint32_t count);
 /* GPU memory of its vertices, indices and textures. */
 uint64_t gpu_scene_bytes(const GpuScene *g);
 

@@ -388,19 +388,23 @@ void light_stage_rsm_texel_frame(const vec3 bounds_min, const vec3 bounds_max, G
     g->rsm_box_min[3] = most > 0.f && isfinite(most) ? most / 16384.f : 1.f;
 }
 
-/* What the VPLs depend on: the lights, the RSM sizes and the seed. */
-static uint64_t vpl_key(const LightStage *ls)
+/* What the VPLs depend on: the lights, the RSM sizes and the seed, and
+ * the geometry (gs->version: a moved object changes what the RSMs hold). */
+static uint64_t vpl_key(const LightStage *ls, const GpuScene *gs)
 {
     uint64_t h = util_hash_bytes(UTIL_HASH_SEED, ls->scene->lights, sizeof(Light) * (size_t)ls->light_count);
     h = util_hash_bytes(h, &ls->desc, sizeof ls->desc);
+    h = util_hash_bytes(h, &gs->version, sizeof gs->version);
     return h ? h : 1;
 }
 
-/* What a map of light i at `size` depends on (never 0). */
-static uint64_t map_key(const Light *l, int size, uint64_t kind)
+/* What a map of light i at `size` depends on (never 0): the light, the
+ * size and the geometry (gs->version: objects move, animation.h). */
+static uint64_t map_key(const Light *l, int size, uint64_t kind, const GpuScene *gs)
 {
     uint64_t h = util_hash_bytes(UTIL_HASH_SEED ^ kind, l, sizeof *l);
     h = util_hash_bytes(h, &size, sizeof size);
+    h = util_hash_bytes(h, &gs->version, sizeof gs->version);
     return h ? h : 1;
 }
 
@@ -413,6 +417,17 @@ void light_stage_invalidate(LightStage *ls)
             ls->rsm[i].key = 0;
     }
     ls->vpl_key = 0;
+}
+
+bool light_stage_kind_changed(const LightStage *ls)
+{
+    const Scene *s = ls->scene;
+    for (int i = 0; i < ls->light_count && (ls->shadow || ls->rsm); i++) {
+        bool cube = light_is_cube(s, &s->lights[i]);
+        if ((ls->shadow && ls->shadow[i].cube != cube) || (ls->rsm && ls->rsm[i].cube != cube))
+            return true;
+    }
+    return false;
 }
 
 /* One line, once, when a light has crossed the bound between a cube map
@@ -443,7 +458,7 @@ static void draw_shadow_maps(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         shadow_frame_compute(&s->lights[i], s->bounds_min, s->bounds_max, d->shadow_map_size, 2, &m->frame);
         shadow_frame_to_gpu(&s->lights[i], &m->frame, d->shadow_map_size, &g);
         upload_slot(ls, i, SLOT_SHADOW, &g);
-        uint64_t key = map_key(&s->lights[i], d->shadow_map_size, 1);
+        uint64_t key = map_key(&s->lights[i], d->shadow_map_size, 1, gs);
         if (!maps || (d->cache && m->key == key))
             continue;
         if (!timing)
@@ -473,7 +488,7 @@ static void draw_rsms(LightStage *ls, const GpuScene *gs, GpuTimer *t)
         shadow_frame_to_gpu(&s->lights[i], &m->frame, m->size, &g);
         light_stage_rsm_texel_frame(s->bounds_min, s->bounds_max, &g);
         upload_slot(ls, i, SLOT_RSM, &g);
-        uint64_t key = map_key(&s->lights[i], m->size, 2);
+        uint64_t key = map_key(&s->lights[i], m->size, 2, gs);
         if (ls->desc.cache && m->key == key)
             continue;
         if (!timing)
@@ -497,9 +512,9 @@ static void draw_rsms(LightStage *ls, const GpuScene *gs, GpuTimer *t)
 
 /* The VPL buffer from every RSM, when the techniques need VPLs and what
  * they depend on changed. */
-static void extract_vpls(LightStage *ls, GpuTimer *t)
+static void extract_vpls(LightStage *ls, const GpuScene *gs, GpuTimer *t)
 {
-    uint64_t key = vpl_key(ls);
+    uint64_t key = vpl_key(ls, gs);
     if (!(ls->desc.needs & LIGHT_NEEDS_VPLS) || key == ls->vpl_key)
         return;
     gpu_timer_begin(t, "vpl_generate");
@@ -528,7 +543,7 @@ void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     if (!ls->rsm)
         return;
     draw_rsms(ls, gs, t);
-    extract_vpls(ls, t);
+    extract_vpls(ls, gs, t);
 }
 
 uint64_t light_stage_products_key(const LightStage *ls)

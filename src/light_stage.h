@@ -9,9 +9,9 @@
  *   - the VPL buffer (every lit RSM texel a VPL, SPEC §3–4) when it declares
  *     LIGHT_NEEDS_VPLS; re-extracted only when a light or an RSM setting
  *     changes, so its order is stable for techniques that index it.
- * With `cache` set, a shadow map or RSM is redrawn only when its light or
- * its size changed since it was last drawn (the scene's geometry is fixed
- * for the stage's lifetime); light_stage_invalidate forces a redraw.
+ * With `cache` set, a shadow map or RSM is redrawn only when its light,
+ * its size or the scene's geometry (GpuScene.version: an object moved)
+ * changed since it was last drawn; light_stage_invalidate forces a redraw.
  * Maps are 2D for directional/spot lights and cubes for point/quad lights.
  * Inputs: the scene (borrowed), its GpuScene. Owns: every map, the light
  * array, the VPL buffer. Shaders: shaders/light/. */
@@ -122,9 +122,15 @@ bool light_stage_configure(LightStage *ls, const LightStageDesc *desc);
  * A light's map kind (cube or 2D, shadow_frame_is_cube) is fixed when its
  * products are made, and the GI techniques size their own buffers from it:
  * a point light moved across shadow_frame_point_fitted's bound needs a new
- * renderer (renderer_create). Nothing in rtgi moves lights; a caller that
- * does gets one error line here, not a silent wrong image. */
+ * renderer (renderer_create); renderer_scene_changed makes one light's
+ * products again when an animation moves it across (a caller that moves
+ * lights otherwise gets one error line here, not a silent wrong image). */
 void light_stage_run(LightStage *ls, const GpuScene *gs, GpuTimer *t);
+
+/* Whether a light has crossed the bound between a cube map and a fitted
+ * 2D map (moved) since its products were made: they must be made again
+ * (renderer_scene_changed does). */
+bool light_stage_kind_changed(const LightStage *ls);
 
 /* Forgets what the maps were drawn for: the next run redraws them all. */
 void light_stage_invalidate(LightStage *ls);

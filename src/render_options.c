@@ -11,6 +11,7 @@
 #include "log.h"
 #include "probe.h"
 #include "settings.h"
+#include "sequence.h"
 #include "shader.h"
 #include "util.h"
 
@@ -48,6 +49,11 @@ void render_options_help(void)
         "                                bound, from 'rtgi probe --json FILE' or measured now\n"
         "  --frames N                    frames to time after the warm-up (default: 3)\n"
         "  --warmup N                    untimed frames first (default: 1)\n"
+        "  --animate                     render the scene file's animation: --frames N frames, spread\n"
+        "                                over its duration, into --out's pattern (frame_%%04d.exr)\n"
+        "  --fps F                       with --animate: frame i at i/F s\n"
+        "  --time T                      render the scene's animation at T s (one image)\n"
+        "  --video FILE.mp4              with --animate: also a video of the frames (needs ffmpeg)\n"
         "  --light-scale S               scale every light's emitter size (0: point lights)\n"
         "  --ssaa N                      N x N supersampling, box filter (default: 1, off)\n"
         "  --aa none|fxaa                post-process AA of the tone-mapped image\n"
@@ -98,10 +104,11 @@ void render_options_init(RenderOptions *o, bool view)
     assert(settings_count <= (int)(sizeof o->given / sizeof o->given[0]));
     o->warmup = 1;
     o->slow_ms = 1000.0;
+    o->time = -1.0;
 }
 
 /* The options only one of the two commands takes. */
-static const char *const k_render_only[] = {"--emitter-mask", "--out-ao", "--png", "--probe", "--timings", "--warmup", NULL};
+static const char *const k_render_only[] = {"--animate", "--emitter-mask", "--fps", "--out-ao", "--png", "--probe", "--time", "--timings", "--video", "--warmup", NULL};
 static const char *const k_view_only[] = {"--compare", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
 
 /* The options `render` (view false) or `view` knows, the settings table's
@@ -215,6 +222,18 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 1000000, &o->frames))
                 return 2;
+            o->frames_given = true;
+        } else if (!strcmp(opt, "--animate")) {
+            o->animate = true;
+        } else if (!strcmp(opt, "--fps") || !strcmp(opt, "--time")) {
+            CLI_VALUE(&a, v);
+            float f;
+            if (!cli_float(opt, v, opt[2] == 'f' ? 1e-3f : 0.f, 1e6f, &f))
+                return 2;
+            *(opt[2] == 'f' ? &o->fps : &o->time) = f;
+        } else if (!strcmp(opt, "--video")) {
+            CLI_VALUE(&a, v);
+            o->video = v;
         } else if (!strcmp(opt, "--warmup")) {
             CLI_VALUE(&a, v);
             if (!cli_int(opt, v, 0, 10000, &o->warmup))
@@ -258,11 +277,19 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
     }
     if (cli_failed(&a))
         return 2;
-    const char *const opts[] = {"--out", "--png", "--emitter-mask", "--out-ao", "--window-out", "--scene", "--probe",
-                                "--compare"};
-    const char *const paths[] = {o->out, o->png, o->emitter_mask, o->out_ao, o->window_out, o->scene,
-                                 o->probe && strcmp(o->probe, "run") ? o->probe : NULL, o->compare};
-    int files = cli_check_files(8, 5, opts, paths);
+    int time_rc = render_options_check_time(o);
+    if (time_rc)
+        return time_rc;
+    /* A sequence's frames are checked as its first frame's file. */
+    char first_frame[UTIL_PATH_MAX];
+    if (o->animate)
+        sequence_path(o->out, 0, first_frame, sizeof first_frame);
+    const char *const opts[] = {"--out", "--png", "--emitter-mask", "--out-ao", "--window-out", "--video", "--scene",
+                                "--probe", "--compare"};
+    const char *const paths[] = {o->animate ? first_frame : o->out, o->png, o->emitter_mask, o->out_ao, o->window_out,
+                                 o->video, o->scene, o->probe && strcmp(o->probe, "run") ? o->probe : NULL,
+                                 o->compare};
+    int files = cli_check_files(9, 6, opts, paths);
     if (files)
         return files;
     if (o->probe) {
@@ -275,6 +302,17 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             return 2;
     }
     return render_options_ssaa_fits(o->width, o->height, o->ssaa) ? 0 : 2;
+}
+
+int render_options_check_time(const RenderOptions *o)
+{
+    const char *single = o->png ? "--png" : o->emitter_mask ? "--emitter-mask" : o->out_ao ? "--out-ao"
+                       : o->timings                          ? "--timings"
+                       : o->probe                            ? "--probe"
+                                                             : NULL;
+    SequenceOptions so = {.animate = o->animate, .frames_given = o->frames_given, .frames = o->frames,
+                          .fps = o->fps, .time = o->time, .time_opt = "--time", .video = o->video, .single = single, .out = o->out};
+    return sequence_check_options(&so);
 }
 
 bool render_options_load_scene(const RenderOptions *o, Scene *scene)

@@ -38,6 +38,12 @@ typedef struct RenderOptions {
     const char *ui_test;    /* --ui-test DIR: the window test's script, or NULL */
     const char *window_out; /* --window-out FILE.png: what Shift-P saves, or NULL */
     double slow_ms;         /* --slow-ms: techniques estimated above need a click (1000) */
+    /* `rtgi render` only, time (animation.h): */
+    bool animate;           /* --animate: --frames N frames of the scene's animation into --out's pattern */
+    bool frames_given;      /* --frames was given */
+    double fps;             /* --fps F: frame i at i/F s (0: the frames spread over the duration) */
+    double time;            /* --time T: the scene at T s (< 0: not given) */
+    const char *video;      /* --video FILE.mp4: also a video of the frames (ffmpeg), or NULL */
     bool no_panel;          /* --no-panel: start with the panel hidden */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */
@@ -51,6 +57,10 @@ void render_options_init(RenderOptions *o, bool view);
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void));
 /* Loads the scene the options name, with their light scale applied.
  * false after logging. */
+/* The time options of `render` (--animate, --frames, --fps, --time,
+ * --video) agree with each other and the rest: 0, or 2 after a usage
+ * error. (Part of render_options_parse.) */
+int render_options_check_time(const RenderOptions *o);
 bool render_options_load_scene(const RenderOptions *o, Scene *scene);
 /* Prints the shared options' help. */
 void render_options_help(void);

@@ -191,12 +191,14 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
     if (!r->frame_ubo || !r->brdf_albedo) /* each logs its failure */
         return false;
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
+    pass_temporal_create(&r->pass_temporal, pc);
     return technique_create(r);
 }
 
 void renderer_destroy(Renderer *r)
 {
     technique_destroy(r);
+    pass_temporal_destroy(&r->pass_temporal);
     pass_fxaa_destroy(&r->pass_fxaa);
     pass_finish_destroy(&r->pass_finish);
     pass_shade_destroy(&r->pass_shade);
@@ -224,7 +226,11 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
         redo || rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
     bool shading_resized = rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
                            rs->height * renderer_ssaa(rs) != old.height * renderer_ssaa(&old);
-    bool technique = redo || rs->gi != old.gi || memcmp(&rs->gi_params, &old.gi_params, sizeof rs->gi_params) != 0;
+    /* Temporal accumulation is the renderer's pass, not the technique's. */
+    GiParams gp_new = rs->gi_params, gp_old = old.gi_params;
+    gp_new.temporal = gp_old.temporal = false;
+    gp_new.temporal_clamp = gp_old.temporal_clamp = false;
+    bool technique = redo || rs->gi != old.gi || memcmp(&gp_new, &gp_old, sizeof gp_new) != 0;
     LightStageDesc ld = light_desc(rs);
     bool lights = !r->lights.made || memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
     bool timer = rs->timings != old.timings || rs->timing_sync != old.timing_sync;
@@ -234,6 +240,9 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
         technique_destroy(r); /* it may hold sizes of the old light products */
         gpu_timer_forget_once(&r->timer); /* its one-time passes (vct_voxelize) */
     }
+    if (technique || lights || resized || rs->gi_params.temporal != old.gi_params.temporal ||
+        rs->gi_params.temporal_clamp != old.gi_params.temporal_clamp)
+        pass_temporal_reset(&r->pass_temporal); /* its history is of other frames */
     if (timer) {
         gpu_timer_destroy(&r->timer);
         gpu_timer_create(&r->timer, rs->timings, rs->timing_sync);
@@ -349,7 +358,18 @@ void renderer_frame(Renderer *r, const Camera *cam)
             if (!r->gi->run(r->gi_state, &f))
                 r->gi_failed = true;
             r->last_frame = f;
-            gi = (ShadeGi){r->irradiance, (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, r->brdf_albedo};
+            GLuint irradiance = r->irradiance;
+            if (r->settings.gi_params.temporal) {
+                gpu_timer_begin(t, "temporal");
+                GLuint accumulated = pass_temporal_run(&r->pass_temporal, &r->gbuffer, r->irradiance, cam,
+                                                         r->settings.gi_params.temporal_clamp);
+                gpu_timer_end(t);
+                if (accumulated)
+                    irradiance = accumulated;
+                else
+                    r->gi_failed = true; /* logged; the frame goes on without it */
+            }
+            gi = (ShadeGi){irradiance, (r->gi->flags & GI_HAS_SPECULAR) ? r->specular : 0, r->brdf_albedo};
         }
         tonemapped = n == 1;
         gpu_timer_begin(t, "shade");
@@ -375,6 +395,35 @@ void renderer_frame(Renderer *r, const Camera *cam)
 }
 
 void renderer_invalidate(Renderer *r) { light_stage_invalidate(&r->lights); }
+
+bool renderer_scene_changed(Renderer *r, const SceneChange *c)
+{
+    if (c->what & SCENE_CHANGED_GEOMETRY)
+        gpu_scene_update_vertices(&r->gpu_scene, r->scene, c->first_vertex, c->vertex_count);
+    bool kinds = light_stage_kind_changed(&r->lights);
+    if (!kinds && !(c->what & SCENE_CHANGED_BOUNDS))
+        return true;
+    /* A light's maps change kind (cube or 2D), or the grids fitted to the
+     * scene's bounds must follow them: the technique (and the light
+     * products) are made again, as a settings change would. */
+    r->remakes++;
+    technique_destroy(r);
+    gpu_timer_forget_once(&r->timer);
+    pass_temporal_reset(&r->pass_temporal);
+    if (kinds) {
+        LightStageDesc d = r->lights.desc;
+        r->lights.made = false; /* light_stage_configure makes them all again */
+        if (!light_stage_configure(&r->lights, &d)) {
+            r->apply_failed = true;
+            return false;
+        }
+    }
+    if (!technique_create(r)) {
+        r->apply_failed = true;
+        return false;
+    }
+    return true;
+}
 
 const RenderStats *renderer_collect_stats(Renderer *r)
 {
@@ -408,7 +457,7 @@ RenderMemory renderer_gpu_memory(const Renderer *r)
     return (RenderMemory){
         .gi = r->stats.gpu_bytes,
         .lights = light_stage_gpu_bytes(&r->lights),
-        .frame = gl_textures_bytes(tex, 10) + gl_buffers_bytes(bufs, 2),
+        .frame = gl_textures_bytes(tex, 10) + gl_buffers_bytes(bufs, 2) + pass_temporal_bytes(&r->pass_temporal),
         .scene = gpu_scene_bytes(&r->gpu_scene),
     };
 }

@@ -1,8 +1,8 @@
 /* renderer.h — owns the GPU scene, the light stage, the shared targets, the
  * fixed passes and the selected GI technique, and runs one frame top to
  * bottom:
- *   light stage → G-buffer → direct light → GI technique → composite →
- *   [supersampling resolve] → tone map → [FXAA].
+ *   light stage → G-buffer → direct light → GI technique → [temporal
+ *   accumulation] → composite → [supersampling resolve] → tone map → [FXAA].
  * With supersampling N the passes up to the composite run at N× the output
  * size and the resolve box-filters their radiance down to the output size.
  * The scene is borrowed and must outlive the renderer. Settings change
@@ -13,6 +13,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "animation.h"
 #include "gi/gi.h"
 #include "gpu_scene.h"
 #include "gpu_timer.h"
@@ -23,6 +24,7 @@
 #include "passes/pass_fxaa.h"
 #include "passes/pass_gbuffer.h"
 #include "passes/pass_shade.h"
+#include "passes/pass_temporal.h"
 #include "scene.h"
 #include "targets.h"
 
@@ -101,6 +103,7 @@ typedef struct Renderer {
     PassShade pass_shade;
     PassFinish pass_finish;
     PassFxaa pass_fxaa;
+    PassTemporal pass_temporal; /* --temporal on: accumulates the irradiance over frames */
     int remakes;               /* renderer_apply calls that remade something (technique, light products,
                                   targets, timer); an exposure change remakes nothing */
     bool apply_failed;         /* the last renderer_apply failed part-way: the next makes everything again */
@@ -118,6 +121,14 @@ void renderer_destroy(Renderer *r);
  * and the next apply makes again what the failed one left unmade, even
  * with the same settings. */
 bool renderer_apply(Renderer *r, const RenderSettings *rs);
+/* After the scene under the renderer changed (animation_apply at a new
+ * time, or a light edited by hand; animation.h): uploads moved vertices
+ * (the light products and voxels drawn from the old ones are then redrawn:
+ * they key on the geometry's version), remakes a light's products whose
+ * map kind changed, and remakes the technique where the scene's bounds
+ * moved (its grids are fitted to them). Lights and the camera need no call:
+ * every frame reads them. false after logging (as renderer_apply). */
+bool renderer_scene_changed(Renderer *r, const SceneChange *c);
 /* Makes the next frame a cold one: every cached light product is redrawn. */
 void renderer_invalidate(Renderer *r);
 /* Renders one frame from `cam`. */

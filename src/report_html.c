@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "log.h"
+#include "report_temporal.h"
 #include "util.h"
 
 static const char k_head[] =
@@ -173,6 +174,9 @@ static const char k_app[] =
     "  }\n"
     "  expInput.oninput = expose;\n"
     "  expose();\n"
+    "  /* For the sections other scripts add (report_temporal.c). */\n"
+    "  window.rtgiBench = { imgs: imgs, tonemap: tonemap, el: el, fmt: fmt,\n"
+    "    exposure: function () { return B.display_exposure * Math.pow(2, +expInput.value); } };\n"
     "\n"
     "  /* Pareto front of (cost, error): nothing both cheaper and better. */\n"
     "  function yval(t, key) { var m = t.metrics; return key === 'dssim' ? (m.ssim === null ? null : 1 - m.ssim) : m[key]; }\n"
@@ -456,6 +460,8 @@ bool report_html_write(const char *path, const cJSON *bench, const ReportImage *
     }
     fputs("};\n</script>\n<script>\n", f);
     fputs(k_app, f);
+    fputs("</script>\n<script>\n", f);
+    fputs(report_temporal_script, f); /* bench --animate's section; nothing without it */
     fputs("</script>\n</body></html>\n", f);
     if (!ok) {
         util_atomic_abort(&af);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "animation.h"
 #include "log.h"
 #include "util.h"
 
@@ -37,6 +38,7 @@ void scene_free(Scene *s)
     free(s->submeshes);
     free(s->materials);
     free(s->lights);
+    animation_free(s);
     memset(s, 0, sizeof *s);
 }
 
@@ -136,7 +138,7 @@ bool scene_rescale_lights(Scene *s, float scale)
     return add_emitters(s);
 }
 
-static void compute_bounds(Scene *s)
+void scene_compute_bounds(Scene *s)
 {
     glm_vec3_fill(s->bounds_min, INFINITY);
     glm_vec3_fill(s->bounds_max, -INFINITY);
@@ -168,7 +170,7 @@ bool scene_finalize(Scene *s)
 {
     if (!add_emitters(s))
         return false;
-    compute_bounds(s);
+    scene_compute_bounds(s);
     return true;
 }
 
@@ -188,31 +190,39 @@ static bool add_emitters(Scene *s)
             return false; /* logged */
         glm_vec3_scale(l->color, 1.f / (l->size * l->size), s->materials[m].emission);
         s->materials[m].light_index = i;
-        vec3 hu, hv, p[4];
-        glm_vec3_scale(l->quad_u, 0.5f * l->size, hu);
-        glm_vec3_scale(l->quad_v, 0.5f * l->size, hv);
-        /* Wind so that the quad's normal (u×v order) is the emission direction. */
-        vec3 n;
-        glm_vec3_cross(hu, hv, n);
-        if (glm_vec3_dot(n, l->direction) < 0)
-            glm_vec3_negate(hv);
-        for (int c = 0; c < 4; c++) {
-            float su = (c == 0 || c == 3) ? -1.f : 1.f, sv = (c < 2) ? -1.f : 1.f;
-            glm_vec3_copy(l->position, p[c]);
-            glm_vec3_muladds(hu, su, p[c]);
-            glm_vec3_muladds(hv, sv, p[c]);
-        }
+        vec3 p[4];
+        scene_emitter_corners(l, p);
         if (!scene_add_quad(s, m, p[0], p[1], p[2], p[3]))
             return false; /* logged */
     }
     return true;
 }
 
+void scene_emitter_corners(const Light *l, vec3 p[4])
+{
+    vec3 hu, hv;
+    glm_vec3_scale((float *)l->quad_u, 0.5f * l->size, hu);
+    glm_vec3_scale((float *)l->quad_v, 0.5f * l->size, hv);
+    /* Wind so that the quad's normal (u×v order) is the emission direction. */
+    vec3 n;
+    glm_vec3_cross(hu, hv, n);
+    if (glm_vec3_dot(n, (float *)l->direction) < 0)
+        glm_vec3_negate(hv);
+    for (int c = 0; c < 4; c++) {
+        float su = (c == 0 || c == 3) ? -1.f : 1.f, sv = (c < 2) ? -1.f : 1.f;
+        glm_vec3_copy((float *)l->position, p[c]);
+        glm_vec3_muladds(hu, su, p[c]);
+        glm_vec3_muladds(hv, sv, p[c]);
+    }
+}
+
 bool scene_add_default_sun(Scene *s)
 {
     Light sun = {0};
     sun.type = LIGHT_DIRECTIONAL;
-    glm_vec3_copy((vec3){0.25f, -1.0f, 0.12f}, sun.direction);
+    /* High and a little aslant: it lights the floor of an interior open to
+     * the sky (Sponza's atrium), whose bounce then lights the rest. */
+    glm_vec3_copy((vec3){-0.15f, -1.0f, -0.2f}, sun.direction);
     glm_vec3_copy((vec3){4.0f, 3.9f, 3.6f}, sun.color);
     sun.size = glm_rad(0.53f); /* the real sun's angular diameter */
     if (scene_add_light(s, &sun) < 0)
@@ -233,12 +243,15 @@ void scene_default_camera(Scene *s)
      * relative to the model, looking down the long axis: for an interior
      * such as Sponza this is its nave; for an object it is a view from its
      * side. */
+    int other = 2 - axis;
     cam->position[axis] -= 0.28f * ext[axis];
     cam->position[1] = s->bounds_min[1] + 0.2f * ext[1];
-    vec3 target;
+    cam->position[other] -= 0.055f * ext[other];
+    vec3 target; /* up and across the nave: its arcades and the upper floor */
     glm_vec3_copy(c, target);
-    target[axis] += 0.5f * ext[axis];
-    target[1] = s->bounds_min[1] + 0.3f * ext[1];
+    target[axis] += 0.22f * ext[axis];
+    target[1] = s->bounds_min[1] + 0.42f * ext[1];
+    target[other] += 0.055f * ext[other];
     float wide = fmaxf(ext[0], ext[2]);
     if (ext[1] < 0.25f * wide) {
         /* A flat scene (a terrain, a floor, one quad): from eye height it
@@ -252,7 +265,7 @@ void scene_default_camera(Scene *s)
     glm_vec3_cross(cam->forward, (vec3){0, 1, 0}, right);
     glm_vec3_normalize(right);
     glm_vec3_cross(right, cam->forward, cam->up);
-    cam->fov_y = glm_rad(60.f);
+    cam->fov_y = glm_rad(65.f);
     float diag = glm_vec3_norm(ext);
     cam->znear = fmaxf(1e-3f, diag * 1e-4f);
     cam->zfar = diag * 2.f + 0.3f * wide;

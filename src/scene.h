@@ -168,6 +168,9 @@ typedef struct GiParams {
     bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
     float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
     float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
+    /* Time (SPEC §10). */
+    bool temporal;         /* temporal accumulation of the indirect light (passes/pass_temporal.h) */
+    bool temporal_clamp;   /* its neighbourhood clamp (off: the history lags a moving light; for measuring) */
     /* Diagnostic, no scene key: the RSM gathers' twin for `render --timings
      * --probe run`, which reads every sample and evaluates none (the image
      * is meaningless); its rate is the limit of the gather's own reads. */
@@ -194,6 +197,11 @@ typedef struct Scene {
     ShadowParams shadow;   /* scene's default shadow parameters */
     GiParams gi;           /* scene's default GI parameters */
     vec3 bounds_min, bounds_max; /* of all geometry but light emitters */
+    /* Time (animation.h): named rigid objects and keyframe tracks of a
+     * scene file's "objects" and "animation"; NULL/0 when it has none. */
+    struct SceneObject *objects; /* owned, [object_count] */
+    int object_count;
+    struct Animation *animation; /* owned, or NULL */
 } Scene;
 
 
@@ -229,6 +237,13 @@ bool scene_has_glossy(const Scene *s);
  * after logging (out of memory; free the scene then). */
 bool scene_build_cornell(Scene *s);
 
+/* Recomputes the scene's bounds from its geometry (emitters left out), as
+ * scene_finalize does: after vertices moved (animation_apply). */
+void scene_compute_bounds(Scene *s);
+/* The four corners of quad light l's emitter at its size, wound so that
+ * (p1 − p0) × (p3 − p0) points along its direction. */
+void scene_emitter_corners(const Light *l, vec3 p[4]);
+
 /* Scales every light's emitter size (see header comment) and rebuilds the
  * emitter geometry of a finalized scene. false after logging. */
 bool scene_rescale_lights(Scene *s, float scale);
@@ -251,6 +266,11 @@ bool scene_load_scaled(Scene *s, const char *what, float light_scale);
 const char *scene_builtin_near(const char *what);
 /* Loads a mesh file through assimp, appending to `s`. */
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform);
+/* The same with every node's meshes kept apart (not joined by material)
+ * and, per node name, the submeshes under it into *nodes (animation.h;
+ * the caller frees it with scene_node_map_free). */
+struct SceneNodeMap;
+bool scene_load_mesh_nodes(Scene *s, const char *path, const mat4 transform, struct SceneNodeMap *nodes);
 
 /* Checks of a finalized scene that parsing cannot make, false after logging
  * one line naming the file and the problem:

@@ -4,6 +4,7 @@
  * parameters. See the files under scenes/ and docs/guide.md ("Scene files") for the format. */
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>
+#include <assimp/config.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -20,6 +21,7 @@
 
 #include <stb/stb_image.h>
 
+#include "animation.h"
 #include "json_util.h"
 #include "log.h"
 #include "scene.h"
@@ -601,7 +603,7 @@ static const struct aiScene *mesh_post_process(const struct aiScene *ai, const c
  * its validation, the checks of what that misses, then post-processing
  * (triangulated, smooth normals, node transforms applied). NULL after
  * logging; release it with aiReleaseImport. */
-static const struct aiScene *mesh_import(const char *path)
+static const struct aiScene *mesh_import(const char *path, bool keep_nodes)
 {
     /* assimp would block on a FIFO and read a directory as garbage. */
     if (!util_check_input("scene", "mesh file", path, MESH_MAX_BYTES, NULL))
@@ -617,7 +619,14 @@ static const struct aiScene *mesh_import(const char *path)
     double t0 = util_seconds();
     if (big)
         log_progress("scene: %s: importing %.0f MB through assimp...", path, (double)st.st_size / (1024.0 * 1024.0));
-    const struct aiScene *ai = aiImportFileEx(path, aiProcess_ValidateDataStructure, &io.io);
+    /* Nodes named by a scene file's objects: node transforms applied
+     * without joining the meshes of one material (they stay the nodes'). */
+    struct aiPropertyStore *props = keep_nodes ? aiCreatePropertyStore() : NULL;
+    if (props)
+        aiSetImportPropertyInteger(props, AI_CONFIG_PP_PTV_KEEP_HIERARCHY, 1);
+    const struct aiScene *ai = aiImportFileExWithProperties(path, aiProcess_ValidateDataStructure, &io.io, props);
+    if (props)
+        aiReleasePropertyStore(props);
     if (big && ai)
         log_progress("scene: %s: imported in %.1f s", path, util_seconds() - t0);
     if (!mesh_io_check(&io, path) || !ai || !ai->mRootNode) {
@@ -641,6 +650,7 @@ typedef struct MeshAppend {
     vec4 *transform;   /* borrowed: positions' mesh_scale/translate */
     mat3 normal_m;     /* normals': its 3×3's inverse transpose */
     const int *mat_map;/* assimp's material index → the scene's */
+    int *mesh_submesh; /* assimp's mesh index → the submesh it became, -1: none (may be NULL) */
     unsigned tris;     /* triangles appended */
     bool area;         /* one of them has an area */
 } MeshAppend;
@@ -736,6 +746,8 @@ static bool append_triangles(MeshAppend *m, const struct aiMesh *am, unsigned mi
               util_realloc("scene", "submeshes", (void **)&s->submeshes, (size_t)s->submesh_count + 1,
                            sizeof(Submesh));
     if (ok) {
+        if (m->mesh_submesh)
+            m->mesh_submesh[mi] = s->submesh_count;
         memcpy(s->indices + s->index_count, idx, sizeof(uint32_t) * n);
         m->area = m->area || any_area(s, idx, n);
         s->submeshes[s->submesh_count++] = (Submesh){s->index_count, n, m->mat_map[am->mMaterialIndex]};
@@ -770,9 +782,43 @@ static bool append_mesh(MeshAppend *m, const struct aiScene *ai, unsigned mi)
     return append_vertices(m, am, mi) && append_triangles(m, am, mi, base);
 }
 
+/* Adds (name, submesh) of node `n`'s meshes for it and every ancestor on
+ * `names` (depth entries). false after logging if memory runs out. */
+static bool map_node(const struct aiNode *n, const int *mesh_submesh, const char (*names)[64], int depth,
+                     SceneNodeMap *map, int *cap)
+{
+    char stack[32][64];
+    int d = depth < 31 ? depth : 31;
+    if (d > 0)
+        memcpy(stack, names, sizeof stack[0] * (size_t)d);
+    snprintf(stack[d], sizeof stack[d], "%.63s", n->mName.data);
+    for (unsigned k = 0; k < n->mNumMeshes; k++) {
+        int sm = mesh_submesh[n->mMeshes[k]];
+        for (int a = 0; sm >= 0 && a <= d; a++) {
+            if (map->count == *cap) {
+                *cap = 2 * *cap + 16;
+                if (!util_realloc("scene", "the mesh's nodes", (void **)&map->entries, (size_t)*cap,
+                                  sizeof *map->entries))
+                    return false;
+            }
+            snprintf(map->entries[map->count].name, sizeof map->entries[0].name, "%s", stack[a]);
+            map->entries[map->count++].submesh = sm;
+        }
+    }
+    for (unsigned c = 0; c < n->mNumChildren; c++)
+        if (!map_node(n->mChildren[c], mesh_submesh, (const char(*)[64])stack, d + 1, map, cap))
+            return false;
+    return true;
+}
+
 bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
 {
-    const struct aiScene *ai = mesh_import(path);
+    return scene_load_mesh_nodes(s, path, transform, NULL);
+}
+
+bool scene_load_mesh_nodes(Scene *s, const char *path, const mat4 transform, SceneNodeMap *nodes)
+{
+    const struct aiScene *ai = mesh_import(path, nodes != NULL);
     if (!ai)
         return false;
     char dir[1024];
@@ -783,11 +829,20 @@ bool scene_load_mesh(Scene *s, const char *path, const mat4 transform)
     for (unsigned i = 0; ok && i < ai->mNumMaterials; i++)
         ok = load_material(s, ai, ai->mMaterials[i], path, dir, gltf, &mat_map[i]);
     MeshAppend m = {.s = s, .path = path, .transform = (vec4 *)transform, .mat_map = mat_map};
+    if (ok && nodes) {
+        ok = (m.mesh_submesh = util_malloc("scene", "the mesh's nodes", (size_t)ai->mNumMeshes + 1, sizeof(int))) != NULL;
+        for (unsigned mi = 0; ok && mi < ai->mNumMeshes; mi++)
+            m.mesh_submesh[mi] = -1;
+    }
     glm_mat4_pick3((vec4 *)transform, m.normal_m);
     glm_mat3_inv(m.normal_m, m.normal_m);
     glm_mat3_transpose(m.normal_m);
     for (unsigned mi = 0; ok && mi < ai->mNumMeshes; mi++)
         ok = append_mesh(&m, ai, mi);
+    int cap = 0;
+    if (ok && nodes)
+        ok = map_node(ai->mRootNode, m.mesh_submesh, NULL, 0, nodes, &cap);
+    free(m.mesh_submesh);
     free(mat_map);
     aiReleaseImport(ai);
     if (ok && m.tris == 0) {
@@ -1239,7 +1294,7 @@ static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
 
 static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "mesh_translate", "quads",
                                          "materials", "camera", "lights",     "exposure",       "shadow",
-                                         "gi",        NULL};
+                                         "gi",        "objects",    "animation",      NULL};
 
 /* What most likely broke JSON text where the parser stopped (*at, cJSON's
  * error position), the mistakes people make by hand: a comma before a
@@ -1309,7 +1364,7 @@ static cJSON *read_json(const char *path)
 /* "builtin", then "mesh" (a path relative to the file's directory dir,
  * placed by "mesh_scale" and "mesh_translate"), then "quads": at least one
  * of them. */
-static void parse_geometry(Ctx *c, Scene *s, const cJSON *root, const char *dir)
+static void parse_geometry(Ctx *c, Scene *s, const cJSON *root, const char *dir, SceneNodeMap *nodes)
 {
     const cJSON *builtin = cJSON_GetObjectItemCaseSensitive(root, "builtin");
     const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(root, "mesh");
@@ -1333,7 +1388,7 @@ static void parse_geometry(Ctx *c, Scene *s, const cJSON *root, const char *dir)
         get_point(c, root, "mesh_translate", tr, false);
         glm_translate(xf, tr);
         glm_scale_uni(xf, scale);
-        if (c->ok && !scene_load_mesh(s, mesh_path, xf))
+        if (c->ok && !scene_load_mesh_nodes(s, mesh_path, xf, animation_wants_nodes(root) ? nodes : NULL))
             c->ok = false; /* logged */
     } else if (cJSON_GetObjectItemCaseSensitive(root, "mesh_scale") ||
                cJSON_GetObjectItemCaseSensitive(root, "mesh_translate")) {
@@ -1371,8 +1426,9 @@ static bool load_json(Scene *s, const char *path)
     Ctx c = {path, true, ""};
     char dir[1024];
     util_dirname(path, dir, sizeof dir);
+    SceneNodeMap nodes = {0};
     if (check_keys(&c, root, k_top_keys))
-        parse_geometry(&c, s, root, dir);
+        parse_geometry(&c, s, root, dir, &nodes);
     if (c.ok)
         snprintf(s->source, sizeof s->source, "%s", path);
     const cJSON *materials = cJSON_GetObjectItemCaseSensitive(root, "materials");
@@ -1393,14 +1449,15 @@ static bool load_json(Scene *s, const char *path)
     bool has_camera = cam != NULL || cJSON_IsString(cJSON_GetObjectItemCaseSensitive(root, "builtin"));
     if (cam && c.ok)
         parse_camera(&c, s, cam);
-    cJSON_Delete(root);
-    if (!c.ok)
-        return false;
-    if ((s->light_count == 0 && !scene_add_default_sun(s)) || !scene_finalize(s))
-        return false; /* logged; the caller frees the scene */
-    if (!has_camera)
+    bool ok = c.ok && (s->light_count > 0 || scene_add_default_sun(s)) && scene_finalize(s);
+    if (ok && !has_camera)
         scene_default_camera(s);
-    return true;
+    /* Named objects and keyframe tracks (animation.c), once the scene is
+     * whole: the objects' transforms and the state at t = 0 put in place. */
+    ok = ok && animation_parse(s, root, path, &nodes);
+    scene_node_map_free(&nodes);
+    cJSON_Delete(root);
+    return ok; /* else logged; the caller frees the scene */
 }
 
 const char *scene_builtin_near(const char *what)
@@ -1441,6 +1498,7 @@ static bool load_any(Scene *s, const char *what)
         return false;
     }
     s->shadow.map_size = 2048; /* a sun over a whole model needs the texels */
+    s->exposure = 8.f;         /* a 4 W/m² sun, most of the view in its bounce light */
     if (!scene_add_default_sun(s) || !scene_finalize(s)) {
         scene_free(s); /* logged */
         return false;

@@ -148,6 +148,12 @@ const SettingDesc settings_table[] = {
      "vct: with --vct-f0 > 0, the GGX perceptual roughness of every surface's specular cone"},
     {"gi", "vct_f0", "--vct-f0", SETTING_FLOAT, GI(vct_f0), 0, 0, 1, 0, NULL,
      "vct: > 0: F0 of every surface's specular cone instead of the material's (tests); 0 = the material's"},
+    /* Time (SPEC §10): temporal accumulation of any technique's indirect light. */
+    {"gi", "temporal", "--temporal", SETTING_BOOL, GI(temporal), 0, 0, 1, 0, NULL,
+     "temporal accumulation of the indirect light: reprojected history, disocclusion rejection, neighbourhood clamp"},
+    {"gi", "temporal_clamp", "--temporal-clamp", SETTING_BOOL, GI(temporal_clamp), 0, 0, 1, 1, NULL,
+     "temporal: clamp the history to this frame's 3x3 neighbourhood; off only to measure what the clamp does "
+     "(a moving light's bounce then lags)"},
 };
 /* clang-format on */
 const int settings_count = (int)(sizeof settings_table / sizeof settings_table[0]);

@@ -129,7 +129,7 @@ static bool sponza_scene(Scene *s)
         return false;
     }
     fclose(f);
-    snprintf(path, sizeof path, "%s/scenes/sponza.json", RTGI_SOURCE_DIR);
+    snprintf(path, sizeof path, "%s/scenes/sponza_nave.json", RTGI_SOURCE_DIR);
     assert_true(scene_load(s, path));
     return true;
 }

@@ -127,7 +127,8 @@ static void schema(void **state)
         assert_true(fabs(sum - field(e, "gpu_ms", 'n')->valuedouble) < 1e-6 * (1 + sum));
         assert_true(field(e, "frame_ms", 'n')->valuedouble > 0);
         /* The GPU memory the technique counts: vct's volumes (16³: albedo,
-         * normal, radiance and six directional chains, 131064 bytes), its
+         * normal, radiance (level 0: the directional chains start from it)
+         * and six directional chains, 126384 bytes), its
          * opaque-voxel list (4 · (4 + 16³/8) = 2064), its two 24×24
          * RGBA32F images (18432) and its parameters' UBO; null without a
          * technique. */
@@ -137,7 +138,7 @@ static void schema(void **state)
         if (i == 3) {
             assert_true(cJSON_IsNumber(mem));
             mib = mem->valuedouble;
-            assert_true(fabs(mib - (131064 + 2064 + 18432 + sizeof(GpuVctParams)) / (1024.0 * 1024.0)) < 1e-9);
+            assert_true(fabs(mib - (126384 + 2064 + 18432 + sizeof(GpuVctParams)) / (1024.0 * 1024.0)) < 1e-9);
         } else if (i == 0) {
             assert_true(cJSON_IsNull(mem)); /* no technique */
         } else {
@@ -882,6 +883,68 @@ static void scene_name_not_utf8(void **state)
     cJSON_Delete(doc);
 }
 
+/* Issue 50: bench --animate over the orbiting spot light. Every
+ * technique gets techniques[i].temporal (a relMSE per frame, its flicker
+ * and the reference's, a kymograph of the frames' middle row), bench.csv
+ * the flicker columns, and the page's Over-time section one line per
+ * technique in the error-over-time plot, in Chromium without errors. */
+static void animate_temporal_results(void **state)
+{
+    (void)state;
+    char scene[512], *err = NULL;
+    snprintf(scene, sizeof scene, "%s/scenes/cornell_orbit.json", RTGI_SOURCE_DIR);
+    const char *out = DIR "/animate";
+    int rc = test_run_cli(&err, "bench", "--scene", scene, "--animate", "--frames", "4", "--fps", "60", "--size",
+                          "16x16", "--spp", "4", "--gi", "rsm,vpl-slc:temporal=on", "--vpls", "256", "--threads", "2",
+                          "--cache", CACHE, "--out", out, "--quiet", NULL);
+    if (rc != 0)
+        fail_msg("bench --animate failed (%d): %s", rc, err ? err : "");
+    free(err);
+    cJSON *doc = load_bench_json(out);
+    const cJSON *anim = field(doc, "animation", 'o');
+    assert_int_equal((int)field(anim, "frames", 'n')->valuedouble, 4);
+    assert_int_equal(cJSON_GetArraySize(field(anim, "times", 'a')), 4);
+    assert_float_equal(cJSON_GetArrayItem(field(anim, "times", 'a'), 3)->valuedouble, 3.0 / 60.0, 1e-9);
+    double ref_flicker = field(anim, "reference_flicker", 'n')->valuedouble;
+    assert_true(ref_flicker >= 0);
+    const cJSON *t;
+    int n = 0;
+    cJSON_ArrayForEach(t, field(doc, "techniques", 'a')) {
+        const cJSON *tj = field(t, "temporal", 'o'), *per = field(tj, "relmse_per_frame", 'a');
+        assert_int_equal(cJSON_GetArraySize(per), 4);
+        double mean = 0;
+        for (int i = 0; i < 4; i++) {
+            double v = cJSON_GetArrayItem(per, i)->valuedouble;
+            assert_true(isfinite(v) && v > 0 && v < 10);
+            mean += v / 4;
+        }
+        assert_float_equal(field(tj, "relmse_mean", 'n')->valuedouble, mean, 1e-9);
+        assert_true(field(tj, "flicker", 'n')->valuedouble >= 0);
+        assert_float_equal(field(tj, "reference_flicker", 'n')->valuedouble, ref_flicker, 0);
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", out, field(tj, "kymograph", 's')->valuestring);
+        ImageF k;
+        assert_true(image_read(path, &k));
+        assert_int_equal(k.width, 16);
+        assert_int_equal(k.height, 4); /* a row per frame */
+        image_free(&k);
+        n++;
+    }
+    assert_int_equal(n, 2);
+    cJSON_Delete(doc);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/bench.csv", out);
+    char *csv = util_read_file(path, NULL);
+    assert_non_null(csv);
+    assert_non_null(strstr(csv, ",relmse_mean,flicker,reference_flicker\r\n"));
+    free(csv);
+    char *dom = chromium_dom(out);
+    assert_true(strncmp(strstr(dom, "<title>"), "<title>ok:2</title>", 19) == 0);
+    assert_non_null(strstr(dom, "data-lines=\"2\""));
+    assert_non_null(strstr(dom, "temporal-table"));
+    free(dom);
+}
+
 static int teardown(void **state)
 {
     (void)state;
@@ -908,6 +971,7 @@ int main(void)
         cmocka_unit_test(report_in_chromium),
         cmocka_unit_test(report_scene_name_is_script_safe),
         cmocka_unit_test(scene_name_not_utf8),
+        cmocka_unit_test(animate_temporal_results),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

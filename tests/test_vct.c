@@ -1039,7 +1039,9 @@ static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, 
         chain += (double)k * k * k;
     for (int k = n / 2; k >= 1; k /= 2)
         half_chain += (double)k * k * k;
-    double voxels = levels * (2.0 * n * n * n + bounces * chain + (aniso ? 6 * half_chain : 0));
+    /* With the directional volumes the isotropic radiance is level 0 alone. */
+    double radiance = aniso ? (double)n * n * n : chain;
+    double voxels = levels * (2.0 * n * n * n + bounces * radiance + (aniso ? 6 * half_chain : 0));
     double low = scale > 1 ? 2.0 * 16 * ((w + scale - 1) / scale) * ((h + scale - 1) / scale) : 0;
     double opaque = 4.0 * (4 + levels * n * n * n / VCT_OPAQUE_SHARE); /* the opaque-voxel list */
     return (8 * voxels + low + opaque + sizeof(GpuVctParams)) / (1024.0 * 1024.0); /* and its UBO */

@@ -28,7 +28,9 @@
 #include "test_util.h"
 #include "util.h"
 
-enum { W = 192, H = 144, MAX_PASSES = 32 };
+enum { W = 192, H = 216, MAX_PASSES = 32, PANEL = 360 /* VIEW_PANEL_WIDTH */ };
+/* The script's slow frame: the render thread sleeps this long first. */
+#define SLOW_S 2.0
 
 static char g_dir[512];
 
@@ -57,6 +59,26 @@ static float heat(float t, int c)
     return fminf(fmaxf(3.f * t - (float)c, 0.f), 1.f);
 }
 
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* Pixels of `img` in columns [x0, x1) that are the heat map's red
+ * (1, 0, 0) or yellow (1, 1, 0), each counted in red[0] / yellow[0]. */
+static void count_heat_colours(const ImageF *img, int x0, int x1, int *red, int *yellow)
+{
+    *red = *yellow = 0;
+    for (int y = 0; y < img->height; y++)
+        for (int x = x0; x < x1 && x < img->width; x++) {
+            const float *p = image_px(img, x, y);
+            float r = srgb_encode(p[0]), g = srgb_encode(p[1]), b = srgb_encode(p[2]);
+            *red += r > 0.85f && g < 0.2f && b < 0.2f;
+            *yellow += r > 0.85f && g > 0.85f && b < 0.2f;
+        }
+}
+
 static void panel_script(void **state)
 {
     (void)state;
@@ -78,10 +100,10 @@ static void panel_script(void **state)
     test_x_display();
     snprintf(cmd, sizeof cmd,
              "rm -rf '%s/shaders' && cp -r '%s/shaders' '%s/shaders' && "
-             "RTGI_UI_TEST_BREAK_SHADER='%s/shaders/frame/finish.comp' "
+             "RTGI_UI_TEST_BREAK_SHADER='%s/shaders/frame/finish.comp' RTGI_UI_TEST_SLOW_S=%g "
              "'%s' view --size %s --rsm-samples 32 --exposure 1 --slow-ms 1 --compare '%s' "
              "--shader-dir '%s/shaders' --ui-test '%s' 2>'%s'",
-             g_dir, RTGI_SOURCE_DIR, g_dir, g_dir, RTGI_BINARY, size, none_pfm, g_dir, g_dir, log);
+             g_dir, RTGI_SOURCE_DIR, g_dir, g_dir, SLOW_S, RTGI_BINARY, size, none_pfm, g_dir, g_dir, log);
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
     char out[8192];
@@ -104,9 +126,17 @@ static void panel_script(void **state)
     v = find_line(out, "ui-test: technique switch: renderer remakes +");
     assert_non_null(v);
     assert_true(atoi(v) >= 1);
-    /* Slow techniques wait for their click, from the G key too. */
+    /* Slow techniques wait for their click, from the G key too; after
+     * "Switch anyway" the confirm text is gone from the status line (it had
+     * stayed: "rsm: about 0.1 s per frame at 192x144; confirm in the panel
+     * to switch"). */
     assert_non_null(strstr(out, "ui-test: G: gi none, pending rsm,"));
-    assert_non_null(strstr(out, "ui-test: confirmed: gi rsm"));
+    v = find_line(out, "ui-test: confirmed: gi rsm, pending none, status '");
+    assert_non_null(v);
+    const char *eol = strchr(v, '\n');
+    assert_non_null(eol);
+    const char *confirm = strstr(v, "confirm");
+    assert_true(!confirm || confirm > eol);
 
     /* "Copy as scene JSON" is a scene file's camera: loaded back, it is the
      * camera the window started from (the scene's). */
@@ -131,10 +161,12 @@ static void panel_script(void **state)
     v = find_line(out, "ui-test: reload: ");
     assert_non_null(v);
     assert_true(!strncmp(v, "failed: ", 8));
-    const char *eol = strchr(v, '\n');
+    eol = strchr(v, '\n');
     const char *named = strstr(v, "finish.comp");
     assert_true(named && (!eol || named < eol));
     ImageF before = read_image("before_reload.png"), after = read_image("after_reload.png");
+    assert_int_equal(before.width, W);
+    assert_int_equal(after.width, W);
     double reload_diff = 0;
     for (int i = 0; i < W * H * 3; i++)
         reload_diff = fmax(reload_diff, fabsf(before.rgb[i] - after.rgb[i]));
@@ -144,36 +176,67 @@ static void panel_script(void **state)
     image_free(&before);
     image_free(&after);
 
-    /* The panel is drawn: the window differs from the render where the
-     * panel is (its left half), and only there. */
+    /* The panel is docked beside the image: the window is the image and the
+     * panel (it had covered the left half of the image); H hides it, the
+     * window shrinks and the image keeps its size, and it comes back. */
+    int ww = 0, wh = 0, iw = 0, ih = 0;
+    v = find_line(out, "ui-test: window ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "%dx%d without the panel, image %dx%d", &ww, &wh, &iw, &ih), 4);
+    assert_true(ww == W && wh == H && iw == W && ih == H);
+    v = find_line(v, "ui-test: window ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "%dx%d with the panel again, image %dx%d", &ww, &wh, &iw, &ih), 4);
+    assert_true(ww == W + PANEL && wh == H && iw == W && ih == H);
+    /* A resize by the user: the image takes the window less the panel. */
+    v = find_line(out, "ui-test: user resize to ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "%dx%d: image %dx%d", &ww, &wh, &iw, &ih), 4);
+    assert_true(ww == W + PANEL + 32 && wh == H + 16 && iw == W + 32 && ih == H + 16);
     ImageF panel = read_image("window_panel.png"), bare = read_image("window_nopanel.png");
     ImageF shot = read_image("shot.png"), shot_hdr = read_image("shot.pfm");
-    assert_int_equal(panel.width, W);
+    assert_int_equal(panel.width, W + PANEL);
+    assert_int_equal(panel.height, H);
+    assert_int_equal(bare.width, W);
+    assert_int_equal(bare.height, H);
     assert_int_equal(shot_hdr.width, W);
     assert_int_equal(shot_hdr.height, H);
-    double in_panel = 0, outside = 0, vs_shot = 0, vs_hdr = 0;
-    for (int y = 0; y < H; y++)
+    /* The image in the window is `render`'s image at the same size and
+     * exposure (2: the script doubled 1), nothing over it. */
+    char render_png[1024];
+    path_in(render_png, sizeof render_png, "render_fxaa.png");
+    assert_int_equal(test_run_cli(NULL, "render", "--size", size, "--exposure", "2", "--aa", "fxaa", "--out",
+                                  render_png, "--quiet", NULL),
+                     0);
+    ImageF rendered;
+    assert_true(image_read(render_png, &rendered));
+    double in_panel = 0, vs_render = 0, vs_bare = 0, vs_shot = 0, vs_hdr = 0;
+    for (int y = 0; y < H; y++) {
         for (int x = 0; x < W; x++)
             for (int c = 0; c < 3; c++) {
-                float d = fabsf(image_px(&panel, x, y)[c] - image_px(&bare, x, y)[c]);
-                if (x > 12 && x < W / 2 - 12 && y > 12 && y < H - 12)
-                    in_panel += d;
-                else if (x > W / 2 + 12)
-                    outside = fmax(outside, d);
+                float w = image_px(&panel, x, y)[c];
+                vs_render = fmax(vs_render, fabsf(w - image_px(&rendered, x, y)[c]));
+                vs_bare = fmax(vs_bare, fabsf(w - image_px(&bare, x, y)[c]));
                 vs_shot = fmax(vs_shot, fabsf(image_px(&shot, x, y)[c] - image_px(&bare, x, y)[c]));
                 vs_hdr += fabsf(srgb_encode(fminf(image_px(&shot_hdr, x, y)[c] * 2.f, 1.f)) -
                                 srgb_encode(image_px(&shot, x, y)[c]));
             }
-    in_panel /= 3.0 * (W / 2 - 25) * (H - 25);
+        for (int x = W; x < W + PANEL; x++)
+            for (int c = 0; c < 3; c++)
+                in_panel += image_px(&panel, x, y)[c];
+    }
+    in_panel /= 3.0 * PANEL * H;
     vs_hdr /= 3.0 * W * H;
-    print_message("panel: mean |window - render| %.3f in the panel, max %.4f right of it; "
-                  "window vs P shot max %.4f; PNG vs PFM x exposure mean %.4f\n",
-                  in_panel, outside, vs_shot, vs_hdr);
-    assert_true(in_panel > 0.02);
-    assert_true(outside <= 1e-6);
+    print_message("window %dx%d: image area vs render max %.4f, vs the window without the panel max %.4f; panel "
+                  "mean %.3f; P shot vs window max %.4f; PNG vs PFM x exposure mean %.4f\n",
+                  panel.width, panel.height, vs_render, vs_bare, in_panel, vs_shot, vs_hdr);
+    assert_true(vs_render <= 2.0 / 255);
+    assert_true(vs_bare <= 1e-6);
+    assert_true(in_panel > 0.02); /* the panel is drawn beside it */
     assert_true(vs_shot <= 1e-6);
     assert_true(vs_hdr < 0.01); /* FXAA only, on edges */
     assert_int_equal(image_count_nonfinite(&shot_hdr, NULL, NULL), 0);
+    image_free(&rendered);
 
     /* P to .exr: the same radiance as the PFM within half precision, and,
      * before FXAA's edges, as the headless render of the same frame. */
@@ -201,36 +264,81 @@ static void panel_script(void **state)
     image_free(&shot_exr);
     image_free(&headless);
 
-    /* A/B: the reference alone, tone-mapped at the window's exposure (2). */
+    /* A/B: the reference alone, tone-mapped at the window's exposure (2);
+     * the difference at its automatic scale (the 99th percentile of the
+     * difference, computed here from the two radiance images) and at a
+     * chosen one; the split. */
     ImageF none, rsm;
     assert_true(image_read(none_pfm, &none) && image_read(rsm_pfm, &rsm));
-    ImageF ab_ref = read_image("ab_reference.png"), ab_diff = read_image("ab_difference.png");
-    ImageF ab_split = read_image("ab_split.png");
-    double worst_ref = 0, worst_diff = 0, worst_split = 0, hot = 0;
+    float *m = malloc(sizeof(float) * W * H);
+    assert_non_null(m);
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             const float *a = image_px(&rsm, x, y), *b = image_px(&none, x, y);
-            float m = 0;
+            float d = 0;
             for (int c = 0; c < 3; c++)
-                m = fmaxf(m, fabsf(a[c] - b[c]) * 2.f);
-            hot += m / 0.05f >= 1.f;
+                d = fmaxf(d, fabsf(a[c] - b[c]) * 2.f);
+            m[y * W + x] = d;
+        }
+    float *sorted = malloc(sizeof(float) * W * H);
+    assert_non_null(sorted);
+    memcpy(sorted, m, sizeof(float) * W * H);
+    qsort(sorted, W * H, sizeof(float), cmp_float);
+    double want_scale = sorted[(size_t)(0.99 * (W * H - 1))];
+    free(sorted);
+    double auto_scale = -1;
+    char bar[4][32];
+    v = find_line(out, "ui-test: heat scale auto ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "%lf (frame %*u), colour bar %31s %31s %31s %31s", &auto_scale, bar[0], bar[1], bar[2],
+                            bar[3]),
+                     5);
+    ImageF ab_ref = read_image("ab_reference.png"), ab_diff = read_image("ab_difference.png");
+    ImageF ab_manual = read_image("ab_difference_manual.png"), ab_split = read_image("ab_split.png");
+    assert_int_equal(ab_diff.width, W + PANEL); /* with the panel: its colour bar */
+    assert_int_equal(ab_manual.width, W);
+    double worst_ref = 0, worst_diff = 0, worst_manual = 0, worst_split = 0;
+    int hot_auto = 0, hot_default = 0, hot_manual = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            float d = m[y * W + x];
+            hot_auto += d >= auto_scale;
+            hot_default += d >= 0.1f; /* the fixed default scale the view had */
+            hot_manual += d >= 0.05f;
             for (int c = 0; c < 3; c++) {
-                float want = srgb_encode(fminf(b[c] * 2.f, 1.f));
+                float want = srgb_encode(fminf(image_px(&none, x, y)[c] * 2.f, 1.f));
                 worst_ref = fmax(worst_ref, fabsf(srgb_encode(image_px(&ab_ref, x, y)[c]) - want));
                 /* the heat map is written as is (not sRGB-encoded) */
-                worst_diff = fmax(worst_diff, fabsf(srgb_encode(image_px(&ab_diff, x, y)[c]) - heat(m / 0.05f, c)));
+                worst_diff = fmax(worst_diff,
+                                  fabsf(srgb_encode(image_px(&ab_diff, x, y)[c]) - heat(d / (float)auto_scale, c)));
+                worst_manual = fmax(worst_manual,
+                                    fabsf(srgb_encode(image_px(&ab_manual, x, y)[c]) - heat(d / 0.05f, c)));
                 if (x > W / 2 + 1)
                     worst_split = fmax(worst_split, fabsf(srgb_encode(image_px(&ab_split, x, y)[c]) - want));
             }
         }
+    free(m);
+    int bar_red, bar_yellow, none_red, none_yellow;
+    count_heat_colours(&ab_diff, W, W + PANEL, &bar_red, &bar_yellow);
+    count_heat_colours(&panel, W, W + PANEL, &none_red, &none_yellow);
     const float *line = image_px(&ab_split, W / 2, H / 2);
-    print_message("A/B: reference worst %.4f, difference worst %.4f (%.0f%% pixels at full heat), split right "
-                  "half worst %.4f, split line %.2f %.2f %.2f\n",
-                  worst_ref, worst_diff, 100.0 * hot / (W * H), worst_split, (double)srgb_encode(line[0]),
+    print_message("A/B: reference worst %.4f; difference at the auto scale %.5g (the 99th percentile here: %.5g) "
+                  "worst %.4f, %.1f%% of pixels at full heat (at the old fixed 0.1: %.1f%%); colour bar %s..%s, "
+                  "%d red and %d yellow pixels in the panel (none in difference mode: %d, %d); at 0.05 worst %.4f "
+                  "(%.1f%% full); split right half worst %.4f, split line %.2f %.2f %.2f\n",
+                  worst_ref, auto_scale, want_scale, worst_diff, 100.0 * hot_auto / (W * H),
+                  100.0 * hot_default / (W * H), bar[0], bar[3], bar_red, bar_yellow, none_red, none_yellow,
+                  worst_manual, 100.0 * hot_manual / (W * H), worst_split, (double)srgb_encode(line[0]),
                   (double)srgb_encode(line[1]), (double)srgb_encode(line[2]));
     assert_true(worst_ref <= 1.5 / 255);
+    assert_true(fabs(auto_scale - want_scale) <= 1e-3 * want_scale);
     assert_true(worst_diff <= 2.5 / 255);
-    assert_true(hot > 0.05 * W * H); /* the two differ: the heat map is not trivially black */
+    assert_true(hot_auto <= 0.015 * W * H);    /* about 1% saturate ... */
+    assert_true(hot_default >= 0.1 * W * H);   /* ... where the fixed default saturated a tenth or more */
+    assert_true(atof(bar[0]) == 0.0 && fabs(atof(bar[3]) - auto_scale) <= 0.01 * auto_scale);
+    assert_true(bar_red > 20 && bar_yellow > 20 && none_red == 0 && none_yellow == 0);
+    assert_true(worst_manual <= 2.5 / 255);
+    assert_true(hot_manual > 0.05 * W * H); /* the two differ: the heat map is not trivially black */
     assert_true(worst_split <= 1.5 / 255);
     assert_true(srgb_encode(line[0]) > 0.95f && srgb_encode(line[2]) < 0.05f);
     double rmse = -1;
@@ -242,7 +350,64 @@ static void panel_script(void **state)
     assert_true(want > 0);
     assert_true(fabs(rmse - want) <= 1e-4 * want + 1e-7);
 
-    ImageF *all[] = {&panel, &bare, &shot, &shot_hdr, &none, &rsm, &ab_ref, &ab_diff, &ab_split};
+    /* Idle: nothing drawn, neither the scene nor the window. */
+    unsigned idle_frames = 99;
+    int idle_redraws = 99, idle_passes = 99;
+    double idle_s = 0;
+    v = find_line(out, "ui-test: idle ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "%lf s: scene frames +%u, window redraws +%d, loop passes +%d", &idle_s, &idle_frames,
+                            &idle_redraws, &idle_passes),
+                     4);
+    assert_true(idle_s >= 0.9);
+    assert_int_equal(idle_frames, 0);
+    assert_int_equal(idle_redraws, 0);
+    assert_true(idle_passes <= 3); /* the script's own wake-up, not a loop that spins */
+
+    /* A slow frame (the render thread sleeps SLOW_S first): the window
+     * keeps drawing (its busy indicator ticks at 10 per second; a window
+     * that waits for the frame draws none), and + pressed while it is in
+     * flight is the next frame's exposure, with no frame between. */
+    int slow_redraws = -1;
+    double gap = 0, key_s = 0, e1 = 0, e2 = 0, drawn = 0;
+    unsigned slow_frames = 0;
+    char busy[64] = "";
+    v = find_line(out, "ui-test: slow frame: ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v,
+                            "window redraws %d during it (largest gap %lf s), busy '%63[^']'; key at %lf s into it: "
+                            "exposure %lf then %lf, scene frames +%u, the last drawn at %lf",
+                            &slow_redraws, &gap, busy, &key_s, &e1, &e2, &slow_frames, &drawn),
+                     8);
+    assert_true(slow_redraws >= 5);
+    assert_true(key_s > 0 && key_s < SLOW_S);
+    assert_non_null(strstr(busy, "rendering"));
+    assert_true(fabs(e2 - 1.25 * e1) < 1e-3 * e2);
+    assert_int_equal(slow_frames, 2);
+    assert_true(fabs(drawn - e2) < 1e-4 * e2);
+    /* The busy indicator, over the image's top-left corner and nowhere
+     * else: the window during the slow frame is the last split view but
+     * there. */
+    ImageF busy_shot = read_image("window_busy.png");
+    assert_int_equal(busy_shot.width, W);
+    int differ = 0, differ_outside = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            float d = 0;
+            for (int c = 0; c < 3; c++)
+                d = fmaxf(d, fabsf(image_px(&busy_shot, x, y)[c] - image_px(&ab_split, x, y)[c]));
+            bool box = y < 48 && x < W - 8;
+            differ += box && d > 0.05f;
+            differ_outside += !box && d > 1e-6f;
+        }
+    print_message("slow frame: %d redraws during it (largest gap %.2f s), indicator '%s' (%d pixels, %d outside "
+                  "its corner); key at %.2f s: exposure %.4g, the next frame drew %.4g\n",
+                  slow_redraws, gap, busy, differ, differ_outside, key_s, e2, drawn);
+    assert_true(differ > 100);
+    assert_int_equal(differ_outside, 0);
+
+    ImageF *all[] = {&panel, &bare, &shot, &shot_hdr, &none, &rsm, &ab_ref, &ab_diff, &ab_manual, &ab_split,
+                     &busy_shot};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         image_free(all[i]);
 }
@@ -260,7 +425,8 @@ static void png_reference(void **state)
     assert_int_equal(test_run_cli(NULL, "render", "--size", "64x48", "--exposure", "2", "--out", ref, "--quiet", NULL),
                      0);
     test_x_display();
-    snprintf(cmd, sizeof cmd, "'%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
+    snprintf(cmd, sizeof cmd,
+             "RTGI_UI_TEST_SLOW_S=0.3 '%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
              RTGI_BINARY, ref, dir);
     FILE *p = popen(cmd, "r");
     assert_non_null(p);
@@ -489,6 +655,66 @@ static void ui_allocation_failure_ends_cleanly(void **state)
     assert_int_equal(access(out, F_OK), 0);
 }
 
+/* The window's GPU objects are made on the render thread (the renderer,
+ * the presentation slots) and on the window's (the reference texture):
+ * each make refused (RTGI_FAIL_GL_MAKE=k; every eighth, then the last
+ * four, the presentation slots' of the two frames) ends the command with
+ * the refusal's one line, exit 1 and no output file, never a hang or a
+ * crash; past the last one the run is whole. */
+static int gl_make_refused_run(int k, const char *ref, const char *out, char **err)
+{
+    char num[16];
+    snprintf(num, sizeof num, "%d", k);
+    setenv("RTGI_FAIL_GL_MAKE", num, 1);
+    remove(out);
+    int rc = test_run_cli(err, "view", "--size", "16x16", "--frames", "2", "--compare", ref, "--out", out, "--quiet",
+                          NULL);
+    unsetenv("RTGI_FAIL_GL_MAKE");
+    if (rc == 0)
+        assert_int_equal(access(out, F_OK), 0);
+    else
+        assert_int_not_equal(access(out, F_OK), 0);
+    return rc;
+}
+
+static void gl_make_failures_end_cleanly(void **state)
+{
+    (void)state;
+    test_x_display();
+    char out[1024], ref[1024];
+    snprintf(out, sizeof out, "%s/view_gl_make.pfm", RTGI_TEST_TMP);
+    snprintf(ref, sizeof ref, "%s/view_gl_make_ref.pfm", RTGI_TEST_TMP);
+    assert_int_equal(test_run_cli(NULL, "render", "--size", "16x16", "--out", ref, "--quiet", NULL), 0);
+    int k = 1, failed = 0;
+    for (;; k += 8) {
+        char *err = NULL;
+        int rc = gl_make_refused_run(k, ref, out, &err);
+        if (rc == 0) {
+            free(err);
+            break;
+        }
+        test_expect_cli_error(rc, err, 1, "refused (fault injection)", NULL);
+        failed++;
+        assert_true(k < 400);
+    }
+    int whole = k, slots = 0;
+    for (k = whole - 1; k > whole - 13 && slots < 4; k--) { /* down to the last makes: the slots' */
+        char *err = NULL;
+        int rc = gl_make_refused_run(k, ref, out, &err);
+        if (rc == 0) {
+            free(err);
+            continue;
+        }
+        test_expect_cli_error(rc, err, 1, "refused (fault injection)", "view.present_");
+        slots++;
+    }
+    print_message("GPU makes refused at every eighth up to %d (%d runs) and the last %d, the presentation slots': "
+                  "each one line and exit 1\n",
+                  whole, failed, slots);
+    assert_true(failed >= 3);
+    assert_int_equal(slots, 4);
+}
+
 /* --out x.pfm: linear radiance, not PNG bytes; a bad --compare file is one
  * clear error. */
 static void out_by_extension(void **state)
@@ -558,6 +784,7 @@ int main(void)
         cmocka_unit_test(out_by_extension),
         cmocka_unit_test(window_out_failure_fails),
         cmocka_unit_test(ui_allocation_failure_ends_cleanly),
+        cmocka_unit_test(gl_make_failures_end_cleanly),
         cmocka_unit_test(panel_script),
         cmocka_unit_test(png_reference),
         cmocka_unit_test(timings_match_render),

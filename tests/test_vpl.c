@@ -10,7 +10,7 @@
 #include "test_util.h"
 #include "metrics.h"
 #include "light_stage.h"
-#include "reference/sampler.h" /* sampler_hash32: the hash of ξ (common/math.glsl hash_u32) */
+#include "shared/hash.h" /* hash_u32: the hash of ξ (common/vpl_record.glsl) */
 
 enum { W = 64, H = 64 };
 
@@ -359,7 +359,7 @@ static void check_xi(const Renderer *r, const GpuVpl *v, uint32_t n)
     double sum = 0.0, quarter = 0.0;
     for (uint32_t i = 0; i < n; i++) {
         const uint32_t *w = v[i].surface;
-        uint32_t h = sampler_hash32(w[0] ^ sampler_hash32(w[1] ^ sampler_hash32(w[2] ^ sampler_hash32(w[3] ^ counters[1]))));
+        uint32_t h = hash_u32(w[0] ^ hash_u32(w[1] ^ hash_u32(w[2] ^ hash_u32(w[3] ^ counters[1]))));
         float xi = ((float)(h >> 8) + 1.f) / 16777216.f;
         assert_true(v[i].normal_xi[3] == xi);
         assert_true(xi > 0.f && xi <= 1.f);

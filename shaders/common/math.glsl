@@ -39,16 +39,7 @@ ivec2 div_small(ivec2 a, ivec2 b) { return ivec2((vec2(a) + 0.5) / vec2(b)); }
 // Luminance of linear Rec. 709 RGB (src/image.h's luminance).
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
-// A 32-bit integer hash (Wellons' "lowbias32"; the path tracer's
-// sampler_hash32, src/reference/sampler.h).
-uint hash_u32(uint x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
+// hash_u32: the 32-bit integer hash C shares (shared/hash.h).
+#include "shared/hash.h"
 
 #endif

@@ -162,6 +162,12 @@
 #define LOC_COUNT_STEP 10       /* gi/count_surfaces.comp: int, the lattice's step */
 #define LOC_ISM_MAP_BASE 15     /* rsm gathers, ism passes: uint, the first map of the light being gathered */
 #define LOC_ISM_PUSH 16         /* gi/visibility/pull_push.comp: int, 0 pull, 1 push */
+#define LOC_TEMPORAL_PREV_VIEW_PROJ 10 /* temporal/accumulate.comp: mat4 (10..13), the previous frame's camera */
+#define LOC_TEMPORAL_PARAMS 14  /* temporal/accumulate.comp: vec4, x: least blend weight α of the new frame,
+                                   y: 1 with a history, z: plane tolerance (fraction of the distance), w: clamp γ */
+/* temporal/accumulate.comp (renderer's temporal accumulation, pass_temporal.h): */
+#define TEX_TEMPORAL_HISTORY 9   /* RGBA32F: the accumulated irradiance of the last frame (a: frames in it) */
+#define TEX_TEMPORAL_SURFACE 10  /* RGBA32UI: the last frame's G-buffer surface (common/gbuffer.glsl) */
 
 /* ---- Constants ------------------------------------------------------------ */
 #ifdef GL_core_profile

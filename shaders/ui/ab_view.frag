@@ -1,8 +1,9 @@
-// ui/ab_view.frag — the window's A/B view: the frame beside (or instead of)
-// a reference image (`rtgi view --compare FILE`), or their difference as a
-// heat map. Inputs: the renderer's HDR radiance and LDR image, the reference
-// radiance (all bottom-up GL textures, sampled by uv so that a reference of
-// another size is stretched). Output: sRGB-encoded colour for the window's
+// ui/ab_view.frag — the window's image area: the frame, or in the A/B view
+// the frame beside (or instead of) a reference image (`rtgi view --compare
+// FILE`), or their difference as a heat map. Inputs: the render thread's
+// presentation copies of the frame's LDR image and HDR radiance, the
+// reference radiance (all bottom-up GL textures, sampled by uv so that a
+// reference of another size is stretched). Output: sRGB-encoded colour for the window's
 // (linear) default framebuffer.
 #include "shared/gpu_types.h"
 
@@ -34,10 +35,11 @@ vec3 heat(float t)
 void main()
 {
     // A display-referred reference (PNG) is already exposed and clamped:
-    // it is compared with the frame's clamped exposed radiance.
-    vec3 ref = texture(u_reference, v_uv).rgb * (u_ref_display != 0 ? 1.0 : u_exposure);
-    vec3 frame_ldr = texture(u_ldr, v_uv).rgb; // decoded from sRGB by the texture
+    // it is compared with the frame's clamped exposed radiance. The frame
+    // alone (mode 0, also the window without --compare) reads no reference.
+    float ref_scale = u_ref_display != 0 ? 1.0 : u_exposure;
     if (u_mode == 3) {
+        vec3 ref = texture(u_reference, v_uv).rgb * ref_scale;
         vec3 frame = texture(u_hdr, v_uv).rgb * u_exposure;
         if (u_ref_display != 0)
             frame = clamp(frame, 0.0, 1.0);
@@ -46,7 +48,8 @@ void main()
         return;
     }
     bool show_ref = u_mode == 1 || (u_mode == 2 && v_uv.x >= u_split);
-    vec3 c = show_ref ? srgb_encode(ref) : srgb_encode(frame_ldr);
+    vec3 c = show_ref ? srgb_encode(texture(u_reference, v_uv).rgb * ref_scale)
+                      : srgb_encode(texture(u_ldr, v_uv).rgb); // decoded from sRGB by the texture
     if (u_mode == 2 && abs(v_uv.x - u_split) * float(textureSize(u_ldr, 0).x) < 1.0)
         c = vec3(1.0, 0.8, 0.0); // the split line
     o_color = vec4(c, 1.0);

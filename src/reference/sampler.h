@@ -30,6 +30,7 @@
 
 #include "reference/pathtracer.h"
 #include "reference/rng.h"
+#include "shared/hash.h"
 #include "util.h"
 
 /* Requests whose seeds sampler_make computes once per pixel (a path's
@@ -93,18 +94,6 @@ static inline uint32_t sobol_dim1_reversed(uint32_t i)
 
 static inline float sampler_to_float(uint32_t x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
 
-/* A 32-bit integer hash (Wellons' "lowbias32"), to derive a request's
- * seeds from one 64-bit hash. */
-static inline uint32_t sampler_hash32(uint32_t x)
-{
-    x ^= x >> 16;
-    x *= 0x7feb352du;
-    x ^= x >> 15;
-    x *= 0x846ca68bu;
-    x ^= x >> 16;
-    return x;
-}
-
 /* Seeds of request `dim` of a pixel: index shuffle, first and second
  * coordinate. */
 static inline void sampler_seeds_of(uint64_t pixel_key, uint32_t dim, uint32_t seed[3])
@@ -112,7 +101,7 @@ static inline void sampler_seeds_of(uint64_t pixel_key, uint32_t dim, uint32_t s
     uint64_t h = hash64(pixel_key + 0x9e3779b97f4a7c15ULL * ((uint64_t)dim + 1));
     seed[0] = (uint32_t)h;
     seed[1] = (uint32_t)(h >> 32);
-    seed[2] = sampler_hash32(seed[0] ^ 0xa511e9b3u) ^ seed[1];
+    seed[2] = hash_u32(seed[0] ^ 0xa511e9b3u) ^ seed[1];
 }
 
 static inline Sampler sampler_make(PtSampler kind, uint64_t seed, uint64_t pixel)

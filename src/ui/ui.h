@@ -30,10 +30,20 @@ void ui_frame_begin(void);
 /* Draws the frame's widgets into the current framebuffer (the window's). */
 void ui_frame_end(void);
 
-/* A window at (x, y) of size w × h on first use (the user can move it);
- * `open` (may be NULL) adds a close button. Always pair with ui_window_end. */
-bool ui_window_begin(const char *title, bool *open, float x, float y, float w, float h);
+/* A panel docked at (x, y) with size w × h (screen coordinates), kept
+ * there (no moving, resizing or collapsing: the window is laid out
+ * around it); `open` (may be NULL) adds a close button. Always pair with
+ * ui_window_end. */
+bool ui_panel_begin(const char *title, bool *open, float x, float y, float w, float h);
 void ui_window_end(void);
+/* A line of text in a small translucent box at (x, y) over everything,
+ * taking no input (the busy indicator over the image). */
+void ui_overlay_text(const char *id, float x, float y, const char *text);
+/* A colour bar the panel's width: `stops` colours (RGB in [0, 1]) evenly
+ * spaced and blended linearly between, `labels` evenly spaced under it
+ * (the first at its left end, the last at its right). */
+void ui_color_bar(const char *id, const float (*stops)[3], int stop_count, const char *const *labels,
+                  int label_count, float height);
 /* A collapsing header; true while open. */
 bool ui_header(const char *label, bool open_by_default);
 void ui_text(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

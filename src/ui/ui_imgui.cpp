@@ -11,6 +11,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -28,7 +29,8 @@ static GLFWwindow *g_window;
  * allocation cannot be handed back to it: the command ends here with one
  * line and exit status 1 (the one exit outside main; no output is being
  * written while the panel is built or drawn) instead of a crash inside the
- * library. */
+ * library. _exit, not exit: the render thread may be inside the GL driver,
+ * whose exit handlers must not run under it; stdio is flushed first. */
 static long g_alloc_fail_at; /* RTGI_FAIL_UI_ALLOC=k: the k-th allocation fails (fault injection) */
 
 static void *ui_alloc(size_t n, void *user)
@@ -38,7 +40,8 @@ static void *ui_alloc(size_t n, void *user)
     void *p = refuse ? NULL : malloc(n);
     if (!p && n) {
         log_error("ui", "out of memory (%zu bytes) in Dear ImGui, which cannot go on without it; the window ends", n);
-        exit(1);
+        fflush(NULL);
+        _exit(1);
     }
     return p;
 }
@@ -102,11 +105,54 @@ extern "C" void ui_frame_end(void)
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
-extern "C" bool ui_window_begin(const char *title, bool *open, float x, float y, float w, float h)
+extern "C" bool ui_panel_begin(const char *title, bool *open, float x, float y, float w, float h)
 {
-    ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_FirstUseEver);
-    return ImGui::Begin(title, open);
+    ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_Always);
+    return ImGui::Begin(title, open,
+                        ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                            ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoBringToFrontOnFocus);
+}
+
+extern "C" void ui_overlay_text(const char *id, float x, float y, const char *text)
+{
+    ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.7f);
+    if (ImGui::Begin(id, nullptr,
+                     ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_AlwaysAutoResize |
+                         ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                         ImGuiWindowFlags_NoNav))
+        ImGui::TextUnformatted(text);
+    ImGui::End();
+}
+
+extern "C" void ui_color_bar(const char *id, const float (*stops)[3], int stop_count, const char *const *labels,
+                             int label_count, float height)
+{
+    ImGui::PushID(id);
+    ImDrawList *draw = ImGui::GetWindowDrawList();
+    ImVec2 p = ImGui::GetCursorScreenPos();
+    float w = ImGui::GetContentRegionAvail().x;
+    for (int i = 0; i + 1 < stop_count; i++) {
+        float x0 = p.x + w * (float)i / (float)(stop_count - 1), x1 = p.x + w * (float)(i + 1) / (float)(stop_count - 1);
+        ImU32 a = ImGui::ColorConvertFloat4ToU32(ImVec4(stops[i][0], stops[i][1], stops[i][2], 1.f));
+        ImU32 b = ImGui::ColorConvertFloat4ToU32(ImVec4(stops[i + 1][0], stops[i + 1][1], stops[i + 1][2], 1.f));
+        draw->AddRectFilledMultiColor(ImVec2(x0, p.y), ImVec2(x1, p.y + height), a, b, b, a);
+    }
+    ImGui::Dummy(ImVec2(w, height));
+    float y = ImGui::GetCursorPosY(), x = ImGui::GetCursorPosX();
+    for (int i = 0; i < label_count; i++) {
+        float tw = ImGui::CalcTextSize(labels[i]).x;
+        float at = label_count > 1 ? w * (float)i / (float)(label_count - 1) : 0.f;
+        at = at - 0.5f * tw; /* centred under its place, kept inside the bar */
+        if (at < 0.f)
+            at = 0.f;
+        if (at > w - tw)
+            at = w - tw;
+        ImGui::SetCursorPos(ImVec2(x + at, y));
+        ImGui::TextUnformatted(labels[i]);
+    }
+    ImGui::PopID();
 }
 
 extern "C" void ui_window_end(void) { ImGui::End(); }

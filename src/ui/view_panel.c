@@ -12,6 +12,7 @@
 #include "util.h"
 #include "shader.h"
 #include "ui/ui.h"
+#include "ui/view_render.h"
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss"};
 static const char *const k_ab_names[] = {"frame", "reference", "split", "difference"};
@@ -22,10 +23,11 @@ double view_estimate_ms(const View *v, int gi)
 {
     int n = renderer_ssaa(&v->settings);
     double px = (double)v->settings.width * v->settings.height * n * n;
-    if (v->measured_px[gi] > 0)
-        return v->measured_ms[gi] * px / v->measured_px[gi];
-    double base = v->measured_px[GI_NONE] > 0 ? v->measured_ms[GI_NONE] * px / v->measured_px[GI_NONE] : 0;
-    double rate = v->evals_per_s > 0 ? v->evals_per_s : GI_COST_DEFAULT_EVALS_PER_S;
+    const ViewStats *m = &v->stats;
+    if (m->measured_px[gi] > 0)
+        return m->measured_ms[gi] * px / m->measured_px[gi];
+    double base = m->measured_px[GI_NONE] > 0 ? m->measured_ms[GI_NONE] * px / m->measured_px[GI_NONE] : 0;
+    double rate = m->evals_per_s > 0 ? m->evals_per_s : GI_COST_DEFAULT_EVALS_PER_S;
     return base + 1e3 * gi_cost_seconds(gi, &v->settings.gi_params, v->scene, px, rate);
 }
 
@@ -34,25 +36,41 @@ bool view_gi_is_slow(const View *v, int gi)
     return gi != GI_NONE && view_estimate_ms(v, gi) > v->slow_ms;
 }
 
+/* The confirm text of a pending technique leaves the status line with it
+ * (it had stayed after "Switch anyway"); a newer message stays. */
+static void clear_pending(View *v)
+{
+    v->pending_gi = -1;
+    if (!v->status_pending)
+        return;
+    v->status_pending = false;
+    pthread_mutex_lock(&v->status->lock);
+    if (!v->status->error)
+        v->status->text[0] = 0;
+    pthread_mutex_unlock(&v->status->lock);
+}
+
 bool view_select_gi(View *v, int gi, bool confirmed)
 {
     if (gi == (int)v->settings.gi) {
-        v->pending_gi = -1;
+        clear_pending(v);
         return true;
     }
     if (!confirmed && view_gi_is_slow(v, gi)) {
         v->pending_gi = gi;
-        view_status(v, false, "%s: about %.1f s per frame at %dx%d; confirm in the panel to switch",
+        view_status(v->status, false, "%s: about %.1f s per frame at %dx%d; confirm in the panel to switch",
                     gi_techniques[gi]->name, view_estimate_ms(v, gi) / 1e3, v->settings.width, v->settings.height);
+        v->status_pending = true;
         v->show_panel = true;
         return false;
     }
-    v->pending_gi = -1;
+    clear_pending(v);
     v->settings.gi = (GiMode)gi;
-    v->dirty = true;
     log_info("view", "GI: %s", gi_techniques[gi]->name);
     return true;
 }
+
+void view_cancel_gi(View *v) { clear_pending(v); }
 
 void view_cycle_gi(View *v, int step)
 {
@@ -62,11 +80,11 @@ void view_cycle_gi(View *v, int step)
 
 /* ---- Bookkeeping ---------------------------------------------------------- */
 
-void view_status(View *v, bool error, const char *fmt, ...)
+void view_status(ViewStatus *s, bool error, const char *fmt, ...)
 {
-    /* Formatted apart from v->status: the window's log hook rewrites that
+    /* Formatted apart from the status: the window's log hook rewrites it
      * while the line is logged (it had printed "[view] [view] ..."). */
-    char msg[sizeof v->status];
+    char msg[sizeof s->text];
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
@@ -75,8 +93,34 @@ void view_status(View *v, bool error, const char *fmt, ...)
         log_error("view", "%s", msg);
     else
         log_info("view", "%s", msg);
-    snprintf(v->status, sizeof v->status, "%s", msg);
-    v->status_error = error;
+    pthread_mutex_lock(&s->lock);
+    snprintf(s->text, sizeof s->text, "%s", msg);
+    s->error = error;
+    pthread_mutex_unlock(&s->lock);
+}
+
+void view_status_log_hook(LogLevel level, const char *tag, const char *message, void *user)
+{
+    ViewStatus *s = user;
+    if (level < LOG_ERROR)
+        return;
+    pthread_mutex_lock(&s->lock);
+    size_t len = strlen(s->text);
+    if (s->reloading && s->error && len + 4 < sizeof s->text) /* a reload's errors, first one first */
+        snprintf(s->text + len, sizeof s->text - len, " | [%s] %s", tag, message);
+    else
+        snprintf(s->text, sizeof s->text, "[%s] %s", tag, message);
+    s->error = true;
+    pthread_mutex_unlock(&s->lock);
+}
+
+void view_status_get(ViewStatus *s, char *out, size_t cap, bool *error)
+{
+    pthread_mutex_lock(&s->lock);
+    snprintf(out, cap, "%s", s->text);
+    if (error)
+        *error = s->error;
+    pthread_mutex_unlock(&s->lock);
 }
 
 void view_camera_json(const View *v, char *out, size_t cap)
@@ -92,76 +136,7 @@ void view_camera_json(const View *v, char *out, size_t cap)
              (double)t[2], (double)(c->fov_y * 180.f / GLM_PIf));
 }
 
-void view_take_pass_table(View *v)
-{
-    const GpuTimer *t = &v->renderer->timer;
-    v->pass_wall = t->sync;
-    v->gpu_ms = 0;
-    v->pass_count = 0;
-    for (int i = 0; i < t->pass_count && t->frames > 0; i++) {
-        snprintf(v->pass_name[v->pass_count], sizeof v->pass_name[0], "%s", t->passes[i].name);
-        v->pass_ms[v->pass_count] = (t->sync ? t->passes[i].cpu_ms : t->passes[i].gpu_ms) / t->frames;
-        v->gpu_ms += v->pass_ms[v->pass_count++];
-    }
-}
-
-void view_record_timings(View *v, double frame_ms, bool is_cost)
-{
-    Renderer *r = v->renderer;
-    v->frame_ms = frame_ms;
-    view_take_pass_table(v);
-    /* The technique's counters and memory, read back once an interval. */
-    const RenderStats *st = renderer_collect_stats(r);
-    v->memory = renderer_gpu_memory(r);
-    v->history[v->history_next] = (float)frame_ms;
-    v->history_next = (v->history_next + 1) % VIEW_HISTORY;
-    if (v->history_count < VIEW_HISTORY)
-        v->history_count++;
-    if (!is_cost)
-        return;
-    int gi = (int)r->settings.gi, n = renderer_ssaa(&r->settings);
-    v->measured_ms[gi] = frame_ms;
-    v->measured_px[gi] = (double)r->settings.width * r->settings.height * n * n;
-    /* The device's gather rate, from this technique's counters and its gather passes. */
-    double ms = renderer_gather_ms(r, st, -1, false);
-    if (gi != GI_NONE && ms > 0.5 && st->gather_evaluations > 0)
-        v->evals_per_s = (double)st->gather_evaluations / (ms * 1e-3);
-}
-
-/* ---- Captures and reload ---------------------------------------------------- */
-
-/* The rendered image: .png as shown (tone-mapped, after FXAA), any other
- * extension through image_write as linear radiance. */
-bool view_save_image(View *v, const char *path)
-{
-    Renderer *r = v->renderer;
-    util_ensure_parent_dir(path);
-    bool ok;
-    if (util_ends_with(path, ".png")) {
-        uint8_t *rgb = renderer_read_ldr(r);
-        ok = rgb && image_write_png8(path, r->settings.width, r->settings.height, rgb);
-        free(rgb);
-    } else {
-        /* A display-only frame kept no radiance: draw it again with it (the
-         * window's loop turns display_only back on). */
-        if (!r->radiance_kept) {
-            RenderSettings rs = r->settings;
-            rs.display_only = false;
-            if (renderer_apply(r, &rs))
-                renderer_frame(r, &v->camera);
-        }
-        ImageF img;
-        ok = renderer_read_hdr(r, &img);
-        if (ok) {
-            ok = image_write(path, &img, r->settings.exposure, v->half);
-            image_free(&img);
-        }
-    }
-    if (ok)
-        view_status(v, false, "wrote %s", path);
-    /* else what failed logged why, and the log hook put it on the panel */
-    return ok;
-}
+/* ---- Window capture ----------------------------------------------------------- */
 
 /* The window's back buffer as shown (panel included), before the swap. */
 bool view_save_window(View *v, const char *path, int fw, int fh)
@@ -184,35 +159,11 @@ bool view_save_window(View *v, const char *path, int fw, int fh)
     free(rgb);
     free(row);
     if (ok)
-        view_status(v, false, "wrote %s", path);
+        view_status(v->status, false, "wrote %s", path);
     else if (!allocated)
-        view_status(v, true, "%s: out of memory for the window capture", path);
+        view_status(v->status, true, "%s: out of memory for the window capture", path);
     /* else image_write_png8 logged why, and the log hook put it on the panel */
     return ok;
-}
-
-/* F5: every program rebuilt from the shader files; a program that fails
- * keeps its previous build and the error shows in the panel. */
-void view_reload_shaders(View *v)
-{
-    if (!shader_directory()) {
-        char dir[1024];
-        snprintf(dir, sizeof dir, "%s/shaders", RTGI_SOURCE_DIR);
-        struct stat st;
-        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode))
-            shader_set_directory(dir);
-    }
-    v->status[0] = 0;
-    v->status_error = false;
-    v->reloading = true;
-    bool ok = program_cache_reload(&v->renderer->programs);
-    ok = (!v->ab || ab_view_reload(v->ab)) && ok;
-    v->reloading = false;
-    renderer_invalidate(v->renderer); /* uniforms set once per light product are set again */
-    if (ok)
-        view_status(v, false, "shaders reloaded from %s", shader_directory() ? shader_directory() : "(embedded)");
-    else if (!v->status_error)
-        view_status(v, true, "shader reload failed; the previous programs stay (see the terminal)");
 }
 
 /* ---- The panel ------------------------------------------------------------- */
@@ -297,54 +248,48 @@ static void technique_section(View *v)
             view_select_gi(v, v->pending_gi, true);
         ui_same_line();
         if (ui_button("Cancel"))
-            v->pending_gi = -1;
+            view_cancel_gi(v);
     }
     int shadow = (int)v->settings.shadow;
-    if (ui_combo("shadows (1-4)", &shadow, k_shadow_names, 4)) {
+    if (ui_combo("shadows (1-4)", &shadow, k_shadow_names, 4))
         v->settings.shadow = (ShadowMode)shadow;
-        v->dirty = true;
-    }
     /* Exposure is live: renderer_apply remakes nothing for it. */
-    if (ui_slider_float("exposure (+/-)", &v->settings.exposure, 1e-3f, 1e3f, true, "%.3g"))
-        v->dirty = true;
+    ui_slider_float("exposure (+/-)", &v->settings.exposure, 1e-3f, 1e3f, true, "%.3g");
     bool fxaa = v->settings.aa == AA_FXAA;
-    if (ui_checkbox("FXAA (F)", &fxaa)) {
+    if (ui_checkbox("FXAA (F)", &fxaa))
         v->settings.aa = fxaa ? AA_FXAA : AA_NONE;
-        v->dirty = true;
-    }
     int ssaa = renderer_ssaa(&v->settings);
     ui_slider_int("supersampling", &ssaa, 1, 4, false);
-    if (ui_item_deactivated_after_edit()) {
+    if (ui_item_deactivated_after_edit())
         v->settings.ssaa = ssaa;
-        v->dirty = true;
-    }
 }
 
 static void timings_section(View *v)
 {
+    const ViewStats *m = &v->stats;
     /* On a software rasterizer the passes' times are wall times fenced by
      * glFinish (see gl_renderer_is_software), as `render --timings` counts them. */
-    ui_text("frame %.1f ms, passes %.1f ms (%s)", v->frame_ms, v->gpu_ms, v->pass_wall ? "wall" : "GPU");
-    ui_text("GPU memory %.1f MiB", render_mib(render_memory_total(&v->memory)));
-    ui_text("  lights %.1f, GI %.1f,", render_mib(v->memory.lights), render_mib(v->memory.gi));
-    ui_text("  frame %.1f, scene %.1f", render_mib(v->memory.frame), render_mib(v->memory.scene));
-    const char *headers[] = {"pass", v->pass_wall ? "wall ms" : "GPU ms"};
-    if (v->pass_count > 0 && ui_table_begin("passes", 2, headers)) {
-        for (int i = 0; i < v->pass_count; i++) {
+    ui_text("frame %.1f ms, passes %.1f ms (%s)", m->frame_ms, m->gpu_ms, m->pass_wall ? "wall" : "GPU");
+    ui_text("GPU memory %.1f MiB", render_mib(render_memory_total(&m->memory)));
+    ui_text("  lights %.1f, GI %.1f,", render_mib(m->memory.lights), render_mib(m->memory.gi));
+    ui_text("  frame %.1f, scene %.1f", render_mib(m->memory.frame), render_mib(m->memory.scene));
+    const char *headers[] = {"pass", m->pass_wall ? "wall ms" : "GPU ms"};
+    if (m->pass_count > 0 && ui_table_begin("passes", 2, headers)) {
+        for (int i = 0; i < m->pass_count; i++) {
             char ms[32];
-            snprintf(ms, sizeof ms, "%.2f", v->pass_ms[i]);
-            const char *cells[2] = {v->pass_name[i], ms};
+            snprintf(ms, sizeof ms, "%.2f", m->pass_ms[i]);
+            const char *cells[2] = {m->pass_name[i], ms};
             ui_table_row(cells, 2);
         }
         ui_table_end();
     }
     float hi = 0;
-    for (int i = 0; i < v->history_count; i++)
-        hi = fmaxf(hi, v->history[i]);
+    for (int i = 0; i < m->history_count; i++)
+        hi = fmaxf(hi, m->history[i]);
     char overlay[64];
     snprintf(overlay, sizeof overlay, "frame ms (max %.1f)", (double)hi);
-    int start = v->history_count < VIEW_HISTORY ? 0 : v->history_next;
-    ui_plot_lines("##history", v->history, v->history_count, start, overlay, 0.f, hi * 1.1f + 1e-3f, 60.f);
+    int start = m->history_count < VIEW_HISTORY ? 0 : m->history_next;
+    ui_plot_lines("##history", m->history, m->history_count, start, overlay, 0.f, hi * 1.1f + 1e-3f, 60.f);
 }
 
 static void settings_section(View *v)
@@ -360,7 +305,6 @@ static void settings_section(View *v)
         if (setting_widget(v, d)) {
             v->settings.shadow_params = v->edit.shadow;
             v->settings.gi_params = v->edit.gi;
-            v->dirty = true;
         }
     }
 }
@@ -377,10 +321,39 @@ static void camera_section(View *v)
         ui_set_clipboard(json);
         printf("%s\n", json);
         fflush(stdout);
-        view_status(v, false, "camera copied to the clipboard (and printed on stdout)");
+        view_status(v->status, false, "camera copied to the clipboard (and printed on stdout)");
     }
     ui_slider_float("speed m/s", &v->speed, 0.01f, 100.f, true, "%.3g");
 }
+
+void view_ask_reload(View *v)
+{
+    /* Set here, on the window's thread, which alone sets it: the render
+     * thread reads it after the request that follows. */
+    if (!shader_directory()) {
+        char dir[1024];
+        snprintf(dir, sizeof dir, "%s/shaders", RTGI_SOURCE_DIR);
+        struct stat st;
+        if (stat(dir, &st) == 0 && S_ISDIR(st.st_mode))
+            shader_set_directory(dir);
+    }
+    v->jobs |= VIEW_JOB_RELOAD;
+}
+
+float view_heat_scale(const View *v)
+{
+    return v->ab && v->ab->diff_auto && v->ab_auto_scale > 0 ? v->ab_auto_scale : v->ab ? v->ab->diff_scale : 0;
+}
+
+void view_heat_labels(float scale, char labels[4][16])
+{
+    for (int i = 0; i < 4; i++)
+        snprintf(labels[i], sizeof labels[0], "%.3g", (double)(scale * (float)i / 3.f));
+}
+
+/* The heat map's colours at 0, 1/3, 2/3 and 1 of its scale (ab_view.frag's
+ * heat(): black, red, yellow, white, linear between). */
+static const float k_heat_stops[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}};
 
 static void compare_section(View *v)
 {
@@ -390,10 +363,20 @@ static void compare_section(View *v)
         ab->mode = (AbMode)mode;
     if (ab->mode == AB_SPLIT)
         ui_slider_float("split", &ab->split, 0.f, 1.f, false, "%.2f");
-    if (ab->mode == AB_DIFFERENCE)
-        ui_slider_float("full heat at", &ab->diff_scale, 1e-4f, 10.f, true, "%.4g");
+    if (ab->mode == AB_DIFFERENCE) {
+        ui_checkbox("auto scale", &ab->diff_auto);
+        ui_tooltip("full heat at the 99th percentile of this frame's max-channel |frame - reference| x exposure");
+        if (!ab->diff_auto)
+            ui_slider_float("full heat at", &ab->diff_scale, 1e-4f, 10.f, true, "%.4g");
+        else if (v->ab_auto_scale <= 0)
+            ui_text("(measuring the difference...)");
+        char labels[4][16];
+        view_heat_labels(view_heat_scale(v), labels);
+        const char *const names[4] = {labels[0], labels[1], labels[2], labels[3]};
+        ui_color_bar("##heat", k_heat_stops, 4, names, 4, 14.f);
+    }
     if (ui_button("Measure RMSE"))
-        v->ab_rmse = ab_view_rmse(ab, v->renderer);
+        v->jobs |= VIEW_JOB_RMSE;
     ui_same_line();
     if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
         ui_text("reference %dx%d: stretched, no RMSE", ab->reference.width, ab->reference.height);
@@ -409,42 +392,68 @@ static void capture_section(View *v)
     ui_tooltip(".png: the image as shown; .pfm or .exr (OpenEXR; --half: half floats): linear radiance");
     ui_same_line();
     if (ui_button("Save (P)"))
-        v->screenshot = true;
+        v->jobs |= VIEW_JOB_SAVE;
     ui_input_text("window", v->window_path, sizeof v->window_path);
     ui_same_line();
     if (ui_button("Save (Shift-P)"))
         v->window_shot = true;
     if (ui_button("Reload shaders (F5)"))
-        v->reload = true;
+        view_ask_reload(v);
     const char *dir = shader_directory();
     ui_same_line();
     ui_text("from %s", dir ? dir : "(embedded)");
 }
 
-float view_panel_width(int fw) { return fminf(360.f, 0.5f * (float)fw); }
+void view_busy_text(const View *v, char *out, size_t cap)
+{
+    out[0] = 0;
+    if (!v->busy || v->busy_s < 0.25)
+        return;
+    double est = view_estimate_ms(v, (int)v->settings.gi) / 1e3;
+    if (est >= 0.5 && est >= v->busy_s)
+        snprintf(out, cap, "rendering... %.1f s (~%.0f s per frame)", v->busy_s, est);
+    else
+        snprintf(out, cap, "rendering... %.1f s", v->busy_s);
+}
 
-void view_panel_draw(View *v, int fw, int fh)
+void view_busy_draw(const View *v)
+{
+    char text[96];
+    view_busy_text(v, text, sizeof text);
+    if (text[0])
+        ui_overlay_text("##busy", 8.f, 8.f, text);
+}
+
+void view_panel_draw(View *v, float x, float h)
 {
     if (!v->show_panel)
         return;
-    float w = view_panel_width(fw);
-    if (!ui_window_begin("rtgi (H hides)", &v->show_panel, 6.f, 6.f, w, (float)fh - 12.f)) {
+    if (!ui_panel_begin("rtgi (H hides)", &v->show_panel, x, 0.f, (float)VIEW_PANEL_WIDTH, h)) {
         ui_window_end();
         return;
     }
     ui_text("%s  %dx%d", v->scene->source, v->settings.width, v->settings.height);
-    if (v->status[0]) {
-        if (v->status_error)
-            ui_text_colored(1.f, 0.35f, 0.3f, "%s", v->status);
+    char status[sizeof v->status->text];
+    bool error;
+    view_status_get(v->status, status, sizeof status, &error);
+    if (status[0]) {
+        if (error)
+            ui_text_colored(1.f, 0.35f, 0.3f, "%s", status);
         else
-            ui_text_wrapped("%s", v->status);
+            ui_text_wrapped("%s", status);
     }
+    char busy[96];
+    view_busy_text(v, busy, sizeof busy);
+    if (busy[0])
+        ui_text_colored(1.f, 0.8f, 0.3f, "%s", busy);
+    /* With a reference, comparing is what the window is for: its controls
+     * and the heat map's colour bar come first. */
+    if (v->ab && ui_header("Compare (A/B)", true))
+        compare_section(v);
     if (ui_header("Technique", true))
         technique_section(v);
     if (ui_header("Timings (T prints them)", true))
         timings_section(v);
-    if (v->ab && ui_header("Compare (A/B)", true))
-        compare_section(v);
     if (ui_header("Settings", false))
         settings_section(v);
     if (ui_header("Camera", false))

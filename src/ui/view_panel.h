@@ -4,41 +4,35 @@
  * it), per-pass GPU ms with a history plot, the camera with "copy as scene
  * JSON", captures, shader hot reload and the A/B view of --compare.
  *
+ * The View is the window's thread's: the render thread (view_render.h)
+ * gets its settings and camera as a request, and hands back its
+ * measurements (ViewStats) and the status line (ViewStatus, locked).
+ *
  * Slow techniques: a technique whose frame is estimated over `slow_ms` at
  * the current size is marked in the picker and needs a confirming click,
  * from the panel and from the G key alike (see view_estimate_ms). */
 #ifndef RTGI_VIEW_PANEL_H
 #define RTGI_VIEW_PANEL_H
 
+#include <pthread.h>
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "log.h"
 #include "renderer.h"
 #include "scene.h"
 #include "settings.h"
 #include "ui/ab_view.h"
 
 #define VIEW_HISTORY 120
+/* The docked panel's width in screen coordinates: the window is the image
+ * plus this, beside it on the right (H hides the panel and shrinks the
+ * window by as much; the image keeps its size). */
+#define VIEW_PANEL_WIDTH 360
 
-typedef struct View {
-    const Scene *scene;         /* borrowed */
-    Renderer *renderer;         /* borrowed: the window's */
-    RenderSettings settings;    /* wanted; the loop applies them when dirty */
-    Settings edit;              /* the panel's working copy of the settings-table values */
-    bool dirty;                 /* settings changed since the last renderer_apply */
-    Camera camera;              /* current camera */
-    Camera home;                /* the scene's camera (R) */
-    float yaw, pitch;           /* radians; forward = (cos p sin y, sin p, cos p cos y) */
-    float speed;                /* metres per second */
-    bool dragging;
-    double last_x, last_y;
-    bool show_panel;            /* H */
-    bool print_timings;         /* T: print the timings table on stdout */
-    bool screenshot;            /* P: save the rendered image to shot_path */
-    bool window_shot;           /* Shift-P: save the window as shown (panel included) */
-    bool reload;                /* F5: rebuild every program from the shader files */
-    double slow_ms;             /* techniques estimated above this per frame need a confirmation */
-    int pending_gi;             /* a slow technique waiting for its confirming click, or -1 */
+/* What the render thread measured (src/ui/view_render.c), copied into the
+ * window's View each time the thread publishes new numbers. */
+typedef struct ViewStats {
     double measured_ms[GI_MODE_COUNT]; /* wall ms per frame measured here, per technique ... */
     double measured_px[GI_MODE_COUNT]; /* ... at this many shading pixels (0: never measured) */
     double evals_per_s;         /* gather evaluations/s measured here (0: none yet) */
@@ -48,16 +42,51 @@ typedef struct View {
     char pass_name[GPU_TIMER_MAX_PASSES][32];
     double pass_ms[GPU_TIMER_MAX_PASSES]; /* mean ms per frame: GPU, or wall when pass_wall */
     bool pass_wall;             /* the timer fences passes with glFinish (software rasterizer): wall ms */
-    double gpu_ms, frame_ms;    /* their sum; mean wall ms per frame */
+    int timer_frames;           /* frames the table's means are over */
+    double gpu_ms, frame_ms;    /* their sum; mean wall ms per frame (the render thread's frame) */
     RenderMemory memory;        /* GPU memory by owner, as of the last interval */
-    char status[1024];          /* the last capture / reload message */
-    bool status_error;
-    bool reloading;             /* a shader reload is under way: its errors accumulate in status */
+} ViewStats;
+
+/* The panel's status line: the last capture, reload or error message.
+ * Written by both threads (and by the log hook for every error line), so
+ * behind its own lock; never held while logging. */
+typedef struct ViewStatus {
+    pthread_mutex_t lock;
+    char text[1024];
+    bool error;
+    bool reloading;             /* a shader reload is under way: its errors accumulate */
+} ViewStatus;
+
+typedef struct View {
+    const Scene *scene;         /* borrowed */
+    RenderSettings settings;    /* wanted: the render thread draws the next frame with them */
+    Settings edit;              /* the panel's working copy of the settings-table values */
+    Camera camera;              /* current camera */
+    Camera home;                /* the scene's camera (R) */
+    double time;                /* animation time in seconds (reserved: nothing animates yet; a
+                                   play/pause/scrub control would advance it, and each frame is
+                                   drawn at the time it was asked for) */
+    float yaw, pitch;           /* radians; forward = (cos p sin y, sin p, cos p cos y) */
+    float speed;                /* metres per second */
+    bool dragging;
+    double last_x, last_y;
+    bool show_panel;            /* H */
+    bool window_shot;           /* Shift-P: save the window as shown (panel included) */
+    bool quit;                  /* Esc */
+    unsigned jobs;              /* ViewJob bits for the render thread (P, T, F5, RMSE), sent once */
+    double slow_ms;             /* techniques estimated above this per frame need a confirmation */
+    int pending_gi;             /* a slow technique waiting for its confirming click, or -1 */
+    bool status_pending;        /* the status line is pending_gi's confirm text (cleared with it) */
+    ViewStats stats;            /* the render thread's measurements, as last published */
+    ViewStatus *status;         /* shared with the render thread */
+    bool busy;                  /* a scene frame is being drawn ... */
+    double busy_s;              /* ... for this long (the busy indicator) */
     char shot_path[256];        /* P: .png (as shown), .pfm/.exr (radiance) */
     bool half;                  /* --half: .exr captures as half floats */
     char window_path[256];      /* Shift-P: .png of the window */
     AbView *ab;                 /* --compare, or NULL */
     double ab_rmse;             /* last measured RMSE against it (-1: not measured / sizes differ) */
+    float ab_auto_scale;        /* the heat map's automatic scale for the image shown (0: none yet) */
 } View;
 
 /* Estimated ms per frame of technique `gi` at the current size and settings:
@@ -69,38 +98,43 @@ typedef struct View {
 double view_estimate_ms(const View *v, int gi);
 bool view_gi_is_slow(const View *v, int gi);
 /* Switches to technique `gi`, or leaves it pending when it is slow and not
- * `confirmed`. Returns true if switched. */
+ * `confirmed` (its confirm text then on the status line until it is
+ * switched to or cancelled). Returns true if switched. */
 bool view_select_gi(View *v, int gi, bool confirmed);
+/* "Cancel": no technique pending, its confirm text cleared. */
+void view_cancel_gi(View *v);
 /* The G key: the next (step 1) or previous (-1) technique after the pending
  * one or the current one; slow ones become pending instead. */
 void view_cycle_gi(View *v, int step);
 /* The camera as the scene file's "camera" object. */
 void view_camera_json(const View *v, char *out, size_t cap);
-/* Records the last interval's timings (the renderer's timer, means per
- * frame) and, if `is_cost` (no remake, reload or first frame in it), the
- * measured cost of the current technique and the gather rate. */
-void view_record_timings(View *v, double frame_ms, bool is_cost);
-/* Fills the timings table (pass_name, pass_ms, gpu_ms) from the renderer's
- * timer, means over the frames since its last reset: GPU ms per pass, or on
- * a software rasterizer (the timer's `sync`) the wall ms that `render
- * --timings` reports, since timestamps there miss compute passes. */
-void view_take_pass_table(View *v);
-/* Sets the status line (and logs it). */
-void view_status(View *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-/* Saves the rendered image: .png as shown (tone-mapped, after FXAA), any
- * other extension through image_write as linear radiance. The outcome goes
- * to the status line; false on failure. */
-bool view_save_image(View *v, const char *path);
+/* F5: every program rebuilt from the shader files (--shader-dir, else the
+ * source tree's shaders/) on the render thread; one that fails keeps its
+ * previous build and its error shows in the panel's status. */
+void view_ask_reload(View *v);
+/* The heat map's full scale as drawn: the automatic one of the image
+ * shown, or the chosen one; and its colour bar's labels (0, 1/3, 2/3, 1). */
+float view_heat_scale(const View *v);
+void view_heat_labels(float scale, char labels[4][16]);
+/* The busy indicator's text while a scene frame is being drawn ("" when
+ * none is, or for less than a quarter second). */
+void view_busy_text(const View *v, char *out, size_t cap);
+
+/* Sets the status line (and logs it). Either thread. */
+void view_status(ViewStatus *s, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* The log hook of the window: error lines go to the status line (during
+ * a reload they accumulate, first one first). `user` is the ViewStatus. */
+void view_status_log_hook(LogLevel level, const char *tag, const char *message, void *user);
+/* A copy of the status line. */
+void view_status_get(ViewStatus *s, char *out, size_t cap, bool *error);
+
 /* Saves the window's back buffer as shown, panel included (call before the
  * swap), as PNG. */
 bool view_save_window(View *v, const char *path, int fw, int fh);
-/* Hot reload: every program rebuilt from the shader files (--shader-dir,
- * else the source tree's shaders/); one that fails keeps its previous build
- * and its error shows in the panel's status. */
-void view_reload_shaders(View *v);
-/* The panel's width (pixels, from its left edge at 6) in a window fw wide. */
-float view_panel_width(int fw);
-/* Draws the panel for this frame (between ui_frame_begin and ui_frame_end). */
-void view_panel_draw(View *v, int fw, int fh);
+/* Draws the panel for this frame (between ui_frame_begin and ui_frame_end),
+ * docked at x (screen coordinates), h high. */
+void view_panel_draw(View *v, float x, float h);
+/* The busy indicator over the image's top-left corner, while there is one. */
+void view_busy_draw(const View *v);
 
 #endif

@@ -1,25 +1,82 @@
 /* view_script.c — see view_script.h. */
 #include "ui/view_script.h"
 
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "shader.h"
+#include "ui/view_input.h"
 
 static void script_path(const ViewScript *t, const char *name, char *out, size_t cap)
 {
     snprintf(out, cap, "%s/%s", t->dir, name);
 }
 
+/* A render-thread job done now (the script waits for it). */
+static ViewRenderState script_job(ViewScript *t, unsigned jobs, const char *save_path, bool half)
+{
+    view_render_jobs(t->render, jobs, save_path, half);
+    view_render_wait(t->render);
+    ViewRenderState st;
+    view_render_state(t->render, &st);
+    return st;
+}
+
+static void save_image(ViewScript *t, View *v, const char *name)
+{
+    char path[1024];
+    script_path(t, name, path, sizeof path);
+    script_job(t, VIEW_JOB_SAVE, path, v->half);
+}
+
+static void save_window(ViewScript *t, View *v, const char *name, int fw, int fh)
+{
+    char path[1024];
+    script_path(t, name, path, sizeof path);
+    view_save_window(v, path, fw, fh);
+}
+
+/* A resize of the window as a user's would be (not the loop's own), waited
+ * for: its framebuffer callback gives the image the new size. */
+static void user_resize(ViewScript *t, int fw, int fh)
+{
+    glfwSetWindowSize(t->win, fw, fh); /* screen coordinates: pixels on Xvfb */
+    double until = glfwGetTime() + 1.0;
+    int w = 0, h = 0;
+    while (glfwGetTime() < until && (glfwGetFramebufferSize(t->win, &w, &h), w != fw || h != fh))
+        glfwWaitEventsTimeout(0.01);
+}
+
+/* The first part is over: the second begins (view_script_tick). */
+static bool begin_async(ViewScript *t)
+{
+    t->async = true;
+    t->phase = 0;
+    t->deadline = 0;
+    return false;
+}
+
+void view_script_capture(ViewScript *t, View *v, int fw, int fh)
+{
+    if (!t->shot_busy)
+        return;
+    t->shot_busy = false;
+    save_window(t, v, "window_busy.png", fw, fh);
+}
+
 bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
 {
-    Renderer *r = v->renderer;
-    char path[1024];
+    ViewRenderState st;
+    view_render_state(t->render, &st);
+    if (frame == 0 && getenv("RTGI_UI_TEST_ASYNC_ONLY")) /* the second part alone (measuring a real slow frame) */
+        return begin_async(t);
     switch (frame) {
     case 0: /* the window shows the frame alone until the A/B steps */
         if (v->ab)
             v->ab->mode = AB_FRAME;
-        gpu_timer_reset(&r->timer); /* the timings table of frames 1-2, after the cold first one */
+        v->jobs |= VIEW_JOB_RESET_TIMER; /* the timings table of frames 1-2, after the cold first one */
         break;
     case 1: { /* what "Copy as scene JSON" copies */
         char json[256];
@@ -27,55 +84,65 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
         printf("ui-test: camera {%s}\n", json);
         break;
     }
-    case 2: /* the panel's timings table; then exposure through the panel's path: live, nothing remade */
-        view_take_pass_table(v);
-        printf("ui-test: timings gi %s, %s ms, %d frames:", gi_techniques[r->settings.gi]->name,
-               v->pass_wall ? "wall" : "gpu", r->timer.frames);
-        for (int i = 0; i < v->pass_count; i++)
-            printf(" %s=%.3f", v->pass_name[i], v->pass_ms[i]);
+    case 2: { /* the panel's timings table; then exposure through the panel's path: live, nothing remade */
+        st = script_job(t, VIEW_JOB_PASS_TABLE, NULL, false);
+        const ViewStats *m = &st.stats;
+        printf("ui-test: timings gi %s, %s ms, %d frames:", gi_techniques[v->settings.gi]->name,
+               m->pass_wall ? "wall" : "gpu", m->timer_frames);
+        for (int i = 0; i < m->pass_count; i++)
+            printf(" %s=%.3f", m->pass_name[i], m->pass_ms[i]);
         printf("\n");
-        t->links = shader_link_count();
-        t->remakes = r->remakes;
+        t->links = st.links;
+        t->remakes = st.remakes;
         v->settings.exposure *= 2.f;
-        v->dirty = true;
         break;
+    }
     case 4:
-        printf("ui-test: exposure x2: program links +%d, renderer remakes +%d\n", shader_link_count() - t->links,
-               r->remakes - t->remakes);
-        script_path(t, "window_panel.png", path, sizeof path);
-        view_save_window(v, path, fw, fh);
-        v->show_panel = false;
+        printf("ui-test: exposure x2: program links +%d, renderer remakes +%d\n", st.links - t->links,
+               st.remakes - t->remakes);
+        save_window(t, v, "window_panel.png", fw, fh);
+        v->show_panel = false; /* H: the window shrinks by the panel, the image keeps its size */
         break;
     case 6:
-        script_path(t, "window_nopanel.png", path, sizeof path);
-        view_save_window(v, path, fw, fh);
-        script_path(t, "shot.png", path, sizeof path);
-        view_save_image(v, path);
-        script_path(t, "shot.pfm", path, sizeof path);
-        view_save_image(v, path);
-        script_path(t, "shot.exr", path, sizeof path);
-        view_save_image(v, path);
+        printf("ui-test: window %dx%d without the panel, image %dx%d\n", fw, fh, v->settings.width,
+               v->settings.height);
+        save_window(t, v, "window_nopanel.png", fw, fh);
+        save_image(t, v, "shot.png");
+        save_image(t, v, "shot.pfm");
+        save_image(t, v, "shot.exr");
         v->show_panel = true;
         break;
     case 7: /* the G key's path into the next technique */
-        t->remakes = r->remakes;
+        printf("ui-test: window %dx%d with the panel again, image %dx%d\n", fw, fh, v->settings.width,
+               v->settings.height);
+        t->remakes = st.remakes;
         view_cycle_gi(v, 1);
         printf("ui-test: G: gi %s, pending %s, estimate %.3g ms, slow above %.3g ms\n",
                gi_techniques[v->settings.gi]->name, v->pending_gi >= 0 ? gi_techniques[v->pending_gi]->name : "none",
                view_estimate_ms(v, v->pending_gi >= 0 ? v->pending_gi : (int)v->settings.gi), v->slow_ms);
         break;
-    case 9: /* its confirming click */
+    case 8: /* the user makes the window larger: the image takes it, the panel stays as wide */
+        t->width = v->settings.width;
+        t->height = v->settings.height;
+        user_resize(t, fw + 32, fh + 16);
+        break;
+    case 9: { /* its confirming click ("Switch anyway") */
+        printf("ui-test: user resize to %dx%d: image %dx%d\n", fw, fh, v->settings.width, v->settings.height);
+        user_resize(t, t->width + (fw - v->settings.width), t->height); /* and back */
         if (v->pending_gi >= 0)
             view_select_gi(v, v->pending_gi, true);
-        printf("ui-test: confirmed: gi %s\n", gi_techniques[v->settings.gi]->name);
+        char status[1024];
+        view_status_get(v->status, status, sizeof status, NULL);
+        printf("ui-test: confirmed: gi %s, pending %s, status '%s'\n", gi_techniques[v->settings.gi]->name,
+               v->pending_gi >= 0 ? gi_techniques[v->pending_gi]->name : "none", status);
         break;
+    }
     case 10:
         v->show_panel = false;
         break;
     case 11: {
-        printf("ui-test: technique switch: renderer remakes +%d\n", r->remakes - t->remakes);
-        script_path(t, "before_reload.png", path, sizeof path);
-        view_save_window(v, path, fw, fh);
+        printf("ui-test: technique switch: renderer remakes +%d\n", st.remakes - t->remakes);
+        save_window(t, v, "before_reload.png", fw, fh);
         /* Hot reload with a shader broken on disk (the test names it): the
          * error reaches the panel and the previous program stays. */
         const char *broken = getenv("RTGI_UI_TEST_BREAK_SHADER");
@@ -84,36 +151,135 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
             fputs("\n#error broken by the ui test\n", f);
             fclose(f);
         }
-        v->reload = true;
+        view_ask_reload(v);
         break;
     }
-    case 12:
-        printf("ui-test: reload: %s: %s\n", v->status_error ? "failed" : "ok", v->status);
-        script_path(t, "after_reload.png", path, sizeof path);
-        view_save_window(v, path, fw, fh);
+    case 12: {
+        char status[1024];
+        bool error;
+        view_status_get(v->status, status, sizeof status, &error);
+        printf("ui-test: reload: %s: %s\n", error ? "failed" : "ok", status);
+        save_window(t, v, "after_reload.png", fw, fh);
         if (!v->ab)
-            return false;
+            return begin_async(t);
         v->ab->mode = AB_REFERENCE;
         break;
+    }
     case 14:
-        script_path(t, "ab_reference.png", path, sizeof path);
-        view_save_window(v, path, fw, fh);
-        v->ab->mode = AB_DIFFERENCE;
-        v->ab->diff_scale = 0.05f;
+        save_window(t, v, "ab_reference.png", fw, fh);
+        v->ab->mode = AB_DIFFERENCE; /* at its automatic scale, the panel (and its colour bar) shown */
+        v->show_panel = true;
         break;
-    case 16:
-        script_path(t, "ab_difference.png", path, sizeof path);
-        view_save_window(v, path, fw, fh);
-        printf("ui-test: rmse %.6g\n", ab_view_rmse(v->ab, r));
+    case 16: {
+        save_window(t, v, "ab_difference.png", fw, fh);
+        char labels[4][16];
+        view_heat_labels(view_heat_scale(v), labels);
+        printf("ui-test: heat scale auto %.6g (frame %u), colour bar %s %s %s %s\n", (double)v->ab_auto_scale,
+               st.diff_frame, labels[0], labels[1], labels[2], labels[3]);
+        st = script_job(t, VIEW_JOB_RMSE, NULL, false);
+        printf("ui-test: rmse %.6g\n", st.rmse);
+        v->ab->diff_auto = false; /* a chosen scale */
+        v->ab->diff_scale = 0.05f;
+        v->show_panel = false;
+        break;
+    }
+    case 18:
+        save_window(t, v, "ab_difference_manual.png", fw, fh);
         v->ab->mode = AB_SPLIT;
         v->ab->split = 0.5f;
         break;
-    case 18:
-        script_path(t, "ab_split.png", path, sizeof path);
-        view_save_window(v, path, fw, fh);
-        return false;
+    case 20:
+        save_window(t, v, "ab_split.png", fw, fh);
+        return begin_async(t);
     default:
         break;
+    }
+    fflush(stdout);
+    return true;
+}
+
+enum { SETTLE, IDLE_START, IDLE_END, SLOW_KEY, SLOW_WAIT };
+
+/* The largest gap between the window's redraws while the slow frame is
+ * the one in flight (from the key that started it). */
+static void track_redraws(ViewScript *t, const ViewScriptPass *p)
+{
+    if (p->redraws == t->seen_redraws || p->state.frames != t->frames0)
+        return;
+    if (p->redraw_at - t->prev_redraw_at > t->max_gap)
+        t->max_gap = p->redraw_at - t->prev_redraw_at;
+    t->prev_redraw_at = p->redraw_at;
+    t->seen_redraws = p->redraws;
+}
+
+bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p)
+{
+    if (t->phase == SLOW_KEY || t->phase == SLOW_WAIT)
+        track_redraws(t, p);
+    if (p->now < t->deadline)
+        return true;
+    const ViewRenderState *st = &p->state;
+    switch (t->phase) {
+    case SETTLE: /* the first part's last frames shown, the window's redraws after them done */
+        if (st->busy || st->frames == 0) {
+            t->deadline = p->now + 0.1;
+            break;
+        }
+        t->deadline = p->now + 0.5;
+        t->phase = IDLE_START;
+        break;
+    case IDLE_START:
+        t->t0 = p->now;
+        t->frames0 = st->frames;
+        t->redraws0 = p->redraws;
+        t->wakeups0 = p->wakeups;
+        t->deadline = p->now + 1.0;
+        t->phase = IDLE_END;
+        break;
+    case IDLE_END: {
+        printf("ui-test: idle %.2f s: scene frames +%u, window redraws +%d, loop passes +%d\n", p->now - t->t0,
+               st->frames - t->frames0, p->redraws - t->redraws0, p->wakeups - t->wakeups0);
+        /* A slow frame, started by a key. */
+        const char *slow = getenv("RTGI_UI_TEST_SLOW_S");
+        t->sleep_s = slow ? atof(slow) : 2.0;
+        view_key(v, GLFW_KEY_EQUAL, 0);
+        t->exposure1 = v->settings.exposure;
+        t->t0 = p->now;
+        t->frames0 = st->frames;
+        t->redraws0 = t->seen_redraws = p->redraws;
+        t->prev_redraw_at = p->now;
+        t->max_gap = 0;
+        t->slow_redraws = -1;
+        t->deadline = p->now + fmax(0.3 * t->sleep_s, 0.5);
+        t->phase = SLOW_KEY;
+        break;
+    }
+    case SLOW_KEY: /* during it, once it is in flight: the key again */
+        if (!st->busy && st->frames == t->frames0 && p->now - t->t0 < 60) {
+            t->deadline = p->now + 0.05;
+            break;
+        }
+        view_busy_text(v, t->busy, sizeof t->busy);
+        t->shot_busy = true; /* the window as it shows the slow frame's indicator (view_script_capture) */
+        view_key(v, GLFW_KEY_EQUAL, 0);
+        t->exposure2 = v->settings.exposure;
+        t->key_s = p->now - st->busy_since;
+        t->deadline = 0;
+        t->phase = SLOW_WAIT;
+        break;
+    case SLOW_WAIT:
+        if (st->frames >= t->frames0 + 1 && t->slow_redraws < 0) {
+            t->slow_redraws = p->redraws - t->redraws0;
+            t->slow_s = p->now - t->t0;
+        }
+        if ((st->frames < t->frames0 + 2 || st->busy) && p->now - t->t0 < 60)
+            break;
+        printf("ui-test: slow frame: window redraws %d during it (largest gap %.2f s), busy '%s'; key at %.2f s "
+               "into it: exposure %.6g then %.6g, scene frames +%u, the last drawn at %.6g; it took %.2f s\n",
+               t->slow_redraws, t->max_gap, t->busy, t->key_s, (double)t->exposure1, (double)t->exposure2,
+               st->frames - t->frames0, (double)st->last_exposure, t->slow_s);
+        fflush(stdout);
+        return false;
     }
     fflush(stdout);
     return true;

@@ -1,8 +1,10 @@
 /* vct.c — voxel cone tracing (Crassin, Neyret, Sainz, Green, Eisemann
  * 2011, "Interactive Indirect Illumination Using Voxel Cone Tracing"),
  * SPEC §6; one row of the technique table, `--gi vct`. Passes:
- *   vct_voxelize  once per technique (the scene's geometry is fixed for its
- *                 lifetime): every triangle projected along its dominant
+ *   vct_voxelize  once, and again when the scene's geometry moves (an
+ *                 animated object: GpuScene.version; the whole volume is
+ *                 rebuilt, so no voxel of where it was stays): every
+ *                 triangle projected along its dominant
  *                 axis into an N×N attachment-less framebuffer, enlarged
  *                 conservatively and clipped per voxel by an exact
  *                 triangle–box test (shaders/gi/vct/voxelize.*); albedo,
@@ -10,10 +12,11 @@
  *                 then resolved into the albedo/opacity and normal volumes
  *   vct_inject    per light: each opaque voxel's outgoing diffuse radiance
  *                 ρ/π · E · V, V from the light's shadow map
- *   vct_mips      the isotropic mip chain (box filter of premultiplied
- *                 radiance and opacity), and with --vct-aniso the six
- *                 directional volumes by front-to-back compositing (one
- *                 texture per axis holding both signs: GpuVctParams)
+ *   vct_mips      without --vct-aniso the isotropic mip chain (box filter
+ *                 of premultiplied radiance and opacity, mip.comp), with
+ *                 it the six directional volumes from level 0 by
+ *                 front-to-back compositing (one texture per axis holding
+ *                 both signs: GpuVctParams)
  *   vct_bounce    (--vct-bounces 2) every voxel gathers with the diffuse
  *                 cones and adds ρ/π · E; its mips are rebuilt
  *   vct_trace     per pixel (with --vct-trace-scale s > 1: per s×s block,
@@ -67,12 +70,13 @@ typedef struct VctGi {
     uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
     uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
     GLuint ubo;              /* GpuVctParams */
-    GLuint voxelize, resolve, inject, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
+    GLuint voxelize, resolve, inject, mip, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
     GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
     int scale;               /* --vct-trace-scale */
     GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
     GpuVctParams gpu;        /* as uploaded */
     bool voxelized;          /* the volumes hold the scene */
+    uint64_t voxels_version; /* the geometry they hold (GpuScene.version): a moved object revoxelizes */
     int voxelizations;
     uint64_t built_for;      /* the light products and voxels the radiance volumes hold (0: none) */
     int builds;              /* times radiance was injected and filtered */
@@ -227,6 +231,14 @@ static uint64_t box_bytes(int w, int h, int d, int levels)
     return b;
 }
 
+/* Mip levels of the isotropic radiance volumes: with the directional
+ * volumes the cones read its level 0 alone (cone.glsl's vct_sample: the
+ * directional chain starts from it), so it has no chain of its own. */
+static int radiance_levels(const GiParams *p, int levels)
+{
+    return p->vct_aniso && p->vct_size >= 2 ? 1 : levels;
+}
+
 /* Entries of the opaque-voxel list: N³·L / VCT_OPAQUE_SHARE. */
 static uint32_t opaque_capacity(int n, int clip)
 {
@@ -240,7 +252,8 @@ static uint64_t vct_bytes(const GiParams *p)
     int n = p->vct_size, clip = p->vct_levels;
     int levels = gl_mip_levels(n, n, n);
     int half = aniso_side(n), slab = aniso_slab(n, levels);
-    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) * box_bytes(n, n, n, levels)) +
+    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) *
+                                                                       box_bytes(n, n, n, radiance_levels(p, levels))) +
                      (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
     return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip));
 }
@@ -260,6 +273,7 @@ static bool vct_programs(VctGi *v)
                                      "gi/vct/voxelize.frag", NULL, NULL)) &&
               (v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL)) &&
               (v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL)) &&
+              (v->mip = program(v, "vct_mip", NULL, NULL, NULL, "gi/vct/mip.comp", NULL)) &&
               (v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL)) &&
               (v->aniso_first =
                    program(v, "vct_aniso_first", NULL, NULL, NULL, "gi/vct/aniso.comp", "#define MODE_FIRST\n")) &&
@@ -285,9 +299,11 @@ static bool vct_volumes(VctGi *v)
     int d = n * clip; /* the levels stacked along z */
     bool ok = (v->albedo = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.albedo")) &&
               (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
-              (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance"));
+              (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, radiance_levels(p, levels), TEX_FILTER_LINEAR,
+                                                  "vct.radiance"));
     if (ok && p->vct_bounces > 1)
-        ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, levels, TEX_FILTER_LINEAR, "vct.radiance2"));
+        ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, radiance_levels(p, levels), TEX_FILTER_LINEAR,
+                                                 "vct.radiance2"));
     for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_AXES; i++)
         ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
@@ -505,12 +521,16 @@ static void inject(VctGi *v, const GiFrame *f)
     }
 }
 
-/* Isotropic chain of `tex`, then the directional volumes from its level 0. */
+/* The isotropic chain of `tex` (gi/vct/mip.comp, a dispatch per level,
+ * not the driver's glGenerateMipmap: 21.9 ms on an H100, issue 46), or,
+ * with the directional volumes, those from its level 0 (`tex` then has no
+ * chain: radiance_levels). */
 static void build_mips(VctGi *v, GLuint tex)
 {
-    gl_texture_generate_mips(tex);
-    if (!v->gpu.aniso)
+    if (!v->gpu.aniso) {
+        gl_texture3d_build_mips(tex, v->mip, GL_RGBA16F, 4);
         return;
+    }
     /* The first level of every axis and sign in one pass (each reads the
      * same 2×2×2 blocks of the isotropic level 0), then each axis's chain. */
     glUseProgram(v->aniso_first);
@@ -545,8 +565,11 @@ static bool vct_run(void *state, const GiFrame *f)
     GpuTimer *t = f->timer;
     place_levels(v, f->camera);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_VCT, v->ubo);
+    if (v->voxels_version != f->gpu_scene->version) /* an object moved (animation.h): no stale voxel stays */
+        v->voxelized = false;
     if (!v->voxelized) {
         gpu_timer_begin_once(t, "vct_voxelize"); /* in the warm-up frame: kept apart from the means */
+        v->voxels_version = f->gpu_scene->version;
         v->voxelized = voxelize(v, f);
         gpu_timer_end(t);
         if (!v->voxelized)

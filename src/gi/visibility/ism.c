@@ -11,7 +11,7 @@
 #include "gl_resources.h"
 #include "gpu_budget.h"
 #include "log.h"
-#include "reference/sampler.h" /* sampler_hash32 */
+#include "shared/hash.h" /* hash_u32 */
 #include "shader.h"
 #include "util.h"
 
@@ -36,7 +36,7 @@ static int size_texels(int ism_size) { return 16 << (ism_size < 0 ? 0 : ism_size
 
 static float rnd(uint32_t *state)
 {
-    *state = sampler_hash32(*state + 0x9e3779b9u);
+    *state = hash_u32(*state + 0x9e3779b9u);
     return (float)(*state >> 8) / 16777216.f;
 }
 
@@ -182,6 +182,41 @@ static bool sort_points(float *pts, uint32_t count, const float origin[3], float
     return true;
 }
 
+#define ISM_CELLS (ISM_GRID * ISM_GRID * ISM_GRID)
+
+/* Draws the scene's points (sample_points) as its vertices stand now,
+ * sorts them by the cells of a grid over its bounds, uploads both and sets
+ * the parameters that follow from them and the bounds (point_area,
+ * far_area, grid, bias_abs). false after logging. */
+static bool make_points(Ism *m)
+{
+    const Scene *s = m->scene;
+    vec3 ext;
+    glm_vec3_sub((float *)s->bounds_max, (float *)s->bounds_min, ext);
+    float cell = fmaxf(fmaxf(ext[0], ext[1]), fmaxf(ext[2], 1e-6f)) / (float)ISM_GRID * 1.001f;
+    float *pts = malloc(sizeof(float) * 4 * m->point_count);
+    uint32_t *start = malloc(sizeof(uint32_t) * (ISM_CELLS + 1));
+    double area = 0;
+    if (!pts || !start)
+        log_error("ism", "out of memory for %u points", m->point_count);
+    bool ok = pts && start && sample_points(s, m->point_count, pts, &area) &&
+              sort_points(pts, m->point_count, s->bounds_min, cell, ISM_GRID, start);
+    if (ok) {
+        glNamedBufferSubData(m->point_buffer, 0, sizeof(float) * 4 * (GLsizeiptr)m->point_count, pts);
+        glNamedBufferSubData(m->cells, 0, sizeof(uint32_t) * (ISM_CELLS + 1), start);
+        GpuIsmParams *g = &m->gpu;
+        uint32_t far_points = (uint32_t)(m->points - m->points / 2);
+        g->point_area = (float)(area / m->point_count);
+        g->far_area = (float)(area / far_points);
+        glm_vec3_copy((float *)s->bounds_min, g->grid);
+        g->grid[3] = cell;
+        g->bias_abs = ISM_BIAS_ABS * glm_vec3_norm(ext);
+    }
+    free(pts);
+    free(start);
+    return ok;
+}
+
 /* ---- Lifetime ------------------------------------------------------------- */
 
 static GLuint program(Ism *m, const char *label, const char *comp, const char *defines)
@@ -274,25 +309,13 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
     m->ubo = gi_ubo_make(sizeof(GpuIsmParams), "ism.params");
     if (source == ISM_FROM_RSM)
         m->reps = gl_buffer_make((uint64_t)m->maps * 16, NULL, 0, "ism.representatives");
-    /* The points' grid: cubic cells over the scene's bounds. */
-    vec3 ext;
-    glm_vec3_sub((float *)s->bounds_max, (float *)s->bounds_min, ext);
-    float cell = fmaxf(fmaxf(ext[0], ext[1]), fmaxf(ext[2], 1e-6f)) / (float)ISM_GRID * 1.001f;
-    uint32_t cells = ISM_GRID * ISM_GRID * ISM_GRID;
-    float *pts = malloc(sizeof(float) * 4 * m->point_count);
-    uint32_t *start = malloc(sizeof(uint32_t) * (cells + 1));
-    double area = 0;
-    bool ok = progs && m->atlas && m->ubo && (source == ISM_FROM_VPLS || m->reps) && pts && start &&
-              sample_points(s, m->point_count, pts, &area) &&
-              sort_points(pts, m->point_count, s->bounds_min, cell, ISM_GRID, start);
-    if (!pts || !start)
-        log_error("ism", "out of memory for %u points", m->point_count);
-    if (ok)
-        ok = (m->point_buffer = gl_buffer_make(sizeof(float) * 4 * (uint64_t)m->point_count, pts, 0, "ism.points")) &&
-             (m->cells = gl_buffer_make(sizeof(uint32_t) * (uint64_t)(cells + 1), start, 0, "ism.cells"));
-    free(pts);
-    free(start);
-    if (!ok) {
+    bool ok = progs && m->atlas && m->ubo && (source == ISM_FROM_VPLS || m->reps) &&
+              (m->point_buffer = gl_buffer_make(sizeof(float) * 4 * (uint64_t)m->point_count, NULL,
+                                                GL_DYNAMIC_STORAGE_BIT, "ism.points")) &&
+              (m->cells = gl_buffer_make(sizeof(uint32_t) * (uint64_t)(ISM_CELLS + 1), NULL, GL_DYNAMIC_STORAGE_BIT,
+                                         "ism.cells"));
+    m->scene = s;
+    if (!ok || !make_points(m)) {
         ism_destroy(m);
         return false;
     }
@@ -302,20 +325,16 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
     g->far_points = (uint32_t)(m->points - m->points / 2);
     g->near_points = (uint32_t)(m->points / 2);
     g->point_count = m->point_count;
-    g->point_area = (float)(area / m->point_count);
-    g->far_area = (float)(area / g->far_points);
     g->far_stride = (uint32_t)(0.6180339887 * m->point_count) | 1u; /* odd: a permutation of the buffer */
     g->grid_n = ISM_GRID;
-    glm_vec3_copy((float *)s->bounds_min, g->grid);
-    g->grid[3] = cell;
     g->bias_rel = ISM_BIAS_REL;
-    g->bias_abs = ISM_BIAS_ABS * glm_vec3_norm(ext);
+
     g->maps = m->maps;
     g->maps_per_light = m->maps_per_light;
     glNamedBufferSubData(m->ubo, 0, sizeof *g, g);
-    log_debug("ism", "%u maps of %d² (%s), %u points over %.4g m² (%.3g m² each), %d points per map", m->maps, m->size,
-              source == ISM_FROM_VPLS ? "one per VPL" : "one per block of RSM texels", m->point_count, area,
-              g->point_area, m->points);
+    log_debug("ism", "%u maps of %d² (%s), %u points (%.3g m² each), %d points per map", m->maps, m->size,
+              source == ISM_FROM_VPLS ? "one per VPL" : "one per block of RSM texels", m->point_count, g->point_area,
+              m->points);
     return true;
 }
 
@@ -394,6 +413,16 @@ static uint64_t build_key(const LightStage *ls)
 void ism_update(Ism *m, const GiFrame *f)
 {
     const LightStage *ls = f->lights;
+    uint64_t version = f->gpu_scene ? f->gpu_scene->version : 0;
+    if (m->points_version == 0) /* the first frame: the points were drawn from this geometry */
+        m->points_version = version;
+    if (version != m->points_version) { /* an object moved (animation.h): draw the points again */
+        if (!make_points(m))
+            return; /* logged; the maps stay as they were */
+        glNamedBufferSubData(m->ubo, 0, sizeof m->gpu, &m->gpu);
+        m->points_version = version;
+        m->built_key = 0;
+    }
     uint64_t key = build_key(ls);
     if (key == m->built_key)
         return;

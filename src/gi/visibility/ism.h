@@ -22,7 +22,8 @@
  * the cells of a 32³ grid); a map splats half its points from the whole
  * scene and half from the 3×3×3 cells around its source. The maps
  * are rebuilt only when the light products change
- * (light_stage_products_key, and the VPL extraction).
+ * (light_stage_products_key, and the VPL extraction); the points are drawn
+ * again when an object moves (GpuScene.version).
  * Inputs: the scene (borrowed), the light stage. Owns: the atlas, the
  * points, the representatives, its parameter block. */
 #ifndef RTGI_ISM_H
@@ -52,6 +53,8 @@ typedef struct Ism {
     GLuint point_buffer;   /* vec4[point_count], sorted by grid cell */
     uint32_t point_count;  /* a power of two */
     GLuint cells;          /* uint[grid³ + 1]: where each cell's points start */
+    const Scene *scene;    /* borrowed: the points are drawn from it */
+    uint64_t points_version; /* GpuScene.version the points were drawn at (0: not yet known) */
     GLuint reps;           /* ISM_FROM_RSM: uvec4 per map */
     GLuint ubo;            /* GpuIsmParams, per light (ISM_FROM_RSM: its block layout) */
     GpuIsmParams gpu;      /* as last uploaded */

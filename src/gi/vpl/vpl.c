@@ -264,10 +264,12 @@ static int cmp_item(const void *a, const void *b)
     return 0;
 }
 
-/* What the metalight grouping depends on: lights, camera, settings. */
+/* What the metalight grouping depends on: lights, camera, settings, and
+ * the VPLs themselves (extracted again when a moved object redrew an RSM). */
 static uint64_t grouping_key(const GiFrame *f)
 {
     uint64_t h = util_hash_bytes(UTIL_HASH_SEED, f->scene->lights, sizeof(Light) * (size_t)f->scene->light_count);
+    h = util_hash_bytes(h, &f->lights->vpl_extractions, sizeof f->lights->vpl_extractions);
     h = util_hash_bytes(h, f->camera, sizeof *f->camera);
     return util_hash_bytes(h, f->params, sizeof *f->params);
 }

@@ -12,7 +12,6 @@
 #include <string.h>
 
 #include "test_util.h"
-#include "metrics.h"
 
 enum { W = 64, H = 64 };
 
@@ -95,7 +94,9 @@ static void measure(double b[MODES][2][2])
 /* Behind the wall, with visibility the receiver gets under 2% of what it
  * gets without (which is what it gets in the open: the papers' gather
  * does not see the wall); in the open, visibility keeps its light within
- * 5% (the maps' bias and holes: neither may darken what is visible). */
+ * 5% (the maps' bias and holes: neither may darken what is visible).
+ * Measured: 0.7-0.9% behind the wall, 1.000 in the open, for all seven;
+ * splats of their point's own footprint (ISM_COVER 1) let 51% through. */
 static void wall_hides_the_bounce(void **state)
 {
     (void)state;

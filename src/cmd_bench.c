@@ -638,6 +638,9 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
      * null where it counts none. */
     cJSON_AddItemToObject(sj, "gi_memory_mib", st->gpu_bytes ? json_num(render_mib(st->gpu_bytes))
                                                               : cJSON_CreateNull());
+    /* --gi-visibility's share of gi_memory_mib (null without it). */
+    cJSON_AddItemToObject(sj, "visibility_memory_mib", st->visibility_bytes ? json_num(render_mib(st->visibility_bytes))
+                                                                            : cJSON_CreateNull());
     /* All of the frame's GPU memory by owner (render --timings' *_memory_mib). */
     RenderMemory mem = renderer_gpu_memory(r);
     cJSON_AddNumberToObject(sj, "light_memory_mib", render_mib(mem.lights));

@@ -447,6 +447,9 @@ GatherRates render_options_print_timings(Renderer *r, const char *gl_renderer, d
     }
     if (st->gpu_bytes)
         printf("gi_memory_mib: %.3f\n", render_mib(st->gpu_bytes));
+    if (st->visibility_bytes) /* --gi-visibility: its maps, points and buffers (in gi_memory_mib too) */
+        printf("visibility_memory_mib: %.3f\nvisibility_builds: %d\n", render_mib(st->visibility_bytes),
+               st->visibility_builds);
     if (rs->gi == GI_VCT)
         printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
     return print_gather_efficiency(r, st, s_probe_path);

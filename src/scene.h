@@ -100,6 +100,11 @@ typedef struct ShadowParams {
 /* PCF's taps (ShadowParams.pcf_filter; SHADOW_FILTER_* in shared/gpu_types.h). */
 typedef enum ShadowPcfFilter { SHADOW_PCF_FILTER_DISK = 0, SHADOW_PCF_FILTER_GRID = 1 } ShadowPcfFilter;
 
+/* Visibility of the bounce (SPEC §9): how RSM and VPL gathers test it. */
+typedef enum GiVisibilityMethod { GI_VISIBILITY_ISM = 0 } GiVisibilityMethod;
+/* Imperfect shadow maps' texels per side (GiParams.ism_size: an index). */
+typedef enum IsmSize { ISM_SIZE_16 = 0, ISM_SIZE_32 = 1, ISM_SIZE_64 = 2 } IsmSize;
+
 typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
 /* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
  * shared/gpu_types.h). */
@@ -135,6 +140,12 @@ typedef struct GiParams {
     float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
     float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
     unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
+    /* Visibility of the bounce (SPEC §9, src/gi/visibility/): */
+    bool gi_visibility;    /* RSM and VPL gathers test whether each VPL (sample) sees the shaded point */
+    int gi_visibility_method; /* GiVisibilityMethod */
+    int ism_size;          /* IsmSize: texels per side of each imperfect shadow map */
+    int ism_points;        /* scene points splatted into each map */
+    int ism_maps;          /* RSM gathers: maps per light, one per block of RSM texels */
     /* Light propagation volumes (SPEC §5). */
     int lpv_size;          /* cells per side of each grid */
     int lpv_cascades;      /* 1: one grid fitted to the scene; 2–3: nested grids centred on the camera */

@@ -21,6 +21,8 @@ static const char *const k_lpv_propagation[] = {"directional", "faces", NULL};
 static const char *const k_vct_cones[] = {"6", "9", "16", NULL};
 static const char *const k_area_lights[] = {"exact", "point", NULL};
 static const char *const k_pcf_filters[] = {"disk", "grid", NULL};
+static const char *const k_visibility_methods[] = {"ism", NULL};
+static const char *const k_ism_sizes[] = {"16", "32", "64", NULL};
 
 #define SH(f) offsetof(Settings, shadow.f)
 #define GI(f) offsetof(Settings, gi.f)
@@ -90,6 +92,17 @@ const SettingDesc settings_table[] = {
      "vpl-all: keep a random fraction Q of the VPLs, weighted 1/Q"},
     {"gi", "vpl_seed", "--vpl-seed", SETTING_UINT, GI(vpl_seed), 0, 0, 2147483647, 0, NULL,
      "seed of the VPLs' random xi (SLC culling, subsets)"},
+    /* Visibility of the bounce (SPEC §9, docs/techniques.md: Visibility). */
+    {"gi", "gi_visibility", "--gi-visibility", SETTING_BOOL, GI(gi_visibility), 0, 0, 1, 0, NULL,
+     "RSM and VPL techniques: test each VPL's visibility of the shaded point (off: the papers' one-bounce-novis)"},
+    {"gi", "gi_visibility_method", "--gi-visibility-method", SETTING_ENUM, GI(gi_visibility_method), 0, 0, 0, 0,
+     k_visibility_methods, "ism: imperfect shadow maps (Ritschel et al. 2008), one per VPL or per block of RSM texels"},
+    {"gi", "ism_size", "--ism-size", SETTING_ENUM, GI(ism_size), 0, 0, 2, 1, k_ism_sizes,
+     "ism: texels per side of each paraboloid map"},
+    {"gi", "ism_points", "--ism-points", SETTING_INT, GI(ism_points), 0, 64, 65536, 2048, NULL,
+     "ism: scene points splatted into each map (then pull-push fills the holes)"},
+    {"gi", "ism_maps", "--ism-maps", SETTING_INT, GI(ism_maps), 0, 1, 65536, 4096, NULL,
+     "ism: RSM gathers' maps per light, one per block of RSM texels (VPL techniques: one per VPL)"},
     /* Light propagation volumes (SPEC §5). */
     {"gi", "lpv_size", "--lpv-size", SETTING_INT, GI(lpv_size), 0, 2, 256, 16, NULL,
      "lpv: cells per side of each grid"},

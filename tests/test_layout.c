@@ -47,6 +47,9 @@ static const Field k_vpl[] = {GPU_VPL_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
 #define REFLECTED GpuVctParams
 static const Field k_vct[] = {GPU_VCT_PARAMS_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
 #undef REFLECTED
+#define REFLECTED GpuIsmParams
+static const Field k_ism[] = {GPU_ISM_PARAMS_FIELDS(REFLECT_MEMBER, REFLECT_ARRAY)};
+#undef REFLECTED
 
 typedef struct Block {
     const char *glsl_block;    /* interface block name */
@@ -72,6 +75,7 @@ static void blocks_match_c(void **state)
         BLOCK("VplParamBlock", "u_vpl", GL_UNIFORM, k_vpl_params, GpuVplParams),
         BLOCK("VplBlock", "vpls[0]", GL_BUFFER_VARIABLE, k_vpl, GpuVpl),
         BLOCK("VctBlock", "u_vct", GL_UNIFORM, k_vct, GpuVctParams),
+        BLOCK("IsmBlock", "u_ism", GL_UNIFORM, k_ism, GpuIsmParams),
     };
     int checked = 0;
     for (size_t b = 0; b < sizeof blocks / sizeof blocks[0]; b++) {
@@ -110,7 +114,7 @@ static void blocks_match_c(void **state)
             assert_int_equal((size_t)stride, bl->c_size);
         }
     }
-    print_message("%d fields in 7 blocks agree between C and GLSL\n", checked);
+    print_message("%d fields in 8 blocks agree between C and GLSL\n", checked);
     glDeleteProgram(prog);
 }
 

@@ -57,7 +57,9 @@ static void pick_value(const SettingDesc *d, char *cli, size_t cap, char *json, 
 
 
 /* Every row: scene file → Scene → RenderSettings, and the command line →
- * RenderOptions → RenderSettings, store the same bytes, not the default. */
+ * RenderOptions → RenderSettings, store the same bytes, not the default.
+ * An enum of one choice (gi.gi_visibility_method, until a second method
+ * exists) has no other value to store: it round-trips its default. */
 static void every_setting_round_trips(void **state)
 {
     (void)state;
@@ -65,6 +67,7 @@ static void every_setting_round_trips(void **state)
     settings_default(&def);
     for (int i = 0; i < settings_count; i++) {
         const SettingDesc *d = &settings_table[i];
+        bool single = d->type == SETTING_ENUM && d->choices[0] && !d->choices[1];
         char cli[64], json[64], body[512];
         pick_value(d, cli, sizeof cli, json, sizeof json);
         snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key, json);
@@ -90,7 +93,7 @@ static void every_setting_round_trips(void **state)
         settings_format(d, &a, va, sizeof va);
         settings_format(d, &b, vb, sizeof vb);
         settings_format(d, &def, vd, sizeof vd);
-        if (strcmp(va, vb) || !strcmp(va, vd))
+        if (strcmp(va, vb) || (!strcmp(va, vd) && !single))
             fail_msg("%s / %s: file %s, command line %s, default %s", d->option, d->key, va, vb, vd);
         /* Nothing else differs between the two paths. */
         assert_memory_equal(&a.gi, &b.gi, sizeof a.gi);

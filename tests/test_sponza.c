@@ -192,20 +192,6 @@ static void sponza_rsm_recovers_the_bounce(void **state)
     scene_free(&s);
 }
 
-/* scenes/sponza_nave.json with its glTF materials made Lambertian (specular 0,
- * metallic 0) and its sun a parallel one (size 0): the rasterizer's direct
- * light is then the path tracer's apart from shadow-map resolution. */
-static void sponza_lambert(Scene *s)
-{
-    char scene_file[1024];
-    snprintf(scene_file, sizeof scene_file, "%s/scenes/sponza_nave.json", RTGI_SOURCE_DIR);
-    assert_true(scene_load(s, scene_file));
-    assert_true(scene_rescale_lights(s, 0.f));
-    for (int i = 0; i < s->material_count; i++)
-        if (s->materials[i].light_index < 0)
-            s->materials[i].specular = s->materials[i].metallic = 0.f;
-}
-
 /* Issue 49: Sponza's direct light, rasterized (hard shadows, SSAA 2), is
  * the path tracer's (jittered: the box filter SSAA approximates), channel
  * by channel, away from the pixels where the two disagree about shadow
@@ -227,7 +213,7 @@ static void sponza_direct_matches_reference(void **state)
         skip();
     }
     Scene s;
-    sponza_lambert(&s);
+    test_sponza_lambert(&s);
     enum { W = 320, H = 180, SPP = 64, BX = 16, BY = 9 };
     ImageF raster, ref, var, raster2, ref2;
     RenderSettings rs = test_settings(&s, W, H, SHADOW_MODE_HARD);

@@ -523,3 +523,26 @@ void test_add_square(Scene *s, int material, const vec3 c, float a)
     vec3 p2 = {c[0] + h, c[1], c[2] + h}, p3 = {c[0] + h, c[1], c[2] - h};
     scene_add_quad(s, material, p0, p1, p2, p3);
 }
+
+const char *test_sponza_file(void)
+{
+    static char path[1024];
+    snprintf(path, sizeof path, "%s/assets/sponza/Sponza.gltf", RTGI_SHARED_DIR);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fclose(f);
+    snprintf(path, sizeof path, "%s/scenes/sponza_nave.json", RTGI_SOURCE_DIR);
+    return path;
+}
+
+void test_sponza_lambert(Scene *s)
+{
+    const char *file = test_sponza_file();
+    assert_non_null(file);
+    assert_true(scene_load(s, file));
+    assert_true(scene_rescale_lights(s, 0.f));
+    for (int i = 0; i < s->material_count; i++)
+        if (s->materials[i].light_index < 0)
+            s->materials[i].specular = s->materials[i].metallic = 0.f;
+}

@@ -145,5 +145,16 @@ void test_project(const Scene *s, int w, int h, const vec3 p, int *x, int *y);
 void test_add_square(Scene *s, int material, const vec3 c, float a);
 /* Points camera c straight down (-y) from `position`, image up along -z. */
 void test_camera_down(Camera *c, const vec3 position);
+/* Crytek Sponza (not part of the repository): the path of
+ * scenes/sponza_nave.json (the view down the nave the measurements use)
+ * where its asset is present under RTGI_SHARED_DIR, else NULL (the caller
+ * skips). Static buffer. */
+const char *test_sponza_file(void);
+/* Loads test_sponza_file() (it must exist) with its glTF materials made
+ * Lambertian (specular 0, metallic 0) and its sun a parallel one (size 0):
+ * the path tracer's bounce then has no glossy paths a diffuse gather
+ * cannot have, and its direct light is the rasterizer's apart from
+ * shadow-map resolution. */
+void test_sponza_lambert(Scene *s);
 
 #endif

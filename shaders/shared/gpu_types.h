@@ -19,6 +19,7 @@
 #define UBO_FRAME 4   /* GpuFrame: camera, sizes, indirect scale */
 #define UBO_LPV 5     /* GpuLpvParams (light propagation volumes) */
 #define UBO_VCT 6     /* GpuVctParams (voxel cone tracing) */
+#define UBO_ISM 7     /* GpuIsmParams (imperfect shadow maps: visibility of the bounce) */
 /* Shader storage blocks */
 #define SSBO_PATTERN 0   /* RSM sample pattern: vec4 per sample */
 #define SSBO_VPL 1       /* GpuVpl[] */
@@ -32,7 +33,10 @@
 #define SSBO_LPV_FIXED 9  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
 #define SSBO_VCT_VOXELS 10 /* vct voxelization: uint[8 · N³] fixed-point albedo, normal, count sums per voxel */
 #define SSBO_VCT_OPAQUE 11 /* vct: the opaque voxels: count, indirect dispatch (x, y, z), packed coordinates */
+#define SSBO_ISM_POINTS 12 /* ism: vec4[point_count], the scene's point samples (xyz, m) */
 #define SSBO_STATS 13     /* gi/count_surfaces.comp: [0] the count (stats read back on request) */
+#define SSBO_ISM_REPS 14  /* ism from an RSM: uvec4 per map, its block's representative texel (position bits, oct normal) */
+#define SSBO_ISM_CELLS 15 /* ism: uint[grid_n³ + 1], where each cell's points start in SSBO_ISM_POINTS */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -56,6 +60,7 @@
  * sampler object stays bound to them. */
 #define TEX_SHADOW_COMPARE_2D 34
 #define TEX_SHADOW_COMPARE_CUBE 35
+#define TEX_ISM 36       /* ism: R32UI atlas of paraboloid depth maps (distance's float bits), read by the gathers */
 #define TEX_LPV_GV0 14   /* lpv: geometry volume, normal tensor xx yy zz */
 #define TEX_LPV_GV1 15   /* lpv: geometry volume, normal tensor xy xz yz */
 #define TEX_LPV_SUM 16   /* lpv lookup: accumulated SH of every VPL in cascade k: 16 + 3k + channel (16..24) */
@@ -97,6 +102,7 @@
 #define LPV_INJECT_RUN 32     /* lpv compute injection: consecutive VPLs per invocation (gi/lpv/inject_fixed.comp) */
 #define VCT_MAX_CONES 16     /* diffuse cones of the largest set */
 #define VCT_MAX_LEVELS 4     /* clipmap levels */
+#define ISM_EMPTY 0x7f7fffffu /* an ISM texel no point reached: FLT_MAX's bits (visible from any distance) */
 
 /* ---- Uniform locations -------------------------------------------------- */
 /* Every program that draws the scene's meshes (scene.vert + a fragment shader). */
@@ -161,6 +167,8 @@
 #define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */
 #define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
 #define LOC_COUNT_STEP 10       /* gi/count_surfaces.comp: int, the lattice's step */
+#define LOC_ISM_MAP_BASE 15     /* rsm gathers, ism passes: uint, the first map of the light being gathered */
+#define LOC_ISM_PUSH 16         /* gi/visibility/pull_push.comp: int, 0 pull, 1 push */
 #define LOC_TEMPORAL_PREV_VIEW_PROJ 10 /* temporal/accumulate.comp: mat4 (10..13), the previous frame's camera */
 #define LOC_TEMPORAL_PARAMS 14  /* temporal/accumulate.comp: vec4, x: least blend weight α of the new frame,
                                    y: 1 with a history, z: plane tolerance (fraction of the distance), w: clamp γ */
@@ -314,6 +322,32 @@
     A(vec4, cone, VCT_MAX_CONES) /* xyz: unit direction in the normal's frame (z = normal); w: weight ∫cosθ dω of its cell */ \
     A(vec4, cone_aperture, VCT_MAX_CONES) /* x: tan of the half-angle */
 
+/* Imperfect shadow maps (std140; src/gi/visibility/ism.c): map m is an
+ * size × size paraboloid depth map at (m mod per_row, m / per_row)·size
+ * in the atlas, seen from its source (a VPL, or the representative texel
+ * of an RSM block) along the source's normal. Its points: far_points of
+ * the whole scene's (SSBO_ISM_POINTS, sorted by the cells of a grid_n³
+ * grid), and near_points of those in the 3×3×3 cells around the source
+ * (SSBO_ISM_CELLS: cell c's points are [start[c], start[c + 1])). */
+#define GPU_ISM_PARAMS_FIELDS(F, A)                                                    \
+    F(int, size)            /* texels per side of one map */                          \
+    F(int, per_row)         /* maps per atlas row (a power of two) */                 \
+    F(uint, far_points)     /* points of the whole scene splatted into each map */    \
+    F(uint, point_count)    /* points in SSBO_ISM_POINTS (a power of two) */           \
+    F(float, far_area)      /* scene area one far point stands for (m²) */            \
+    F(float, bias_rel)      /* visible while distance <= stored + bias (ism.glsl) */  \
+    F(float, bias_abs)      /* (m) */                                                  \
+    F(uint, maps)           /* maps in the atlas */                                    \
+    F(int, blocks)          /* from an RSM: blocks per side of each layer */           \
+    F(int, block_texels)    /* from an RSM: texels per side of a block */              \
+    F(int, rsm_size)        /* from an RSM: its texels per side */                     \
+    F(uint, maps_per_light) /* from an RSM: maps of each light (light i's start at i times this) */ \
+    F(uint, near_points)    /* points of the cells around the source splatted into each map */ \
+    F(int, grid_n)          /* cells per side of the points' grid */                   \
+    F(float, point_area)    /* scene area one point of the buffer stands for (m²) */  \
+    F(uint, far_stride)     /* far points: odd step through the sorted buffer */       \
+    F(vec4, grid)           /* xyz: the grid's min corner (m); w: its cell size (m) */
+
 /* ---- Declarations --------------------------------------------------------- */
 #ifdef GL_core_profile /* GLSL */
 #define GPU_MEMBER(t, n) t n;
@@ -342,6 +376,7 @@ GPU_STRUCT(GpuVpl, GPU_VPL_FIELDS)
 GPU_STRUCT(GpuVplParams, GPU_VPL_PARAMS_FIELDS)
 GPU_STRUCT(GpuLpvParams, GPU_LPV_PARAMS_FIELDS)
 GPU_STRUCT(GpuVctParams, GPU_VCT_PARAMS_FIELDS)
+GPU_STRUCT(GpuIsmParams, GPU_ISM_PARAMS_FIELDS)
 
 #ifdef GL_core_profile
 /* The blocks, as every shader names them. */
@@ -352,6 +387,7 @@ layout(std140, binding = UBO_GI) uniform GiBlock { GpuGiParams u_gi; };
 layout(std140, binding = UBO_VPL) uniform VplParamBlock { GpuVplParams u_vpl; };
 layout(std140, binding = UBO_LPV) uniform LpvBlock { GpuLpvParams u_lpv; };
 layout(std140, binding = UBO_VCT) uniform VctBlock { GpuVctParams u_vct; };
+layout(std140, binding = UBO_ISM) uniform IsmBlock { GpuIsmParams u_ism; };
 #else
 static_assert(sizeof(GpuLight) == 14 * 16, "GpuLight: std140 size");
 static_assert(sizeof(GpuShadowParams) == 3 * 16 + SHADOW_MAX_SAMPLES * 16, "GpuShadowParams: std140 size");
@@ -360,6 +396,7 @@ static_assert(sizeof(GpuGiParams) == 16 * 4, "GpuGiParams: 16 scalars (std140 ro
 static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 13 * 4, "GpuVplParams: 13 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
+static_assert(sizeof(GpuIsmParams) == 5 * 16, "GpuIsmParams: std140 size");
 static_assert(sizeof(GpuVctParams) == 3 * 16 + VCT_MAX_LEVELS * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
 
 #include <string.h>

@@ -59,6 +59,8 @@ typedef struct GiStats {
     bool gather_vpl;          /* they loop over VPLs in a storage buffer */
     float gather_from_list;   /* fraction of their samples read from a storage-buffer list */
     uint64_t gpu_bytes;       /* GPU memory the technique holds (its own textures and buffers) */
+    int visibility_builds;    /* --gi-visibility: times the visibility maps were built */
+    uint64_t visibility_bytes; /* --gi-visibility: GPU memory of the visibility maps (in gpu_bytes too) */
     int voxelizations;        /* vct: times the scene was voxelized */
     double voxelize_ms;       /* vct: wall time of the last voxelization (glFinish on both sides) */
 } GiStats;

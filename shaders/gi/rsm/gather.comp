@@ -20,6 +20,8 @@
 #endif
 #include "common/math.glsl"
 #include "common/vpl.glsl"
+#include "common/packing.glsl"
+#include "gi/visibility/ism.glsl" // GI_VISIBILITY: the visibility of the bounce (src/gi/visibility/ism.c)
 #include "gi/rsm/sampling.glsl"
 #include "common/gbuffer.glsl"
 
@@ -51,13 +53,22 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
     vec3 e = vec3(0.0);
     float r2_per_area = u_gi.disk_r2_per_area; // read once (see RsmFrame)
     uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
-    for (uint i = u_chunk; i < nv; i++)
+#ifdef GI_VISIBILITY
+    IsmFrame vis = ism_frame(); // one map per VPL
+#endif
+    for (uint i = u_chunk; i < nv; i++) {
 #ifdef READS_ONLY
         e += rsm_reads_fold_vpl(vpls[i].surface, vpls[i].flux);
 #else
-        e += vpl_irradiance_disk(x, n, vpl_position(vpls[i]), vpl_shading_normal(vpls[i]), vpls[i].flux.rgb,
-                                 vpls[i].flux.w * r2_per_area);
+        vec3 xp = vpl_position(vpls[i]), np = vpl_shading_normal(vpls[i]);
+        vec3 ei = vpl_irradiance_disk(x, n, xp, np, vpls[i].flux.rgb, vpls[i].flux.w * r2_per_area);
+#ifdef GI_VISIBILITY
+        if (ei != vec3(0.0))
+            ei *= ism_visibility(vis, i, xp, np, x, n);
 #endif
+        e += ei;
+#endif
+    }
     return e;
 #elif WEIGHTING == RSM_WEIGHT_IMPORTANCE
     return rsm_gather_importance(x, n, list_set(px), first, stride, count);

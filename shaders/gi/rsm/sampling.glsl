@@ -61,6 +61,9 @@ struct RsmFrame {
     mat4 view_proj;      // 2D: the light's projection (rsm_in_disk)
     float r2_per_area;   // the texel disk's r² per texel area
     RsmTexelFrame texel; // how the map's texels unpack
+#ifdef ISM_FROM_RSM
+    IsmRsmFrame ism;     // the visibility of each sample (gi/visibility/ism.glsl)
+#endif
 };
 
 RsmFrame rsm_frame(vec3 x)
@@ -69,6 +72,9 @@ RsmFrame rsm_frame(vec3 x)
     float r_max = u_gi.r_max;
     f.r2_per_area = u_gi.disk_r2_per_area;
     f.texel = rsm_texel_frame();
+#ifdef ISM_FROM_RSM
+    f.ism = ism_rsm_frame();
+#endif
 #ifdef RSM_CUBE
     f.light = u_light.position_type.xyz;
     f.view_proj = mat4(1.0);
@@ -140,7 +146,12 @@ vec3 rsm_texel_irradiance(RsmFrame f, uvec4 t, vec3 x, vec3 n)
 #ifdef READS_ONLY
     return rsm_reads_fold(t);
 #else
-    return rsm_texel_irradiance_at(f.texel, t, x, n, f.r2_per_area);
+    vec3 e = rsm_texel_irradiance_at(f.texel, t, x, n, f.r2_per_area);
+#ifdef ISM_FROM_RSM
+    if (e != vec3(0.0))
+        e *= ism_visibility_rsm(f.ism, rsm_texel_position(f.texel, t), x, n);
+#endif
+    return e;
 #endif
 }
 
@@ -233,7 +244,12 @@ vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int 
 #else
         vec3 xp = vpl_position(v);
         vec3 e = vpl_irradiance_disk(x, n, xp, vpl_shading_normal(v), v.flux.rgb, v.flux.w * f.r2_per_area);
-        far += rsm_in_disk(f, xp) ? vec3(0.0) : e;
+        e = rsm_in_disk(f, xp) ? vec3(0.0) : e;
+#ifdef ISM_FROM_RSM
+        if (e != vec3(0.0))
+            e *= ism_visibility_rsm(f.ism, xp, x, n);
+#endif
+        far += e;
 #endif
     }
     return near + far / float(global);

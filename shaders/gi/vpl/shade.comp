@@ -1,5 +1,5 @@
-// gi/vpl/shade.comp — indirect irradiance from many VPLs (SPEC §3-4), no
-// visibility, counting VPL–pixel evaluations (per work group, SSBO_EVALS;
+// gi/vpl/shade.comp — indirect irradiance from many VPLs (SPEC §3-4), the
+// visibility of each VPL by choice (GI_VISIBILITY, below), counting VPL–pixel evaluations (per work group, SSBO_EVALS;
 // the second half counts candidates visited: tile-list entries for the
 // tiled modes, the same as evaluations otherwise):
 //   MODE_ALL          every VPL; with u_vpl.keep = q < 1 only those with
@@ -11,12 +11,29 @@
 //   MODE_INTERLEAVED  sub-image k = (x mod n) + n·(y mod m) sums its VPL
 //                     subset (SSBO_SUBSETS: the subsets' VPLs copied in
 //                     their order, length L each), weighted by K = n·m
+// GI_VISIBILITY: each evaluated term is multiplied by the VPL's visibility
+// of the pixel, from its imperfect shadow map (gi/visibility/ism.glsl; map
+// i is VPL i's; an interleaved subset's copy holds the VPL's index in
+// normal_xi.w, src/gi/vpl/vpl.c).
 // Each dispatch sums one chunk of LOOP_CHUNK entries of the pixel's list and
 // adds to the image and the counters (the first chunk writes them).
+
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "gi/vpl/falloff.glsl"
 #include "common/gbuffer.glsl"
+#include "common/packing.glsl"
+#include "gi/visibility/ism.glsl"
+#ifdef GI_VISIBILITY
+// The term ic of VPL v (index i) at x, times its visibility there.
+vec3 visible(IsmFrame vis, uint i, GpuVpl v, vec3 x, vec3 n, vec3 ic)
+{
+    return ic != vec3(0.0) ? ic * ism_visibility(vis, i, vpl_position(v), vpl_shading_normal(v), x, n) : ic;
+}
+#define VISIBLE(i, v, ic) visible(vis, i, v, x, n, ic)
+#else
+#define VISIBLE(i, v, ic) (ic)
+#endif
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -35,7 +52,7 @@ layout(std430, binding = SSBO_SUBSETS) readonly buffer SubsetBlock { GpuVpl subs
 // llvmpipe): SLC keeps a VPL while (d² + r_disk²)·α·ξ < 1, i.e. d < r, with
 // α = 2π·e_max/(E·max(Φ)/π) as params.comp computes it (`limit` is
 // vpl_slc_num()); the clamped range keeps d < R with α = 0 (`limit` is R²).
-void tiled_term(uint i, bool live, vec3 x, vec3 n, VplFalloff fo, float limit, uint seed,
+void tiled_term(uint i, bool live, vec3 x, vec3 n, VplFalloff fo, float limit, uint seed, IsmFrame vis,
                 inout vec3 e, inout uint count)
 {
     vec3 d = x - vpl_position(vpls[i]);
@@ -50,7 +67,7 @@ void tiled_term(uint i, bool live, vec3 x, vec3 n, VplFalloff fo, float limit, u
 #endif
     float d2;
     vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-    e += ic * max(alpha, vpl_falloff(fo, vpls[i], d2));
+    e += VISIBLE(i, vpls[i], ic) * max(alpha, vpl_falloff(fo, vpls[i], d2));
     count++;
 }
 #endif
@@ -85,6 +102,11 @@ void main()
     if (inside && gb_surface(px, x, n)) {
         float d2;
         VplFalloff fo = vpl_falloff_params();
+#ifdef GI_VISIBILITY
+        IsmFrame vis = ism_frame();
+#else
+        IsmFrame vis; // unused
+#endif
 #if defined(MODE_ALL)
         float q = u_vpl.keep;
         uint nv = min(counters[0], u_chunk + uint(LOOP_CHUNK));
@@ -92,7 +114,7 @@ void main()
             if (q < 1.0 && vpl_xi(vpls[i]) >= q)
                 continue;
             vec3 ic = vpl_intensity_cos(vpls[i], x, n, d2);
-            e += ic * vpl_falloff(fo, vpls[i], d2);
+            e += VISIBLE(i, vpls[i], ic) * vpl_falloff(fo, vpls[i], d2);
             count++;
         }
         e /= q;
@@ -115,10 +137,10 @@ void main()
         uint list = (VPL_TILE_LIST_BASE(ntiles) + tile * cap) >> 2u;
         for (uint k = u_chunk; k < k1; k += 4u) {
             uvec4 q = tiles[list + (k >> 2u)];
-            tiled_term(q.x, true, x, n, fo, limit, seed, e, count);
-            tiled_term(q.y, k + 1u < k1, x, n, fo, limit, seed, e, count);
-            tiled_term(q.z, k + 2u < k1, x, n, fo, limit, seed, e, count);
-            tiled_term(q.w, k + 3u < k1, x, n, fo, limit, seed, e, count);
+            tiled_term(q.x, true, x, n, fo, limit, seed, vis, e, count);
+            tiled_term(q.y, k + 1u < k1, x, n, fo, limit, seed, vis, e, count);
+            tiled_term(q.z, k + 2u < k1, x, n, fo, limit, seed, vis, e, count);
+            tiled_term(q.w, k + 3u < k1, x, n, fo, limit, seed, vis, e, count);
         }
 #elif defined(MODE_INTERLEAVED)
         uint k = uint(wg.x % nm.x + nm.x * (wg.y % nm.y)); // = px.x mod n + n·(px.y mod m)
@@ -128,7 +150,7 @@ void main()
             // The subset's own copy of its VPLs (vpl.c): two loads, no
             // index; a short subset's last entry has zero flux and adds 0.
             vec3 ic = vpl_intensity_cos(subsets[j], x, n, d2);
-            e += ic * vpl_falloff(fo, subsets[j], d2);
+            e += VISIBLE(floatBitsToUint(subsets[j].normal_xi.w), subsets[j], ic) * vpl_falloff(fo, subsets[j], d2);
             count += subsets[j].flux.r + subsets[j].flux.g + subsets[j].flux.b > 0.0 ? 1u : 0u;
         }
         e *= float(u_vpl.subset_count);

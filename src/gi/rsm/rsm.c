@@ -9,6 +9,9 @@
  *                    screen-space interpolation)
  *   rsm-interleaved  n×m de-interleaved sub-images with disjoint sample
  *                    subsets, reassembled, then a geometry-aware blur
+ * With --gi-visibility on, every sample's contribution is multiplied by its
+ * visibility of the pixel, from imperfect shadow maps (gi/visibility/ism.h:
+ * one per block of RSM texels; exhaustive: one per VPL).
  * Inputs: G-buffer, the light stage's RSMs (and VPLs when exhaustive).
  * Output: irradiance. Owns: its programs, the sample pattern, the low-res
  * image and pixel list (interp), the interleaving helper (interleaved);
@@ -21,6 +24,7 @@
 
 #include "gi/gi.h"
 #include "gi/interleave.h"
+#include "gi/visibility/ism.h"
 #include "gl_resources.h"
 #include "log.h"
 #include "shader.h"
@@ -55,6 +59,7 @@ typedef struct RsmGi {
     GLuint *samples;                  /* SSBO: GpuVpl[list_size], flux Φ/p */
     uint64_t *built_from;             /* RsmMap.version each pyramid and list were built from (0: none) */
     int importance_builds;            /* how many times one was built */
+    Ism *ism;                         /* --gi-visibility: the visibility maps (NULL: off) */
 } RsmGi;
 
 static unsigned rsm_needs(const GiParams *p)
@@ -66,12 +71,12 @@ static bool make_gather(RsmGi *g, GatherLayout layout)
 {
     static const char *const layout_def[GATHER_LAYOUTS] = {"#define MODE_FULL\n", "#define MODE_LOWRES\n",
                                                            "#define MODE_LIST\n", "#define MODE_INTERLEAVED\n"};
-    char defs[192];
+    char defs[256];
     for (int c = 0; c < 2; c++) {
-        /* The weighting and the exhaustive sum are compiled in (gather.comp). */
-        snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s%s", layout_def[layout], light_stage_rsm_kind(c),
+        /* The weighting, the exhaustive sum and the visibility are compiled in (gather.comp). */
+        snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s%s%s", layout_def[layout], light_stage_rsm_kind(c),
                  (int)g->params.weighting, g->params.exhaustive ? "#define EXHAUSTIVE\n" : "",
-                 g->params.gather_reads_only ? "#define READS_ONLY\n" : "");
+                 g->params.gather_reads_only ? "#define READS_ONLY\n" : "", ism_defines(g->ism));
         g->gather[layout][c] = program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_gather", .comp = "gi/rsm/gather.comp", .defines = defs});
         if (!g->gather[layout][c])
             return false;
@@ -208,6 +213,7 @@ static void rsm_destroy(void *state)
     RsmGi *g = state;
     if (!g)
         return;
+    ism_free(g->ism);
     importance_destroy(g);
     rsm_free_sized(g);
     glDeleteBuffers(1, &g->ubo);
@@ -224,6 +230,11 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
     g->variant = variant;
     g->params = *ci->params;
     g->pc = ci->programs;
+    if (g->params.gi_visibility &&
+        !(g->ism = ism_new(g->params.exhaustive ? ISM_FROM_VPLS : ISM_FROM_RSM, ci, "rsm"))) {
+        rsm_destroy(g);
+        return NULL;
+    }
     bool ok;
     switch (variant) {
     case RSM_FULL:
@@ -270,6 +281,8 @@ static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuin
         light_stage_bind_rsm(ls, i);
         if (importance_on(g))
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
+        if (g->ism)
+            ism_bind(g->ism, ls, prog, i);
         glUseProgram(prog);
         /* Exhaustive: one dispatch per LOOP_CHUNK VPLs (llvmpipe ends a
          * shader loop after 65535 iterations), the later ones adding. */
@@ -303,6 +316,8 @@ static bool rsm_run(void *state, const GiFrame *f)
 {
     RsmGi *g = state;
     GpuTimer *t = f->timer;
+    if (g->ism)
+        ism_update(g->ism, f);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_GI, g->ubo);
     /* The pyramid and the sample list derive from the RSM alone: rebuilt
      * when the light stage redrew it (a light or the scene moved, caching
@@ -399,6 +414,11 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     st->gpu_bytes = gl_texture_bytes(g->lowres) + gl_buffers_bytes(bufs, 2) + gi_interleave_bytes(&g->il);
     if (g->pyramid && g->samples)
         st->gpu_bytes += gl_textures_bytes(g->pyramid, g->lights) + gl_buffers_bytes(g->samples, g->lights);
+    if (g->ism) {
+        st->gpu_bytes += ism_gpu_bytes(g->ism);
+        st->visibility_builds = g->ism->builds;
+        st->visibility_bytes = ism_gpu_bytes(g->ism);
+    }
 }
 
 #define RSM_ROW(id, variant_name, create_fn, text)                                                     \

@@ -15,6 +15,9 @@
  *                    setting changes.
  * clamped and slc bin VPL spheres into 16×16 screen tiles (a per-tile world
  * box from the G-buffer) in a culling pass before shading.
+ * With --gi-visibility on, each evaluated VPL's term is multiplied by its
+ * visibility of the pixel from its imperfect shadow map (gi/visibility/
+ * ism.h, one map per VPL); culling, ranges and grouping are unchanged.
  * Inputs: G-buffer, VPL buffer. Output: irradiance. Owns: the range, tile, evaluation and subset buffers, the blur (interleaved).
  * Shaders: shaders/gi/vpl/. */
 #include <math.h>
@@ -26,6 +29,7 @@
 
 #include "gi/gi.h"
 #include "gi/interleave.h"
+#include "gi/visibility/ism.h"
 #include "gl_resources.h"
 #include "log.h"
 #include "shader.h"
@@ -58,6 +62,7 @@ typedef struct VplGi {
     int regroups;         /* how many times the grouping was (re)computed */
     uint32_t subset_len;  /* L */
     GpuVplParams gpu;     /* as last uploaded */
+    Ism *ism;             /* --gi-visibility: one visibility map per VPL (NULL: off) */
 } VplGi;
 
 static bool interleaved(const VplGi *v) { return v->method == VPL_INTERLEAVED || v->method == VPL_METALIGHTS; }
@@ -122,14 +127,18 @@ static void vpl_destroy(void *state)
     if (!v)
         return;
     vpl_free_sized(v);
+    ism_free(v->ism);
     GLuint bufs[4] = {v->ubo, v->gi_ubo, v->ranges, v->subsets};
     glDeleteBuffers(4, bufs);
     free(v);
 }
 
+/* The shading programs get the visibility's defines after their own. */
 static GLuint cached(VplGi *v, const char *label, const char *comp, const char *defines)
 {
-    return program_cache_get(v->pc, &(ShaderProgramDesc){.label = label, .comp = comp, .defines = defines});
+    char defs[256];
+    snprintf(defs, sizeof defs, "%s%s", defines ? defines : "", strstr(comp, "shade") ? ism_defines(v->ism) : "");
+    return program_cache_get(v->pc, &(ShaderProgramDesc){.label = label, .comp = comp, .defines = defs});
 }
 
 static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
@@ -143,6 +152,10 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
     v->params = *ci->params;
     v->pc = ci->programs;
     v->vpl_capacity = ci->lights->vpls.capacity ? ci->lights->vpls.capacity : 1;
+    if (v->params.gi_visibility && !(v->ism = ism_new(ISM_FROM_VPLS, ci, "vpl"))) {
+        vpl_destroy(v);
+        return NULL;
+    }
     bool ok = true;
     if (tiled(v)) {
         v->params_prog = method == VPL_SLC
@@ -327,6 +340,9 @@ static bool subsets(VplGi *v, const GiFrame *f)
         uint32_t group = j / K, member = j % K;
         uint32_t k = v->method == VPL_METALIGHTS ? (member + group) % K : member;
         sub[(size_t)k * L + group] = vpls[items[j].index];
+        /* The shading loop reads the VPL's own visibility map by its index
+         * in the buffer (ξ, the key above, is not read there). */
+        memcpy(&sub[(size_t)k * L + group].normal_xi[3], &items[j].index, sizeof(uint32_t));
     }
     glNamedBufferSubData(v->subsets, 0, (GLsizeiptr)(sizeof(GpuVpl) * (size_t)K * L), sub);
     free(items), free(vpls), free(xi_bits), free(sub), free(sig);
@@ -345,6 +361,8 @@ static bool vpl_run(void *state, const GiFrame *f)
     float range = gp->vpl_range > 0.f ? gp->vpl_range
                                       : 0.15f * glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
     upload_params(v, f->exposure, range);
+    if (v->ism)
+        ism_update(v->ism, f);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_GI, v->gi_ubo);
     if (tiled(v)) {
         gpu_timer_begin(t, v->method == VPL_SLC ? "slc_cull" : "vpl_cull");
@@ -363,6 +381,8 @@ static bool vpl_run(void *state, const GiFrame *f)
     bind_all(v, f->lights);
     glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
     glBindImageTexture(IMG_OUT, out, 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+    if (v->ism)
+        ism_bind(v->ism, f->lights, v->shade, 0);
     glUseProgram(v->shade);
     /* One dispatch per LOOP_CHUNK entries of the longest list a pixel can
      * have (llvmpipe ends a shader loop after 65535 iterations). */
@@ -405,6 +425,11 @@ static void vpl_stats(void *state, const GiFrame *f, GiStats *st)
     st->gather_vpl = true;
     const GLuint bufs[6] = {v->ubo, v->gi_ubo, v->ranges, v->tiles, v->evals, v->subsets};
     st->gpu_bytes = gl_buffers_bytes(bufs, 6) + gi_interleave_bytes(&v->il);
+    if (v->ism) {
+        st->visibility_builds = v->ism->builds;
+        st->visibility_bytes = ism_gpu_bytes(v->ism);
+        st->gpu_bytes += st->visibility_bytes;
+    }
 }
 
 static void *vpl_all_create(const GiCreateInfo *ci) { return vpl_create_method(ci, VPL_ALL); }

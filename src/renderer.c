@@ -147,6 +147,10 @@ static bool technique_create(Renderer *r)
     const RenderSettings *rs = &r->settings;
     r->gi = gi_techniques[rs->gi];
     r->gi_failed = false;
+    if (rs->gi_params.gi_visibility && !(r->gi->flags & GI_VISIBILITY))
+        log_warn("gi", "--gi-visibility on: %s does not test the bounce's visibility (rsm and the vpl techniques do); "
+                       "ignored",
+                 r->gi->name);
     if (!r->gi->create)
         return true;
     int n = renderer_ssaa(rs);

@@ -162,11 +162,32 @@ static void sponza_against_one_bounce(void **state)
     scene_free(&s);
 }
 
+/* --gi-visibility on with a technique that does not test visibility (lpv,
+ * vct, none) is said in one warning line, and the image is made as without
+ * it; rsm takes it without a word. */
+static void visibility_elsewhere_is_said(void **state)
+{
+    (void)state;
+    const char *gi[] = {"lpv", "vct", "rsm"};
+    for (int i = 0; i < 3; i++) {
+        char out[512], *err = NULL;
+        snprintf(out, sizeof out, "%s/visibility_elsewhere.png", RTGI_TEST_TMP);
+        int rc = test_run_cli(&err, "render", "--gi", gi[i], "--gi-visibility", "on", "--size", "16x16", "--vct-size",
+                              "16", "--out", out, NULL);
+        assert_int_equal(rc, 0);
+        bool said = err && strstr(err, "does not test the bounce's visibility");
+        print_message("--gi %s --gi-visibility on: %s\n", gi[i], said ? "warned" : "no warning");
+        assert_true(said == (i < 2));
+        free(err);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(wall_hides_the_bounce),
         cmocka_unit_test(sponza_against_one_bounce),
+        cmocka_unit_test(visibility_elsewhere_is_said),
     };
     return cmocka_run_group_tests_name("visibility", tests, test_gl_setup, test_gl_teardown);
 }

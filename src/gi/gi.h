@@ -92,13 +92,14 @@ typedef struct GiFrame {
 enum {
     GI_HAS_SPECULAR = 1u << 0,
     GI_EXHAUSTIVE = 1u << 1, /* brute force, the check of the others: not in bench's default list */
+    GI_VISIBILITY = 1u << 2, /* tests the bounce's visibility with --gi-visibility on */
 };
 
 typedef struct GiTechnique {
     const char *name;        /* the --gi value */
     const char *paper;       /* what it implements */
     const char *summary;     /* one line for --help and the UI */
-    unsigned flags;          /* GI_HAS_SPECULAR, GI_EXHAUSTIVE */
+    unsigned flags;          /* GI_HAS_SPECULAR, GI_EXHAUSTIVE, GI_VISIBILITY */
     bool rsm_from_vpl_count; /* its RSM size comes from --vpls */
     /* Light products (LightNeeds) for these settings. */
     unsigned (*needs)(const GiParams *p);

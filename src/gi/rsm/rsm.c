@@ -426,6 +426,7 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
         .name = variant_name,                                                                          \
         .paper = "Dachsbacher & Stamminger 2005, Reflective Shadow Maps",                              \
         .summary = text,                                                                               \
+        .flags = GI_VISIBILITY,                                                                        \
         .needs = rsm_needs,                                                                            \
         .create = create_fn,                                                                           \
         .resize = rsm_resize,                                                                          \

@@ -443,7 +443,7 @@ static void *vpl_metalights_create(const GiCreateInfo *ci) { return vpl_create_m
         .name = row_name,                                                                              \
         .paper = row_paper,                                                                            \
         .summary = text,                                                                               \
-        .flags = row_flags,                                                                            \
+        .flags = (row_flags) | GI_VISIBILITY,                                                          \
         .rsm_from_vpl_count = true,                                                                    \
         .needs = vpl_needs,                                                                            \
         .create = create_fn,                                                                           \

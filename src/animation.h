@@ -148,6 +148,22 @@ void animation_track_value(const AnimTrack *k, double t, float out[3]);
  * left as it is. */
 bool animation_apply(Scene *s, double t, SceneChange *changed);
 
+/* The animated channels of the lights at time t (clamped to [0,
+ * duration]) written into `lights`, an array of the scene's light_count
+ * (its other values left as they are): what animation_apply writes into
+ * the scene's lights, without touching the scene (the window's panel
+ * reads it on its own thread while the render thread applies). */
+void animation_lights_at(const Scene *s, double t, Light *lights);
+/* The camera at time t from the animation's camera tracks, written over
+ * *cam (what no track moves kept); false, *cam left as it was, where the
+ * animation has no camera track or its target meets its position. Reads
+ * the scene's animation only. */
+bool animation_camera_at(const Scene *s, double t, Camera *cam);
+/* After a caller edited light `light` by hand (a quad light moved or its
+ * radiance changed in the window): its emitter geometry and emission
+ * follow, the vertices rewritten added to *c (nothing for other types). */
+void animation_place_emitter(Scene *s, int light, SceneChange *c);
+
 /* The time of frame i of n: with fps > 0, i / fps; else spread over the
  * duration, from 0 to the end (n = 1: 0). */
 double animation_frame_time(const Scene *s, int i, int n, double fps);

@@ -23,6 +23,7 @@
 #include "scene.h"
 #include "settings.h"
 #include "ui/ab_view.h"
+#include "ui/view_anim.h"
 
 #define VIEW_HISTORY 120
 /* The docked panel's width in screen coordinates: the window is the image
@@ -63,9 +64,9 @@ typedef struct View {
     Settings edit;              /* the panel's working copy of the settings-table values */
     Camera camera;              /* current camera */
     Camera home;                /* the scene's camera (R) */
-    double time;                /* animation time in seconds (reserved: nothing animates yet; a
-                                   play/pause/scrub control would advance it, and each frame is
-                                   drawn at the time it was asked for) */
+    double time;                /* animation time in seconds: each frame is drawn at the time it
+                                   was asked for (view_anim.h plays, pauses and scrubs it) */
+    ViewAnim anim;              /* playback and the lights' edits (view_anim.h) */
     float yaw, pitch;           /* radians; forward = (cos p sin y, sin p, cos p cos y) */
     float speed;                /* metres per second */
     bool dragging;

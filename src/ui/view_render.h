@@ -29,11 +29,12 @@
  * submit: one frame per window frame, as deterministic as a single thread.
  *
  * Two later additions have their places here:
- *  - an animation time (play/pause/scrub) is part of the scene state
- *    (ViewScene.time): the window's loop advances View.time while playing
- *    (as it moves the camera while a key is held), so each pass asks for a
- *    new frame, and draw_frame would set the lights and camera at
- *    req->scene.time before renderer_frame;
+ *  - an animation time (play/pause/scrub) and the lights' edits are part
+ *    of the scene state (ViewScene.time, .lights): the window's loop
+ *    advances View.time while playing (as it moves the camera while a key
+ *    is held), so each pass asks for a new frame, and draw_frame writes
+ *    the scene at req->scene.time with the edits before renderer_frame
+ *    (view_anim_apply: animation_apply, renderer_scene_changed);
  *  - a live progressive reference (a path tracer on threads of its own:
  *    start/restart(scene, camera), read mean + spp + relMSE, stop) would be
  *    restarted by the window's loop when the request's camera or lights
@@ -72,7 +73,8 @@ typedef enum ViewJob {
 typedef struct ViewScene {
     RenderSettings settings;
     Camera camera;
-    double time;        /* animation time (s): reserved, nothing animates yet */
+    double time;        /* animation time (s) */
+    ViewLightEdits lights; /* the lights' edits in the window (view_anim.h) */
 } ViewScene;
 
 typedef struct ViewRequest {
@@ -126,7 +128,7 @@ typedef struct ViewImage {
 
 typedef struct ViewRenderDesc {
     GLFWwindow *context;    /* a hidden window with a context shared with the window's */
-    const Scene *scene;     /* borrowed */
+    Scene *scene;           /* borrowed; the thread writes the animation's state and the lights' edits into it */
     const AbView *ab;       /* the reference (read on the thread: RMSE, heat-map scale), or NULL */
     ViewStatus *status;     /* the panel's status line */
     const ViewRequest *first; /* the first frame's request (its settings make the renderer) */

@@ -68,6 +68,8 @@ void view_script_capture(ViewScript *t, View *v, int fw, int fh)
 
 bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
 {
+    if (t->animation)
+        return view_script_anim_step(t, v, frame, fw, fh);
     ViewRenderState st;
     view_render_state(t->render, &st);
     if (frame == 0 && getenv("RTGI_UI_TEST_ASYNC_ONLY")) /* the second part alone (measuring a real slow frame) */
@@ -214,6 +216,8 @@ static void track_redraws(ViewScript *t, const ViewScriptPass *p)
 
 bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p)
 {
+    if (t->animation)
+        return view_script_anim_tick(t, v, p);
     if (t->phase == SLOW_KEY || t->phase == SLOW_WAIT)
         track_redraws(t, p);
     if (p->now < t->deadline)

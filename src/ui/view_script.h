@@ -53,6 +53,10 @@ typedef struct ViewScript {
     float exposure1, exposure2;
     char busy[96];
     bool shot_busy;     /* capture the window at its next redraw (window_busy.png) */
+    /* The animation script (view_script_anim.c), run instead on a scene
+     * with an animation. */
+    bool animation;
+    double anim_time0;  /* the animation's time when playback began */
 } ViewScript;
 
 /* What the loop tells the second part each pass. */
@@ -71,6 +75,11 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh);
 /* Second part: one pass of the loop (before its request); false when the
  * script is over. */
 bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p);
+/* The animation script's parts (a scene with an animation; see
+ * view_script_anim.c): what view_script_step and view_script_tick run
+ * instead. */
+bool view_script_anim_step(ViewScript *t, View *v, int frame, int fw, int fh);
+bool view_script_anim_tick(ViewScript *t, View *v, const ViewScriptPass *p);
 /* Second part: the window drawn this pass, before the swap (a capture
  * the script asked for). */
 void view_script_capture(ViewScript *t, View *v, int fw, int fh);

@@ -29,8 +29,10 @@
  *     renderer_frame(renderer, &scene->camera);
  * renderer_scene_changed uploads moved vertices and tells the light stage
  * and the technique what changed; lights and the camera are read from the
- * scene every frame anyway. A caller that edits a light by hand (a dragged
- * light) needs nothing more: the light stage notices a changed light. */
+ * scene every frame anyway. A caller that edits a light by hand (the
+ * window's keys) needs nothing more, the light stage noticing a changed
+ * light, but for a quad light's emitter geometry: animation_place_emitter,
+ * then renderer_scene_changed (src/ui/view_anim.c, view_anim_apply). */
 #ifndef RTGI_ANIMATION_H
 #define RTGI_ANIMATION_H
 

@@ -60,6 +60,11 @@ void view_anim_init(View *v, const Scene *s, bool temporal_given)
     a->temporal_scene = s->gi.temporal;
     a->temporal_auto = a->present && !temporal_given;
     a->temporal_written = v->settings.gi_params.temporal;
+    a->shown = *s;
+    memcpy(a->shown_lights, s->lights, sizeof(Light) * (size_t)a->light_count);
+    a->shown.lights = a->shown_lights;
+    a->shown.light_count = a->light_count;
+    v->scene = &a->shown;
 }
 
 void view_anim_play(View *v, bool play, double now)
@@ -215,6 +220,8 @@ bool view_anim_advance(View *v, double now)
         else
             follow_camera(v);
     }
+    for (int i = 0; i < a->light_count; i++) /* the window's scene: the lights the next frame draws */
+        view_anim_light(v, i, &a->shown_lights[i]);
     if (a->temporal_auto) {
         if (v->edit.gi.temporal != a->temporal_written) { /* ticked in the panel: the user's choice from now on */
             a->temporal_auto = false;

@@ -53,6 +53,12 @@ typedef struct ViewAnim {
     int light_count;
     Light base[VIEW_MAX_LIGHTS]; /* the scene's lights as loaded (t = 0, no edit) */
     ViewLightEdits edits;
+    /* The window's scene (View.scene points here): a shallow copy of the
+     * Scene made before the render thread starts, whose lights are the
+     * window's own (as the next frame draws them, updated each pass) and
+     * whose bounds stay as loaded; the render thread writes the Scene's. */
+    Scene shown;
+    Light shown_lights[VIEW_MAX_LIGHTS];
 } ViewAnim;
 
 /* The render thread's side: what the Scene holds now. */
@@ -74,7 +80,8 @@ typedef struct GLFWwindow GLFWwindow;
 
 /* The state from the scene (its lights and animation as loaded) and
  * whether --temporal chose temporal accumulation; after the View's camera
- * and settings are set. */
+ * and settings are set, before the render thread starts. View.scene is
+ * then ViewAnim.shown. */
 void view_anim_init(View *v, const Scene *s, bool temporal_given);
 /* Space (play/pause) and L / Shift-L (the next / previous light); true
  * when the key was one of them. */

@@ -214,6 +214,25 @@ static void track_redraws(ViewScript *t, const ViewScriptPass *p)
     t->seen_redraws = p->redraws;
 }
 
+bool view_script_settle(ViewScript *t, const ViewScriptPass *p)
+{
+    if (p->state.busy || p->state.frames == 0) {
+        t->deadline = p->now + 0.1;
+        return false;
+    }
+    t->deadline = p->now + 0.5;
+    return true;
+}
+
+void view_script_mark(ViewScript *t, const ViewScriptPass *p, double wait_s)
+{
+    t->t0 = p->now;
+    t->frames0 = p->state.frames;
+    t->redraws0 = p->redraws;
+    t->wakeups0 = p->wakeups;
+    t->deadline = p->now + wait_s;
+}
+
 bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p)
 {
     if (t->animation)
@@ -225,19 +244,11 @@ bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p)
     const ViewRenderState *st = &p->state;
     switch (t->phase) {
     case SETTLE: /* the first part's last frames shown, the window's redraws after them done */
-        if (st->busy || st->frames == 0) {
-            t->deadline = p->now + 0.1;
-            break;
-        }
-        t->deadline = p->now + 0.5;
-        t->phase = IDLE_START;
+        if (view_script_settle(t, p))
+            t->phase = IDLE_START;
         break;
     case IDLE_START:
-        t->t0 = p->now;
-        t->frames0 = st->frames;
-        t->redraws0 = p->redraws;
-        t->wakeups0 = p->wakeups;
-        t->deadline = p->now + 1.0;
+        view_script_mark(t, p, 1.0);
         t->phase = IDLE_END;
         break;
     case IDLE_END: {

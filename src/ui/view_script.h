@@ -75,6 +75,13 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh);
 /* Second part: one pass of the loop (before its request); false when the
  * script is over. */
 bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p);
+/* Second part: whether the frames asked for are drawn (none in flight):
+ * then the next step is due in half a second (the window's redraws after
+ * them done), else the check again in a tenth. */
+bool view_script_settle(ViewScript *t, const ViewScriptPass *p);
+/* Second part: the counters a measured span starts from (now, scene
+ * frames, redraws, loop passes), its end due in wait_s. */
+void view_script_mark(ViewScript *t, const ViewScriptPass *p, double wait_s);
 /* The animation script's parts (a scene with an animation; see
  * view_script_anim.c): what view_script_step and view_script_tick run
  * instead. */

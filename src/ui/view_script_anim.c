@@ -109,19 +109,13 @@ bool view_script_anim_tick(ViewScript *t, View *v, const ViewScriptPass *p)
     switch (t->phase) {
     case SETTLE:
     case PAUSE_SETTLE: /* the last frames drawn and shown */
-        if (st->busy || st->frames == 0) {
-            t->deadline = p->now + 0.1;
-            break;
-        }
-        t->deadline = p->now + 0.5;
-        t->phase = t->phase == SETTLE ? PLAY : IDLE_START;
+        if (view_script_settle(t, p))
+            t->phase = t->phase == SETTLE ? PLAY : IDLE_START;
         break;
     case PLAY:
         view_key(v, GLFW_KEY_SPACE, 0);
         t->anim_time0 = v->time;
-        t->t0 = p->now;
-        t->frames0 = st->frames;
-        t->deadline = p->now + 2.0;
+        view_script_mark(t, p, 2.0);
         t->phase = PLAYED;
         break;
     case PLAYED: {
@@ -136,11 +130,7 @@ bool view_script_anim_tick(ViewScript *t, View *v, const ViewScriptPass *p)
         break;
     }
     case IDLE_START:
-        t->t0 = p->now;
-        t->frames0 = st->frames;
-        t->redraws0 = p->redraws;
-        t->wakeups0 = p->wakeups;
-        t->deadline = p->now + 1.0;
+        view_script_mark(t, p, 1.0);
         t->phase = IDLE_END;
         break;
     case IDLE_END:

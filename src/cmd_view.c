@@ -1,6 +1,8 @@
 /* cmd_view.c — `rtgi view`: the renderer in a window (GLFW) with a Dear
  * ImGui panel (src/ui/view_panel.c): camera, technique and settings,
- * timings, captures, shader hot reload and the A/B view of --compare.
+ * timings, captures, shader hot reload, the A/B view of --compare, and
+ * the scene's animation and lights (src/ui/view_anim.c: play, pause,
+ * scrub; lights moved with keys, their power edited).
  * The window is the image (its render size) with the panel docked on its
  * right. This file is the window's thread: events, input, layout, the
  * panel and the last finished image, drawn only when something changed;

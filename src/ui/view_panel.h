@@ -2,7 +2,8 @@
  * technique and shadow pickers, every row of the settings table as a
  * widget with its range, exposure (live: renderer_apply remakes nothing for
  * it), per-pass GPU ms with a history plot, the camera with "copy as scene
- * JSON", captures, shader hot reload and the A/B view of --compare.
+ * JSON", captures, shader hot reload, the A/B view of --compare, and the
+ * animation and lights (view_anim.h).
  *
  * The View is the window's thread's: the render thread (view_render.h)
  * gets its settings and camera as a request, and hands back its

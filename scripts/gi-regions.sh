@@ -14,6 +14,7 @@
 #   BEFORE=PATH             also a row for another rtgi binary's `--gi lpv`
 #                           with its own defaults (e.g. a build of the
 #                           commit before a change)
+#   BEFORE_GI=lpv           the technique of that row (e.g. vct)
 #   ROWS="label|args;..."   the rows (default below); args go to `render`
 #   CORNELL=256x256 CORNELL_SPP=256 SPONZA=320x180 SPONZA_SPP=64
 #   SHADOW=pcss             the render's --shadow (the reference is the same
@@ -28,6 +29,7 @@ DIR=${1:-out/gi-regions}
 RTGI=${RTGI:-build/rtgi}
 TOOL=build/tests/gi_regions
 SHADOW=${SHADOW:-pcss}
+BEFORE_GI=${BEFORE_GI:-lpv}
 CORNELL=${CORNELL:-256x256}
 CORNELL_SPP=${CORNELL_SPP:-256}
 SPONZA=${SPONZA:-320x180}
@@ -73,13 +75,13 @@ for sc in "${scenes[@]}"; do
   echo
   header=--header
   IFS=';' read -ra rows <<<"$ROWS"
-  [ -n "${BEFORE:-}" ] && rows+=("lpv, $BEFORE|BEFORE")
+  [ -n "${BEFORE:-}" ] && rows+=("$BEFORE_GI, $BEFORE|BEFORE")
   for row in "${rows[@]}"; do
     label=${row%%|*}
     args=${row#*|}
     img="${base}_$(echo "$label" | tr -c 'A-Za-z0-9' '_').pfm"
     if [ "$args" = BEFORE ]; then
-      "$BEFORE" render --scene "$scene" --size "$size" --shadow "$SHADOW" --gi lpv --out "$img" --quiet
+      "$BEFORE" render --scene "$scene" --size "$size" --shadow "$SHADOW" --gi "$BEFORE_GI" --out "$img" --quiet
     else
       # shellcheck disable=SC2086 # args are words
       "$RTGI" render --scene "$scene" --size "$size" --shadow "$SHADOW" $args --out "$img" --quiet

@@ -50,8 +50,19 @@
 #define BENCH_MAX_DIR 900
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
-static const char *const k_default_gi =
-    "none,rsm,rsm-interp,rsm-interleaved,vpl-clamped,vpl-slc,vpl-interleaved,vpl-metalights,lpv,vct";
+/* Every technique of the table but the exhaustive ones (GI_EXHAUSTIVE:
+ * vpl-all), comma-separated: bench's default --gi. */
+static const char *default_gi_list(void)
+{
+    static char list[512];
+    if (list[0])
+        return list;
+    size_t n = 0;
+    for (int i = 0; gi_techniques[i]; i++)
+        if (!(gi_techniques[i]->flags & GI_EXHAUSTIVE) && n < sizeof list)
+            n += (size_t)snprintf(list + n, sizeof list - n, "%s%s", n ? "," : "", gi_techniques[i]->name);
+    return list;
+}
 
 void cmd_bench_help(void)
 {
@@ -87,7 +98,7 @@ void cmd_bench_help(void)
            "  --verbose          debug lines too\n"
            "  --OPTION VALUE     any setting of `rtgi render --help` for every technique\n"
            "                     (bench sets --vpls 16384 unless given)\n",
-           k_default_gi);
+           default_gi_list());
 }
 
 /* One technique to measure and what was measured. */
@@ -857,7 +868,7 @@ typedef struct BenchArgs {
  * status (2 for usage), after logging. */
 static int bench_parse_args(int argc, char **argv, BenchArgs *args)
 {
-    *args = (BenchArgs){.scene_name = "cornell", .gi_list = k_default_gi, .shadow_list = "pcss",
+    *args = (BenchArgs){.scene_name = "cornell", .gi_list = default_gi_list(), .shadow_list = "pcss",
                         .cache = "out/ref-cache", .width = 256, .height = 256, .frames = 3, .ssaa = 1,
                         .exposure = -1.f};
     PtSettings *ps = &args->ps;

@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "animation.h"
 #include "commands.h"
@@ -28,6 +29,7 @@
 #include "renderer.h"
 #include "shader.h"
 #include "ui/ab_view.h"
+#include "ui/live_reference.h"
 #include "ui/ui.h"
 #include "ui/view_input.h"
 #include "ui/view_panel.h"
@@ -66,6 +68,14 @@ void cmd_view_help(void)
            "  --compare FILE                reference image for the A/B view (split, reference,\n"
            "                                difference): .pfm or .exr radiance at the window's\n"
            "                                exposure, .png shown as it is\n"
+           "  --live-reference              the reference path tracer converging in the A/B view on\n"
+           "                                the window's camera (also the panel's box): a camera,\n"
+           "                                light or size change restarts it; with --compare, its\n"
+           "                                relMSE against that file is shown\n"
+           "  --live-threads T              its threads, at the lowest priority (default: all cores)\n"
+           "  --live-spp N                  the samples per pixel it stops at (default: 4096)\n"
+           "  --live-priority idle|normal   its threads' priority: idle (SCHED_IDLE: only the CPU time\n"
+           "                                nothing else wants) or normal, as any program's (default: idle)\n"
            "  --frames N                    exit after N frames (default: 0, run until closed)\n"
            "  --out FILE                    the image P saves, and with --frames the last frame:\n"
            "                                .png as shown, .pfm or .exr linear radiance\n"
@@ -110,6 +120,9 @@ typedef struct ViewLoop {
     double expect_until;    /* when to stop waiting for it (a window manager may refuse) */
     float scale;            /* framebuffer pixels per screen coordinate */
     bool capture_failed;    /* the scripted --window-out capture failed: the command fails */
+    LiveReference live;     /* the live reference (stopped unless v->live_wanted) */
+    ImageF compare_file;    /* --compare's image (a copy), shown again when the live reference stops */
+    bool compare_display;   /* it is display-referred (PNG): no relMSE against it */
 } ViewLoop;
 
 /* Any input: the window is drawn again (and a couple more times after, for
@@ -271,7 +284,8 @@ static void view_init(View *v, const RenderOptions *o, const Scene *scene, ViewS
      * gl_renderer_is_software); a GPU's timestamps need no stall. */
     v->settings.timing_sync = gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
     /* The window shows the final image; the A/B view also reads the radiance. */
-    v->settings.display_only = o->compare == NULL;
+    v->live_wanted = o->live_reference;
+    v->settings.display_only = o->compare == NULL && !v->live_wanted;
     v->edit.shadow = v->settings.shadow_params;
     v->edit.gi = v->settings.gi_params;
     v->camera = v->home = scene->camera;
@@ -307,7 +321,79 @@ static bool view_ui_open(ViewLoop *l, const RenderOptions *o, bool *have_present
     if (o->compare && !ab_view_load_reference(l->present, o->compare))
         return false;
     l->v->ab = o->compare ? l->present : NULL;
+    const AbView *ab = l->present;
+    l->compare_display = ab->display;
+    if (o->compare) { /* shown again after the live reference, and what its relMSE is measured against */
+        if (!image_alloc(&l->compare_file, ab->reference.width, ab->reference.height)) {
+            log_error("view", "--compare %s: out of memory for a copy of the reference", o->compare);
+            return false;
+        }
+        memcpy(l->compare_file.rgb, ab->reference.rgb,
+               sizeof(float) * 3 * (size_t)ab->reference.width * ab->reference.height);
+    }
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    int threads = o->live_threads > 0 ? o->live_threads : cores > 0 ? (int)cores : 1;
+    live_reference_init(&l->live, threads, o->live_spp, o->live_ordinary,
+                        l->compare_file.rgb && !l->compare_display ? &l->compare_file : NULL);
     return true;
+}
+
+/* ---- The live reference ------------------------------------------------------- */
+
+/* The A/B view's reference and the render thread's copy: `img` (NULL: none). */
+static void live_show(ViewLoop *l, const ImageF *img, bool display)
+{
+    if (img && img->rgb) {
+        ImageF copy;
+        if (!image_alloc(&copy, img->width, img->height)) {
+            log_error("view", "live reference: out of memory for a %dx%d image", img->width, img->height);
+            return;
+        }
+        memcpy(copy.rgb, img->rgb, sizeof(float) * 3 * (size_t)img->width * img->height);
+        if (!ab_view_set_reference(l->present, &copy, display, "live reference")) /* logs */
+            image_free(&copy);
+    } else {
+        ab_view_clear_reference(l->present);
+    }
+    view_render_set_reference(l->render, img, display);
+    l->dirty = true;
+}
+
+/* The live reference on, off, restarted or with a newer image, each pass
+ * before the request (the frame's radiance is kept while it is on). */
+static void loop_live(ViewLoop *l)
+{
+    View *v = l->v;
+    LiveReference *live = &l->live;
+    bool was = live->status.running;
+    if (v->live_wanted) {
+        int r = live_reference_update(live, v->scene, &v->camera, v->time, v->settings.width, v->settings.height);
+        if (r < 0) {
+            v->live_wanted = false; /* it logged why, on the panel's status line too */
+        } else if (r > 0) {
+            if (!was) {
+                v->ab = l->present;
+                v->settings.display_only = false;
+                if (l->present->mode == AB_FRAME)
+                    l->present->mode = AB_SPLIT;
+            }
+            live_show(l, NULL, false); /* the old state's image compared with the new frame would mislead */
+        }
+        if (live_reference_poll(live))
+            live_show(l, &live->image, false);
+    }
+    if (!v->live_wanted && live->status.running) {
+        live_reference_stop(live);
+        live_show(l, l->compare_file.rgb ? &l->compare_file : NULL, l->compare_display);
+        if (!l->compare_file.rgb) {
+            v->ab = NULL;
+            v->settings.display_only = true;
+        }
+    }
+    if (memcmp(&v->live, &live->status, sizeof v->live)) {
+        v->live = live->status;
+        l->dirty = true;
+    }
 }
 
 /* ---- The loop ------------------------------------------------------------------ */
@@ -354,6 +440,8 @@ static double loop_timeout(const ViewLoop *l, const ViewRenderState *st, double 
         double busy = now - st->busy_since;
         t = busy < 0.25 ? 0.25 - busy : 0.1;
     }
+    if (l->live.status.running && !l->live.status.done) /* the live reference's renderer or next image */
+        t = t < 0 ? 0.1 : fmin(t, 0.1);
     if (l->script.async && l->script.deadline > 0) {
         double d = fmax(l->script.deadline - now, 0.0);
         t = t < 0 ? d : fmin(t, d);
@@ -469,6 +557,10 @@ static bool loop_pass(ViewLoop *l, const RenderOptions *o)
                             .state = st};
         if (!view_script_tick(&l->script, v, &p))
             glfwSetWindowShouldClose(l->win, GLFW_TRUE); /* the script is over */
+        if (l->script.redraw) {
+            l->script.redraw = false;
+            l->dirty = true;
+        }
     }
     /* The camera: movement keys held since the last pass (none the pass a
      * key goes down: a tap moves by what it was held, not by how long the
@@ -485,6 +577,7 @@ static bool loop_pass(ViewLoop *l, const RenderOptions *o)
     if (v->quit)
         glfwSetWindowShouldClose(l->win, GLFW_TRUE);
     loop_layout(l);
+    loop_live(l);
 
     ViewRequest req;
     memset(&req, 0, sizeof req);
@@ -613,6 +706,7 @@ int cmd_view(int argc, char **argv)
             log_info("view", "closing once the frame being drawn is done (%.0f s so far)",
                      glfwGetTime() - st.busy_since);
     }
+    live_reference_stop(&loop.live);
     view_render_stop(loop.render);
     log_set_hook(NULL, NULL);
     if (have_present)
@@ -622,6 +716,7 @@ int cmd_view(int argc, char **argv)
     glfwDestroyWindow(win);
     glfwTerminate();
     pthread_mutex_destroy(&status.lock);
+    image_free(&loop.compare_file);
     scene_free(&scene);
     return rc;
 }

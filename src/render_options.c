@@ -105,11 +105,12 @@ void render_options_init(RenderOptions *o, bool view)
     o->warmup = 1;
     o->slow_ms = 1000.0;
     o->time = -1.0;
+    o->live_spp = 4096;
 }
 
 /* The options only one of the two commands takes. */
 static const char *const k_render_only[] = {"--animate", "--emitter-mask", "--fps", "--out-ao", "--png", "--probe", "--time", "--timings", "--video", "--warmup", NULL};
-static const char *const k_view_only[] = {"--compare", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
+static const char *const k_view_only[] = {"--compare", "--live-priority", "--live-reference", "--live-spp", "--live-threads", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
 
 /* The options `render` (view false) or `view` knows, the settings table's
  * included (for "did you mean"). */
@@ -167,6 +168,23 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             }
         } else if (!strcmp(opt, "--no-panel")) {
             o->no_panel = true;
+        } else if (!strcmp(opt, "--live-reference")) {
+            o->live_reference = true;
+        } else if (!strcmp(opt, "--live-threads")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 1024, &o->live_threads))
+                return 2;
+        } else if (!strcmp(opt, "--live-priority")) {
+            CLI_VALUE(&a, v);
+            if (strcmp(v, "idle") && strcmp(v, "normal")) {
+                cli_error(NULL, "--live-priority: '%s' is not idle or normal", v);
+                return 2;
+            }
+            o->live_ordinary = !strcmp(v, "normal");
+        } else if (!strcmp(opt, "--live-spp")) {
+            CLI_VALUE(&a, v);
+            if (!cli_int(opt, v, 1, 1 << 24, &o->live_spp))
+                return 2;
         } else if (!strcmp(opt, "--scene")) {
             CLI_VALUE(&a, v);
             if (!cli_scene(opt, v))

@@ -45,6 +45,10 @@ typedef struct RenderOptions {
     double time;            /* --time T: the scene at T s (< 0: not given) */
     const char *video;      /* --video FILE.mp4: also a video of the frames (ffmpeg), or NULL */
     bool no_panel;          /* --no-panel: start with the panel hidden */
+    bool live_reference;    /* --live-reference: the path tracer converging in the A/B view */
+    int live_threads;       /* --live-threads: its threads (0: every core) */
+    int live_spp;           /* --live-spp: the samples per pixel it stops at (4096) */
+    bool live_ordinary;     /* --live-priority normal (else idle: SCHED_IDLE) */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */
 } RenderOptions;

@@ -25,25 +25,6 @@ static const char *const k_faces[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
 
 static bool emissive(const Material *m) { return m->emission[0] > 0 || m->emission[1] > 0 || m->emission[2] > 0; }
 
-/* mask[i] = 0 on pixels that see an emitter and their 8 neighbours, else 1. */
-static void emitter_mask(const Scene *s, int w, int h, const int32_t *ids, uint8_t *mask)
-{
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            bool keep = true;
-            for (int dy = -1; dy <= 1; dy++)
-                for (int dx = -1; dx <= 1; dx++) {
-                    int u = x + dx, v = y + dy;
-                    if (u < 0 || v < 0 || u >= w || v >= h)
-                        continue;
-                    int32_t id = ids[(size_t)v * w + u];
-                    if (id >= 0 && emissive(&s->materials[id / 6]))
-                        keep = false;
-                }
-            mask[(size_t)y * w + x] = keep;
-        }
-}
-
 /* The surfaces checked: (material, face) seen by MIN_PIXELS eroded pixels
  * or more, every non-emissive material; returns the count (≤ max). */
 typedef struct Surface {
@@ -102,7 +83,7 @@ int main(int argc, char **argv)
     uint8_t *mask = malloc((size_t)w * h);
     if (!ids || !mask || !pt_surface_map(&s, w, h, ids))
         return 1;
-    emitter_mask(&s, w, h, ids, mask);
+    test_emitter_mask(&s, w, h, ids, mask);
     double whole = test_indirect_ratio(tech, none, ref, direct, mask), rel = metric_relmse(tech, ref, mask, NULL),
            rel_none = metric_relmse(none, ref, mask, NULL), lo, hi;
     test_block_ratio_range(tech, none, ref, direct, 16, 9, &lo, &hi);

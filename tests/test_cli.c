@@ -715,6 +715,14 @@ static void cli_conventions(void **state)
     test_expect_cli_error(rc, err, 2, "--slow-ms", "positive");
     rc = test_run_cli(&err, "view", "--no-panel=1", NULL);
     test_expect_cli_error(rc, err, 2, "--no-panel", "takes no value");
+    rc = test_run_cli(&err, "view", "--live-priority", "low", NULL);
+    test_expect_cli_error(rc, err, 2, "--live-priority: 'low'", "idle or normal");
+    rc = test_run_cli(&err, "view", "--live-threads", "0", NULL);
+    test_expect_cli_error(rc, err, 2, "--live-threads", NULL);
+    rc = test_run_cli(&err, "view", "--live-spp", "many", NULL);
+    test_expect_cli_error(rc, err, 2, "--live-spp", NULL);
+    rc = test_run_cli(&err, "render", "--live-reference", NULL);
+    test_expect_cli_error(rc, err, 2, "--live-reference is an option of 'rtgi view'", NULL);
     rc = test_run_cli(&err, "view", "--window-out", "w.jpg", NULL);
     test_expect_cli_error(rc, err, 2, "--window-out", ".png");
     rc = test_run_cli(&err, "render", "--compare", "ref.pfm", NULL);

@@ -443,6 +443,25 @@ void test_gbuffer_pixel(const GBuffer *g, int x, int y, TestGbPixel *out)
     glm_vec3_copy(b.f0, out->f0);
 }
 
+void test_emitter_mask(const Scene *s, int w, int h, const int32_t *ids, uint8_t *mask)
+{
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            bool keep = true;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int u = x + dx, v = y + dy;
+                    if (u < 0 || v < 0 || u >= w || v >= h)
+                        continue;
+                    int32_t id = ids[(size_t)v * w + u];
+                    const float *e = id >= 0 ? s->materials[id / 6].emission : NULL;
+                    if (e && (e[0] > 0 || e[1] > 0 || e[2] > 0))
+                        keep = false;
+                }
+            mask[(size_t)y * w + x] = keep;
+        }
+}
+
 static bool dark(const ImageF *img, int x, int y)
 {
     return luminance(image_px(img, x, y)) < 1e-6f;

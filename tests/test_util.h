@@ -127,6 +127,10 @@ typedef struct TestGbPixel {
 } TestGbPixel;
 void test_gbuffer_pixel(const GBuffer *g, int x, int y, TestGbPixel *out);
 
+/* mask[i] = 0 on pixels that see an emitter (ids from pt_surface_map:
+ * material · 6 + face, −1 none) and their 8 neighbours, else 1. */
+void test_emitter_mask(const Scene *s, int w, int h, const int32_t *ids, uint8_t *mask);
+
 /* For direct-light images (a shadowed pixel is exactly black): mask[i] = 1
  * except within one pixel of where a and b disagree about being in shadow,
  * the shadow-map resolution error a radiometry check does not measure;

@@ -16,6 +16,8 @@
  *     RMSE matches metric_rmse;
  *   - P to .exr writes the PFM's radiance within half precision;
  *   - the panel's per-pass timings match `render --timings` pass by pass;
+ *   - the live reference (--live-reference) converges in the A/B view and
+ *     restarts when the camera moves;
  *   - `view --help` is view's own, render-only options are refused,
  *     `view --out x.pfm` writes a PFM. */
 #include <math.h>
@@ -412,6 +414,18 @@ static void panel_script(void **state)
         image_free(all[i]);
 }
 
+/* Runs `cmd` (stderr in its output), its output into out; fails the test,
+ * with that output, if it exits non-zero. */
+static void run_command(const char *cmd, char *out, size_t cap, const char *what)
+{
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, cap - 1, p);
+    out[n] = 0;
+    if (pclose(p) != 0)
+        fail_msg("%s failed: %s", what, out);
+}
+
 /* A PNG reference is display-referred: the A/B view shows it as it is (not
  * exposed again), and F5 without --shader-dir reloads from the source tree. */
 static void png_reference(void **state)
@@ -428,13 +442,8 @@ static void png_reference(void **state)
     snprintf(cmd, sizeof cmd,
              "RTGI_UI_TEST_SLOW_S=0.3 '%s' view --size 64x48 --exposure 1 --compare '%s' --ui-test '%s' 2>&1",
              RTGI_BINARY, ref, dir);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
     static char out[16384];
-    size_t n = fread(out, 1, sizeof out - 1, p);
-    out[n] = 0;
-    if (pclose(p) != 0)
-        fail_msg("rtgi view --compare ref.png --ui-test failed: %s", out);
+    run_command(cmd, out, sizeof out, "rtgi view --compare ref.png --ui-test");
     assert_non_null(strstr(out, "ui-test: reload: ok"));
     assert_non_null(strstr(out, "ui-test: rmse -1")); /* no RMSE against a display-referred image */
     ImageF want, got;
@@ -1014,6 +1023,137 @@ static void animation_script(void **state)
     assert_int_equal(playing, 0);
 }
 
+/* The live reference (--live-reference; the panel's box): the path
+ * tracer converging in the A/B view. The script (view_script.h) turns it
+ * off and on again, reports each image it publishes with its relMSE
+ * against a converged image of the same camera (--compare), captures the
+ * A/B view showing it, moves the camera and comes home (R). Checked: the
+ * images come in growing sample counts and their error against the
+ * converged image falls as Monte Carlo's does (it had no live reference at
+ * all: no line); the panel's line shows the samples and the estimated
+ * relMSE; the A/B view's reference is the live image, tone-mapped; a
+ * camera move restarts it (fewer samples at the first image after than
+ * before); the window drew frames while it converged. Its threads run at
+ * the ordinary priority here: at the lowest (SCHED_IDLE, the default) a
+ * machine busy with other tests leaves them almost nothing (a pass of 64
+ * spp at 64x64 took 7 s instead of 1.5 under a load of 11 on 2 cores). */
+static void live_reference(void **state)
+{
+    (void)state;
+    enum { LW = 64, LH = 64, REF_SPP = 512, MIN_SPP = 192 };
+    char dir[600], ref[700], size[32], cmd[4096];
+    snprintf(dir, sizeof dir, "%s/view_live", RTGI_TEST_TMP);
+    snprintf(ref, sizeof ref, "%s/converged.pfm", dir);
+    snprintf(size, sizeof size, "%dx%d", LW, LH);
+    util_ensure_parent_dir(ref);
+    char spp[16];
+    snprintf(spp, sizeof spp, "%d", REF_SPP);
+    /* Another seed than the window's (1): the two images' noise is independent. */
+    assert_int_equal(test_run_cli(NULL, "reference", "--size", size, "--spp", spp, "--seed", "1000", "--threads", "2",
+                                  "--out", ref, "--quiet", NULL),
+                     0);
+    test_x_display();
+    snprintf(cmd, sizeof cmd,
+             "RTGI_UI_TEST_LIVE_MIN_SPP=%d RTGI_UI_TEST_LIVE_TARGET=0 RTGI_UI_TEST_LIVE_BUSY_S=1 "
+             "'%s' view --size %s --exposure 1 --live-reference --live-threads 2 --live-priority normal "
+             "--compare '%s' --ui-test '%s' 2>&1",
+             MIN_SPP, RTGI_BINARY, size, ref, dir);
+    static char out[32768];
+    run_command(cmd, out, sizeof out, "rtgi view --live-reference --ui-test");
+    print_message("%s", out);
+
+    /* Off: not running, --compare's image in the A/B view again. */
+    int running = -1, rw = 0, rh = 0;
+    const char *v = find_line(out, "ui-test: live off: ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "running %d, A/B reference %dx%d", &running, &rw, &rh), 3);
+    assert_int_equal(running, 0);
+    assert_true(rw == LW && rh == LH);
+
+    /* On again: its images until MIN_SPP, each with more samples, the error
+     * against the converged image falling with them. */
+    const char *end = find_line(out, "ui-test: live converged: ");
+    assert_non_null(end);
+    int count = 0, s0 = 0, s1 = 0;
+    double e0 = 0, e1 = 0, est1 = 0;
+    for (const char *q = strstr(v, "ui-test: live "); q && q < end; q = strstr(q + 1, "ui-test: live ")) {
+        int s;
+        double t, est, e;
+        if (sscanf(q, "ui-test: live %d spp at %lf s: relMSE est %lf, vs --compare %lf", &s, &t, &est, &e) != 4)
+            continue;
+        assert_true(e >= 0 && isfinite(e) && (est > 0 || s < 2)); /* no variance of one sample */
+        if (count == 0) {
+            s0 = s;
+            e0 = e;
+        } else {
+            assert_true(s > s1);
+        }
+        s1 = s;
+        e1 = e;
+        est1 = est;
+        count++;
+    }
+    /* Expected: relMSE ≈ k (1/spp + 1/REF_SPP), the converged image's own
+     * noise the second term; half that ratio is the bound. */
+    double want = (1.0 / s1 + 1.0 / REF_SPP) / (1.0 / s0 + 1.0 / REF_SPP);
+    print_message("live: %d images, %d spp relMSE %.5f -> %d spp relMSE %.5f (ratio %.3f, Monte Carlo's %.3f)\n",
+                  count, s0, e0, s1, e1, e1 / e0, want);
+    assert_true(count >= 2);
+    assert_true(s1 >= MIN_SPP && s1 >= 2 * s0);
+    assert_true(e1 < e0 * (0.5 + 0.5 * want));
+
+    /* The panel's line: the last image's samples and its estimate. */
+    v = find_line(out, "ui-test: live panel '");
+    assert_non_null(v);
+    int panel_spp = 0;
+    double panel_est = 0;
+    assert_int_equal(sscanf(v, "%d spp in %*f s, relMSE ~%lf (est.)", &panel_spp, &panel_est), 2);
+    assert_int_equal(panel_spp, s1);
+    assert_true(fabs(panel_est - est1) <= 0.05 * est1);
+
+    /* The A/B view in reference mode shows the live image, tone-mapped at
+     * the window's exposure (1), where the image is (left of the panel). */
+    char live_pfm[700], shot_png[700];
+    snprintf(live_pfm, sizeof live_pfm, "%s/live.pfm", dir);
+    snprintf(shot_png, sizeof shot_png, "%s/live_ab_reference.png", dir);
+    ImageF live, shot, conv;
+    assert_true(image_read(live_pfm, &live) && image_read(shot_png, &shot) && image_read(ref, &conv));
+    assert_int_equal(live.width, LW);
+    assert_int_equal(shot.height, LH);
+    double worst = 0;
+    for (int y = 0; y < LH; y++)
+        for (int x = 0; x < LW; x++)
+            for (int c = 0; c < 3; c++)
+                worst = fmax(worst, fabsf(srgb_encode(image_px(&shot, x, y)[c]) -
+                                          srgb_encode(fminf(image_px(&live, x, y)[c], 1.f))));
+    double live_vs_conv = metric_relmse(&live, &conv, NULL, NULL);
+    print_message("A/B reference mode vs the live image: worst %.4f; the live image's relMSE %.5f\n", worst,
+                  live_vs_conv);
+    assert_true(worst <= 1.5 / 255);
+    assert_true(live_vs_conv <= e0); /* the image shown is a converged one, not the first pass's */
+    image_free(&live);
+    image_free(&shot);
+    image_free(&conv);
+
+    /* A camera move restarts it. */
+    unsigned long long r0 = 0, r1 = 0;
+    int before = 0, after = 0;
+    v = find_line(out, "ui-test: live camera moved: ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "restarts %llu -> %llu, %d spp before, %d at the first image after", &r0, &r1,
+                            &before, &after),
+                     4);
+    assert_true(r1 == r0 + 1);
+    assert_true(after > 0 && after < before);
+
+    /* Frames were drawn while it converged (how many is a speed: printed). */
+    unsigned frames = 0;
+    v = find_line(out, "ui-test: live busy ");
+    assert_non_null(v);
+    assert_int_equal(sscanf(v, "%*f s: scene frames %u", &frames), 1);
+    assert_true(frames >= 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1026,6 +1166,7 @@ int main(void)
         cmocka_unit_test(png_reference),
         cmocka_unit_test(animation_script),
         cmocka_unit_test(animation_camera_and_quad_light),
+        cmocka_unit_test(live_reference),
         cmocka_unit_test(timings_match_render),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -138,6 +138,12 @@
  * surface fills a few percent of a fine grid); fuller volumes inject over
  * every voxel instead. */
 #define VCT_OPAQUE_SHARE 8
+/* The voxel volumes' alpha is occupancy density β: optical depth
+ * β·VCT_OPTICAL_DEPTH per level-0 voxel of path, so that a full voxel
+ * (β = 1) lets e^-4.6 = 1% through and box filtering (mips, trilinear
+ * taps) keeps a wall's optical depth across it at every mip (gi/vct/
+ * cone.glsl); rgb is radiance × β. */
+#define VCT_OPTICAL_DEPTH 4.6
 
 /* Sums over VPLs run as one dispatch per LOOP_CHUNK of them, each adding to
  * the image: llvmpipe ends any one shader loop after 65535 iterations
@@ -149,6 +155,7 @@
 #define LOC_LPV_FIXED_SCALE 13  /* lpv compute injection: float, fixed-point units per W/sr */
 #define LOC_LPV_GROUP 14        /* lpv inject/propagate: int, the light group built (gi/lpv/sh.glsl, lpv_group); -1: one group */
 #define LOC_VCT_AXIS 10         /* vct mips: int, the directional volumes' axis 0..2 (x y z) */
+#define LOC_VCT_MIP 12          /* vct mips: int, the directional level written (1..: its children are 2^level level-0 voxels) */
 #define LOC_VCT_ACCUMULATE 10   /* vct inject: int, add to the level written (lights after the first) */
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
 #define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */

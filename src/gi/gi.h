@@ -87,13 +87,16 @@ typedef struct GiFrame {
     GLuint brdf_albedo;       /* RG32F: the GGX lobe's directional albedo (brdf.h; TEX_BRDF_ALBEDO) */
 } GiFrame;
 
-enum { GI_HAS_SPECULAR = 1u << 0 };
+enum {
+    GI_HAS_SPECULAR = 1u << 0,
+    GI_EXHAUSTIVE = 1u << 1, /* brute force, the check of the others: not in bench's default list */
+};
 
 typedef struct GiTechnique {
     const char *name;        /* the --gi value */
     const char *paper;       /* what it implements */
     const char *summary;     /* one line for --help and the UI */
-    unsigned flags;          /* GI_HAS_SPECULAR */
+    unsigned flags;          /* GI_HAS_SPECULAR, GI_EXHAUSTIVE */
     bool rsm_from_vpl_count; /* its RSM size comes from --vpls */
     /* Light products (LightNeeds) for these settings. */
     unsigned (*needs)(const GiParams *p);

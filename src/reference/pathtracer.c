@@ -471,22 +471,21 @@ static void *worker(void *arg)
 
 bool pt_thread_start(pthread_t *t, void *(*fn)(void *), void *arg, bool background)
 {
+    if (pthread_create(t, NULL, fn, arg) != 0)
+        return false;
 #if defined(SCHED_IDLE)
-    pthread_attr_t attr;
-    struct sched_param prio = {0};
-    if (background && pthread_attr_init(&attr) == 0) {
-        bool ok = pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED) == 0 &&
-                  pthread_attr_setschedpolicy(&attr, SCHED_IDLE) == 0 &&
-                  pthread_attr_setschedparam(&attr, &prio) == 0 && pthread_create(t, &attr, fn, arg) == 0;
-        pthread_attr_destroy(&attr);
-        if (ok)
-            return true;
-        /* A system that refuses the policy: an ordinary thread. */
+    /* Set on the running thread: glibc's pthread_attr_setschedpolicy takes
+     * only SCHED_OTHER, FIFO and RR (EINVAL for SCHED_IDLE), so the
+     * attribute had silently given every thread the ordinary policy. A
+     * system that refuses the policy keeps an ordinary thread. */
+    if (background) {
+        struct sched_param prio = {0};
+        pthread_setschedparam(*t, SCHED_IDLE, &prio);
     }
 #else
     (void)background;
 #endif
-    return pthread_create(t, NULL, fn, arg) == 0;
+    return true;
 }
 
 Job *pt_job_create(const Scene *scene, const PtSettings *set)

@@ -64,6 +64,9 @@ typedef struct PtSettings {
                               variance is at most this (from PT_TARGET_MIN_SPP samples on) */
     double time_budget;    /* > 0: seconds; stop before a pass that would end past it (the first pass
                               always runs) */
+    bool ordinary_priority;/* pt_progressive: its threads at the ordinary scheduling priority, not the
+                              lowest (SCHED_IDLE), which on a machine busy with other work leaves them
+                              almost nothing */
 } PtSettings;
 
 /* The samples a target relMSE needs before its estimate is trusted (the

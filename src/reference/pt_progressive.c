@@ -110,9 +110,12 @@ static void *coordinator(void *arg)
             p->waiting = false;
             continue;
         }
-        int s1 = spp + pass_spp < set->spp ? spp + pass_spp : set->spp;
+        /* The first passes double the samples (1, 2, 4, ...) up to a whole
+         * pass: an image within a fraction of a pass after a restart. */
+        int step = spp == 0 ? 1 : spp < pass_spp ? spp : pass_spp;
+        int s1 = spp + step < set->spp ? spp + step : set->spp;
         pthread_mutex_unlock(&p->lock);
-        bool whole = pt_job_pass(p->job, spp, s1, set->threads, true, &p->cancel, NULL, NULL);
+        bool whole = pt_job_pass(p->job, spp, s1, set->threads, !set->ordinary_priority, &p->cancel, NULL, NULL);
         double relmse = 0.0;
         if (whole) {
             pt_job_resolve(p->job, s1, &p->back, NULL);
@@ -174,7 +177,7 @@ PtProgressive *pt_progressive_create(const Scene *scene, const PtSettings *set)
     atomic_init(&p->cancel, 0);
     pthread_mutex_init(&p->lock, NULL);
     pthread_cond_init(&p->wake, NULL);
-    if (!pt_thread_start(&p->thread, coordinator, p, true)) {
+    if (!pt_thread_start(&p->thread, coordinator, p, !p->set.ordinary_priority)) {
         log_error("reference", "progressive: cannot start the renderer's thread");
         pthread_mutex_destroy(&p->lock);
         pthread_cond_destroy(&p->wake);

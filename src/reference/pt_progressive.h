@@ -1,11 +1,14 @@
 /* pt_progressive.h — the reference path tracer converging in the
  * background, for a live ground truth in the window (issue 48): one
  * coordinator thread renders passes of samples (pt_job.h) over every pixel
- * with PtSettings.threads threads in all, at the lowest scheduling
- * priority (SCHED_IDLE on Linux: they take only the CPU time the rest of
- * the process and the system leave, so the window's frames come first),
- * and after each complete pass publishes the image of the samples so far,
- * with their count and the relMSE estimated from the per-pixel variance.
+ * with PtSettings.threads threads in all — 1, 2, 4, ... samples per pixel
+ * up to a whole pass, then whole passes, so that an image comes soon after
+ * each restart — at the lowest scheduling priority unless
+ * PtSettings.ordinary_priority (SCHED_IDLE on Linux: they take only the
+ * CPU time the rest of the process and the system leave, so the window's
+ * frames come first), and after each complete pass publishes the image of
+ * the samples so far, with their count and the relMSE estimated from the
+ * per-pixel variance.
  * A restart (the camera, a light or a material changed) abandons the
  * running pass within a tile and starts again from zero samples.
  *

@@ -58,7 +58,8 @@ bool ab_view_set_reference(AbView *v, ImageF *img, bool display, const char *wha
     }
     for (int y = 0; y < h; y++) /* GL rows are bottom-up */
         memcpy(rows + 3 * (size_t)(h - 1 - y) * w, image_px(img, 0, y), sizeof(float) * 3 * (size_t)w);
-    GLuint texture = gl_texture_make(GL_TEXTURE_2D, GL_RGB32F, w, h, "ui.reference"); /* logs a failure */
+    bool same = v->texture && v->reference.width == w && v->reference.height == h;
+    GLuint texture = same ? v->texture : gl_texture_make(GL_TEXTURE_2D, GL_RGB32F, w, h, "ui.reference"); /* logs a failure */
     if (texture) {
         glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
         glTextureSubImage2D(texture, 0, 0, 0, w, h, GL_RGB, GL_FLOAT, rows);
@@ -66,7 +67,8 @@ bool ab_view_set_reference(AbView *v, ImageF *img, bool display, const char *wha
     free(rows);
     if (!texture)
         return false;
-    glDeleteTextures(1, &v->texture);
+    if (!same)
+        glDeleteTextures(1, &v->texture);
     v->texture = texture;
     image_free(&v->reference);
     v->reference = *img;
@@ -89,6 +91,14 @@ bool ab_view_load_reference(AbView *v, const char *path)
     log_info("view", "--compare %s: %dx%d reference, %s", path, v->reference.width, v->reference.height,
              display ? "display-referred (shown as is)" : "radiance (shown at the window's exposure)");
     return true;
+}
+
+void ab_view_clear_reference(AbView *v)
+{
+    image_free(&v->reference);
+    glDeleteTextures(1, &v->texture);
+    v->texture = 0;
+    v->display = false;
 }
 
 void ab_view_destroy(AbView *v)
@@ -157,25 +167,25 @@ static float select_kth(float *a, ptrdiff_t n, ptrdiff_t k)
     return a[k];
 }
 
-float ab_view_diff_quantile(const AbView *v, const ImageF *frame, float exposure, double q)
+float ab_view_diff_quantile(const ImageF *reference, bool display, const ImageF *frame, float exposure, double q)
 {
-    int w = frame->width, h = frame->height, rw = v->reference.width, rh = v->reference.height;
+    int w = frame->width, h = frame->height, rw = reference->width, rh = reference->height;
     size_t n = (size_t)w * h;
     if (n == 0 || rw <= 0 || rh <= 0)
         return 0;
     float *d = malloc(sizeof(float) * n), hi = 0;
     if (!d)
         return 0;
-    float ref_scale = v->display ? 1.f : exposure;
+    float ref_scale = display ? 1.f : exposure;
     for (int y = 0; y < h; y++) {
         int ry = (int)(((double)y + 0.5) * rh / h); /* the texel the view's nearest sampler reads */
         for (int x = 0; x < w; x++) {
             int rx = (int)(((double)x + 0.5) * rw / w);
-            const float *f = image_px(frame, x, y), *r = image_px(&v->reference, rx, ry);
+            const float *f = image_px(frame, x, y), *r = image_px(reference, rx, ry);
             float m = 0;
             for (int c = 0; c < 3; c++) {
                 float a = f[c] * exposure;
-                if (v->display)
+                if (display)
                     a = fminf(fmaxf(a, 0.f), 1.f);
                 m = fmaxf(m, fabsf(a - r[c] * ref_scale));
             }
@@ -189,14 +199,14 @@ float ab_view_diff_quantile(const AbView *v, const ImageF *frame, float exposure
     return s > 0 ? s : hi;
 }
 
-double ab_view_rmse(const AbView *v, Renderer *r)
+double ab_view_rmse(const ImageF *reference, bool display, Renderer *r)
 {
-    if (v->display || v->reference.width != r->settings.width || v->reference.height != r->settings.height)
+    if (display || !reference->rgb || reference->width != r->settings.width || reference->height != r->settings.height)
         return -1;
     ImageF frame;
     if (!renderer_read_hdr(r, &frame))
         return -1;
-    double e = metric_rmse(&frame, &v->reference, NULL, NULL);
+    double e = metric_rmse(&frame, reference, NULL, NULL);
     image_free(&frame);
     return e;
 }

@@ -39,14 +39,17 @@ typedef struct AbView {
 bool ab_view_create(AbView *v);
 /* Reads `path` (any format image_read takes) as the reference and uploads
  * it; the view starts split. false after logging (the file and its
- * problem). The render thread reads v->reference (RMSE, the heat map's
- * scale) while it runs: replace it only before it starts (a live
- * reference's updates: see view_render.h). */
+ * problem). The render thread keeps its own copy of the reference (RMSE,
+ * the heat map's scale: view_render_set_reference), so the window may
+ * replace v->reference while it runs (the live reference's updates). */
 bool ab_view_load_reference(AbView *v, const char *path);
 /* Takes `img` (moved: the caller's copy is emptied) as the reference;
  * `display`: already exposed and clamped. `what` names it in errors.
- * false after logging. */
+ * The texture is reused when the size is the same. false after logging. */
 bool ab_view_set_reference(AbView *v, ImageF *img, bool display, const char *what);
+/* No reference (the view draws the frame alone until one is set): a live
+ * reference restarted and has no image of the new state yet. */
+void ab_view_clear_reference(AbView *v);
 void ab_view_destroy(AbView *v);
 /* The view's program built from the shader files (0 after logging), and
  * taking one over (the old one deleted): a hot reload builds it on the
@@ -61,14 +64,14 @@ void ab_view_draw(const AbView *v, GLuint ldr, GLuint hdr, float exposure, float
                   int h);
 /* The heat map's full scale for a frame of radiance `frame` at `exposure`:
  * the q-quantile of max-channel |frame − reference| × exposure (clamped
- * first for a display-referred reference) over the frame's pixels, the
+ * first for a `display`-referred reference) over the frame's pixels, the
  * reference sampled as the view samples it (nearest texel, stretched to
  * the frame); the largest difference where that quantile is 0; 0 where
  * the two agree everywhere or memory runs out. */
-float ab_view_diff_quantile(const AbView *v, const ImageF *frame, float exposure, double q);
-/* RMSE of `r`'s last frame against the reference (radiance, the same size
- * only; -1 if the sizes differ, the reference is display-referred or memory
- * runs out). */
-double ab_view_rmse(const AbView *v, Renderer *r);
+float ab_view_diff_quantile(const ImageF *reference, bool display, const ImageF *frame, float exposure, double q);
+/* RMSE of `r`'s last frame against `reference` (radiance, the same size
+ * only; -1 if the sizes differ, the reference is display-referred or
+ * missing, or memory runs out). */
+double ab_view_rmse(const ImageF *reference, bool display, Renderer *r);
 
 #endif

@@ -355,6 +355,25 @@ void view_heat_labels(float scale, char labels[4][16])
  * heat(): black, red, yellow, white, linear between). */
 static const float k_heat_stops[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}};
 
+void view_live_text(const View *v, char *out, size_t cap)
+{
+    live_reference_text(&v->live, out, cap);
+}
+
+static void live_section(View *v)
+{
+    ui_checkbox("live reference (path tracer)", &v->live_wanted);
+    ui_tooltip("the reference path tracer converging in the background on this camera and the scene's lights, "
+               "at the image's size, shown by the A/B view; a camera, light or size change restarts it");
+    if (!v->live_wanted)
+        return;
+    char line[160];
+    view_live_text(v, line, sizeof line);
+    ui_text_wrapped("%s", line);
+    if (v->live.spp > 0 && v->live.relmse_compare >= 0)
+        ui_text("relMSE against --compare %.3g", v->live.relmse_compare);
+}
+
 static void compare_section(View *v)
 {
     AbView *ab = v->ab;
@@ -378,12 +397,16 @@ static void compare_section(View *v)
     if (ui_button("Measure RMSE"))
         v->jobs |= VIEW_JOB_RMSE;
     ui_same_line();
-    if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
+    if (!ab->reference.rgb)
+        ui_text("(no reference yet: the live one's first pass)");
+    else if (ab->reference.width != v->settings.width || ab->reference.height != v->settings.height)
         ui_text("reference %dx%d: stretched, no RMSE", ab->reference.width, ab->reference.height);
     else if (ab->display)
         ui_text("PNG reference: no RMSE (use .pfm or .exr)");
     else if (v->ab_rmse >= 0)
         ui_text("RMSE %.5g (radiance)", v->ab_rmse);
+    else
+        ui_text("(radiance)"); /* the next header below the button, not beside it */
 }
 
 static void capture_section(View *v)
@@ -448,6 +471,8 @@ void view_panel_draw(View *v, float x, float h)
         ui_text_colored(1.f, 0.8f, 0.3f, "%s", busy);
     /* With a reference, comparing is what the window is for: its controls
      * and the heat map's colour bar come first. */
+    if (ui_header("Reference", true))
+        live_section(v);
     if (v->ab && ui_header("Compare (A/B)", true))
         compare_section(v);
     if (ui_header("Technique", true))

@@ -25,6 +25,7 @@
 #include "settings.h"
 #include "ui/ab_view.h"
 #include "ui/view_anim.h"
+#include "ui/live_reference.h"
 
 #define VIEW_HISTORY 120
 /* The docked panel's width in screen coordinates: the window is the image
@@ -86,7 +87,9 @@ typedef struct View {
     char shot_path[256];        /* P: .png (as shown), .pfm/.exr (radiance) */
     bool half;                  /* --half: .exr captures as half floats */
     char window_path[256];      /* Shift-P: .png of the window */
-    AbView *ab;                 /* --compare, or NULL */
+    AbView *ab;                 /* --compare or the live reference, or NULL */
+    bool live_wanted;           /* the live reference is on (--live-reference, the panel's box) */
+    LiveStatus live;            /* where it stands (the window's loop copies it each pass) */
     double ab_rmse;             /* last measured RMSE against it (-1: not measured / sizes differ) */
     float ab_auto_scale;        /* the heat map's automatic scale for the image shown (0: none yet) */
 } View;
@@ -136,6 +139,8 @@ bool view_save_window(View *v, const char *path, int fw, int fh);
 /* Draws the panel for this frame (between ui_frame_begin and ui_frame_end),
  * docked at x (screen coordinates), h high. */
 void view_panel_draw(View *v, float x, float h);
+/* The panel's live-reference line (live_reference_text of v->live). */
+void view_live_text(const View *v, char *out, size_t cap);
 /* The busy indicator over the image's top-left corner, while there is one. */
 void view_busy_draw(const View *v);
 

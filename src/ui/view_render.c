@@ -53,6 +53,14 @@ struct ViewRender {
     bool working;           /* the thread is doing a request (not waiting) */
     bool ended;             /* the thread left its loop (failed or quit) */
     GLuint ab_program;      /* rebuilt by a reload, not yet taken by the window */
+    ImageF ref_next;        /* view_render_set_reference's image, not yet taken by the thread ... */
+    bool ref_next_display;
+    bool ref_pending;       /* ... when this is set */
+    ImageF ref;             /* the reference RMSE and the heat map's scale read (the thread's; swapped
+                               with ref_next under the lock); empty: none */
+    bool ref_display;
+    unsigned ref_version;   /* bumps at each swap: the heat map's scale is measured again */
+    unsigned diff_ref;      /* ref_version of the last scale measured */
     Slot slots[SLOTS];
     int front, pending, back; /* slot indices: shown / handed over / being written */
     bool pending_new;       /* pending holds a frame the window has not taken */
@@ -196,9 +204,9 @@ static void reload_shaders(ViewRender *vr)
 static float diff_scale(ViewRender *vr)
 {
     ImageF frame;
-    if (!vr->ab || !vr->r.radiance_kept || !renderer_read_hdr(&vr->r, &frame))
+    if (!vr->ref.rgb || !vr->r.radiance_kept || !renderer_read_hdr(&vr->r, &frame))
         return 0;
-    float s = ab_view_diff_quantile(vr->ab, &frame, vr->r.settings.exposure, AB_AUTO_QUANTILE);
+    float s = ab_view_diff_quantile(&vr->ref, vr->ref_display, &frame, vr->r.settings.exposure, AB_AUTO_QUANTILE);
     image_free(&frame);
     return s;
 }
@@ -228,7 +236,7 @@ static bool present(ViewRender *vr)
         glDeleteSync(s->released);
         s->released = 0;
     }
-    bool hdr = vr->ab != NULL && r->radiance_kept;
+    bool hdr = r->radiance_kept && !r->settings.display_only; /* the window compares with a reference */
     if ((s->width != r->ldr.width || s->height != r->ldr.height || (s->hdr != 0) != hdr) &&
         !slot_make(s, r->ldr.width, r->ldr.height, hdr))
         return false;
@@ -297,11 +305,31 @@ static bool draw_frame(ViewRender *vr, const ViewRequest *req)
     return true;
 }
 
+/* Whether the heat map's automatic scale is owed (under the lock): wanted,
+ * with a reference, and not yet measured for this frame and reference. */
+static bool diff_owed(const ViewRender *vr)
+{
+    return vr->want.diff_scale && (vr->ref.rgb || vr->ref_pending) && vr->state.frames > 0 &&
+           (vr->state.diff_frame != vr->state.frames || vr->diff_ref != vr->ref_version + (vr->ref_pending ? 1u : 0u));
+}
+
 /* Whether a request waits (under the lock). */
 static bool work_waiting(const ViewRender *vr)
 {
-    return vr->want.jobs || vr->force || vr->want_gen != vr->drawn_gen ||
-           (vr->want.diff_scale && vr->ab && vr->state.frames > 0 && vr->state.diff_frame != vr->state.frames);
+    return vr->want.jobs || vr->force || vr->want_gen != vr->drawn_gen || vr->ref_pending || diff_owed(vr);
+}
+
+/* The window's newest reference becomes the thread's (under the lock). */
+static void take_reference_locked(ViewRender *vr)
+{
+    if (!vr->ref_pending)
+        return;
+    ImageF t = vr->ref;
+    vr->ref = vr->ref_next;
+    vr->ref_next = t;
+    vr->ref_display = vr->ref_next_display;
+    vr->ref_pending = false;
+    vr->ref_version++;
 }
 
 /* One request: jobs before the frame, the frame, jobs after it. false
@@ -326,20 +354,23 @@ static bool do_request(ViewRender *vr, const ViewRequest *req, bool draw)
         pthread_mutex_unlock(&vr->lock);
     }
     if (req->jobs & VIEW_JOB_RMSE) {
-        double e = vr->ab ? ab_view_rmse(vr->ab, r) : -1;
+        double e = ab_view_rmse(&vr->ref, vr->ref_display, r);
         pthread_mutex_lock(&vr->lock);
         vr->state.rmse_count++;
         vr->state.rmse = e;
         pthread_mutex_unlock(&vr->lock);
     }
     pthread_mutex_lock(&vr->lock);
-    bool want_diff = vr->want.diff_scale && vr->ab && vr->state.frames > 0 && vr->state.diff_frame != vr->state.frames;
+    take_reference_locked(vr);
+    bool want_diff = diff_owed(vr);
+    unsigned version = vr->ref_version;
     pthread_mutex_unlock(&vr->lock);
     if (want_diff) {
         float s = diff_scale(vr);
         pthread_mutex_lock(&vr->lock);
         vr->state.diff_scale = s;
         vr->state.diff_frame = vr->state.frames;
+        vr->diff_ref = version;
         pthread_mutex_unlock(&vr->lock);
     }
     if (req->jobs & VIEW_JOB_PASS_TABLE) {
@@ -383,6 +414,7 @@ static void *render_thread(void *arg)
             pthread_cond_wait(&vr->wake, &vr->lock);
         if (vr->quit)
             break;
+        take_reference_locked(vr);
         ViewRequest req = vr->want;
         bool draw = vr->force || vr->want_gen != vr->drawn_gen;
         vr->drawn_gen = vr->want_gen;
@@ -431,6 +463,8 @@ static void *render_thread(void *arg)
     }
     if (vr->ab_program)
         glDeleteProgram(vr->ab_program);
+    image_free(&vr->ref);
+    image_free(&vr->ref_next);
     glFinish();
     glfwMakeContextCurrent(NULL);
     return NULL;
@@ -458,6 +492,15 @@ ViewRender *view_render_start(const ViewRenderDesc *d)
     vr->pending = 1;
     vr->back = 2;
     vr->state.rmse = -1;
+    if (d->ab && d->ab->reference.rgb) { /* --compare's: a copy of its own */
+        if (!image_alloc(&vr->ref, d->ab->reference.width, d->ab->reference.height)) {
+            log_error("view", "out of memory for the render thread's copy of the reference");
+            free(vr);
+            return NULL;
+        }
+        memcpy(vr->ref.rgb, d->ab->reference.rgb, sizeof(float) * 3 * (size_t)vr->ref.width * vr->ref.height);
+        vr->ref_display = d->ab->display;
+    }
     pthread_mutex_init(&vr->lock, NULL);
     pthread_cond_init(&vr->wake, NULL);
     pthread_cond_init(&vr->done, NULL);
@@ -467,6 +510,7 @@ ViewRender *view_render_start(const ViewRenderDesc *d)
         pthread_cond_destroy(&vr->done);
         pthread_cond_destroy(&vr->wake);
         pthread_mutex_destroy(&vr->lock);
+        image_free(&vr->ref);
         free(vr);
         return NULL;
     }
@@ -570,6 +614,28 @@ bool view_render_take(ViewRender *vr, ViewImage *out)
         glDeleteSync(ready);
     }
     return fresh;
+}
+
+bool view_render_set_reference(ViewRender *vr, const ImageF *img, bool display)
+{
+    ImageF copy = {0};
+    if (img && img->rgb) {
+        if (!image_alloc(&copy, img->width, img->height)) {
+            log_error("view", "out of memory for the render thread's copy of the reference (%dx%d)", img->width,
+                      img->height);
+            return false;
+        }
+        memcpy(copy.rgb, img->rgb, sizeof(float) * 3 * (size_t)img->width * img->height);
+    }
+    pthread_mutex_lock(&vr->lock);
+    ImageF old = vr->ref_next;
+    vr->ref_next = copy;
+    vr->ref_next_display = display;
+    vr->ref_pending = true;
+    pthread_cond_signal(&vr->wake);
+    pthread_mutex_unlock(&vr->lock);
+    image_free(&old);
+    return true;
 }
 
 GLuint view_render_take_program(ViewRender *vr)

@@ -35,16 +35,16 @@
  *    is held), so each pass asks for a new frame, and draw_frame writes
  *    the scene at req->scene.time with the edits before renderer_frame
  *    (view_anim_apply: animation_apply, renderer_scene_changed);
- *  - a live progressive reference (a path tracer on threads of its own:
- *    start/restart(scene, camera), read mean + spp + relMSE, stop) would be
- *    restarted by the window's loop when the request's camera or lights
- *    change, and read by this thread between frames (as diff_scale reads
- *    the frame's radiance): its newer mean replaces the reference that
- *    RMSE and the heat map's scale read here (the thread alone reads it
- *    while it runs, so the swap is the thread's), and goes to the window
- *    the way a reloaded A/B program does (a handover taken by the loop,
- *    which uploads it: ab_view_set_reference), with its spp and relMSE in
- *    ViewRenderState for the panel. */
+ *  - the live reference (src/ui/live_reference.h: the path tracer of
+ *    pt_progressive.h on threads of its own, at the lowest priority) is
+ *    restarted by the window's loop when the camera, the lights, the size
+ *    or the time change, and polled there; each newer image goes to the
+ *    A/B view (ab_view_set_reference, the window's texture) and to this
+ *    thread (view_render_set_reference: its own copy, which RMSE and the
+ *    heat map's scale read, so neither side waits for the other). It
+ *    gets the window's scene (View.scene: ViewAnim.shown, whose lights
+ *    are the ones this thread draws at the request's time, edits
+ *    included). */
 #ifndef RTGI_VIEW_RENDER_H
 #define RTGI_VIEW_RENDER_H
 
@@ -129,7 +129,8 @@ typedef struct ViewImage {
 typedef struct ViewRenderDesc {
     GLFWwindow *context;    /* a hidden window with a context shared with the window's */
     Scene *scene;           /* borrowed; the thread writes the animation's state and the lights' edits into it */
-    const AbView *ab;       /* the reference (read on the thread: RMSE, heat-map scale), or NULL */
+    const AbView *ab;       /* the A/B view (a reload rebuilds its program; its reference, if any, is
+                               copied at the start for RMSE and the heat map's scale), or NULL */
     ViewStatus *status;     /* the panel's status line */
     const ViewRequest *first; /* the first frame's request (its settings make the renderer) */
     const char *gl_renderer; /* GL_RENDERER, for the timings table */
@@ -161,6 +162,11 @@ void view_render_state(ViewRender *vr, ViewRenderState *out);
  * then it and the previous one is released (the window's thread, its
  * context current: it waits for the image's fence on the GPU). */
 bool view_render_take(ViewRender *vr, ViewImage *out);
+/* Replaces the reference that RMSE and the heat map's scale read (a copy
+ * of `img` is taken; NULL or an empty image: none); `display`: already
+ * exposed and clamped. The thread takes it before its next request and
+ * measures the heat map's scale again. false after logging (memory). */
+bool view_render_set_reference(ViewRender *vr, const ImageF *img, bool display);
 /* The A/B view's program rebuilt by a reload (the caller takes it over:
  * ab_view_set_program), or 0. */
 GLuint view_render_take_program(ViewRender *vr);

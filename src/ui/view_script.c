@@ -60,6 +60,18 @@ static bool begin_async(ViewScript *t)
 
 void view_script_capture(ViewScript *t, View *v, int fw, int fh)
 {
+    if (t->shot_live) {
+        t->shot_live = false;
+        save_window(t, v, "live_ab_reference.png", fw, fh);
+        char path[1024];
+        script_path(t, "live.pfm", path, sizeof path);
+        if (!v->ab || !v->ab->reference.rgb || !image_write_pfm(path, &v->ab->reference))
+            printf("ui-test: live: no reference shown to save\n");
+    }
+    if (t->shot_split) {
+        t->shot_split = false;
+        save_window(t, v, "live_split.png", fw, fh);
+    }
     if (!t->shot_busy)
         return;
     t->shot_busy = false;
@@ -74,6 +86,10 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
     view_render_state(t->render, &st);
     if (frame == 0 && getenv("RTGI_UI_TEST_ASYNC_ONLY")) /* the second part alone (measuring a real slow frame) */
         return begin_async(t);
+    if (frame == 0 && v->live_wanted) { /* the live reference's script */
+        t->live = true;
+        return begin_async(t);
+    }
     switch (frame) {
     case 0: /* the window shows the frame alone until the A/B steps */
         if (v->ab)
@@ -233,10 +249,155 @@ void view_script_mark(ViewScript *t, const ViewScriptPass *p, double wait_s)
     t->deadline = p->now + wait_s;
 }
 
+static double env_or(const char *name, double fallback)
+{
+    const char *s = getenv(name);
+    return s && *s ? atof(s) : fallback;
+}
+
+enum { LIVE_OFF, LIVE_ON, LIVE_CONVERGE, LIVE_SHOT, LIVE_SHOT_WAIT, LIVE_SPLIT, LIVE_SPLIT_SHOT, LIVE_MOVE, LIVE_MOVED,
+       LIVE_BUSY };
+
+/* A line for each image the live reference published since the last. */
+static void live_report(ViewScript *t, const View *v, double now)
+{
+    const LiveStatus *s = &v->live;
+    if (s->spp <= 0 || s->spp == t->live_spp)
+        return;
+    t->live_spp = s->spp;
+    printf("ui-test: live %d spp at %.3f s: relMSE est %.6g, vs --compare %.6g (window %.2f s)\n", s->spp, s->seconds,
+           s->relmse_estimate, s->relmse_compare, now - t->t0);
+    if (t->live_reached_s < 0 && s->relmse_compare >= 0 && s->relmse_compare <= t->live_target) {
+        t->live_reached_s = s->seconds;
+        t->live_reached_spp = s->spp;
+        t->live_reached_relmse = s->relmse_compare;
+    }
+}
+
+/* The A/B view in `mode`, drawn at this pass; the script goes on to `next`. */
+static void live_mode(ViewScript *t, View *v, AbMode mode, int next)
+{
+    if (v->ab)
+        v->ab->mode = mode;
+    t->redraw = true;
+    t->phase = next;
+}
+
+/* The live reference's script (view_script.h). */
+static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
+{
+    const LiveStatus *s = &v->live;
+    const ViewRenderState *st = &p->state;
+    if (t->phase != LIVE_BUSY)
+        t->deadline = p->now + 0.05;
+    switch (t->phase) {
+    case LIVE_OFF: /* the panel's box off, then on: converging from its first image on */
+        if (s->spp <= 0 && p->now - t->t0 < 60)
+            break;
+        v->live_wanted = false;
+        t->phase = LIVE_ON;
+        break;
+    case LIVE_ON:
+        printf("ui-test: live off: running %d, A/B reference %dx%d\n", s->running,
+               v->ab ? v->ab->reference.width : 0, v->ab ? v->ab->reference.height : 0);
+        v->live_wanted = true;
+        t->phase = LIVE_CONVERGE;
+        t->t0 = 0;
+        break;
+    case LIVE_CONVERGE: {
+        if (t->t0 == 0) {
+            t->t0 = p->now;
+            t->live_target = env_or("RTGI_UI_TEST_LIVE_TARGET", 0.01);
+            t->live_reached_s = -1;
+        }
+        live_report(t, v, p->now);
+        bool met = s->spp >= (int)env_or("RTGI_UI_TEST_LIVE_MIN_SPP", 1) &&
+                   (t->live_target <= 0 || t->live_reached_s >= 0);
+        if (!met && !s->done && p->now - t->t0 < env_or("RTGI_UI_TEST_LIVE_MAX_S", 120))
+            break;
+        if (t->live_reached_s >= 0)
+            printf("ui-test: live converged: relMSE vs --compare %.6g <= %.3g at %d spp, %.3f s after the start\n",
+                   t->live_reached_relmse, t->live_target, t->live_reached_spp, t->live_reached_s);
+        else
+            printf("ui-test: live converged: not to %.3g in %.1f s (%d spp, vs --compare %.6g)\n", t->live_target,
+                   p->now - t->t0, s->spp, s->relmse_compare);
+        char line[160];
+        view_live_text(v, line, sizeof line);
+        printf("ui-test: live panel '%s'\n", line);
+        t->phase = LIVE_SHOT;
+        break;
+    }
+    case LIVE_SHOT: /* the A/B view shows the live reference alone */
+        live_mode(t, v, AB_REFERENCE, LIVE_SHOT_WAIT);
+        break;
+    case LIVE_SHOT_WAIT:
+        t->shot_live = true; /* at this pass's redraw: the window and the reference it shows, together */
+        t->redraw = true;
+        t->phase = LIVE_SPLIT;
+        break;
+    case LIVE_SPLIT:
+        live_mode(t, v, AB_SPLIT, LIVE_SPLIT_SHOT);
+        break;
+    case LIVE_SPLIT_SHOT:
+        t->shot_split = true;
+        t->redraw = true;
+        t->phase = LIVE_MOVE;
+        break;
+    case LIVE_MOVE:
+        t->live_restarts = s->restarts;
+        t->frames0 = (unsigned)s->spp;
+        v->yaw += 0.2f; /* the loop's camera follows: a restart */
+        t->phase = LIVE_MOVED;
+        t->t0 = p->now;
+        break;
+    case LIVE_MOVED:
+        if ((s->restarts == t->live_restarts || s->spp <= 0) && p->now - t->t0 < 60)
+            break;
+        printf("ui-test: live camera moved: restarts %llu -> %llu, %u spp before, %d at the first image after\n",
+               (unsigned long long)t->live_restarts, (unsigned long long)s->restarts, t->frames0, s->spp);
+        view_key(v, GLFW_KEY_R, 0); /* home again: a restart where --compare is the converged image */
+        t->phase = LIVE_BUSY;
+        t->t0 = p->now;
+        t->frames0 = st->frames;
+        t->live_spp = 0;
+        t->live_reached_s = -1;
+        t->live_restarts = s->restarts;
+        t->deadline = p->now + 0.005;
+        break;
+    case LIVE_BUSY: {
+        /* Frames without pause: each pass asks for one (the newest request wins). */
+        v->settings.exposure *= (st->frames & 1u) ? 1.001f : 1.f / 1.001f;
+        t->deadline = p->now + 0.005;
+        if (s->restarts != t->live_restarts)
+            live_report(t, v, p->now);
+        double busy_s = env_or("RTGI_UI_TEST_LIVE_BUSY_S", 2.0);
+        if (p->now - t->t0 < busy_s)
+            break;
+        unsigned frames = st->frames - t->frames0;
+        printf("ui-test: live busy %.2f s: scene frames %u (%.2f per second), live %d spp, vs --compare %.6g, "
+               "relMSE %.3g reached %s",
+               p->now - t->t0, frames, frames / (p->now - t->t0), s->spp, s->relmse_compare, t->live_target,
+               t->live_reached_s >= 0 ? "at" : "not");
+        if (t->live_reached_s >= 0)
+            printf(" %.3f s (%d spp)", t->live_reached_s, t->live_reached_spp);
+        printf("\n");
+        fflush(stdout);
+        return false;
+    }
+    }
+    fflush(stdout);
+    return true;
+}
+
 bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p)
 {
     if (t->animation)
         return view_script_anim_tick(t, v, p);
+    if (t->live) {
+        if (p->now < t->deadline)
+            return true;
+        return live_tick(t, v, p);
+    }
     if (t->phase == SLOW_KEY || t->phase == SLOW_WAIT)
         track_redraws(t, p);
     if (p->now < t->deadline)

@@ -25,11 +25,30 @@
  * must carry the second key's exposure. RTGI_UI_TEST_SLOW_S=0 leaves the
  * frame its own time, and RTGI_UI_TEST_ASYNC_ONLY=1 runs the second part
  * alone: together they measure the window during a real slow frame
- * (scripts/view-responsiveness.sh). */
+ * (scripts/view-responsiveness.sh).
+ *
+ * With --live-reference the script is the live reference's instead
+ * (asynchronous, driven by time; RTGI_UI_TEST_LIVE_* tune it):
+ *   the panel's box off (a line: whether it runs, the A/B view's
+ *     reference: --compare's again) and on again, then
+ *   converge: a line per image it publishes ("ui-test: live N spp at T s:
+ *     relMSE est E, vs --compare C"), until MIN_SPP samples (default 1)
+ *     and C at most TARGET (default 0.01; 0: any), or MAX_S seconds
+ *     (default 120); then "live converged" with the first image that met
+ *     the target and the panel's line;
+ *   the A/B view in reference mode captured (live_ab_reference.png) with
+ *     the image it shows (live.pfm), then split (live_split.png);
+ *   a camera move: the restart count and the samples before it and at
+ *     the first image after it;
+ *   R (the camera home again: restarted), then BUSY_S seconds (default 2)
+ *     of frames asked for without pause (exposure nudged each time): the
+ *     scene frames drawn per second while the live reference converges,
+ *     and where it got meanwhile (scripts/bench-live-reference.sh). */
 #ifndef RTGI_VIEW_SCRIPT_H
 #define RTGI_VIEW_SCRIPT_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 typedef struct GLFWwindow GLFWwindow;
 
@@ -53,6 +72,16 @@ typedef struct ViewScript {
     float exposure1, exposure2;
     char busy[96];
     bool shot_busy;     /* capture the window at its next redraw (window_busy.png) */
+    bool redraw;        /* the script changed what the window shows: the loop draws it again */
+    /* The live reference's script. */
+    bool live;
+    int live_spp;       /* the samples of the last image reported */
+    uint64_t live_restarts;
+    double live_target, live_reached_s;
+    int live_reached_spp;
+    double live_reached_relmse;
+    bool shot_live;     /* capture the window and the reference it shows at its next redraw */
+    bool shot_split;    /* capture the window at its next redraw (live_split.png) */
     /* The animation script (view_script_anim.c), run instead on a scene
      * with an animation. */
     bool animation;

@@ -17,8 +17,10 @@ layout(local_size_x = 64) in;
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
 layout(binding = TEX_VCT_ALBEDO) uniform sampler3D u_albedo;
-layout(binding = TEX_VCT_NORMAL) uniform sampler3D u_normal;
 layout(binding = IMG_VCT_DST, rgba16f) writeonly uniform image3D u_dst;
+// xyz: the canonical normal; w: the lit side (inject.comp), which gains the
+// bounce's side here.
+layout(binding = IMG_VCT_DST2, rgba16f) uniform image3D u_normal;
 
 void main()
 {
@@ -33,10 +35,13 @@ void main()
     }
     float voxel;
     vec3 x = vct_voxel_centre(v, voxel);
-    vec3 n = texelFetch(u_normal, v, 0).xyz;
+    vec4 canon = imageLoad(u_normal, v);
+    vec3 n = canon.xyz;
     float vis;
-    vec3 e_front = vct_irradiance(x + n * (2.5 * voxel), n, voxel, vis);
-    vec3 e_back = vct_irradiance(x - n * (2.5 * voxel), -n, voxel, vis);
-    vec3 e = dot(e_front, vec3(1.0)) >= dot(e_back, vec3(1.0)) ? e_front : e_back;
-    imageStore(u_dst, v, vec4(direct.rgb + a.a * a.rgb / PI * e, direct.a));
+    vec3 e_front = vct_irradiance(x, n, voxel, vis);
+    vec3 e_back = vct_irradiance(x, -n, voxel, vis);
+    bool front = dot(e_front, vec3(1.0)) >= dot(e_back, vec3(1.0));
+    vec3 l = a.a * a.rgb / PI * (front ? e_front : e_back);
+    imageStore(u_dst, v, vec4(direct.rgb + l, direct.a));
+    imageStore(u_normal, v, vec4(n, canon.w + (front ? 1.0 : -1.0) * dot(l, vec3(0.2126, 0.7152, 0.0722))));
 }

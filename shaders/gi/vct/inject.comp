@@ -21,8 +21,9 @@ layout(local_size_x = 64) in;
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #endif
 layout(binding = TEX_VCT_ALBEDO) uniform sampler3D u_albedo;
-layout(binding = TEX_VCT_NORMAL) uniform sampler3D u_normal;
 layout(binding = IMG_VCT_DST, rgba16f) uniform image3D u_radiance;
+// xyz: the canonical normal (resolve.comp); w written here: the lit side.
+layout(binding = IMG_VCT_DST2, rgba16f) uniform image3D u_normal;
 layout(location = LOC_VCT_ACCUMULATE) uniform int u_accumulate;
 
 float visibility(vec3 x, vec3 n, float voxel)
@@ -46,21 +47,33 @@ void main()
         return;
     vec4 a = texelFetch(u_albedo, v, 0);
     vec3 l = vec3(0.0);
+    float side = 1.0; // the lit side: the canonical normal's (1) or the other (−1)
+    vec4 canon = vec4(0.0);
     if (a.a > 0.0) {
         float voxel;
         vec3 x = vct_voxel_centre(v, voxel);
-        vec3 n = texelFetch(u_normal, v, 0).xyz;
+        canon = imageLoad(u_normal, v);
+        vec3 n = canon.xyz;
         vec3 to_light = light_type(u_light) == LIGHT_DIRECTIONAL ? -u_light.direction_width.xyz
                                                                   : normalize(u_light.position_type.xyz - x);
-        if (dot(n, to_light) < 0.0)
+        if (dot(n, to_light) < 0.0) {
             n = -n;
+            side = -1.0;
+        }
         vec3 dir;
         vec3 e = light_irradiance(u_light, x, n, dir);
         if (max(e.r, max(e.g, e.b)) > 0.0)
             l = a.rgb / PI * e * visibility(x, n, voxel);
     }
     vec4 r = vec4(l * a.a, a.a);
-    if (u_accumulate != 0)
+    // The lit side, for the directional volumes (aniso.comp): w sums each
+    // light's luminance signed by the side it lights.
+    float lit = side * dot(l, vec3(0.2126, 0.7152, 0.0722));
+    if (u_accumulate != 0) {
         r.rgb += imageLoad(u_radiance, v).rgb;
+        lit += canon.w;
+    }
     imageStore(u_radiance, v, r);
+    if (a.a > 0.0)
+        imageStore(u_normal, v, vec4(canon.xyz, lit));
 }

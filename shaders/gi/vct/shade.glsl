@@ -28,9 +28,8 @@ void vct_shade(ivec2 px, out vec4 irradiance, out vec4 specular)
         return;
     }
     float voxel = vct_voxel_at(x);
-    vec3 p = x + n * (2.5 * voxel);
     float visibility;
-    vec3 e = vct_irradiance(p, n, voxel, visibility);
+    vec3 e = vct_irradiance(x, n, voxel, visibility);
     irradiance = vec4(e, u_ao_out != 0 ? clamp(visibility, 0.0, 1.0) : 1.0);
 
     vec3 f0 = vec3(u_vct.f0);
@@ -51,7 +50,7 @@ void vct_shade(ivec2 px, out vec4 irradiance, out vec4 specular)
         float cos_half = pow(0.244, 1.0 / (phong + 1.0));
         float tan_half = min(sqrt(max(1.0 - cos_half * cos_half, 0.0)) / max(cos_half, 1e-4), 1.0);
         float occ;
-        vec4 l = vct_cone(p, r, n, tan_half, voxel, occ);
+        vec4 l = vct_cone(x, r, n, tan_half, voxel, occ);
         float nv = clamp(dot(n, v), 0.0, 1.0);
         // The cone's radiance times the lobe's directional albedo is the
         // lobe's reflected radiance. Plain Fresnel would count grazing

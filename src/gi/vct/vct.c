@@ -72,6 +72,7 @@ typedef struct VctGi {
     GLuint ubo;              /* GpuVctParams */
     GLuint voxelize, resolve, inject, mip, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
     GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
+    GLuint probe;            /* probe.comp (vct_probe, tests), built on first use */
     int scale;               /* --vct-trace-scale */
     GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
     GpuVctParams gpu;        /* as uploaded */
@@ -101,7 +102,7 @@ static unsigned vct_needs(const GiParams *p)
  * horizon: a cone whose footprint reaches below the surface's plane sees
  * the surface's own voxels (measured on the Cornell box, 64³: ring 45°,
  * 52°, 60° → relMSE 0.0173, 0.0177, 0.0189 against one-bounce). */
-static int cone_set(int set, float dirs[][4], float *tan_half)
+int vct_cone_set(int set, float dirs[][4], float *tan_half)
 {
     static const struct { int count; float theta; } rings[3][3] = {
         {{5, 50.f}},                 /* 6 = 1 + 5 */
@@ -121,8 +122,12 @@ static int cone_set(int set, float dirs[][4], float *tan_half)
             k++;
         }
     }
+    /* NP a multiple of 40, so that the grid has every set's symmetry (5 and
+     * 8 cones a ring, 10 offset by half a step): with NP = 512 the 16-cone
+     * set's five 30° cones, equal by symmetry, got weights 1% apart
+     * (tests/test_vct.c, cone_weights_integrate_the_cosine_lobe). */
     double w[VCT_MAX_CONES] = {0}, omega[VCT_MAX_CONES] = {0};
-    enum { NT = 256, NP = 512 };
+    enum { NT = 512, NP = 640 };
     for (int i = 0; i < NT; i++) {
         double th = (i + 0.5) * (GLM_PI / 2) / NT, dth = (GLM_PI / 2) / NT;
         for (int j = 0; j < NP; j++) {
@@ -329,7 +334,7 @@ static void vct_params_upload(VctGi *v)
     u->aniso = p->vct_aniso && v->aniso[0] ? 1 : 0;
     u->aniso_slab = aniso_slab(n, v->levels);
     float tan_half[VCT_MAX_CONES] = {0};
-    u->cones = cone_set(p->vct_cones, u->cone, tan_half);
+    u->cones = vct_cone_set(p->vct_cones, u->cone, tan_half);
     for (int i = 0; i < u->cones; i++)
         u->cone_aperture[i][0] = tan_half[i];
     u->step = p->vct_step;
@@ -501,8 +506,8 @@ static GLuint inject_program(VctGi *v, const Scene *s, const Light *l, bool list
 static void inject(VctGi *v, const GiFrame *f)
 {
     glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
-    glBindTextureUnit(TEX_VCT_NORMAL, v->normal);
     gl_texture3d_bind_image(IMG_VCT_DST, v->radiance[0], 0, GL_READ_WRITE, GL_RGBA16F);
+    gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_READ_WRITE, GL_RGBA16F); /* w: the lit side */
     int lights = f->lights->light_count;
     /* Over the opaque voxels alone when they fit the list; the empty ones
      * then hold the clear's 0. */
@@ -534,6 +539,7 @@ static void build_mips(VctGi *v, GLuint tex)
     /* The first level of every axis and sign in one pass (each reads the
      * same 2×2×2 blocks of the isotropic level 0), then each axis's chain. */
     glUseProgram(v->aniso_first);
+    glBindTextureUnit(TEX_VCT_NORMAL, v->normal);
     gl_texture3d_bind_image(IMG_VCT_SRC, tex, 0, GL_READ_ONLY, GL_RGBA16F);
     const GLuint units[ANISO_AXES] = {IMG_VCT_DST, IMG_VCT_DST2, IMG_VCT_DST3};
     for (int a = 0; a < ANISO_AXES; a++)
@@ -544,6 +550,7 @@ static void build_mips(VctGi *v, GLuint tex)
     for (int a = 0; a < ANISO_AXES; a++) {
         glProgramUniform1i(v->aniso_prog, LOC_VCT_AXIS, a);
         for (int l = 1; l < v->levels - 1; l++) {
+            glProgramUniform1i(v->aniso_prog, LOC_VCT_MIP, l);
             gl_texture3d_bind_image(IMG_VCT_SRC, v->aniso[a], l - 1, GL_READ_ONLY, GL_RGBA16F);
             gl_texture3d_bind_image(IMG_VCT_DST, v->aniso[a], l, GL_WRITE_ONLY, GL_RGBA16F);
             int s = half >> l, depth = (v->gpu.aniso_slab >> l) * 2 * v->clip; /* both signs, every level */
@@ -599,8 +606,8 @@ static bool vct_run(void *state, const GiFrame *f)
         glUseProgram(list ? v->bounce_list : v->bounce);
         bind_volumes(v, v->radiance[0]);
         glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
-        glBindTextureUnit(TEX_VCT_NORMAL, v->normal);
         gl_texture3d_bind_image(IMG_VCT_DST, v->radiance[1], 0, GL_WRITE_ONLY, GL_RGBA16F);
+        gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_READ_WRITE, GL_RGBA16F); /* w: + the bounce's side */
         if (list) {
             glCopyImageSubData(v->radiance[0], GL_TEXTURE_3D, 0, 0, 0, 0, v->radiance[1], GL_TEXTURE_3D, 0, 0, 0, 0,
                                v->n, v->n, v->n * v->clip);
@@ -705,6 +712,48 @@ bool vct_read_directional(void *state, int axis, bool negative, int k, float *ou
     glGetTextureSubImage(v->aniso[axis], 0, 0, 0, slab * v->gpu.aniso_slab, m, m, m, GL_RGBA, GL_FLOAT,
                          (GLsizei)((size_t)m * m * m * 4 * sizeof(float)), out);
     return true;
+}
+
+bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4])
+{
+    VctGi *v = state;
+    if (count <= 0)
+        return true;
+    if (!v->probe) {
+        const char *cones = v->params.vct_aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
+        v->probe = program(v, "vct_probe", NULL, NULL, NULL, "gi/vct/probe.comp", cones);
+        if (!v->probe)
+            return false; /* logged */
+    }
+    size_t bytes = (size_t)count * 16 * sizeof(float);
+    float *buf = calloc((size_t)count * 16, sizeof(float));
+    if (!buf) {
+        log_error("vct", "out of memory");
+        return false;
+    }
+    for (int i = 0; i < count; i++) {
+        memcpy(buf + 16 * i, probes[i].x, 3 * sizeof(float));
+        memcpy(buf + 16 * i + 4, probes[i].n, 3 * sizeof(float));
+        memcpy(buf + 16 * i + 8, probes[i].d, 3 * sizeof(float));
+        buf[16 * i + 11] = probes[i].tan_half;
+    }
+    GLuint ssbo = gl_buffer_make(bytes, buf, GL_DYNAMIC_STORAGE_BIT, "vct.probes");
+    bool ok = ssbo != 0; /* logged */
+    if (ok) {
+        glUseProgram(v->probe);
+        glBindBufferBase(GL_UNIFORM_BUFFER, UBO_VCT, v->ubo);
+        bind_volumes(v, v->radiance[v->params.vct_bounces > 1 ? 1 : 0]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, ssbo);
+        glProgramUniform1i(v->probe, LOC_VCT_SCALE, count);
+        glDispatchCompute((GLuint)(count + 63) / 64, 1, 1);
+        glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        glGetNamedBufferSubData(ssbo, 0, (GLsizeiptr)bytes, buf);
+        for (int i = 0; i < count; i++)
+            memcpy(out[i], buf + 16 * i + 12, 4 * sizeof(float));
+        glDeleteBuffers(1, &ssbo);
+    }
+    free(buf);
+    return ok;
 }
 
 const GiTechnique gi_vct = {

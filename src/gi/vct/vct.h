@@ -30,4 +30,25 @@ bool vct_read_directional(void *state, int axis, bool negative, int k, float *ou
  * over their list (true) or over every voxel (the list was too short). */
 unsigned vct_opaque_voxels(const void *state, bool *listed);
 
+/* The diffuse cone set `set` (0, 1, 2: --vct-cones 6, 9, 16), in the
+ * normal's frame (z = normal; the tracers turn it with basis() of
+ * common/math.glsl): dirs[i] = unit direction xyz and weight w = ∫cosθ dω
+ * over the cone's cell of the hemisphere (the directions' Voronoi cells),
+ * tan_half[i] the tangent of the half-angle whose cone has the cell's solid
+ * angle. Returns the cone count (≤ VCT_MAX_CONES). */
+int vct_cone_set(int set, float dirs[][4], float *tan_half);
+
+/* One cone to trace (vct_probe): from surface point x (m) with unit normal
+ * n along unit direction d, tan_half the tangent of its half-angle. */
+typedef struct VctProbe {
+    float x[3], n[3], d[3];
+    float tan_half;
+} VctProbe;
+/* Traces `count` cones through the volumes of the last frame exactly as
+ * the frame's cones are traced (gi/vct/cone.glsl, vct_cone: apex offset,
+ * steps, mips, directional volumes): out[i] = the radiance gathered (rgb,
+ * W/(m²·sr)) and the opacity met (a). false after logging (the program did
+ * not build, no memory). Waits for the GPU. */
+bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4]);
+
 #endif

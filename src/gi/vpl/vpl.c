@@ -413,11 +413,12 @@ static void *vpl_slc_create(const GiCreateInfo *ci) { return vpl_create_method(c
 static void *vpl_interleaved_create(const GiCreateInfo *ci) { return vpl_create_method(ci, VPL_INTERLEAVED); }
 static void *vpl_metalights_create(const GiCreateInfo *ci) { return vpl_create_method(ci, VPL_METALIGHTS); }
 
-#define VPL_ROW(id, row_name, row_paper, create_fn, text)                                               \
+#define VPL_ROW(id, row_name, row_paper, create_fn, row_flags, text)                                    \
     const GiTechnique id = {                                                                           \
         .name = row_name,                                                                              \
         .paper = row_paper,                                                                            \
         .summary = text,                                                                               \
+        .flags = row_flags,                                                                            \
         .rsm_from_vpl_count = true,                                                                    \
         .needs = vpl_needs,                                                                            \
         .create = create_fn,                                                                           \
@@ -427,13 +428,13 @@ static void *vpl_metalights_create(const GiCreateInfo *ci) { return vpl_create_m
         .destroy = vpl_destroy,                                                                        \
     };
 
-VPL_ROW(gi_vpl_all, "vpl-all", "Keller 1997, Instant Radiosity", vpl_all_create,
+VPL_ROW(gi_vpl_all, "vpl-all", "Keller 1997, Instant Radiosity", vpl_all_create, GI_EXHAUSTIVE,
         "every pixel sums every VPL (brute force)")
-VPL_ROW(gi_vpl_clamped, "vpl-clamped", "SPEC §4 (clamped-range baseline)", vpl_clamped_create,
+VPL_ROW(gi_vpl_clamped, "vpl-clamped", "SPEC §4 (clamped-range baseline)", vpl_clamped_create, 0,
         "each VPL cut at a fixed range (biased baseline), tiled culling")
-VPL_ROW(gi_vpl_slc, "vpl-slc", "Tokuyoshi & Harada 2016, Stochastic Light Culling", vpl_slc_create,
+VPL_ROW(gi_vpl_slc, "vpl-slc", "Tokuyoshi & Harada 2016, Stochastic Light Culling", vpl_slc_create, 0,
         "stochastic light culling with 16x16 tiled culling")
 VPL_ROW(gi_vpl_interleaved, "vpl-interleaved", "Keller & Heidrich 2001; Segovia et al. 2006",
-        vpl_interleaved_create, "interleaved shading with random disjoint VPL subsets")
-VPL_ROW(gi_vpl_metalights, "vpl-metalights", "Faure & Chang 2010, Metalights", vpl_metalights_create,
+        vpl_interleaved_create, 0, "interleaved shading with random disjoint VPL subsets")
+VPL_ROW(gi_vpl_metalights, "vpl-metalights", "Faure & Chang 2010, Metalights", vpl_metalights_create, 0,
         "interleaved shading with subsets dealt from metalights")

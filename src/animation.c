@@ -783,11 +783,10 @@ static void place_emitter(Scene *s, int i, SceneChange *c)
     }
 }
 
-/* The camera at t from its tracks; false (the view kept) where the
- * target meets the position. */
-static bool apply_camera(Scene *s, const Animation *a, double t)
+/* The camera at t from its tracks, written over *cam; false (the view
+ * kept) where the target meets the position. */
+static bool camera_at(const Animation *a, double t, Camera *cam)
 {
-    Camera *cam = &s->camera;
     const AnimTrack *pos = find_track(a, ANIM_TARGET_CAMERA, 0, ANIM_POSITION),
                     *tgt = find_track(a, ANIM_TARGET_CAMERA, 0, ANIM_TARGET),
                     *fov = find_track(a, ANIM_TARGET_CAMERA, 0, ANIM_FOV);
@@ -820,6 +819,51 @@ static bool apply_camera(Scene *s, const Animation *a, double t)
     return true;
 }
 
+static double clamp_time(const Animation *a, double t)
+{
+    float duration = a ? a->duration : 0.f;
+    return t < 0 ? 0 : t > duration ? duration : t;
+}
+
+bool animation_camera_at(const Scene *s, double t, Camera *cam)
+{
+    const Animation *a = s->animation;
+    if (!a || !(find_track(a, ANIM_TARGET_CAMERA, 0, ANIM_POSITION) || find_track(a, ANIM_TARGET_CAMERA, 0, ANIM_TARGET) ||
+                find_track(a, ANIM_TARGET_CAMERA, 0, ANIM_FOV)))
+        return false;
+    Camera c = *cam;
+    if (!camera_at(a, clamp_time(a, t), &c))
+        return false;
+    *cam = c;
+    return true;
+}
+
+void animation_lights_at(const Scene *s, double t, Light *lights)
+{
+    const Animation *a = s->animation;
+    t = clamp_time(a, t);
+    float v[3];
+    for (int i = 0; a && i < a->track_count; i++) {
+        const AnimTrack *k = &a->tracks[i];
+        if (k->target != ANIM_TARGET_LIGHT)
+            continue;
+        Light *l = &lights[k->index];
+        animation_track_value(k, t, v);
+        if (k->channel == ANIM_POSITION)
+            glm_vec3_copy(v, l->position);
+        else if (k->channel == ANIM_DIRECTION)
+            glm_vec3_normalize_to(v, l->direction); /* as scene_add_light */
+        else if (k->channel == ANIM_POWER)
+            glm_vec3_copy(v, l->color);
+    }
+}
+
+void animation_place_emitter(Scene *s, int light, SceneChange *c)
+{
+    if (light >= 0 && light < s->light_count && s->lights[light].type == LIGHT_QUAD && s->lights[light].size > 0.f)
+        place_emitter(s, light, c);
+}
+
 bool animation_apply(Scene *s, double t, SceneChange *changed)
 {
     SceneChange c = {0};
@@ -829,28 +873,14 @@ bool animation_apply(Scene *s, double t, SceneChange *changed)
             *changed = c;
         return false;
     }
-    float duration = a ? a->duration : 0.f;
-    t = t < 0 ? 0 : t > duration ? duration : t;
+    t = clamp_time(a, t);
     Light old_lights[32];
     int nl = s->light_count < 32 ? s->light_count : 32;
     memcpy(old_lights, s->lights, sizeof(Light) * (size_t)nl);
     Camera old_cam = s->camera;
-    float v[3];
-    for (int i = 0; a && i < a->track_count; i++) {
-        const AnimTrack *k = &a->tracks[i];
-        if (k->target != ANIM_TARGET_LIGHT)
-            continue;
-        Light *l = &s->lights[k->index];
-        animation_track_value(k, t, v);
-        if (k->channel == ANIM_POSITION)
-            glm_vec3_copy(v, l->position);
-        else if (k->channel == ANIM_DIRECTION)
-            glm_vec3_normalize_to(v, l->direction); /* as scene_add_light */
-        else if (k->channel == ANIM_POWER)
-            glm_vec3_copy(v, l->color);
-    }
+    animation_lights_at(s, t, s->lights);
     if (a)
-        a->camera_degenerate = !apply_camera(s, a, t);
+        a->camera_degenerate = !camera_at(a, t, &s->camera);
     if (memcmp(old_lights, s->lights, sizeof(Light) * (size_t)nl) != 0)
         c.what |= SCENE_CHANGED_LIGHTS;
     if (memcmp(&old_cam, &s->camera, sizeof old_cam) != 0)

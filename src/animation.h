@@ -29,8 +29,10 @@
  *     renderer_frame(renderer, &scene->camera);
  * renderer_scene_changed uploads moved vertices and tells the light stage
  * and the technique what changed; lights and the camera are read from the
- * scene every frame anyway. A caller that edits a light by hand (a dragged
- * light) needs nothing more: the light stage notices a changed light. */
+ * scene every frame anyway. A caller that edits a light by hand (the
+ * window's keys) needs nothing more, the light stage noticing a changed
+ * light, but for a quad light's emitter geometry: animation_place_emitter,
+ * then renderer_scene_changed (src/ui/view_anim.c, view_anim_apply). */
 #ifndef RTGI_ANIMATION_H
 #define RTGI_ANIMATION_H
 
@@ -147,6 +149,22 @@ void animation_track_value(const AnimTrack *k, double t, float out[3]);
  * before. Returns whether anything changed. A scene without animation is
  * left as it is. */
 bool animation_apply(Scene *s, double t, SceneChange *changed);
+
+/* The animated channels of the lights at time t (clamped to [0,
+ * duration]) written into `lights`, an array of the scene's light_count
+ * (its other values left as they are): what animation_apply writes into
+ * the scene's lights, without touching the scene (the window's panel
+ * reads it on its own thread while the render thread applies). */
+void animation_lights_at(const Scene *s, double t, Light *lights);
+/* The camera at time t from the animation's camera tracks, written over
+ * *cam (what no track moves kept); false, *cam left as it was, where the
+ * animation has no camera track or its target meets its position. Reads
+ * the scene's animation only. */
+bool animation_camera_at(const Scene *s, double t, Camera *cam);
+/* After a caller edited light `light` by hand (a quad light moved or its
+ * radiance changed in the window): its emitter geometry and emission
+ * follow, the vertices rewritten added to *c (nothing for other types). */
+void animation_place_emitter(Scene *s, int light, SceneChange *c);
 
 /* The time of frame i of n: with fps > 0, i / fps; else spread over the
  * duration, from 0 to the end (n = 1: 0). */

@@ -1,6 +1,8 @@
 /* cmd_view.c — `rtgi view`: the renderer in a window (GLFW) with a Dear
  * ImGui panel (src/ui/view_panel.c): camera, technique and settings,
- * timings, captures, shader hot reload and the A/B view of --compare.
+ * timings, captures, shader hot reload, the A/B view of --compare, and
+ * the scene's animation and lights (src/ui/view_anim.c: play, pause,
+ * scrub; lights moved with keys, their power edited).
  * The window is the image (its render size) with the panel docked on its
  * right. This file is the window's thread: events, input, layout, the
  * panel and the last finished image, drawn only when something changed;
@@ -19,6 +21,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "animation.h"
 #include "commands.h"
 #include "gl_context.h"
 #include "log.h"
@@ -46,6 +49,10 @@ void cmd_view_help(void)
            "  T print timings, P save the image, Shift-P save the window (panel included),\n"
            "  F5 reload shaders (from --shader-dir, else the source tree's shaders/),\n"
            "  H hide/show the panel (the window shrinks or grows by it; the image keeps its size),\n"
+           "  Space play/pause the scene's animation (the panel's time slider scrubs it),\n"
+           "  arrows move the selected light across the view, Page Up/Down raise/lower it (a\n"
+           "  directional light: arrows turn it), Shift faster, L/Shift-L next/previous light\n"
+           "  (its power: the panel's Lights),\n"
            "  Esc quit. Frames are drawn on a thread of their own: the window answers while a\n"
            "  slow one is drawn, and draws nothing while nothing changes.\n"
            "options:\n"
@@ -285,6 +292,8 @@ static void view_init(View *v, const RenderOptions *o, const Scene *scene, ViewS
     view_set_angles(v, &v->camera);
     view_update_camera(v);
     v->speed = 0.25f * glm_vec3_distance((float *)scene->bounds_min, (float *)scene->bounds_max);
+    const SettingDesc *temporal = settings_find_option("--temporal");
+    view_anim_init(v, scene, temporal && o->given[temporal - settings_table]);
 }
 
 /* The window's input callbacks, ImGui and the image area's view (with
@@ -425,6 +434,8 @@ static double loop_timeout(const ViewLoop *l, const ViewRenderState *st, double 
     double t = -1;
     if (l->moving || l->settle > 0)
         t = 1.0 / 60.0;
+    else if (l->v->anim.playing && !st->busy) /* playback: the next frame as soon as the last is done */
+        t = 1.0 / 120.0;
     else if (st->busy) {
         double busy = now - st->busy_since;
         t = busy < 0.25 ? 0.25 - busy : 0.1;
@@ -556,10 +567,13 @@ static bool loop_pass(ViewLoop *l, const RenderOptions *o)
      * window slept before it). */
     bool was_moving = l->moving;
     l->moving = view_move(v, l->win, was_moving ? (float)(now - l->last) : 0.f);
+    l->moving = view_anim_move_light(v, l->win, was_moving ? (float)(now - l->last) : 0.f) || l->moving;
     l->last = now;
     if (l->moving)
         l->dirty = true; /* the panel's camera follows */
     view_update_camera(v);
+    if (view_anim_advance(v, now)) /* playback's time, the animation's camera, temporal's setting */
+        l->dirty = true;
     if (v->quit)
         glfwSetWindowShouldClose(l->win, GLFW_TRUE);
     loop_layout(l);
@@ -570,6 +584,7 @@ static bool loop_pass(ViewLoop *l, const RenderOptions *o)
     req.scene.settings = v->settings;
     req.scene.camera = v->camera;
     req.scene.time = v->time;
+    req.scene.lights = v->anim.edits;
     req.force = l->sync || l->passes == 1;
     req.jobs = v->jobs;
     if (v->jobs & VIEW_JOB_SAVE) {
@@ -633,6 +648,7 @@ int cmd_view(int argc, char **argv)
     loop.win = win;
     loop.present = &present;
     loop.script.dir = o.ui_test;
+    loop.script.animation = o.ui_test && animation_present(&scene); /* the animation script */
     loop.sync = o.frames > 0 || o.ui_test;
     loop.panel_docked = v.show_panel;
     int ww, wh, fw, fh;
@@ -649,6 +665,8 @@ int cmd_view(int argc, char **argv)
         memset(&first, 0, sizeof first);
         first.scene.settings = v.settings;
         first.scene.camera = v.camera;
+        first.scene.time = v.time;
+        first.scene.lights = v.anim.edits;
         ViewRenderDesc d = {.context = render_context, .scene = &scene, .ab = v.ab, .status = &status,
                             .first = &first, .gl_renderer = (const char *)glGetString(GL_RENDERER),
                             .debug = o.debug};

@@ -75,6 +75,7 @@ void view_key(View *v, int key, int mods)
         v->show_panel = !v->show_panel;
         break;
     default:
+        view_anim_key(v, key, mods); /* Space, L: src/ui/view_anim.c */
         break;
     }
 }

@@ -477,6 +477,7 @@ void view_panel_draw(View *v, float x, float h)
         compare_section(v);
     if (ui_header("Technique", true))
         technique_section(v);
+    view_anim_panel(v); /* Animation, Lights (src/ui/view_anim.c) */
     if (ui_header("Timings (T prints them)", true))
         timings_section(v);
     if (ui_header("Settings", false))
@@ -485,10 +486,14 @@ void view_panel_draw(View *v, float x, float h)
         camera_section(v);
     if (ui_header("Capture & shaders", false))
         capture_section(v);
-    if (ui_header("Keys", false))
+    if (ui_header("Keys", false)) {
         ui_text_wrapped("WASD move, Q/E down/up, Shift faster, left-drag look, R reset camera; 1-4 shadows; "
                         "G/Shift-G technique (slow ones ask first); +/- exposure; F FXAA; C A/B view; "
                         "T print timings; P save image, Shift-P save window; F5 reload shaders; "
                         "H panel; Esc quit.");
+        ui_text_wrapped("Animation: Space play/pause (the time slider scrubs). Lights: arrows move the light "
+                        "across the view, Page Up/Down raise/lower it (a sun: arrows turn it), L next light; its "
+                        "power in Lights.");
+    }
     ui_window_end();
 }

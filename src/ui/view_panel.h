@@ -2,7 +2,8 @@
  * technique and shadow pickers, every row of the settings table as a
  * widget with its range, exposure (live: renderer_apply remakes nothing for
  * it), per-pass GPU ms with a history plot, the camera with "copy as scene
- * JSON", captures, shader hot reload and the A/B view of --compare.
+ * JSON", captures, shader hot reload, the A/B view of --compare, and the
+ * animation and lights (view_anim.h).
  *
  * The View is the window's thread's: the render thread (view_render.h)
  * gets its settings and camera as a request, and hands back its
@@ -23,6 +24,7 @@
 #include "scene.h"
 #include "settings.h"
 #include "ui/ab_view.h"
+#include "ui/view_anim.h"
 #include "ui/live_reference.h"
 
 #define VIEW_HISTORY 120
@@ -64,9 +66,9 @@ typedef struct View {
     Settings edit;              /* the panel's working copy of the settings-table values */
     Camera camera;              /* current camera */
     Camera home;                /* the scene's camera (R) */
-    double time;                /* animation time in seconds (reserved: nothing animates yet; a
-                                   play/pause/scrub control would advance it, and each frame is
-                                   drawn at the time it was asked for) */
+    double time;                /* animation time in seconds: each frame is drawn at the time it
+                                   was asked for (view_anim.h plays, pauses and scrubs it) */
+    ViewAnim anim;              /* playback and the lights' edits (view_anim.h) */
     float yaw, pitch;           /* radians; forward = (cos p sin y, sin p, cos p cos y) */
     float speed;                /* metres per second */
     bool dragging;

@@ -32,7 +32,7 @@ typedef struct Slot {
 struct ViewRender {
     /* Fixed at start. */
     GLFWwindow *context;
-    const Scene *scene;
+    Scene *scene;
     const AbView *ab;
     ViewStatus *status;
     const char *gl_renderer;
@@ -73,6 +73,7 @@ struct ViewRender {
     double interval_s;      /* ... their wall time on this thread */
     bool interval_clean;    /* no remake, reload or first frame in it: its time is a cost */
     Camera drawn_camera;    /* the last frame's camera (a radiance capture of a display-only frame) */
+    ViewAnimApplied anim;   /* the time and light edits the scene holds (view_anim.h) */
 };
 
 static void publish_locked(ViewRender *vr)
@@ -280,6 +281,10 @@ static bool draw_frame(ViewRender *vr, const ViewRequest *req)
     int remakes = r->remakes;
     /* Remakes only what the change touches (nothing for exposure). */
     if (!renderer_apply(r, want))
+        return false;
+    /* The scene at the request's time with its light edits (light
+     * products and moved geometry follow: renderer_scene_changed). */
+    if (!view_anim_apply(&vr->anim, vr->scene, r, req->scene.time, &req->scene.lights))
         return false;
     if (r->remakes != remakes)
         vr->interval_clean = false;

@@ -29,20 +29,22 @@
  * submit: one frame per window frame, as deterministic as a single thread.
  *
  * Two later additions have their places here:
- *  - an animation time (play/pause/scrub) is part of the scene state
- *    (ViewScene.time): the window's loop advances View.time while playing
- *    (as it moves the camera while a key is held), so each pass asks for a
- *    new frame, and draw_frame would set the lights and camera at
- *    req->scene.time before renderer_frame;
+ *  - an animation time (play/pause/scrub) and the lights' edits are part
+ *    of the scene state (ViewScene.time, .lights): the window's loop
+ *    advances View.time while playing (as it moves the camera while a key
+ *    is held), so each pass asks for a new frame, and draw_frame writes
+ *    the scene at req->scene.time with the edits before renderer_frame
+ *    (view_anim_apply: animation_apply, renderer_scene_changed);
  *  - the live reference (src/ui/live_reference.h: the path tracer of
  *    pt_progressive.h on threads of its own, at the lowest priority) is
  *    restarted by the window's loop when the camera, the lights, the size
  *    or the time change, and polled there; each newer image goes to the
  *    A/B view (ab_view_set_reference, the window's texture) and to this
  *    thread (view_render_set_reference: its own copy, which RMSE and the
- *    heat map's scale read, so neither side waits for the other). An
- *    animation would give it the scene's lights at the request's time
- *    (live_reference_update takes the scene it renders). */
+ *    heat map's scale read, so neither side waits for the other). It
+ *    gets the window's scene (View.scene: ViewAnim.shown, whose lights
+ *    are the ones this thread draws at the request's time, edits
+ *    included). */
 #ifndef RTGI_VIEW_RENDER_H
 #define RTGI_VIEW_RENDER_H
 
@@ -71,7 +73,8 @@ typedef enum ViewJob {
 typedef struct ViewScene {
     RenderSettings settings;
     Camera camera;
-    double time;        /* animation time (s): reserved, nothing animates yet */
+    double time;        /* animation time (s) */
+    ViewLightEdits lights; /* the lights' edits in the window (view_anim.h) */
 } ViewScene;
 
 typedef struct ViewRequest {
@@ -125,7 +128,7 @@ typedef struct ViewImage {
 
 typedef struct ViewRenderDesc {
     GLFWwindow *context;    /* a hidden window with a context shared with the window's */
-    const Scene *scene;     /* borrowed */
+    Scene *scene;           /* borrowed; the thread writes the animation's state and the lights' edits into it */
     const AbView *ab;       /* the A/B view (a reload rebuilds its program; its reference, if any, is
                                copied at the start for RMSE and the heat map's scale), or NULL */
     ViewStatus *status;     /* the panel's status line */

@@ -80,6 +80,8 @@ void view_script_capture(ViewScript *t, View *v, int fw, int fh)
 
 bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh)
 {
+    if (t->animation)
+        return view_script_anim_step(t, v, frame, fw, fh);
     ViewRenderState st;
     view_render_state(t->render, &st);
     if (frame == 0 && getenv("RTGI_UI_TEST_ASYNC_ONLY")) /* the second part alone (measuring a real slow frame) */
@@ -228,6 +230,25 @@ static void track_redraws(ViewScript *t, const ViewScriptPass *p)
     t->seen_redraws = p->redraws;
 }
 
+bool view_script_settle(ViewScript *t, const ViewScriptPass *p)
+{
+    if (p->state.busy || p->state.frames == 0) {
+        t->deadline = p->now + 0.1;
+        return false;
+    }
+    t->deadline = p->now + 0.5;
+    return true;
+}
+
+void view_script_mark(ViewScript *t, const ViewScriptPass *p, double wait_s)
+{
+    t->t0 = p->now;
+    t->frames0 = p->state.frames;
+    t->redraws0 = p->redraws;
+    t->wakeups0 = p->wakeups;
+    t->deadline = p->now + wait_s;
+}
+
 static double env_or(const char *name, double fallback)
 {
     const char *s = getenv(name);
@@ -370,6 +391,8 @@ static bool live_tick(ViewScript *t, View *v, const ViewScriptPass *p)
 
 bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p)
 {
+    if (t->animation)
+        return view_script_anim_tick(t, v, p);
     if (t->live) {
         if (p->now < t->deadline)
             return true;
@@ -382,19 +405,11 @@ bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p)
     const ViewRenderState *st = &p->state;
     switch (t->phase) {
     case SETTLE: /* the first part's last frames shown, the window's redraws after them done */
-        if (st->busy || st->frames == 0) {
-            t->deadline = p->now + 0.1;
-            break;
-        }
-        t->deadline = p->now + 0.5;
-        t->phase = IDLE_START;
+        if (view_script_settle(t, p))
+            t->phase = IDLE_START;
         break;
     case IDLE_START:
-        t->t0 = p->now;
-        t->frames0 = st->frames;
-        t->redraws0 = p->redraws;
-        t->wakeups0 = p->wakeups;
-        t->deadline = p->now + 1.0;
+        view_script_mark(t, p, 1.0);
         t->phase = IDLE_END;
         break;
     case IDLE_END: {

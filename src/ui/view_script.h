@@ -82,6 +82,10 @@ typedef struct ViewScript {
     double live_reached_relmse;
     bool shot_live;     /* capture the window and the reference it shows at its next redraw */
     bool shot_split;    /* capture the window at its next redraw (live_split.png) */
+    /* The animation script (view_script_anim.c), run instead on a scene
+     * with an animation. */
+    bool animation;
+    double anim_time0;  /* the animation's time when playback began */
 } ViewScript;
 
 /* What the loop tells the second part each pass. */
@@ -100,6 +104,18 @@ bool view_script_step(ViewScript *t, View *v, int frame, int fw, int fh);
 /* Second part: one pass of the loop (before its request); false when the
  * script is over. */
 bool view_script_tick(ViewScript *t, View *v, const ViewScriptPass *p);
+/* Second part: whether the frames asked for are drawn (none in flight):
+ * then the next step is due in half a second (the window's redraws after
+ * them done), else the check again in a tenth. */
+bool view_script_settle(ViewScript *t, const ViewScriptPass *p);
+/* Second part: the counters a measured span starts from (now, scene
+ * frames, redraws, loop passes), its end due in wait_s. */
+void view_script_mark(ViewScript *t, const ViewScriptPass *p, double wait_s);
+/* The animation script's parts (a scene with an animation; see
+ * view_script_anim.c): what view_script_step and view_script_tick run
+ * instead. */
+bool view_script_anim_step(ViewScript *t, View *v, int frame, int fw, int fh);
+bool view_script_anim_tick(ViewScript *t, View *v, const ViewScriptPass *p);
 /* Second part: the window drawn this pass, before the swap (a capture
  * the script asked for). */
 void view_script_capture(ViewScript *t, View *v, int fw, int fh);

@@ -382,7 +382,10 @@ static void cached_products_equal_cold_after_motion(void **state)
             assert_true(renderer_read_hdr(&r, &got));
             assert_true(renderer_read_hdr(&cold, &want));
             RenderStats st1 = *renderer_collect_stats(&r);
-            if (memcmp(got.rgb, want.rgb, sizeof(float) * 3 * 24 * 24) != 0)
+            /* Equal up to the order of floating-point sums (the VPL gathers'
+             * work groups: 1e-15); a stale product is off by far more. */
+            if (memcmp(got.rgb, want.rgb, sizeof(float) * 3 * 24 * 24) != 0 &&
+                !(metric_relmse(&got, &want, NULL, NULL) < 1e-12))
                 fail_msg("%s, %s: the cached frame after the move differs from a cold one (relMSE %.3g)", scenes[sc],
                          gi_techniques[gi]->name, metric_relmse(&got, &want, NULL, NULL));
             /* What depends on the move was rebuilt. */

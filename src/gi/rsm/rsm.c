@@ -421,10 +421,11 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     }
 }
 
-#define RSM_ROW(id, variant_name, create_fn, text)                                                     \
+#define RSM_PAPER "Dachsbacher & Stamminger 2005, Reflective Shadow Maps"
+#define RSM_ROW(id, variant_name, row_paper, create_fn, text)                                          \
     const GiTechnique id = {                                                                           \
         .name = variant_name,                                                                          \
-        .paper = "Dachsbacher & Stamminger 2005, Reflective Shadow Maps",                              \
+        .paper = row_paper,                                                                            \
         .summary = text,                                                                               \
         .flags = GI_VISIBILITY,                                                                        \
         .needs = rsm_needs,                                                                            \
@@ -435,8 +436,9 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
         .destroy = rsm_destroy,                                                                        \
     };
 
-RSM_ROW(gi_rsm, "rsm", rsm_create, "RSM gather, N samples per pixel on the paper's polar pattern")
-RSM_ROW(gi_rsm_interp, "rsm-interp", rsm_interp_create,
+RSM_ROW(gi_rsm, "rsm", RSM_PAPER, rsm_create, "RSM gather, N samples per pixel on the paper's polar pattern")
+RSM_ROW(gi_rsm_interp, "rsm-interp", RSM_PAPER, rsm_interp_create,
         "RSM gather at 1/f resolution + the paper's screen-space interpolation")
-RSM_ROW(gi_rsm_interleaved, "rsm-interleaved", rsm_interleaved_create,
+RSM_ROW(gi_rsm_interleaved, "rsm-interleaved", RSM_PAPER "; Keller & Heidrich 2001, Interleaved Sampling",
+        rsm_interleaved_create,
         "RSM gather with interleaved sampling and a geometry-aware blur")

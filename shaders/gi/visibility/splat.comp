@@ -83,7 +83,13 @@ void main()
     vec3 xs = uintBitsToFloat(rep.xyz), ns = unpack_oct16(rep.w);
 #endif
     int size = u_ism.size, shift = findMSB(u_ism.per_row), n = u_ism.grid_n;
-    uint mask = u_ism.point_count - 1u, first = hash_u32(m * 0x9e3779b9u + 0x7f4a7c15u), stride = u_ism.far_stride;
+    // Where the map's stride through the points starts: from its source's
+    // position, not its slot (a VPL's slot is the extraction's atomic
+    // append order, which varies run to run: the maps, and the images,
+    // did with it).
+    uvec3 xb = floatBitsToUint(xs);
+    uint mask = u_ism.point_count - 1u, first = hash_u32(xb.x ^ hash_u32(xb.y ^ hash_u32(xb.z + 0x7f4a7c15u)));
+    uint stride = u_ism.far_stride;
     uint far_points = u_ism.far_points, near_points = u_ism.near_points;
     float S = float(size), cell = u_ism.grid.w;
     vec3 origin = u_ism.grid.xyz;

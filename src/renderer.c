@@ -154,7 +154,8 @@ static bool technique_create(Renderer *r)
     if (!r->gi->create)
         return true;
     int n = renderer_ssaa(rs);
-    GiCreateInfo ci = {r->scene, &rs->gi_params, &r->lights, &r->programs, rs->width * n, rs->height * n};
+    GiCreateInfo ci = {r->scene, &rs->gi_params, &r->lights, &r->programs, rs->width * n, rs->height * n,
+                       r->gpu_scene.version};
     r->gi_state = r->gi->create(&ci);
     return r->gi_state != NULL;
 }

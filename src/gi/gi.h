@@ -72,6 +72,7 @@ typedef struct GiCreateInfo {
     const LightStage *lights;/* already configured with the technique's needs (sizes its buffers) */
     ProgramCache *programs;  /* where its programs come from (the cache owns them) */
     int width, height;       /* output size */
+    uint64_t geometry_version; /* GpuScene.version of the geometry `scene` holds now */
 } GiCreateInfo;
 
 /* What a technique reads and writes each frame. */

@@ -315,6 +315,7 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
               (m->cells = gl_buffer_make(sizeof(uint32_t) * (uint64_t)(ISM_CELLS + 1), NULL, GL_DYNAMIC_STORAGE_BIT,
                                          "ism.cells"));
     m->scene = s;
+    m->points_version = ci->geometry_version; /* the geometry make_points draws from */
     if (!ok || !make_points(m)) {
         ism_destroy(m);
         return false;
@@ -414,8 +415,6 @@ void ism_update(Ism *m, const GiFrame *f)
 {
     const LightStage *ls = f->lights;
     uint64_t version = f->gpu_scene ? f->gpu_scene->version : 0;
-    if (m->points_version == 0) /* the first frame: the points were drawn from this geometry */
-        m->points_version = version;
     if (version != m->points_version) { /* an object moved (animation.h): draw the points again */
         if (!make_points(m))
             return; /* logged; the maps stay as they were */

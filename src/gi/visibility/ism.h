@@ -54,7 +54,7 @@ typedef struct Ism {
     uint32_t point_count;  /* a power of two */
     GLuint cells;          /* uint[grid³ + 1]: where each cell's points start */
     const Scene *scene;    /* borrowed: the points are drawn from it */
-    uint64_t points_version; /* GpuScene.version the points were drawn at (0: not yet known) */
+    uint64_t points_version; /* GpuScene.version the points were drawn at */
     GLuint reps;           /* ISM_FROM_RSM: uvec4 per map */
     GLuint ubo;            /* GpuIsmParams, per light (ISM_FROM_RSM: its block layout) */
     GpuIsmParams gpu;      /* as last uploaded */

@@ -4,6 +4,7 @@
 
 #include "gl_resources.h"
 #include "log.h"
+#include "shared/gpu_types.h"
 
 GLuint gl_texture_make(GLenum target, GLenum fmt, int w, int h, const char *label)
 {
@@ -45,23 +46,12 @@ GLuint gl_texture_make_levels(GLenum target, GLenum fmt, int w, int h, int layer
     return t;
 }
 
-void fullscreen_draw(GLuint program, GLuint vao, GLuint fbo, int w, int h, bool additive)
+void fullscreen_dispatch(int width, int height)
 {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, w, h);
-    glDisable(GL_DEPTH_TEST);
-    if (additive) {
-        glEnable(GL_BLEND);
-        glBlendFunc(GL_ONE, GL_ONE);
-    } else {
-        glDisable(GL_BLEND);
-    }
-    glUseProgram(program);
-    glBindVertexArray(vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
-    glDisable(GL_BLEND);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDispatchCompute((GLuint)(width + SHADE_GROUP - 1) / SHADE_GROUP, (GLuint)(height + SHADE_GROUP - 1) / SHADE_GROUP,
+                      1);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
+                    GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
 void fbo_attach(GLuint fbo, GLenum attachment, GLuint tex, bool cube, int face)

@@ -39,9 +39,11 @@ bool fbo_make(GLuint *fbo, const GLuint *colors, int n, GLuint depth, bool cube,
 /* true if `fbo` is complete; else logs one line naming it and returns false. */
 bool fbo_check(GLuint fbo, const char *label);
 
-/* Draws the full-screen triangle with `program` into `target`'s framebuffer,
- * blending additively when `additive`. `vao` is an empty vertex array. */
-void fullscreen_draw(GLuint program, GLuint vao, GLuint fbo, int width, int height, bool additive);
+/* Runs the current compute program over a width × height image in
+ * SHADE_GROUP² work groups (shared/gpu_types.h: shade, finish, fxaa) and
+ * puts the barrier that makes its image stores visible to the next pass,
+ * sampled, drawn or blitted. */
+void fullscreen_dispatch(int width, int height);
 
 bool gbuffer_create(GBuffer *g, int width, int height);
 void gbuffer_destroy(GBuffer *g);

@@ -28,6 +28,7 @@ typedef struct Fixture {
     Scene scene;
     ImageF none;                   /* the rasterizer without GI */
     ImageF ref[PT_INDIRECT + 1];   /* by PtMode: direct, one-bounce, one-bounce-novis rendered */
+    uint8_t *keep;                 /* 1 where a pixel and its neighbours see no emitter (test_emitter_mask) */
 } Fixture;
 
 static int setup(void **state)
@@ -42,6 +43,11 @@ static int setup(void **state)
     const PtMode modes[] = {PT_DIRECT, PT_ONE_BOUNCE, PT_ONE_BOUNCE_NOVIS};
     for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++)
         test_reference(&f->scene, W, H, modes[i], SPP, &f->ref[modes[i]]);
+    int32_t *ids = malloc(sizeof *ids * W * H);
+    f->keep = malloc(W * H);
+    assert_true(ids && f->keep && pt_surface_map(&f->scene, W, H, ids));
+    test_emitter_mask(&f->scene, W, H, ids, f->keep);
+    free(ids);
     *state = f;
     return 0;
 }
@@ -50,6 +56,7 @@ static int teardown(void **state)
 {
     Fixture *f = *state;
     image_free(&f->none);
+    free(f->keep);
     for (int m = 0; m <= PT_INDIRECT; m++)
         image_free(&f->ref[m]);
     scene_free(&f->scene);
@@ -108,18 +115,12 @@ static double check_region_with(const Fixture *f, GiMode gi, const GiParams *gp,
  * they would dominate). */
 static double relmse_one_bounce(const Fixture *f, GiMode gi)
 {
-    int32_t *ids = malloc(sizeof *ids * W * H);
-    uint8_t *keep = malloc(W * H);
-    assert_true(ids && keep && pt_surface_map(&f->scene, W, H, ids));
-    test_emitter_mask(&f->scene, W, H, ids, keep);
     ImageF img;
     if (gi != GI_NONE)
         test_render_gi(&f->scene, W, H, gi, NULL, &img);
-    double r = metric_relmse(gi != GI_NONE ? &img : &f->none, &f->ref[PT_ONE_BOUNCE], keep, NULL);
+    double r = metric_relmse(gi != GI_NONE ? &img : &f->none, &f->ref[PT_ONE_BOUNCE], f->keep, NULL);
     if (gi != GI_NONE)
         image_free(&img);
-    free(ids);
-    free(keep);
     return r;
 }
 

@@ -18,9 +18,6 @@ void pass_finish_run(PassFinish *p, const ColorTarget *in, int factor, ColorTarg
     glBindImageTexture(IMG_HDR, hdr->texture, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
     glBindImageTexture(IMG_LDR, ldr->storage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     glUseProgram(p->program);
-    glDispatchCompute((GLuint)(ldr->width + SHADE_GROUP - 1) / SHADE_GROUP,
-                      (GLuint)(ldr->height + SHADE_GROUP - 1) / SHADE_GROUP, 1);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                    GL_TEXTURE_UPDATE_BARRIER_BIT);
+    fullscreen_dispatch(ldr->width, ldr->height);
     glUseProgram(0);
 }

@@ -28,10 +28,7 @@ void pass_fxaa_run(PassFxaa *p, const ColorTarget *in, ColorTarget *out)
     glBindSampler(TEX_LDR, p->sampler);
     glBindImageTexture(IMG_LDR, out->storage, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA8);
     glUseProgram(p->program);
-    glDispatchCompute((GLuint)(out->width + SHADE_GROUP - 1) / SHADE_GROUP,
-                      (GLuint)(out->height + SHADE_GROUP - 1) / SHADE_GROUP, 1);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT |
-                    GL_TEXTURE_UPDATE_BARRIER_BIT);
+    fullscreen_dispatch(out->width, out->height);
     glUseProgram(0);
     glBindSampler(TEX_LDR, 0);
 }

@@ -62,10 +62,7 @@ void pass_shade_run(PassShade *p, const PassDirect *d, const LightStage *ls, con
         glProgramUniform1i(prog, LOC_COMPOSITE_SPECULAR, composite && gi->specular ? 1 : 0);
         light_stage_bind_shadow(ls, i);
         glUseProgram(prog);
-        glDispatchCompute((GLuint)(hdr->width + SHADE_GROUP - 1) / SHADE_GROUP,
-                          (GLuint)(hdr->height + SHADE_GROUP - 1) / SHADE_GROUP, 1);
-        glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
-                        GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+        fullscreen_dispatch(hdr->width, hdr->height);
     }
     glUseProgram(0);
 }

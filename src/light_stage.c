@@ -39,9 +39,17 @@ int light_stage_rsm_size_for_vpls(const Scene *s, const Light *l, int vpls)
     return size < 4 ? 4 : size;
 }
 
+/* Texels per side of the block one VPL stands for (vpl_extract.comp). */
+#define VPL_MAX_SUPERSAMPLE 4
+static int vpl_block(const LightStageDesc *d)
+{
+    int k = d->vpl_count > 0 ? d->vpl_supersample : 1;
+    return k < 1 ? 1 : k > VPL_MAX_SUPERSAMPLE ? VPL_MAX_SUPERSAMPLE : k;
+}
+
 static int rsm_size_for(const LightStageDesc *d, const Scene *s, const Light *l)
 {
-    return d->vpl_count > 0 ? light_stage_rsm_size_for_vpls(s, l, d->vpl_count) : d->rsm_size;
+    return d->vpl_count > 0 ? light_stage_rsm_size_for_vpls(s, l, d->vpl_count) * vpl_block(d) : d->rsm_size;
 }
 
 /* ---- Products ------------------------------------------------------------ */
@@ -168,7 +176,8 @@ static bool make_products(LightStage *ls)
             bool cube = light_is_cube(s, &s->lights[i]);
             int size = rsm_size_for(d, s, &s->lights[i]);
             ok = rsm_map_create(&ls->rsm[i], cube, size);
-            total += (uint32_t)size * (uint32_t)size * (cube ? 6u : 1u);
+            uint32_t blocks = (uint32_t)((size + vpl_block(d) - 1) / vpl_block(d));
+            total += blocks * blocks * (cube ? 6u : 1u);
         }
         if (ok && (d->needs & LIGHT_NEEDS_VPLS))
             ok = vpl_buffer_create(&ls->vpls, total);
@@ -524,10 +533,11 @@ static void extract_vpls(LightStage *ls, const GpuScene *gs, GpuTimer *t)
     for (int i = 0; i < ls->light_count; i++) {
         const RsmMap *m = &ls->rsm[i];
         GLuint prog = ls->vpl_program[m->cube];
-        glProgramUniform1i(prog, LOC_VPL_STRIDE, 1);
+        int k = vpl_block(&ls->desc);
+        glProgramUniform1i(prog, LOC_VPL_STRIDE, k);
         glUseProgram(prog);
         light_stage_bind_rsm_layers(ls, i);
-        GLuint n = (GLuint)m->size;
+        GLuint n = (GLuint)((m->size + k - 1) / k);
         glDispatchCompute((n + 7) / 8, (n + 7) / 8, m->cube ? 6 : 1);
         glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }

@@ -69,6 +69,8 @@ typedef struct LightStageDesc {
     int shadow_map_size;  /* per side */
     int rsm_size;         /* per side, when vpl_count is 0 */
     int vpl_count;        /* > 0: RSM size per light from this VPL budget */
+    int vpl_supersample;  /* with vpl_count: the RSM this many times finer per side, one VPL per
+                             block of its texels (vpl_extract.comp); 0 or 1: one per texel */
     unsigned vpl_seed;    /* seed of the VPLs' fixed random ξ */
     bool cache;           /* redraw maps only when their light or size changed */
     bool no_cull;         /* draw every cluster into every face (culling's baseline in tests) */

@@ -27,6 +27,7 @@ static LightStageDesc light_desc(const RenderSettings *rs)
     d.shadow_map_size = rs->shadow_params.map_size;
     d.rsm_size = gp->rsm_size;
     d.vpl_count = t->rsm_from_vpl_count ? gp->vpl_count : 0;
+    d.vpl_supersample = gp->vpl_supersample;
     d.vpl_seed = gp->vpl_seed;
     d.cache = rs->cache;
     d.no_cull = rs->no_cull;

@@ -140,6 +140,7 @@ typedef struct GiParams {
     float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
     float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
     unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
+    int vpl_supersample;   /* the VPLs' RSM this many times finer per side, one VPL per block (1: per texel) */
     /* Visibility of the bounce (SPEC §9, src/gi/visibility/): */
     bool gi_visibility;    /* RSM and VPL gathers test whether each VPL (sample) sees the shaded point */
     int gi_visibility_method; /* GiVisibilityMethod */

@@ -130,7 +130,7 @@
 #define SHADE_COMPOSITE 8  /* add the GI technique's indirect light (the last dispatch) */
 #define SHADE_TONEMAP 16   /* write the display image at IMG_LDR (the last dispatch, no supersampling) */
 #define SHADE_GROUP 8      /* work group: SHADE_GROUP² pixels (shade, finish, fxaa) */
-#define LOC_VPL_STRIDE 10       /* vpl_extract.comp: int, keep every stride-th texel per axis */
+#define LOC_VPL_STRIDE 10       /* vpl_extract.comp: int, texels per side of the block one VPL stands for */
 #define LOC_AB_MODE 10          /* ui/ab_view.frag: int, 0 render, 1 reference, 2 split, 3 difference */
 #define LOC_AB_SPLIT 11         /* ui/ab_view.frag: float, split position in [0, 1] of the width */
 #define LOC_AB_EXPOSURE 12      /* ui/ab_view.frag: float, the reference's exposure */

@@ -8,8 +8,9 @@
  * against REF, emitter pixels and their neighbours left out.
  *
  * usage: gi_regions SCENE TECH.pfm NONE.pfm REF.pfm DIRECT.pfm [--surfaces]
- *        [--row LABEL] [--header]
- * (--row: one Markdown table row; --header: the table's header first.)
+ *        [--row LABEL] [--header] [--digits N]
+ * (--row: one Markdown table row; --header: the table's header first;
+ * --digits: the relMSEs' decimals, 4 unless told.)
  * The four images must have one size, that of the view measured. Not a
  * test: a measuring tool built beside the tests, sharing their helpers. */
 #include <stdio.h>
@@ -52,6 +53,7 @@ int main(int argc, char **argv)
     }
     bool surfaces = false, header = false;
     const char *row = NULL;
+    int digits = 4; /* of the relMSEs */
     for (int i = 6; i < argc; i++) {
         if (strcmp(argv[i], "--surfaces") == 0)
             surfaces = true;
@@ -59,6 +61,8 @@ int main(int argc, char **argv)
             header = true;
         else if (strcmp(argv[i], "--row") == 0 && i + 1 < argc)
             row = argv[++i];
+        else if (strcmp(argv[i], "--digits") == 0 && i + 1 < argc)
+            digits = atoi(argv[++i]) < 1 ? 1 : atoi(argv[i]) > 9 ? 9 : atoi(argv[i]);
         else {
             fprintf(stderr, "gi_regions: unknown argument %s\n", argv[i]);
             return 2;
@@ -99,7 +103,7 @@ int main(int argc, char **argv)
         printf("\n");
     }
     if (row) {
-        printf("| %s | %.3f | %.4f (%.4f) | %.2f .. %.2f |", row, whole, rel, rel_none, lo, hi);
+        printf("| %s | %.3f | %.*f (%.*f) | %.2f .. %.2f |", row, whole, digits, rel, digits, rel_none, lo, hi);
         for (int i = 0; i < n; i++) {
             test_surface_mask(&s, w, h, s.materials[seen[i].material].name, seen[i].face, mask);
             printf(" %.3f |", test_indirect_ratio(tech, none, ref, direct, mask));

@@ -51,10 +51,14 @@ typedef struct Job {
     double dist_err[8][3];
     double near_err[2][3];
     double rel_err[6]; /* false occlusion by stored depth / distance */
+    double fv_stored[6]; /* false visibility by stored depth / distance */
+    double fv_hit[6];    /* false visibility by the occluder's distance from the receiver / distance */
     double tan_err[5][2]; /* [receiver incidence tan bin][false occlusion, exact total] */
 } Job;
 
 static const float k_rel_edges[5] = {0.5f, 0.8f, 0.9f, 0.95f, 1.f};
+static const float k_fv_edges[5] = {0.8f, 1.f, 1.2f, 2.f, 1e30f};
+static const float k_hit_edges[5] = {0.05f, 0.1f, 0.2f, 0.4f, 0.7f};
 static const float k_tan_edges[4] = {0.5f, 1.f, 2.f, 4.f};
 
 static const float k_dist_edges[7] = {0.25f, 0.5f, 1.f, 2.f, 4.f, 8.f, 16.f};
@@ -96,7 +100,10 @@ static float ism_vis(const Job *j, uint32_t m, const Vpl *v, const float x[3], c
     float c[2] = {uv[0] * 2 - 1, uv[1] * 2 - 1};
     float cone = 4.f / ((float)size * (1.f + c[0] * c[0] + c[1] * c[1]));
     float cos_r = fabsf(dot3(nx, d)) / len, tan_r = fminf(sqrtf(fmaxf(1 - cos_r * cos_r, 0)) / fmaxf(cos_r, 1e-6f), 4.f);
-    float bias = len * (2.f * cone * tan_r + j->ism.bias_rel) + j->ism.bias_abs;
+    static float slope = -1;
+    if (slope < 0)
+        slope = getenv("ISM_SLOPE") ? (float)atof(getenv("ISM_SLOPE")) : 2.f;
+    float bias = len * (slope * cone * tan_r + j->ism.bias_rel) + j->ism.bias_abs;
     *rel = stored / len;
     return len <= stored + bias ? 1.f : 0.f;
 }
@@ -106,7 +113,7 @@ static void *work(void *arg)
     Job *j = arg;
     CameraRayBasis cam;
     camera_ray_basis(&j->s->camera, j->w, j->h, &cam);
-    double dist_err[8][3] = {{0}}, near_err[2][3] = {{0}}, rel_err[6] = {0}, tan_err[5][2] = {{0}};
+    double dist_err[8][3] = {{0}}, near_err[2][3] = {{0}}, rel_err[6] = {0}, tan_err[5][2] = {{0}}, fv_stored[6] = {0}, fv_hit[6] = {0};
     float cell = j->ism.grid[3];
     for (;;) {
         pthread_mutex_lock(&j->lock);
@@ -178,6 +185,16 @@ static void *work(void *arg)
                 if (ve == 0 && vi > 0) {
                     de[1] += lum;
                     ne[1] += lum;
+                    int rb = 0;
+                    while (rb < 5 && rel > k_fv_edges[rb])
+                        rb++;
+                    fv_stored[rb] += lum;
+                    PtHit oh;
+                    float th = pt_intersect(j->ps, o, to, tmax, &oh) ? oh.t / len : 1.f;
+                    int hb = 0;
+                    while (hb < 5 && th > k_hit_edges[hb])
+                        hb++;
+                    fv_hit[hb] += lum;
                 }
                 de[2] += lum * ve;
                 ne[2] += lum * ve;
@@ -198,8 +215,11 @@ static void *work(void *arg)
     for (int b = 0; b < 2; b++)
         for (int k = 0; k < 3; k++)
             j->near_err[b][k] += near_err[b][k];
-    for (int b = 0; b < 6; b++)
+    for (int b = 0; b < 6; b++) {
         j->rel_err[b] += rel_err[b];
+        j->fv_stored[b] += fv_stored[b];
+        j->fv_hit[b] += fv_hit[b];
+    }
     for (int b = 0; b < 5; b++)
         for (int k = 0; k < 2; k++)
             j->tan_err[b][k] += tan_err[b][k];
@@ -366,6 +386,12 @@ int main(int argc, char **argv)
     printf("\nFalse occlusion by the map's stored depth over the distance:");
     for (int b = 0; b < 6; b++)
         printf(" %s%.2g: %.3f", b < 5 ? "<" : ">", k_rel_edges[b < 5 ? b : 4], j.rel_err[b] / tot);
+    printf("\nFalse visibility by the map's stored depth over the distance:");
+    for (int b = 0; b < 6; b++)
+        printf(" %s%.2g: %.3f", b < 5 ? "<" : ">", k_fv_edges[b < 5 ? b : 4], j.fv_stored[b] / tot);
+    printf("\nFalse visibility by the occluder's distance from the receiver over the distance:");
+    for (int b = 0; b < 6; b++)
+        printf(" %s%.2g: %.3f", b < 5 ? "<" : ">", k_hit_edges[b < 5 ? b : 4], j.fv_hit[b] / tot);
     printf("\nBy the receiver's incidence tan (exact share, false occlusion):");
     for (int b = 0; b < 5; b++)
         printf(" %s%.2g: %.3f %.3f", b < 4 ? "<" : ">", k_tan_edges[b < 4 ? b : 3], j.tan_err[b][1] / tot,

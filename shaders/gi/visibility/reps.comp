@@ -23,7 +23,7 @@ void main()
     ivec3 size = rsm_layers_size();
     RsmTexelFrame frame = rsm_texel_frame();
     vec2 centre = (vec2(blk.xy) + 0.5) * float(bt);
-    float best = 1e30;
+    float best = -1.0, far2 = 0.5 * float(bt * bt);
     uvec4 pick = uvec4(0xffffffffu);
     for (int j = 0; j < bt; j++)
         for (int i = 0; i < bt; i++) {
@@ -32,8 +32,10 @@ void main()
                 continue;
             uvec4 t = rsm_layer_texel(ivec3(at, blk.z));
             float d2 = dot(vec2(at) + 0.5 - centre, vec2(at) + 0.5 - centre);
-            if (rsm_texel_valid(t) && dot(rsm_texel_flux(frame, t), vec3(1.0)) > 0.0 && d2 < best) {
-                best = d2;
+            float flux = rsm_texel_valid(t) ? dot(rsm_texel_flux(frame, t), vec3(0.2126, 0.7152, 0.0722)) : 0.0;
+            float score = flux * (1.0 - 0.5 * d2 / far2);
+            if (flux > 0.0 && score > best) {
+                best = score;
                 pick = uvec4(floatBitsToUint(rsm_texel_position(frame, t)), t.z);
             }
         }

@@ -160,7 +160,7 @@ void main()
                 float c2 = dot(c, c);
                 vec3 dir = vec3(2.0 * c, 1.0 - c2) / (1.0 + c2);
                 float along = dot(dir, nl), at = along * plane > 0.0 ? plane / along : len;
-                imageAtomicMin(o_atlas, tile + q, floatBitsToUint(clamp(at, len, 2.0 * len)));
+                imageAtomicMin(o_atlas, tile + q, floatBitsToUint(clamp(at, 0.9 * len, 2.0 * len)));
             }
     }
 }

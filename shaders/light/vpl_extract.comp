@@ -10,7 +10,7 @@
 // block holds one surface (most of them) the VPL is that centroid, the
 // same for every seed; where it holds more (edges, corners, a column before
 // the floor) one is chosen with probability ∝ its flux (a fixed ξ of the
-// block and the seed), which keeps the sum unbiased. A texel-centre grid
+// block), which keeps the sum unbiased over blocks. A texel-centre grid
 // had kept or lost a whole texel's flux wherever a sunlit edge crossed
 // it: Sponza's nave read 0.84 of the RSM's bounce at 4096 VPLs, 0.98 at
 // 3600 (docs/techniques.md, "Visibility of the bounce"). k = 1: one VPL
@@ -69,8 +69,11 @@ void main()
     }
     if (total_w <= 1e-30 * float(k * k + 1))
         return;
-    // A texel by ξ ∝ flux: its surface is the VPL's.
-    float xi = float(hash_u32(uint(block.x) ^ hash_u32(uint(block.y) ^ hash_u32(uint(block.z) ^ hash_u32(seed ^ 0x5bd1e995u))))) /
+    // A texel by ξ ∝ flux: its surface is the VPL's. ξ is the block's own,
+    // whatever the seed: the seed draws the VPLs' ξ for culling and
+    // subsets (an SLC image averaged over seeds must converge to brute
+    // force over one VPL set, test_vpl).
+    float xi = float(hash_u32(uint(block.x) ^ hash_u32(uint(block.y) ^ hash_u32(uint(block.z) ^ 0x5bd1e995u)))) /
                4294967296.0 * total_w;
     uvec4 chosen = uvec4(0u);
     vec3 cp = vec3(0.0), cn = vec3(0.0);

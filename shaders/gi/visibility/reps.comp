@@ -1,7 +1,13 @@
 // gi/visibility/reps.comp — the source of each imperfect shadow map made
 // for an RSM's blocks (src/gi/visibility/ism.c, ISM_FROM_RSM): block
-// (bx, by) of layer z, block_texels² texels, takes its texel nearest the
-// block's centre that holds a surface with flux; its position's bits and
+// (bx, by) of layer z, block_texels² texels, takes its texel of most flux
+// (luminance), weighed down by up to half toward the block's corners so
+// that a block of one surface keeps a central one: where a block holds two
+// surfaces (a column's side before the sunlit floor) the brighter one's
+// samples are tested in their own hemisphere; the texel nearest the centre
+// had often been the dim one, whose map passes every sample behind its
+// plane (Sponza's nave, rsm: 1.09 of the one-bounce light -> 1.04). Its
+// position's bits and
 // packed normal go to ism_reps[u_ism_map_base + (z·B + by)·B + bx]. A
 // block without one keeps the cleared 0xffffffff (no source: its samples
 // carry no flux). RSM_CUBE or RSM_2D picks the kind of map.

@@ -12,7 +12,7 @@
  *                  (the VPL techniques, rsm --rsm-exhaustive): exact sources
  *   ISM_FROM_RSM   the RSM of each light cut into B×B blocks per layer
  *                  (B² ≈ ism_maps / layers); a block's map is made from
- *                  its texel nearest the block's centre that holds flux, and
+ *                  its brightest texel (centre-weighted, reps.comp), and
  *                  every sample of the block reads it (the RSM gathers,
  *                  whose samples are any of the map's texels)
  * Passes (GPU timer scopes): ism_reps (ISM_FROM_RSM: the blocks'

@@ -27,6 +27,7 @@
 #include "gi/visibility/ism.h"
 #include "gl_resources.h"
 #include "reference/pt_scene.h"
+#include "reference/sampling.h"
 #include "renderer.h"
 #include "test_util.h"
 
@@ -63,26 +64,26 @@ static const float k_tan_edges[4] = {0.5f, 1.f, 2.f, 4.f};
 
 static const float k_dist_edges[7] = {0.25f, 0.5f, 1.f, 2.f, 4.f, 8.f, 16.f};
 
-static void basis(const float n[3], float t[3], float b[3])
+/* The bin of v among n ascending edges: the first edge v does not pass, n
+ * past the last. */
+static int bin_of(float v, const float *edges, int n)
 {
-    float s = n[2] >= 0.f ? 1.f : -1.f, a = -1.f / (s + n[2]), c = n[0] * n[1] * a;
-    t[0] = 1.f + s * n[0] * n[0] * a;
-    t[1] = s * c;
-    t[2] = -s * n[0];
-    b[0] = c;
-    b[1] = s + n[1] * n[1] * a;
-    b[2] = -n[1];
+    int b = 0;
+    while (b < n && v > edges[b])
+        b++;
+    return b;
 }
 
 static float dot3(const float *a, const float *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
-/* ism.glsl's ism_visibility with ISM_SLOPE 2, ISM_MAX_TAN 4. */
+/* ism.glsl's ism_visibility with ISM_SLOPE 2 (ISM_SLOPE in the environment
+ * for trials with a shader built so), ISM_MAX_TAN 4. */
 static float ism_vis(const Job *j, uint32_t m, const Vpl *v, const float x[3], const float nx[3], float *rel)
 {
     *rel = 2.f;
     float d[3] = {x[0] - v->p[0], x[1] - v->p[1], x[2] - v->p[2]};
     float len = fmaxf(sqrtf(dot3(d, d)), 1e-12f), t[3], b[3];
-    basis(v->n, t, b);
+    onb(v->n, t, b); /* common/math.glsl's basis */
     float l[3] = {dot3(d, t) / len, dot3(d, b) / len, dot3(d, v->n) / len};
     if (l[2] < 0.f)
         return 1.f;
@@ -161,39 +162,29 @@ static void *work(void *arg)
                 }
                 double lum = (0.2126 * v->flux[0] + 0.7152 * v->flux[1] + 0.0722 * v->flux[2]) * f *
                              (0.2126 * albedo[0] + 0.7152 * albedo[1] + 0.0722 * albedo[2]) / GLM_PI;
-                int bin = 0;
-                while (bin < 7 && len > k_dist_edges[bin])
-                    bin++;
+                int bin = bin_of(len, k_dist_edges, 7);
                 int near = 1;
                 for (int k = 0; k < 3; k++)
                     near &= abs(xc[k] - (int)floorf((v->p[k] - j->ism.grid[k]) / cell)) <= 1;
                 double *de = dist_err[bin], *ne = near_err[near];
                 float cr = fabsf(dot3(hit.ns, d)) * inv, tr = sqrtf(fmaxf(1.f - cr * cr, 0.f)) / fmaxf(cr, 1e-6f);
-                int tb = 0;
-                while (tb < 4 && tr > k_tan_edges[tb])
-                    tb++;
+                int tb = bin_of(tr, k_tan_edges, 4);
                 tan_err[tb][1] += lum * ve;
                 if (ve > 0 && vi == 0) {
                     de[0] += lum;
                     ne[0] += lum;
-                    int rb = 0;
-                    while (rb < 5 && rel > k_rel_edges[rb])
-                        rb++;
+                    int rb = bin_of(rel, k_rel_edges, 5);
                     rel_err[rb] += lum;
                     tan_err[tb][0] += lum;
                 }
                 if (ve == 0 && vi > 0) {
                     de[1] += lum;
                     ne[1] += lum;
-                    int rb = 0;
-                    while (rb < 5 && rel > k_fv_edges[rb])
-                        rb++;
+                    int rb = bin_of(rel, k_fv_edges, 5);
                     fv_stored[rb] += lum;
                     PtHit oh;
                     float th = pt_intersect(j->ps, o, to, tmax, &oh) ? oh.t / len : 1.f;
-                    int hb = 0;
-                    while (hb < 5 && th > k_hit_edges[hb])
-                        hb++;
+                    int hb = bin_of(th, k_hit_edges, 5);
                     fv_hit[hb] += lum;
                 }
                 de[2] += lum * ve;

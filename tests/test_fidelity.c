@@ -167,11 +167,11 @@ static int strip_behind_tall_block(const Fixture *f, uint8_t *mask)
  * one-bounce-novis, the baseline every bound here is set against (measured
  * with it, 128²: whole image rsm 1.125, vpl-slc 1.116; the floor 1.92 and
  * 1.84, the left wall 1.37 and 1.34, the strip 1.15 and 1.14). With it:
- * whole 0.960 and 0.947, every surface 0.91-1.10, the strip 0.985 and
- * 0.971 (the maps' widened silhouettes read a few percent low). vpl-slc's
- * whole-image bound is lower by what its 4096 VPLs read below rsm's gather
- * without visibility (1.116 against 1.125; the VPLs at texel centres,
- * --vpl-supersample 1, had read 1.093, and 0.932 with visibility). */
+ * whole 0.973 and 0.959, every surface 0.91-1.10, the strip 0.988 and
+ * 0.977 (the maps' widened silhouettes read a few percent low). vpl-slc
+ * had read 0.932 with visibility (1.093 without: VPLs at texel centres,
+ * --vpl-supersample 1, and splats reaching along their planes), under
+ * a bound of 0.92. */
 static void visibility_against_one_bounce(void **state)
 {
     const Fixture *f = *state;
@@ -182,7 +182,7 @@ static void visibility_against_one_bounce(void **state)
     int n = strip_behind_tall_block(f, strip);
     assert_true(n >= MIN_PIXELS);
     const GiMode modes[] = {GI_RSM, GI_VPL_SLC};
-    const double whole_lo[] = {0.95, 0.935};
+    const double whole_lo[] = {0.95, 0.95};
     for (int k = 0; k < 2; k++) {
         double s_off, s_on;
         double off = check_region_with(f, modes[k], NULL, PT_ONE_BOUNCE, 0.0, 100.0, strip, &s_off);

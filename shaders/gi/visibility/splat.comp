@@ -158,9 +158,16 @@ void main()
         // hide wrongly + the light they let through wrongly, as fractions
         // of the visible bounce: 0.5 (before): 0.28 + 0.17 (net 0.90);
         // 0.8: 0.22 + 0.18; 0.9: 0.19 + 0.19 (net 1.01); 1.0: 0.18 + 0.20
-        // (net 1.05).
+        // (net 1.05). And only where that plane meets the texel's ray
+        // within about the disk of ISM_COVER times the point's area around
+        // it: a point of a wall 5 cm from a source on the floor covers 9×9
+        // texels, and the texels whose rays ran along the wall had taken
+        // twice its distance, where the ceiling lay ten times as far (the
+        // Cornell box: 5% of the visible bounce hidden wrongly, vpl-slc's
+        // relMSE 0.00156 -> 0.00153; Sponza vpl-slc 0.922 -> 0.951).
         vec3 pl = l * len, nl = vec3(dot(np, t), dot(np, b), dot(np, ns));
         float plane = dot(pl, nl);
+        float reach2 = ISM_COVER * area * 0.5; // (1.25 × the radius of a disk of ISM_COVER × its area)²
         for (int y = -r; y <= r; y++)
             for (int x = -r; x <= r; x++) {
                 ivec2 q = px + ivec2(x, y);
@@ -169,7 +176,13 @@ void main()
                 vec2 c = (vec2(q) + 0.5) / S * 2.0 - 1.0;
                 float c2 = dot(c, c);
                 vec3 dir = vec3(2.0 * c, 1.0 - c2) / (1.0 + c2);
-                float along = dot(dir, nl), at = along * plane > 0.0 ? plane / along : len;
+                float along = dot(dir, nl);
+                if (!(along * plane > 0.0))
+                    continue; // this direction does not meet the point's plane
+                float at = plane / along;
+                vec3 off = at * dir - pl;
+                if (dot(off, off) > reach2)
+                    continue; // it meets it beyond the surface the point stands for
                 imageAtomicMin(o_atlas, tile + q, floatBitsToUint(clamp(at, ISM_NEAREST * len, 2.0 * len)));
             }
     }

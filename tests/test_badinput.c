@@ -29,10 +29,10 @@
 /* Rows leave trailing fields (fsize_limit, file lengths) at zero. */
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 
-#include "json_util.h"
-#include "log.h"
+#include "base/json_util.h"
+#include "base/log.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 typedef enum FileKind {
     K_TEXT = 0,  /* content as given (len bytes, or strlen) */

@@ -15,7 +15,7 @@
 
 #include "gi/gi.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 static const char *tmp_file(const char *name, const char *content) { return test_tmp_file(name, content); }
 

@@ -8,10 +8,10 @@
 #include <string.h>
 
 #include "gi/gi.h"
-#include "render_options.h"
-#include "settings.h"
+#include "app/render_options.h"
+#include "core/settings.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 /* A value for row d, different from the default and inside the range. */
 static void pick_value(const SettingDesc *d, char *cli, size_t cap, char *json, size_t jcap)

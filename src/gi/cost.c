@@ -21,8 +21,8 @@
 
 #include <math.h>
 
-#include "light_stage.h"
-#include "renderer.h"
+#include "gpu/light_stage.h"
+#include "frame/renderer.h"
 
 /* RSM texels per side for light `l`: what --vpls sets for rows that make
  * VPLs from it, else the RSM size. */

@@ -7,7 +7,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "gl_resources.h"
+#include "gl/gl_resources.h"
 
 const GiTechnique *const gi_techniques[] = {
     &gi_none,

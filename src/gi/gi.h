@@ -21,13 +21,13 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "gpu_scene.h"
-#include "gpu_timer.h"
-#include "light_stage.h"
-#include "scene.h"
-#include "shader.h"
+#include "gpu/gpu_scene.h"
+#include "gl/gpu_timer.h"
+#include "gpu/light_stage.h"
+#include "core/scene.h"
+#include "gl/shader.h"
 #include "shared/gpu_types.h"
-#include "targets.h"
+#include "gpu/targets.h"
 
 /* A pass that evaluates samples or VPLs per pixel, named as its GPU timer:
  * `--timings` prints each one's evaluations/s and its fraction of the

@@ -7,8 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "animation.h"
-#include "log.h"
+#include "core/animation.h"
+#include "base/log.h"
 #include "ui/ui.h"
 #include "ui/view_input.h"
 #include "ui/view_panel.h"

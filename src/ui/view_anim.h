@@ -23,8 +23,8 @@
 
 #include <stdbool.h>
 
-#include "renderer.h"
-#include "scene.h"
+#include "frame/renderer.h"
+#include "core/scene.h"
 
 #define VIEW_MAX_LIGHTS 32
 

@@ -5,7 +5,7 @@
 #include <GLFW/glfw3.h>
 #include <math.h>
 
-#include "log.h"
+#include "base/log.h"
 #include "ui/ui.h"
 #include "ui/view_render.h"
 

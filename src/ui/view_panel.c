@@ -8,9 +8,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "log.h"
-#include "util.h"
-#include "shader.h"
+#include "base/log.h"
+#include "base/util.h"
+#include "gl/shader.h"
 #include "ui/ui.h"
 #include "ui/view_render.h"
 

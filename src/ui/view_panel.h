@@ -19,10 +19,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-#include "log.h"
-#include "renderer.h"
-#include "scene.h"
-#include "settings.h"
+#include "base/log.h"
+#include "frame/renderer.h"
+#include "core/scene.h"
+#include "core/settings.h"
 #include "ui/ab_view.h"
 #include "ui/view_anim.h"
 #include "ui/live_reference.h"

@@ -10,12 +10,12 @@
 #include <string.h>
 #include <time.h>
 
-#include "gl_context.h"
-#include "log.h"
-#include "render_options.h"
-#include "shader.h"
-#include "targets.h"
-#include "util.h"
+#include "gl/gl_context.h"
+#include "base/log.h"
+#include "app/render_options.h"
+#include "gl/shader.h"
+#include "gpu/targets.h"
+#include "base/util.h"
 
 enum { SLOTS = 3 };
 

@@ -51,11 +51,11 @@
 #include <cglm/cglm.h>
 
 #include "gi/gi.h"
-#include "gl_resources.h"
-#include "gpu_budget.h"
-#include "log.h"
-#include "shader.h"
-#include "util.h"
+#include "gl/gl_resources.h"
+#include "gl/gpu_budget.h"
+#include "base/log.h"
+#include "gl/shader.h"
+#include "base/util.h"
 
 /* Volume sets of a cascade: every VPL inside it, and (k ≥ 1) only those
  * outside the next finer cascade. */

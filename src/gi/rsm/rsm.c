@@ -25,9 +25,9 @@
 #include "gi/gi.h"
 #include "gi/interleave.h"
 #include "gi/visibility/ism.h"
-#include "gl_resources.h"
-#include "log.h"
-#include "shader.h"
+#include "gl/gl_resources.h"
+#include "base/log.h"
+#include "gl/shader.h"
 
 /* The interp pixel list: count, indirect dispatch arguments (x, y, z),
  * then the entries (gi/rsm/interp.comp). */

@@ -45,12 +45,12 @@
 #include <cglm/cglm.h>
 
 #include "gi/gi.h"
-#include "gl_resources.h"
-#include "gpu_budget.h"
-#include "log.h"
-#include "shader.h"
-#include "targets.h"
-#include "util.h"
+#include "gl/gl_resources.h"
+#include "gl/gpu_budget.h"
+#include "base/log.h"
+#include "gl/shader.h"
+#include "gpu/targets.h"
+#include "base/util.h"
 
 enum { ANISO_AXES = 3 }; /* directional volumes: one texture per axis, both signs */
 

@@ -30,10 +30,10 @@
 #include "gi/gi.h"
 #include "gi/interleave.h"
 #include "gi/visibility/ism.h"
-#include "gl_resources.h"
-#include "log.h"
-#include "shader.h"
-#include "util.h"
+#include "gl/gl_resources.h"
+#include "base/log.h"
+#include "gl/shader.h"
+#include "base/util.h"
 
 typedef enum VplMethod { VPL_ALL, VPL_CLAMPED, VPL_SLC, VPL_INTERLEAVED, VPL_METALIGHTS } VplMethod;
 

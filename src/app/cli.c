@@ -1,0 +1,224 @@
+#include "app/cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "base/log.h"
+#include "core/scene.h"
+#include "base/util.h"
+
+static const char *g_command; /* NULL: rtgi itself */
+/* The options every command takes, handled by cli_next (log_option). */
+static const char *const k_common_options[] = {"--quiet", "--verbose", NULL};
+
+bool cli_in_list(const char *s, const char *const *list)
+{
+    for (int i = 0; list[i]; i++)
+        if (!strcmp(s, list[i]))
+            return true;
+    return false;
+}
+
+/* --quiet: errors only (no info or progress lines); --verbose: debug lines. */
+static void log_option(const char *opt)
+{
+    log_set_level(!strcmp(opt, "--quiet") ? LOG_ERROR : LOG_DEBUG);
+}
+
+void cli_set_command(const char *cmd) { g_command = cmd; }
+
+void cli_error(const char *near, const char *fmt, ...)
+{
+    char what[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    char see[96] = "rtgi --help"; /* where the command's options are */
+    if (g_command)
+        snprintf(see, sizeof see, "rtgi %s --help", g_command);
+    const char *cmd = g_command ? g_command : "rtgi";
+    if (near)
+        log_error("cli", "%s: %s; did you mean '%s'? (see %s)", cmd, what, near, see);
+    else
+        log_error("cli", "%s: %s (see %s)", cmd, what, see);
+}
+
+bool cli_float(const char *opt, const char *v, float lo, float hi, float *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double d = strtod(v, &end);
+    if (!util_decimal_text(v) || end == v || *end || errno || !isfinite(d)) {
+        cli_error(NULL, "%s: '%s' is not a number", opt, v);
+        return false;
+    }
+    if (d < lo || d > hi) {
+        cli_error(NULL, "%s: %s is out of range [%g, %g]", opt, v, (double)lo, (double)hi);
+        return false;
+    }
+    *out = (float)d;
+    return true;
+}
+
+bool cli_int(const char *opt, const char *v, int lo, int hi, int *out)
+{
+    char *end = NULL;
+    errno = 0;
+    long n = strtol(v, &end, 10);
+    if (end == v || *end || errno) {
+        cli_error(NULL, "%s: '%s' is not an integer", opt, v);
+        return false;
+    }
+    if (n < lo || n > hi) {
+        cli_error(NULL, "%s: %s is out of range [%d, %d]", opt, v, lo, hi);
+        return false;
+    }
+    *out = (int)n;
+    return true;
+}
+
+bool cli_size(const char *opt, const char *v, int max, int *w, int *h)
+{
+    char *end = NULL;
+    long a = strtol(v, &end, 10);
+    long b = (end && (*end == 'x' || *end == 'X')) ? strtol(end + 1, &end, 10) : -1;
+    if (b < 0 || *end) {
+        cli_error(NULL, "%s: '%s' is not a size WxH (e.g. 512x512)", opt, v);
+        return false;
+    }
+    if (a < 1 || b < 1 || a > max || b > max) {
+        cli_error(NULL, "%s: %s: width and height must be between 1 and %d", opt, v, max);
+        return false;
+    }
+    *w = (int)a;
+    *h = (int)b;
+    return true;
+}
+
+int cli_choice(const char *opt, const char *v, const char *const *names)
+{
+    for (int i = 0; names[i]; i++)
+        if (strcmp(v, names[i]) == 0)
+            return i;
+    char list[256] = "";
+    for (int i = 0; names[i]; i++) {
+        strncat(list, names[i], sizeof list - strlen(list) - 1);
+        if (names[i + 1])
+            strncat(list, "|", sizeof list - strlen(list) - 1);
+    }
+    cli_error(util_nearest(v, names), "%s: unknown value '%s' (one of %s)", opt, v, list);
+    return -1;
+}
+
+bool cli_scene(const char *opt, const char *v)
+{
+    const char *near = scene_builtin_near(v);
+    if (near)
+        cli_error(near, "%s: '%s' is no file and no built-in scene", opt, v);
+    return near == NULL;
+}
+
+void cli_unknown_option(const char *opt, const char *const *known)
+{
+    const char *near = known ? util_nearest(opt, known) : NULL;
+    const char *common = util_nearest(opt, k_common_options);
+    if (common && (!near || util_edit_distance(opt, common) < util_edit_distance(opt, near)))
+        near = common;
+    cli_error(near, "unknown option '%s'", opt);
+}
+
+const char *cli_next(CliArgs *a)
+{
+    for (;;) {
+        if (a->pending) {
+            cli_error(NULL, "%s takes no value, given '%s'", a->opt, a->pending);
+            a->failed = true;
+            return NULL;
+        }
+        if (!a->ended && a->i < a->argc && !strcmp(a->argv[a->i], "--")) {
+            a->ended = true; /* the end of the options */
+            a->i++;
+        }
+        if (a->failed || a->i >= a->argc)
+            return NULL;
+        a->opt = a->argv[a->i++];
+        a->is_operand = a->ended || a->opt[0] != '-' || !a->opt[1];
+        if (a->is_operand) {
+            if (a->operands)
+                return a->opt;
+            cli_error(NULL, "unexpected argument '%s': options start with --", a->opt);
+            a->failed = true;
+            return NULL;
+        }
+        const char *eq = strncmp(a->opt, "--", 2) == 0 ? strchr(a->opt, '=') : NULL;
+        if (eq) {
+            size_t n = (size_t)(eq - a->opt);
+            if (n >= sizeof a->optbuf) {
+                cli_error(NULL, "'%.40s...': option name too long", a->opt);
+                a->failed = true;
+                return NULL;
+            }
+            memcpy(a->optbuf, a->opt, n);
+            a->optbuf[n] = 0;
+            a->pending = eq + 1;
+            a->opt = a->optbuf;
+        }
+        if (!cli_in_list(a->opt, k_common_options))
+            return a->opt;
+        if (!a->pending) /* --quiet, --verbose: taken here */
+            log_option(a->opt);
+    }
+}
+
+const char *cli_value(CliArgs *a)
+{
+    if (a->pending) {
+        const char *v = a->pending;
+        a->pending = NULL;
+        return v;
+    }
+    if (a->i >= a->argc) {
+        cli_error(NULL, "%s needs a value", a->opt);
+        return NULL;
+    }
+    return a->argv[a->i++];
+}
+
+/* Whether a and b name one file: the same string, or one existing file. */
+static bool same_file(const char *a, const char *b)
+{
+    if (strcmp(a, b) == 0)
+        return true;
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+int cli_check_files(int n, int outputs, const char *const opts[], const char *const paths[])
+{
+    for (int i = 0; i < n; i++)
+        for (int j = i + 1; j < n; j++)
+            if (paths[i] && paths[j] && strcmp(paths[i], "-") && (i < outputs || j < outputs) &&
+                same_file(paths[i], paths[j])) {
+                cli_error(NULL, "%s and %s name the same file, %s", opts[i], opts[j], paths[j]);
+                return 2;
+            }
+    for (int i = 0; i < outputs; i++) {
+        if (!paths[i] || !strcmp(paths[i], "-")) /* -: standard output */
+            continue;
+        /* The writers' own temporary file, created and removed: what the
+         * write will meet, permissions as the kernel applies them (root
+         * included); directories, devices and FIFOs refused. */
+        AtomicFile af; /* tagged with the command: it is the output's problem, not the command line's */
+        if (!util_atomic_open(&af, g_command ? g_command : "rtgi", paths[i]))
+            return 1;
+        util_atomic_abort(&af);
+    }
+    return 0;
+}

@@ -13,7 +13,6 @@
 #include "core/scene.h"
 #include "base/util.h"
 
-static const char *g_command; /* NULL: rtgi itself */
 /* The options every command takes, handled by cli_next (log_option). */
 static const char *const k_common_options[] = {"--quiet", "--verbose", NULL};
 
@@ -31,36 +30,17 @@ static void log_option(const char *opt)
     log_set_level(!strcmp(opt, "--quiet") ? LOG_ERROR : LOG_DEBUG);
 }
 
-void cli_set_command(const char *cmd) { g_command = cmd; }
-
-void cli_error(const char *near, const char *fmt, ...)
-{
-    char what[768];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(what, sizeof what, fmt, ap);
-    va_end(ap);
-    char see[96] = "rtgi --help"; /* where the command's options are */
-    if (g_command)
-        snprintf(see, sizeof see, "rtgi %s --help", g_command);
-    const char *cmd = g_command ? g_command : "rtgi";
-    if (near)
-        log_error("cli", "%s: %s; did you mean '%s'? (see %s)", cmd, what, near, see);
-    else
-        log_error("cli", "%s: %s (see %s)", cmd, what, see);
-}
-
 bool cli_float(const char *opt, const char *v, float lo, float hi, float *out)
 {
     char *end = NULL;
     errno = 0;
     double d = strtod(v, &end);
     if (!util_decimal_text(v) || end == v || *end || errno || !isfinite(d)) {
-        cli_error(NULL, "%s: '%s' is not a number", opt, v);
+        usage_error(NULL, "%s: '%s' is not a number", opt, v);
         return false;
     }
     if (d < lo || d > hi) {
-        cli_error(NULL, "%s: %s is out of range [%g, %g]", opt, v, (double)lo, (double)hi);
+        usage_error(NULL, "%s: %s is out of range [%g, %g]", opt, v, (double)lo, (double)hi);
         return false;
     }
     *out = (float)d;
@@ -73,11 +53,11 @@ bool cli_int(const char *opt, const char *v, int lo, int hi, int *out)
     errno = 0;
     long n = strtol(v, &end, 10);
     if (end == v || *end || errno) {
-        cli_error(NULL, "%s: '%s' is not an integer", opt, v);
+        usage_error(NULL, "%s: '%s' is not an integer", opt, v);
         return false;
     }
     if (n < lo || n > hi) {
-        cli_error(NULL, "%s: %s is out of range [%d, %d]", opt, v, lo, hi);
+        usage_error(NULL, "%s: %s is out of range [%d, %d]", opt, v, lo, hi);
         return false;
     }
     *out = (int)n;
@@ -90,11 +70,11 @@ bool cli_size(const char *opt, const char *v, int max, int *w, int *h)
     long a = strtol(v, &end, 10);
     long b = (end && (*end == 'x' || *end == 'X')) ? strtol(end + 1, &end, 10) : -1;
     if (b < 0 || *end) {
-        cli_error(NULL, "%s: '%s' is not a size WxH (e.g. 512x512)", opt, v);
+        usage_error(NULL, "%s: '%s' is not a size WxH (e.g. 512x512)", opt, v);
         return false;
     }
     if (a < 1 || b < 1 || a > max || b > max) {
-        cli_error(NULL, "%s: %s: width and height must be between 1 and %d", opt, v, max);
+        usage_error(NULL, "%s: %s: width and height must be between 1 and %d", opt, v, max);
         return false;
     }
     *w = (int)a;
@@ -113,7 +93,7 @@ int cli_choice(const char *opt, const char *v, const char *const *names)
         if (names[i + 1])
             strncat(list, "|", sizeof list - strlen(list) - 1);
     }
-    cli_error(util_nearest(v, names), "%s: unknown value '%s' (one of %s)", opt, v, list);
+    usage_error(util_nearest(v, names), "%s: unknown value '%s' (one of %s)", opt, v, list);
     return -1;
 }
 
@@ -121,7 +101,7 @@ bool cli_scene(const char *opt, const char *v)
 {
     const char *near = scene_builtin_near(v);
     if (near)
-        cli_error(near, "%s: '%s' is no file and no built-in scene", opt, v);
+        usage_error(near, "%s: '%s' is no file and no built-in scene", opt, v);
     return near == NULL;
 }
 
@@ -131,14 +111,14 @@ void cli_unknown_option(const char *opt, const char *const *known)
     const char *common = util_nearest(opt, k_common_options);
     if (common && (!near || util_edit_distance(opt, common) < util_edit_distance(opt, near)))
         near = common;
-    cli_error(near, "unknown option '%s'", opt);
+    usage_error(near, "unknown option '%s'", opt);
 }
 
 const char *cli_next(CliArgs *a)
 {
     for (;;) {
         if (a->pending) {
-            cli_error(NULL, "%s takes no value, given '%s'", a->opt, a->pending);
+            usage_error(NULL, "%s takes no value, given '%s'", a->opt, a->pending);
             a->failed = true;
             return NULL;
         }
@@ -153,7 +133,7 @@ const char *cli_next(CliArgs *a)
         if (a->is_operand) {
             if (a->operands)
                 return a->opt;
-            cli_error(NULL, "unexpected argument '%s': options start with --", a->opt);
+            usage_error(NULL, "unexpected argument '%s': options start with --", a->opt);
             a->failed = true;
             return NULL;
         }
@@ -161,7 +141,7 @@ const char *cli_next(CliArgs *a)
         if (eq) {
             size_t n = (size_t)(eq - a->opt);
             if (n >= sizeof a->optbuf) {
-                cli_error(NULL, "'%.40s...': option name too long", a->opt);
+                usage_error(NULL, "'%.40s...': option name too long", a->opt);
                 a->failed = true;
                 return NULL;
             }
@@ -185,7 +165,7 @@ const char *cli_value(CliArgs *a)
         return v;
     }
     if (a->i >= a->argc) {
-        cli_error(NULL, "%s needs a value", a->opt);
+        usage_error(NULL, "%s needs a value", a->opt);
         return NULL;
     }
     return a->argv[a->i++];
@@ -206,7 +186,7 @@ int cli_check_files(int n, int outputs, const char *const opts[], const char *co
         for (int j = i + 1; j < n; j++)
             if (paths[i] && paths[j] && strcmp(paths[i], "-") && (i < outputs || j < outputs) &&
                 same_file(paths[i], paths[j])) {
-                cli_error(NULL, "%s and %s name the same file, %s", opts[i], opts[j], paths[j]);
+                usage_error(NULL, "%s and %s name the same file, %s", opts[i], opts[j], paths[j]);
                 return 2;
             }
     for (int i = 0; i < outputs; i++) {
@@ -216,7 +196,7 @@ int cli_check_files(int n, int outputs, const char *const opts[], const char *co
          * write will meet, permissions as the kernel applies them (root
          * included); directories, devices and FIFOs refused. */
         AtomicFile af; /* tagged with the command: it is the output's problem, not the command line's */
-        if (!util_atomic_open(&af, g_command ? g_command : "rtgi", paths[i]))
+        if (!util_atomic_open(&af, usage_command(), paths[i]))
             return 1;
         util_atomic_abort(&af);
     }

@@ -8,13 +8,7 @@
 
 #include <stdbool.h>
 
-/* The command whose options are parsed ("render"), named by every usage
- * error; main sets it before dispatching. NULL (the default): rtgi itself
- * ("rtgi: ... (see rtgi --help)"). */
-void cli_set_command(const char *cmd);
-/* Logs one usage error of the current command in the shared style; `near`
- * (may be NULL) is the suggestion. */
-void cli_error(const char *near, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+#include "base/usage.h"
 
 bool cli_float(const char *opt, const char *v, float lo, float hi, float *out);
 bool cli_int(const char *opt, const char *v, int lo, int hi, int *out);

@@ -398,12 +398,12 @@ static char *next_item(char **cursor, char sep)
 static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *over)
 {
     if (!*kv) {
-        cli_error(NULL, "--gi: '%s': empty setting (NAME:key=value[:key=value])", item);
+        usage_error(NULL, "--gi: '%s': empty setting (NAME:key=value[:key=value])", item);
         return false;
     }
     char *eq = strchr(kv, '=');
     if (!eq) {
-        cli_error(NULL, "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
+        usage_error(NULL, "--gi: '%s': settings are key=value (e.g. rsm:samples=100)", kv);
         return false;
     }
     *eq = 0;
@@ -413,16 +413,16 @@ static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *
     if (!d) {
         const char *keys[128];
         settings_keys(NULL, keys, 128);
-        cli_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's keys)", kv);
+        usage_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's keys)", kv);
         return false;
     }
     if (e->given[d - settings_table]) {
-        cli_error(NULL, "--gi: '%s': the key '%s' is given twice", item, kv);
+        usage_error(NULL, "--gi: '%s': the key '%s' is given twice", item, kv);
         return false;
     }
     bool on = !strcmp(eq + 1, "on") || !strcmp(eq + 1, "true") || !strcmp(eq + 1, "1");
     if (d->type == SETTING_FLAG && !on) {
-        cli_error(NULL, "--gi: %s is a flag: give %s=on", kv, kv);
+        usage_error(NULL, "--gi: %s is a flag: give %s=on", kv, kv);
         return false;
     }
     if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : eq + 1, &e->set))
@@ -443,7 +443,7 @@ static bool parse_gi_item(const char *item, BenchEntry *e)
     strbuf_append(&over, "", 0);
     const char *name = next_item(&cursor, ':');
     if (!*name)
-        cli_error(NULL, "--gi: '%s': no technique before the settings", item);
+        usage_error(NULL, "--gi: '%s': no technique before the settings", item);
     bool ok = *name && (e->gi = cli_choice("--gi", name, gi_technique_names())) >= 0;
     settings_default(&e->set);
     while (ok && cursor)
@@ -471,7 +471,7 @@ static const char *next_list_item(const char *opt, const char *list, char **curs
 {
     const char *item = next_item(cursor, ',');
     if (!*item)
-        cli_error(NULL, "%s: '%s': empty item in the list", opt, list);
+        usage_error(NULL, "%s: '%s': empty item in the list", opt, list);
     return *item ? item : NULL;
 }
 
@@ -491,7 +491,7 @@ static bool parse_entries(const char *shadow_list, const char *gi_list, BenchEnt
             const char *gi = next_list_item("--gi", gi_list, &gc);
             if (!gi || *n == BENCH_MAX_ENTRIES) {
                 if (gi)
-                    cli_error(NULL, "more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
+                    usage_error(NULL, "more than %d techniques (shadows × --gi items)", BENCH_MAX_ENTRIES);
                 ok = false;
                 break;
             }
@@ -967,19 +967,19 @@ static int bench_parse_args(int argc, char **argv, BenchArgs *args)
     if (cli_failed(&a))
         return 2;
     if (!args->out) {
-        cli_error(NULL, "--out DIR is required");
+        usage_error(NULL, "--out DIR is required");
         return 2;
     }
     if (args->fps > 0 && !args->animate) {
-        cli_error(NULL, "--fps: needs --animate");
+        usage_error(NULL, "--fps: needs --animate");
         return 2;
     }
     if (args->animate && args->frames < 3) {
-        cli_error(NULL, "--animate --frames %d: flicker needs at least 3 frames", args->frames);
+        usage_error(NULL, "--animate --frames %d: flicker needs at least 3 frames", args->frames);
         return 2;
     }
     if (strlen(args->out) > BENCH_MAX_DIR) {
-        cli_error(NULL, "--out: DIR is longer than %d bytes", BENCH_MAX_DIR);
+        usage_error(NULL, "--out: DIR is longer than %d bytes", BENCH_MAX_DIR);
         return 2;
     }
     if (!render_options_ssaa_fits(args->width, args->height, args->ssaa))

@@ -201,7 +201,7 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
     while ((opt = cli_next(&a))) {
         if (cli_operand(&a)) {
             if (nfiles == 2) {
-                cli_error(NULL, "takes two images, got a third: '%s'", opt);
+                usage_error(NULL, "takes two images, got a third: '%s'", opt);
                 return 2;
             }
             args->files[nfiles++] = opt;
@@ -215,7 +215,7 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
         } else if (!strcmp(opt, "--heatmap")) {
             CLI_VALUE(&a, v);
             if (!util_ends_with(v, ".png")) {
-                cli_error(NULL, "--heatmap: '%s' must end in .png", v);
+                usage_error(NULL, "--heatmap: '%s' must end in .png", v);
                 return 2;
             }
             args->heatmap = v;
@@ -225,7 +225,7 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
                 return 2;
         } else if (!strcmp(opt, "--mask") || !strcmp(opt, "--mask-emitters")) {
             if (args->mask_path) {
-                cli_error(NULL, "%s: give one of --mask and --mask-emitters", opt);
+                usage_error(NULL, "%s: give one of --mask and --mask-emitters", opt);
                 return 2;
             }
             CLI_VALUE(&a, v);
@@ -254,7 +254,7 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
     if (cli_failed(&a))
         return 2;
     if (nfiles != 2) {
-        cli_error(NULL, "needs two images, TEST and REFERENCE");
+        usage_error(NULL, "needs two images, TEST and REFERENCE");
         return 2;
     }
     const char *const opts[] = {"--heatmap", "--json", "TEST", "REFERENCE", "--mask", "--unshadowed"};

@@ -189,28 +189,28 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
             CLI_VALUE(&a, v);
             args->out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                cli_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
+                usage_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--png")) {
             CLI_VALUE(&a, v);
             args->png = v;
             if (!util_ends_with(v, ".png")) {
-                cli_error(NULL, "--png: '%s' must end in .png", v);
+                usage_error(NULL, "--png: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--emitter-mask")) {
             CLI_VALUE(&a, v);
             args->emitter_mask = v;
             if (!util_ends_with(v, ".png")) {
-                cli_error(NULL, "--emitter-mask: '%s' must end in .png", v);
+                usage_error(NULL, "--emitter-mask: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--variance")) {
             CLI_VALUE(&a, v);
             args->var_out = v;
             if (!util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                cli_error(NULL, "--variance: '%s' must end in .pfm or .exr", v);
+                usage_error(NULL, "--variance: '%s' must end in .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--exposure")) {

@@ -13,6 +13,7 @@
 #include "io/image.h"
 #include "base/log.h"
 #include "app/render_options.h"
+#include "frame/timings.h"
 #include "app/render_sequence.h"
 #include "reference/pathtracer.h"
 #include "frame/renderer.h"
@@ -193,19 +194,19 @@ static bool print_timings(Renderer *r, const RenderSettings *rs, const Camera *c
                           double cold_ms, const char *device)
 {
     double ms;
-    GatherRates gather = render_options_print_timings(r, device, cold_ms);
+    GatherRates gather = timings_print(r, device, cold_ms);
     RenderSettings steady = *rs;
     steady.cache = true;
     if (!timed_frames(r, &steady, cam, clock, frames, &ms) || !renderer_frames_whole(r))
         return false;
-    render_options_print_steady(r, cold_ms, ms);
+    timings_print_steady(r, cold_ms, ms);
     RenderSettings twin = steady;
     twin.gi_params.gather_reads_only = true;
-    if (!render_options_reads_twin(rs, &gather))
+    if (!timings_reads_twin(rs, &gather))
         return true;
     if (!timed_frames(r, &twin, cam, clock, frames, &ms) || !renderer_frames_whole(r))
         return false;
-    render_options_print_reads_twin(r, &gather);
+    timings_print_reads_twin(r, &gather);
     return true;
 }
 
@@ -217,7 +218,7 @@ int cmd_render(int argc, char **argv)
     if (rc != 0)
         return rc < 0 ? 0 : rc;
     if (o.timings && o.frames < 1) { /* the window's --frames 0 (run until closed) means nothing here */
-        cli_error(NULL, "--frames 0 with --timings: there is no frame to time (at least 1)");
+        usage_error(NULL, "--frames 0 with --timings: there is no frame to time (at least 1)");
         return 2;
     }
 
@@ -234,8 +235,8 @@ int cmd_render(int argc, char **argv)
     /* A PNG is the final image only: frames that can skip the radiance do. */
     bool hdr_out = util_ends_with(o.out, ".pfm") || util_ends_with(o.out, ".exr");
     rs.display_only = !hdr_out;
-    if (o.out_ao && (rs.gi != GI_VCT || !rs.gi_params.vct_ao)) {
-        cli_error(NULL, "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
+    if (o.out_ao && (!(gi_techniques[rs.gi]->flags & GI_AO) || !rs.gi_params.vct_ao)) {
+        usage_error(NULL, "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
         scene_free(&scene);
         return 2;
     }

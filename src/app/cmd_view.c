@@ -31,6 +31,7 @@
 #include "ui/ab_view.h"
 #include "ui/live_reference.h"
 #include "ui/ui.h"
+#include "ui/view_anim.h"
 #include "ui/view_input.h"
 #include "ui/view_panel.h"
 #include "ui/view_render.h"

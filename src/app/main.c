@@ -80,11 +80,11 @@ int main(int argc, char **argv)
     const char *names[N + 1] = {NULL};
     for (int i = 0; i < N; i++) {
         if (!strcmp(cmd, commands[i].name)) {
-            cli_set_command(cmd); /* usage errors name it */
+            usage_set_command(cmd); /* usage errors name it */
             return check_stdout(commands[i].run(argc - 2, argv + 2));
         }
         names[i] = commands[i].name;
     }
-    cli_error(util_nearest(cmd, names), "unknown command '%s'", cmd);
+    usage_error(util_nearest(cmd, names), "unknown command '%s'", cmd);
     return 2;
 }

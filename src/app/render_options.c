@@ -12,6 +12,7 @@
 #include "gpu/probe.h"
 #include "core/settings.h"
 #include "app/sequence.h"
+#include "frame/timings.h"
 #include "gl/shader.h"
 #include "base/util.h"
 
@@ -21,7 +22,7 @@ bool render_options_ssaa_fits(int width, int height, int ssaa)
 {
     if ((long)width * ssaa <= MAX_IMAGE_SIZE && (long)height * ssaa <= MAX_IMAGE_SIZE)
         return true;
-    cli_error(NULL, "--ssaa %d: %dx%d supersampled is larger than %d per side", ssaa, width * ssaa, height * ssaa,
+    usage_error(NULL, "--ssaa %d: %dx%d supersampled is larger than %d per side", ssaa, width * ssaa, height * ssaa,
               MAX_IMAGE_SIZE);
     return false;
 }
@@ -84,8 +85,6 @@ static const char *const k_aa_names[] = {"none", "fxaa", NULL};
 static const char *const k_shading_names[] = {"auto", "forward", "deferred", NULL};
 
 /* --probe of the options last turned into settings (read by the timings report). */
-static const char *s_probe_path;
-static ProbeResult s_probe_file; /* its result when it names a file (read once, at parse time) */
 
 void render_options_init(RenderOptions *o, bool view)
 {
@@ -143,7 +142,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             help();
             return -1;
         } else if (cli_in_list(opt, o->view ? k_render_only : k_view_only)) {
-            cli_error(NULL, "%s is an option of 'rtgi %s'", opt, o->view ? "render" : "view");
+            usage_error(NULL, "%s is an option of 'rtgi %s'", opt, o->view ? "render" : "view");
             return 2;
         } else if (!strcmp(opt, "--compare")) {
             CLI_VALUE(&a, v);
@@ -154,7 +153,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--window-out")) {
             CLI_VALUE(&a, v);
             if (!util_ends_with(v, ".png")) {
-                cli_error(NULL, "--window-out: '%s' must end in .png", v);
+                usage_error(NULL, "--window-out: '%s' must end in .png", v);
                 return 2;
             }
             o->window_out = v;
@@ -163,7 +162,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             char *end;
             o->slow_ms = strtod(v, &end);
             if (*end || !(o->slow_ms > 0) || !isfinite(o->slow_ms)) {
-                cli_error(NULL, "--slow-ms: '%s' is not a positive number of milliseconds", v);
+                usage_error(NULL, "--slow-ms: '%s' is not a positive number of milliseconds", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--no-panel")) {
@@ -177,7 +176,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--live-priority")) {
             CLI_VALUE(&a, v);
             if (strcmp(v, "idle") && strcmp(v, "normal")) {
-                cli_error(NULL, "--live-priority: '%s' is not idle or normal", v);
+                usage_error(NULL, "--live-priority: '%s' is not idle or normal", v);
                 return 2;
             }
             o->live_ordinary = !strcmp(v, "normal");
@@ -194,14 +193,14 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             o->out = v;
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                cli_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
+                usage_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--png")) {
             CLI_VALUE(&a, v);
             o->png = v;
             if (!util_ends_with(v, ".png")) {
-                cli_error(NULL, "--png: '%s' must end in .png", v);
+                usage_error(NULL, "--png: '%s' must end in .png", v);
                 return 2;
             }
         } else if (!strcmp(opt, "--shadow")) {
@@ -266,14 +265,14 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
         } else if (!strcmp(opt, "--emitter-mask")) {
             CLI_VALUE(&a, v);
             if (!util_ends_with(v, ".png")) {
-                cli_error(NULL, "--emitter-mask: '%s' must end in .png", v);
+                usage_error(NULL, "--emitter-mask: '%s' must end in .png", v);
                 return 2;
             }
             o->emitter_mask = v;
         } else if (!strcmp(opt, "--out-ao")) {
             CLI_VALUE(&a, v);
             if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
-                cli_error(NULL, "--out-ao: '%s' must end in .png or .pfm", v);
+                usage_error(NULL, "--out-ao: '%s' must end in .png or .pfm", v);
                 return 2;
             }
             o->out_ao = v;
@@ -313,7 +312,7 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
     if (o->probe) {
         /* Read now, not after the frames it would have judged. */
         if (!o->timings) {
-            cli_error(NULL, "--probe: needs --timings (the fractions are part of the timings report)");
+            usage_error(NULL, "--probe: needs --timings (the fractions are part of the timings report)");
             return 2;
         }
         if (strcmp(o->probe, "run") && !probe_read_json(o->probe, &o->probe_file))
@@ -353,146 +352,10 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->shadow_params = set.shadow;
     rs->gi_params = set.gi;
     rs->exposure = o->exposure >= 0.f ? o->exposure : scene->exposure;
-    s_probe_path = o->probe;
-    s_probe_file = o->probe_file;
+    timings_use_probe(o->probe, &o->probe_file);
     rs->timings = o->timings;
     rs->timing_sync = o->timings;
     rs->ssaa = o->ssaa;
     rs->aa = (AaMode)o->aa;
     rs->shading = (ShadingMode)o->shading;
-}
-
-/* The gather's evaluations/s over its passes' time in their fastest frame
- * (each pass's, summed; as rtgi probe takes its kernels' fastest run, so
- * that the load of a shared machine does not lower one side only): of
- * every gather pass the technique listed (pass < 0) or of one. */
-static double gather_rate(const Renderer *r, const RenderStats *st, int pass)
-{
-    double ms = renderer_gather_ms(r, st, pass, true);
-    uint64_t evaluations = pass < 0 ? st->gather_evaluations : st->gather_passes[pass].evaluations;
-    return evaluations == 0 || ms <= 0 ? 0 : (double)evaluations / (ms * 1e-3);
-}
-
-/* With a probe result, the fraction of two bounds: issue 11's yardstick,
- * the two-fetch kernel (PROBE_RSM_FETCHES RGBA32F fetches per RSM sample; a
- * VPL's three vec4 from a storage buffer for VPL loops), and for RSM
- * gathers the kernel that reads what they read, one packed texel per
- * sample. `--probe run` measures on maps of the gather's RSM size: the
- * rate of a fetch depends on the size of the map it reads. Each gather
- * pass's own lines (gather_pass_NAME_*) follow the whole gather's. */
-static GatherRates print_gather_efficiency(const Renderer *r, const RenderStats *st, const char *probe_path)
-{
-    GatherRates rates = {gather_rate(r, st, -1), {0}};
-    double rate = rates.total;
-    if (rate <= 0)
-        return rates;
-    printf("gather_evaluations: %llu\n", (unsigned long long)st->gather_evaluations);
-    printf("gather_evals_per_s: %.4g\n", rate);
-    ProbeResult pr = s_probe_file;
-    bool probed = probe_path && (strcmp(probe_path, "run") || probe_run(&pr, st->gather_vpl ? 0 : st->gather_map_size));
-    const char *map = st->gather_cube ? "cube" : "2d", *list = st->gather_from_list > 0 ? " + ssbo_vpl" : "";
-    double bound = probed ? probe_bound(&pr, st->gather_vpl, st->gather_cube, st->gather_from_list, false) : 0;
-    double texel = probed && !st->gather_vpl ? probe_bound(&pr, false, st->gather_cube, st->gather_from_list, true) : 0;
-    if (probed) {
-        if (st->gather_vpl) {
-            printf("gather_probe_bound: %.4g (ssbo_vpl)\n", bound);
-        } else {
-            printf("gather_probe_map_size: %d\n", pr.map_size);
-            printf("gather_probe_bound: %.4g (%s_fetch2%s)\n", bound, map, list);
-        }
-        printf("gather_fraction_of_bound: %.3f\n", rate / bound);
-        if (texel > 0) {
-            printf("gather_texel_bound: %.4g (%s_texel%s)\n", texel, map, list);
-            printf("gather_fraction_of_texel_bound: %.3f\n", rate / texel);
-        }
-    }
-    for (int i = 0; i < st->gather_pass_count; i++) {
-        const GiGatherPass *p = &st->gather_passes[i];
-        double pass_rate = rates.pass[i] = gather_rate(r, st, i);
-        printf("gather_pass_%s_evaluations: %llu\n", p->name, (unsigned long long)p->evaluations);
-        if (pass_rate <= 0)
-            continue;
-        printf("gather_pass_%s_evals_per_s: %.4g\n", p->name, pass_rate);
-        if (bound > 0)
-            printf("gather_pass_%s_fraction_of_bound: %.3f\n", p->name, pass_rate / bound);
-        if (texel > 0)
-            printf("gather_pass_%s_fraction_of_texel_bound: %.3f\n", p->name, pass_rate / texel);
-    }
-    return rates;
-}
-
-GatherRates render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms)
-{
-    const RenderSettings *rs = &r->settings;
-    printf("renderer: %s\n", gl_renderer);
-    gpu_timer_print(&r->timer, stdout);
-    printf("frame_wall_ms: %.3f\n", frame_ms);
-    const RenderStats *st = renderer_collect_stats(r);
-    RenderMemory mem = renderer_gpu_memory(r);
-    printf("light_memory_mib: %.3f\nframe_memory_mib: %.3f\nscene_memory_mib: %.3f\ngpu_memory_mib: %.3f\n",
-           render_mib(mem.lights), render_mib(mem.frame), render_mib(mem.scene), render_mib(render_memory_total(&mem)));
-    if (rs->gi == GI_NONE)
-        return (GatherRates){0};
-    double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs); /* shaded pixels */
-    printf("gathered_pixels: %u\n", st->gathered_pixels);
-    if (rs->gi == GI_RSM_INTERP)
-        printf("rsm_full_gather_fraction: %.4f\n", (double)st->full_gathers / pixels);
-    if (rs->gi >= GI_VPL_ALL && rs->gi <= GI_LPV) {
-        printf("vpl_count: %u\n", st->vpl_count);
-        printf("vpl_evaluations: %llu\n", (unsigned long long)st->vpl_evaluations);
-        printf("vpl_evaluations_per_pixel: %.1f\n", (double)st->vpl_evaluations / pixels);
-        printf("vpl_candidates: %llu\n", (unsigned long long)st->vpl_candidates);
-        if (st->tile_overflow)
-            printf("vpl_tile_overflow: %u\n", st->tile_overflow);
-    }
-    if (st->gpu_bytes)
-        printf("gi_memory_mib: %.3f\n", render_mib(st->gpu_bytes));
-    if (st->visibility_bytes) /* --gi-visibility: its maps, points and buffers (in gi_memory_mib too) */
-        printf("visibility_memory_mib: %.3f\nvisibility_builds: %d\n", render_mib(st->visibility_bytes),
-               st->visibility_builds);
-    if (rs->gi == GI_VCT)
-        printf("vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
-    return print_gather_efficiency(r, st, s_probe_path);
-}
-
-bool render_options_reads_twin(const RenderSettings *rs, const GatherRates *gather)
-{
-    return s_probe_path && gather->total > 0 && (rs->gi == GI_RSM || rs->gi == GI_RSM_INTERP || rs->gi == GI_RSM_INTERLEAVED);
-}
-
-void render_options_print_reads_twin(Renderer *r, const GatherRates *gather)
-{
-    const RenderStats *st = renderer_collect_stats(r);
-    double rate = gather_rate(r, st, -1);
-    if (rate <= 0)
-        return;
-    printf("gather_reads_only_evals_per_s: %.4g\n", rate);
-    printf("gather_fraction_of_reads_only: %.3f\n", gather->total / rate);
-    for (int i = 0; i < st->gather_pass_count; i++) {
-        double twin = gather_rate(r, st, i);
-        if (twin <= 0)
-            continue;
-        printf("gather_pass_%s_reads_only_evals_per_s: %.4g\n", st->gather_passes[i].name, twin);
-        if (gather->pass[i] > 0)
-            printf("gather_pass_%s_fraction_of_reads_only: %.3f\n", st->gather_passes[i].name, gather->pass[i] / twin);
-    }
-}
-
-void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms)
-{
-    const GpuTimer *t = &r->timer;
-    printf("frame_cold_ms: %.3f\n", cold_ms);
-    printf("frame_steady_ms: %.3f\n", steady_ms);
-    double total = 0, gpu = 0;
-    for (int i = 0; i < t->pass_count && t->frames > 0; i++) {
-        double ms = (t->sync ? t->passes[i].cpu_ms : t->passes[i].gpu_ms) / t->frames;
-        total += ms;
-        gpu += t->passes[i].gpu_ms / t->frames;
-        printf("steady_%s_ms: %.3f\n", t->passes[i].name, ms);
-    }
-    printf("steady_total_ms: %.3f\n", total);
-    /* The passes' timer queries alone: on a GPU the wall time above adds a
-     * glFinish round trip per pass, tens of microseconds of a ms frame. */
-    if (t->frames > 0)
-        printf("frame_steady_gpu_ms: %.3f\n", gpu);
 }

@@ -73,30 +73,6 @@ void render_options_help(void);
 void render_options_help_settings(void);
 /* Render settings from the scene's defaults and the options. */
 void render_options_settings(const RenderOptions *o, const Scene *scene, RenderSettings *rs);
-/* Prints frame_cold_ms (the timed frames of the report, which draw every
- * light product), frame_steady_ms and steady_<pass>_ms lines for frames
- * that keep the light products (r's timer holds only steady frames). */
-void render_options_print_steady(const Renderer *r, double cold_ms, double steady_ms);
-/* A gather's evaluations/s in the --timings report: of all its passes
- * and of each (RenderStats.gather_passes); 0 without a gather. */
-typedef struct GatherRates {
-    double total;
-    double pass[GI_GATHER_PASSES];
-} GatherRates;
-/* Whether the report measures the RSM gather's reads-only twin (with
- * --probe, when the timings report gave the gather's evaluations/s): the
- * same passes with GiParams.gather_reads_only, which read every sample and
- * evaluate none. */
-bool render_options_reads_twin(const RenderSettings *rs, const GatherRates *gather);
-/* Prints the twin's evaluations/s (r runs it: its timer holds only the
- * twin's frames) and the gather's fraction of it, in all and per pass: how
- * near the gather is to the limit of its own reads on this device. */
-void render_options_print_reads_twin(Renderer *r, const GatherRates *gather);
-/* Prints the --timings report (per-pass times, GI counters, the gather's
- * evaluations/s, in all and per gather pass, and, with `probe`, their
- * fractions of the probe's bound). Returns the gather's rates. */
-GatherRates render_options_print_timings(Renderer *r, const char *gl_renderer, double frame_ms);
-
 /* Whether WxH supersampled N×N stays within the largest image per side;
  * logs the error (naming --ssaa) if not. */
 bool render_options_ssaa_fits(int width, int height, int ssaa);

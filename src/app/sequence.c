@@ -49,7 +49,7 @@ bool sequence_pattern_check(const char *opt, const char *pattern)
     bool zero;
     if (find_number(pattern, &at, &end, &width, &zero))
         return true;
-    cli_error(NULL, "%s: '%s' must hold one frame number, %%d or %%0Nd (e.g. out/frame_%%04d.exr), and no other "
+    usage_error(NULL, "%s: '%s' must hold one frame number, %%d or %%0Nd (e.g. out/frame_%%04d.exr), and no other "
               "%% than %%%%", opt, pattern);
     return false;
 }
@@ -82,26 +82,26 @@ int sequence_check_options(const SequenceOptions *o)
                         : o->video                                  ? "--video"
                                                                     : NULL;
         if (seq) {
-            cli_error(NULL, "%s: needs --animate (a sequence of frames)", seq);
+            usage_error(NULL, "%s: needs --animate (a sequence of frames)", seq);
             return 2;
         }
         return 0;
     }
     if (o->time >= 0) {
-        cli_error(NULL, "%s and --animate: give one (%s renders one instant)", o->time_opt, o->time_opt);
+        usage_error(NULL, "%s and --animate: give one (%s renders one instant)", o->time_opt, o->time_opt);
         return 2;
     }
     if (!o->frames_given || o->frames < 1) {
-        cli_error(NULL, "--animate: needs --frames N (N >= 1), the frames of the sequence");
+        usage_error(NULL, "--animate: needs --frames N (N >= 1), the frames of the sequence");
         return 2;
     }
     if (o->single) {
-        cli_error(NULL, "%s: not with --animate (a sequence writes --out's frames only, e.g. --out "
+        usage_error(NULL, "%s: not with --animate (a sequence writes --out's frames only, e.g. --out "
                   "DIR/frame_%%04d.png)", o->single);
         return 2;
     }
     if (o->video && !util_ends_with(o->video, ".mp4")) {
-        cli_error(NULL, "--video: '%s' must end in .mp4", o->video);
+        usage_error(NULL, "--video: '%s' must end in .mp4", o->video);
         return 2;
     }
     return sequence_pattern_check("--out", o->out) ? 0 : 2;

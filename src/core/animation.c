@@ -328,7 +328,7 @@ static bool parse_objects(Parse *p, Scene *s, const cJSON *objs, const SceneNode
             ok = false;
             break;
         }
-        s->object_count = i + 1; /* counted before it is made: animation_free frees a half-made one */
+        s->object_count = i + 1; /* counted before it is made: scene_free frees a half-made one */
         ok = make_object(p, s, j, i, nodes, mark, owner);
     }
     free(mark);
@@ -634,26 +634,6 @@ bool animation_parse(Scene *s, const cJSON *root, const char *file, const SceneN
     if (s->object_count || s->animation)
         animation_apply(s, 0.0, NULL);
     return true;
-}
-
-void animation_free(Scene *s)
-{
-    for (int i = 0; i < s->object_count; i++) {
-        free(s->objects[i].vertices);
-        free(s->objects[i].rest);
-    }
-    free(s->objects);
-    s->objects = NULL;
-    s->object_count = 0;
-    Animation *a = s->animation;
-    for (int i = 0; a && i < a->track_count; i++) {
-        free(a->tracks[i].times);
-        free(a->tracks[i].values);
-    }
-    if (a)
-        free(a->tracks);
-    free(a);
-    s->animation = NULL;
 }
 
 bool animation_present(const Scene *s) { return s->animation != NULL; }

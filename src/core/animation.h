@@ -18,7 +18,7 @@
  *             key and after the last, the key's value.
  *
  * Lifetime: the scene owns its objects and animation (scene_free frees
- * them through animation_free). The scene's lights, camera and object
+ * them; their types are in scene.h). The scene's lights, camera and object
  * vertices as loaded are its state at t = 0; animation_apply rewrites them
  * (from the copies kept here, so no error accumulates) for any t.
  *
@@ -64,53 +64,6 @@ typedef struct SceneChange {
     uint32_t vertex_count;
 } SceneChange;
 
-typedef enum AnimTarget { ANIM_TARGET_LIGHT, ANIM_TARGET_CAMERA, ANIM_TARGET_OBJECT } AnimTarget;
-
-typedef enum AnimChannel {
-    ANIM_POSITION,  /* light or camera position (m) */
-    ANIM_DIRECTION, /* light direction (normalised after interpolation) */
-    ANIM_POWER,     /* light intensity / irradiance / radiance */
-    ANIM_TARGET,    /* camera target (m): the camera looks at it */
-    ANIM_FOV,       /* camera fov_y_deg (scalar) */
-    ANIM_TRANSLATE, /* object translation (m) */
-    ANIM_ROTATE,    /* object rotation (degrees about x, y, z) */
-} AnimChannel;
-
-typedef enum AnimInterp { ANIM_LINEAR = 0, ANIM_CATMULL_ROM = 1 } AnimInterp;
-
-typedef struct AnimTrack {
-    AnimTarget target;
-    int index;          /* light or object index (camera: 0) */
-    AnimChannel channel;
-    AnimInterp interp;
-    int dims;           /* 3, or 1 for fov */
-    int key_count;      /* ≥ 1 */
-    float *times;       /* [key_count], strictly increasing (owned) */
-    float (*values)[3]; /* [key_count] (owned; scalars in [0]) */
-} AnimTrack;
-
-typedef struct SceneObject {
-    char name[64];
-    uint32_t *vertices;   /* [vertex_count] scene vertex indices it moves (owned, sorted) */
-    uint32_t vertex_count;
-    float (*rest)[6];     /* [vertex_count] position and normal as built (owned) */
-    vec3 pivot;           /* centre of its rest bounds: rotations turn about it */
-    vec3 translate;       /* the file's transform (tracks override it per channel) */
-    vec3 rotate_deg;
-    vec3 placed_translate;/* the transform its vertices hold now */
-    vec3 placed_rotate_deg;
-    bool placed;          /* false: its vertices are at rest (as built) */
-} SceneObject;
-
-typedef struct Animation {
-    float duration;       /* seconds, > 0 */
-    AnimTrack *tracks;    /* [track_count] (owned) */
-    int track_count;
-    vec3 camera_up;       /* the file's camera "up" (unit; the camera's up is made orthogonal to it) */
-    double time;          /* of the state the scene holds now */
-    bool camera_degenerate; /* the last apply found the camera's target at its position (kept the old view) */
-} Animation;
-
 /* A mesh file's node names and the submeshes under each (scene_load.c
  * makes it when a scene file's object names a "node"): pairs, a node's
  * own meshes and every descendant's. */
@@ -133,8 +86,6 @@ bool animation_parse(Scene *s, const cJSON *root, const char *file, const SceneN
 /* Whether a scene file's "objects" name a mesh node (its mesh is then
  * loaded with the nodes' meshes kept apart: scene_load_mesh_nodes). */
 bool animation_wants_nodes(const cJSON *root);
-/* Frees the scene's objects and animation. */
-void animation_free(Scene *s);
 
 /* Whether the scene has an animation, and its duration (s; 0 if none). */
 bool animation_present(const Scene *s);

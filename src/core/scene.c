@@ -6,7 +6,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "core/animation.h"
 #include "base/log.h"
 #include "base/util.h"
 
@@ -28,6 +27,27 @@ void scene_init(Scene *s)
     glm_vec3_fill(s->bounds_max, 0.f);
 }
 
+/* The objects and the animation (animation.c made them). */
+static void free_time(Scene *s)
+{
+    for (int i = 0; i < s->object_count; i++) {
+        free(s->objects[i].vertices);
+        free(s->objects[i].rest);
+    }
+    free(s->objects);
+    s->objects = NULL;
+    s->object_count = 0;
+    Animation *a = s->animation;
+    for (int i = 0; a && i < a->track_count; i++) {
+        free(a->tracks[i].times);
+        free(a->tracks[i].values);
+    }
+    if (a)
+        free(a->tracks);
+    free(a);
+    s->animation = NULL;
+}
+
 void scene_free(Scene *s)
 {
     for (int i = 0; i < s->texture_count; i++)
@@ -38,7 +58,7 @@ void scene_free(Scene *s)
     free(s->submeshes);
     free(s->materials);
     free(s->lights);
-    animation_free(s);
+    free_time(s);
     memset(s, 0, sizeof *s);
 }
 

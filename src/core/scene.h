@@ -20,6 +20,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "core/settings.h"
+
 typedef enum LightType { LIGHT_DIRECTIONAL = 0, LIGHT_SPOT = 1, LIGHT_POINT = 2, LIGHT_QUAD = 3 } LightType;
 
 typedef struct Light {
@@ -80,103 +82,54 @@ typedef struct Submesh {
     int material;
 } Submesh;
 
-/* Technique parameters a scene file may set and the CLI overrides; their
- * keys, options, ranges and defaults are rows of the settings table
- * (settings.c). */
-typedef struct ShadowParams {
-    int map_size;          /* 2D shadow map / cube face resolution */
-    float bias_const;      /* world-space constant bias (m) */
-    float bias_slope;      /* slope-scaled bias, in shadow-map texels × tanθ */
-    float normal_offset;   /* receiver offset along the normal, in texels */
-    int pcf_samples;       /* Poisson disk samples (≤ 64) */
-    float pcf_radius;      /* PCF filter radius in texels */
-    int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
-    float pcss_max_radius; /* PCSS search/filter radius cap in texels */
-    int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
-    int pcf_filter;        /* ShadowPcfFilter: Poisson disk, or a grid of hardware-compare bilinear taps */
-    int area_light;        /* AreaLightMode: quad lights' exact polygon irradiance, or a point at the centre */
-} ShadowParams;
+/* Time (animation.h): what the scene holds of a scene file's "objects" and
+ * "animation"; animation.c reads and applies them, scene_free frees them. */
+typedef enum AnimTarget { ANIM_TARGET_LIGHT, ANIM_TARGET_CAMERA, ANIM_TARGET_OBJECT } AnimTarget;
 
-/* PCF's taps (ShadowParams.pcf_filter; SHADOW_FILTER_* in shared/gpu_types.h). */
-typedef enum ShadowPcfFilter { SHADOW_PCF_FILTER_DISK = 0, SHADOW_PCF_FILTER_GRID = 1 } ShadowPcfFilter;
+typedef enum AnimChannel {
+    ANIM_POSITION,  /* light or camera position (m) */
+    ANIM_DIRECTION, /* light direction (normalised after interpolation) */
+    ANIM_POWER,     /* light intensity / irradiance / radiance */
+    ANIM_TARGET,    /* camera target (m): the camera looks at it */
+    ANIM_FOV,       /* camera fov_y_deg (scalar) */
+    ANIM_TRANSLATE, /* object translation (m) */
+    ANIM_ROTATE,    /* object rotation (degrees about x, y, z) */
+} AnimChannel;
 
-/* Visibility of the bounce (SPEC §9): how RSM and VPL gathers test it. */
-typedef enum GiVisibilityMethod { GI_VISIBILITY_ISM = 0 } GiVisibilityMethod;
-/* Imperfect shadow maps' texels per side (GiParams.ism_size: an index). */
-typedef enum IsmSize { ISM_SIZE_16 = 0, ISM_SIZE_32 = 1, ISM_SIZE_64 = 2 } IsmSize;
+typedef enum AnimInterp { ANIM_LINEAR = 0, ANIM_CATMULL_ROM = 1 } AnimInterp;
 
-typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
-/* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
- * shared/gpu_types.h). */
-typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
+typedef struct AnimTrack {
+    AnimTarget target;
+    int index;          /* light or object index (camera: 0) */
+    AnimChannel channel;
+    AnimInterp interp;
+    int dims;           /* 3, or 1 for fov */
+    int key_count;      /* ≥ 1 */
+    float *times;       /* [key_count], strictly increasing (owned) */
+    float (*values)[3]; /* [key_count] (owned; scalars in [0]) */
+} AnimTrack;
 
-typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
-/* How a propagation step moves light (shaders/gi/lpv/propagate.comp):
- * along the directions it travels in, or through the paper's 5 faces per
- * neighbour, re-emitted towards the faces' normals. */
-typedef enum LpvPropagation { LPV_PROPAGATION_DIRECTIONAL = 0, LPV_PROPAGATION_FACES = 1 } LpvPropagation;
+typedef struct SceneObject {
+    char name[64];
+    uint32_t *vertices;   /* [vertex_count] scene vertex indices it moves (owned, sorted) */
+    uint32_t vertex_count;
+    float (*rest)[6];     /* [vertex_count] position and normal as built (owned) */
+    vec3 pivot;           /* centre of its rest bounds: rotations turn about it */
+    vec3 translate;       /* the file's transform (tracks override it per channel) */
+    vec3 rotate_deg;
+    vec3 placed_translate;/* the transform its vertices hold now */
+    vec3 placed_rotate_deg;
+    bool placed;          /* false: its vertices are at rest (as built) */
+} SceneObject;
 
-typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;
-
-/* Parameters of the RSM family of GI techniques (SPEC §3). */
-typedef struct GiParams {
-    int rsm_size;          /* RSM texels per side (per cube face for point/quad lights) */
-    int samples;           /* N samples per gather (paper: ~400) */
-    float r_max;           /* sampling radius, in RSM widths (cube: face widths) */
-    RsmWeighting weighting;/* paper's ξ1² normalised, unbiased for the polar pdf, or importance
-                              sampling of the whole map by flux */
-    bool exhaustive;       /* sum over every RSM texel instead of sampling */
-    int interp_factor;     /* screen-space interpolation: low-res = full / factor */
-    float interp_normal;   /* min cosine between normals for a usable low-res sample */
-    float interp_dist;     /* max world distance, as a fraction of the view distance */
-    int interleave_n, interleave_m; /* interleaved sampling pattern n×m */
-    bool interleave_blur;  /* geometry-aware blur after reassembly */
-    float scale;           /* indirect intensity scale (1 = physical) */
-    /* Many-VPL techniques (SPEC §4). */
-    int vpl_count;         /* VPLs per light wanted (sets the RSM size); 0: the RSM size decides */
-    float slc_emax;        /* stochastic light culling error bound e_max (0.0005) */
-    float vpl_near_clamp;  /* falloff 1/max(d², c) with c in m²; 0 = off (the notes use 0.1) */
-    bool vpl_disk;         /* VPLs fall off as disks of their texel's area: 1/(d² + A/π) */
-    float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
-    float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
-    unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
-    /* Visibility of the bounce (SPEC §9, src/gi/visibility/): */
-    bool gi_visibility;    /* RSM and VPL gathers test whether each VPL (sample) sees the shaded point */
-    int gi_visibility_method; /* GiVisibilityMethod */
-    int ism_size;          /* IsmSize: texels per side of each imperfect shadow map */
-    int ism_points;        /* scene points splatted into each map */
-    int ism_maps;          /* RSM gathers: maps per light, one per block of RSM texels */
-    /* Light propagation volumes (SPEC §5). */
-    int lpv_size;          /* cells per side of each grid */
-    int lpv_cascades;      /* 1: one grid fitted to the scene; 2–3: nested grids centred on the camera */
-    int lpv_iterations;    /* propagation steps; 0: the grid size (enough to cross it) */
-    bool lpv_occlusion;    /* attenuate propagation by the geometry volume */
-    float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
-    bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
-    int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
-    int lpv_propagation;   /* LpvPropagation: directional (light keeps its direction) or the paper's faces */
-    int lpv_groups;        /* 1, or 2: the light of surfaces facing +x/+y/+z and of those facing away propagated apart */
-    /* Voxel cone tracing (SPEC §6). */
-    int vct_size;          /* voxels per side of the volume over the scene bounds (of each clipmap level) */
-    int vct_levels;        /* 1: one volume over the bounds; 2–4: a clipmap centred on the camera */
-    bool vct_aniso;        /* six directional mip volumes (Crassin's anisotropic voxels) */
-    int vct_cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
-    int vct_bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */
-    float vct_step;        /* cone sampling step, in units of the cone's current diameter */
-    int vct_trace_scale;   /* cones traced at every Nth pixel per axis, upsampled by depth and normal */
-    bool vct_ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
-    bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
-    float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
-    float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
-    /* Time (SPEC §10). */
-    bool temporal;         /* temporal accumulation of the indirect light (passes/pass_temporal.h) */
-    bool temporal_clamp;   /* its neighbourhood clamp (off: the history lags a moving light; for measuring) */
-    /* Diagnostic, no scene key: the RSM gathers' twin for `render --timings
-     * --probe run`, which reads every sample and evaluates none (the image
-     * is meaningless); its rate is the limit of the gather's own reads. */
-    bool gather_reads_only;
-} GiParams;
-
+typedef struct Animation {
+    float duration;       /* seconds, > 0 */
+    AnimTrack *tracks;    /* [track_count] (owned) */
+    int track_count;
+    vec3 camera_up;       /* the file's camera "up" (unit; the camera's up is made orthogonal to it) */
+    double time;          /* of the state the scene holds now */
+    bool camera_degenerate; /* the last apply found the camera's target at its position (kept the old view) */
+} Animation;
 
 typedef struct Scene {
     char source[512];      /* what it was loaded from, for messages */
@@ -199,9 +152,9 @@ typedef struct Scene {
     vec3 bounds_min, bounds_max; /* of all geometry but light emitters */
     /* Time (animation.h): named rigid objects and keyframe tracks of a
      * scene file's "objects" and "animation"; NULL/0 when it has none. */
-    struct SceneObject *objects; /* owned, [object_count] */
+    SceneObject *objects;  /* owned, [object_count] */
     int object_count;
-    struct Animation *animation; /* owned, or NULL */
+    Animation *animation;  /* owned, or NULL */
 } Scene;
 
 

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "app/cli.h"
+#include "base/usage.h"
 #include "base/json_util.h"
 #include "base/log.h"
 #include "shared/gpu_types.h"
@@ -299,7 +299,7 @@ static bool fail(const char *where, const SettingDesc *d, const char *value, con
 {
     char range[160];
     describe_range(d, false, range, sizeof range);
-    cli_error(d->type == SETTING_ENUM ? util_nearest(value, d->choices) : NULL, "%s: '%s' %s (allowed: %s)", where,
+    usage_error(d->type == SETTING_ENUM ? util_nearest(value, d->choices) : NULL, "%s: '%s' %s (allowed: %s)", where,
               value, problem, range);
     return false;
 }

@@ -28,22 +28,6 @@
 #include "core/scene.h"
 #include "gpu/targets.h"
 
-/* Rows of the technique table (src/gi/gi.c), by index. */
-typedef enum GiMode {
-    GI_NONE = 0,
-    GI_RSM,             /* full-resolution RSM gather */
-    GI_RSM_INTERP,      /* low-res gather + screen-space interpolation */
-    GI_RSM_INTERLEAVED, /* interleaved sampling + geometry-aware blur */
-    GI_VPL_ALL,         /* brute force over every VPL */
-    GI_VPL_CLAMPED,     /* VPLs cut at a fixed range (biased baseline) */
-    GI_VPL_SLC,         /* stochastic light culling, tiled */
-    GI_VPL_INTERLEAVED, /* interleaved shading, random VPL subsets */
-    GI_VPL_METALIGHTS,  /* interleaved shading, subsets dealt from metalights */
-    GI_LPV,             /* light propagation volumes */
-    GI_VCT,             /* voxel cone tracing */
-    GI_MODE_COUNT
-} GiMode;
-
 /* How frames without a GI technique shade (renderer_forward). */
 typedef enum ShadingMode { SHADING_AUTO = 0, SHADING_FORWARD = 1, SHADING_DEFERRED = 2 } ShadingMode;
 

@@ -54,7 +54,7 @@
 #include "frame/renderer.h"
 #include "core/scene.h"
 #include "ui/ab_view.h"
-#include "ui/view_panel.h"
+#include "ui/view.h"
 
 typedef struct GLFWwindow GLFWwindow;
 

@@ -876,7 +876,7 @@ static void one_error_hint_style(void **state)
     rc = test_run_cli(&err, "view", "--no-panel=yes", NULL);
     test_expect_cli_error(rc, err, 2, "view: --no-panel takes no value", "(see rtgi view --help)");
     rc = test_run_cli(&err, "render", "--rsm-weighting", "papre", NULL);
-    test_expect_cli_error(rc, err, 2, "render: --rsm-weighting: 'papre'", "did you mean 'paper'? (see rtgi render --help)");
+    test_expect_cli_error(rc, err, 2, "render: --rsm-weighting: unknown value 'papre'", "did you mean 'paper'? (see rtgi render --help)");
     rc = test_run_cli(&err, "reference", "--scene", "cornel", NULL);
     test_expect_cli_error(rc, err, 2, "reference: --scene: 'cornel'", "did you mean 'cornell'? (see rtgi reference --help)");
     rc = test_run_cli(&err, "rendr", "--size", "8x8", NULL);

@@ -421,11 +421,11 @@ static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *
         return false;
     }
     bool on = !strcmp(eq + 1, "on") || !strcmp(eq + 1, "true") || !strcmp(eq + 1, "1");
-    if (d->type == SETTING_FLAG && !on) {
+    if (d->type == VALUE_FLAG && !on) {
         usage_error(NULL, "--gi: %s is a flag: give %s=on", kv, kv);
         return false;
     }
-    if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : eq + 1, &e->set))
+    if (!settings_parse_cli(d, d->type == VALUE_FLAG ? NULL : eq + 1, &e->set))
         return false;
     e->given[d - settings_table] = true;
     strbuf_printf(over, "%s%s=%s", over->len ? ", " : "", kv, eq + 1);
@@ -947,9 +947,9 @@ static int bench_parse_args(int argc, char **argv, BenchArgs *args)
             if (!cli_float(opt, v, 1e-3f, 1e6f, &args->fps))
                 return 2;
         } else if ((d = settings_find_option(opt))) {
-            if (d->type != SETTING_FLAG)
+            if (d->type != VALUE_FLAG)
                 CLI_VALUE(&a, v);
-            if (!settings_parse_cli(d, d->type == SETTING_FLAG ? NULL : v, &args->base))
+            if (!settings_parse_cli(d, d->type == VALUE_FLAG ? NULL : v, &args->base))
                 return 2;
             args->base_given[d - settings_table] = true;
         } else {

@@ -8,49 +8,83 @@
 #include "core/animation.h"
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/options.h"
 #include "io/image.h"
 #include "base/log.h"
 #include "reference/pathtracer.h"
 #include "app/sequence.h"
 #include "base/util.h"
 
+/* What the command line asked for. */
+typedef struct ReferenceArgs {
+    PtSettings set;           /* the path tracer's settings (progress and stop: cmd_reference's) */
+    const char *scene_name;   /* --scene */
+    const char *out;          /* --out: the mean image */
+    const char *png;          /* --png, or NULL */
+    const char *var_out;      /* --variance, or NULL */
+    const char *emitter_mask; /* --emitter-mask, or NULL */
+    float exposure;           /* --exposure for PNG output; < 0: the scene's */
+    float light_scale;        /* --light-scale; < 0: the scene's lights as they are */
+    bool half;                /* --half: EXR output as half floats */
+    bool animate;             /* --animate: a sequence of `frames` frames into --out's pattern */
+    int frames;               /* --frames (0: not given) */
+    float fps;                /* --fps (0: the frames spread over the duration) */
+    float time;               /* --at (< 0: not given) */
+    unsigned seed;            /* --seed (into set.seed) */
+    bool no_rr, no_jitter;    /* --no-rr, --no-jitter (into set) */
+    bool spp_given;           /* --spp was given */
+} ReferenceArgs;
+
+#define RA ReferenceArgs
+static const OptionDesc k_reference_options[] = {
+    OPT_SCENE("--scene", RA, scene_name, "cornell, or a scene file (.json, .gltf, .obj)"),
+    OPT_CHOICE("--mode", RA, set.mode, pt_mode_names, "what the paths carry: every bounce, direct light, one bounce (with or without its visibility), indirect only"),
+    {"--spp", {VALUE_INT, offsetof(RA, set.spp), 0, 1, 1 << 24, NULL, NULL}, "samples per pixel (with --target-relmse or --time and no --spp: as many as they need)", offsetof(RA, spp_given), NULL},
+    OPT_DOUBLE("--target-relmse", RA, set.target_relmse, 1e-9, 1e3, "stop once the relMSE estimated from the per-pixel variance is at most X (after each pass, from 16 spp on; with the Sobol' sampler the real error is usually lower); 0: off"),
+    OPT_DOUBLE("--time", RA, set.time_budget, 1e-3, 1e7, "stop before a pass that would end past X seconds (the first pass always runs); 0: no budget"),
+    OPT_CHOICE("--sampler", RA, set.sampler, pt_sampler_names, "Owen-scrambled Sobol' or independent random numbers"),
+    {"--seed", {VALUE_UINT, offsetof(RA, seed), 0, 0, 2147483647, NULL, NULL}, "random seed; the same seed gives the same image", OPTION_NO_FLAG, NULL},
+    OPT_INT("--threads", RA, set.threads, 1, 1024, "worker threads (default: every core)"),
+    OPT_SIZE("--size", RA, set.width, set.height, 16384, "image size, as rtgi render's"),
+    OPT_TEXT("--out", RA, out, "png|pfm|exr", "the image; an EXR records the samples per pixel reached (int attribute rtgi_spp)"),
+    OPT_FLAG("--half", RA, half, "EXR output as half floats (else float32)"),
+    OPT_FLOAT("--exposure", RA, exposure, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, "exposure of PNG output (default: the scene's)"),
+    OPT_INT("--max-depth", RA, set.max_depth, 1, 100000, "path vertices at most"),
+    OPT_FLAG("--no-rr", RA, no_rr, "no Russian roulette"),
+    OPT_INT("--rr-depth", RA, set.rr_depth, 0, 100000, "bounces before Russian roulette"),
+    OPT_FLAG("--no-jitter", RA, no_jitter, "sample pixel centres only (no anti-aliasing)"),
+    OPT_FLOAT("--light-scale", RA, light_scale, 0, 1e3, "scale every light's emitter size, 0: point lights (default: as the scene has them)"),
+    OPT_TEXT("--variance", RA, var_out, "pfm|exr", "also the per-pixel variance of the mean (default: none)"),
+    OPT_TEXT("--png", RA, png, "png", "also the tone-mapped PNG (default: none)"),
+    OPT_TEXT("--emitter-mask", RA, emitter_mask, "png", "also the mask of pixels that see an emitter (black; render --emitter-mask writes the same one; default: none)"),
+    OPT_FLOAT("--at", RA, time, 0, 1e6, "the scene file's animation at X s, one instant; --time is the time budget (default: none)"),
+    OPT_FLAG("--animate", RA, animate, "the animation's --frames N frames (spread over its duration, or frame i at i/X s with --fps X) into --out's pattern (frame_%04d.exr), each at --spp with the same seed"),
+    OPT_INT("--frames", RA, frames, 1, 1000000, "frames of --animate (default: none; needed with --animate)"),
+    OPT_FLOAT("--fps", RA, fps, 1e-3, 1e6, "--animate: frame i at i/X s (default: the frames spread over the duration)"),
+    OPT_END,
+};
+#undef RA
+
+/* The defaults, before the command line. */
+static void reference_args_default(ReferenceArgs *args)
+{
+    *args = (ReferenceArgs){.scene_name = "cornell", .out = "out/reference.pfm", .exposure = -1.f,
+                            .light_scale = -1.f, .time = -1.f};
+    pt_settings_default(&args->set);
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    args->set.threads = cores > 0 ? (int)cores : 1;
+    args->seed = (unsigned)args->set.seed;
+}
+
 void cmd_reference_help(void)
 {
-    printf("usage: rtgi reference [options]\n"
-           "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
-           "  --mode full|direct|one-bounce|one-bounce-novis|indirect   (default: full)\n"
-           "  --spp N            samples per pixel (default: 64; with --target-relmse or --time\n"
-           "                     and no --spp, at most 16777216)\n"
-           "  --target-relmse E  stop once the relMSE estimated from the per-pixel variance is at\n"
-           "                     most E (checked after each pass, from 16 spp on; with the default\n"
-           "                     Sobol' sampler the real error is usually lower than the estimate)\n"
-           "  --time T           stop before a pass that would end past T seconds of rendering\n"
-           "                     (the first pass always runs)\n"
-           "  --sampler sobol|independent   Owen-scrambled Sobol' or independent random numbers (default: sobol)\n"
-           "  --seed S           random seed (default: 1); same seed → same image\n"
-           "  --threads T        worker threads (default: all cores)\n"
-           "  --size WxH         image size (default: 256x256, as rtgi render)\n"
-           "  --out FILE.pfm|FILE.exr|FILE.png   (default: out/reference.pfm); an EXR records the\n"
-           "                     samples per pixel reached in its header (int attribute rtgi_spp)\n"
-           "  --half             EXR output as half floats (default: float32)\n"
-           "  --exposure E       for PNG output (default: scene's)\n"
-           "  --max-depth N      path vertices at most (default: 64)\n"
-           "  --no-rr            disable Russian roulette\n"
-           "  --rr-depth N       bounces before Russian roulette (default: 3)\n"
-           "  --no-jitter        sample pixel centres only (no anti-aliasing)\n"
-           "  --light-scale S    scale every light's emitter size (0: point lights)\n"
-           "  --variance FILE.pfm  also write the per-pixel variance of the mean\n"
-           "  --png FILE.png     also write the tone-mapped PNG\n"
-           "  --emitter-mask FILE.png   also write the mask of pixels that see an emitter\n"
-           "                     (black; render --emitter-mask writes the same one)\n"
-           "  --at T             the scene file's animation at T s (one instant; --time is the\n"
-           "                     time budget)\n"
-           "  --animate          the animation's --frames N frames (spread over its duration, or\n"
-           "                     frame i at i/F s with --fps F) into --out's pattern (frame_%%04d.exr),\n"
-           "                     each at --spp with the same seed\n"
-           "  --quiet            errors only: no progress (else on stderr: after the first pass the\n"
-           "                     time the rest will take, then samples, rays/s, time left)\n"
-           "  --verbose          debug lines too\n"
+    ReferenceArgs def;
+    reference_args_default(&def);
+    printf("usage: rtgi reference [options]\n");
+    options_print_help(stdout, k_reference_options, &def);
+    printf("  --quiet                      errors only: no progress (else on stderr: after the first pass the\n"
+           "                               time the rest will take, then samples, rays/s, time left)\n"
+           "  --verbose                    debug lines too\n"
            "Prints on stdout: spp (reached), relmse_estimate, and 'stopped: target-relmse' or\n"
            "'stopped: time' when one of those ended it.\n"
            "Ctrl-C (SIGINT) finishes the current pass (a few samples per pixel) and writes the\n"
@@ -58,9 +92,6 @@ void cmd_reference_help(void)
            "Ctrl-C ends the program at once, or once the outputs being written are whole\n"
            "(all of them or none; SIGTERM likewise).\n");
 }
-
-/* The options this command knows (for "did you mean"). */
-static const char *const k_reference_options[] = {"--animate", "--at", "--emitter-mask", "--exposure", "--fps", "--frames", "--half", "--help", "--light-scale", "--max-depth", "--mode", "--no-jitter", "--no-rr", "--out", "--png", "--rr-depth", "--sampler", "--scene", "--seed", "--size", "--spp", "--target-relmse", "--threads", "--time", "--variance", NULL};
 
 /* Set by SIGINT: the path tracer finishes its pass and stops. */
 static volatile int g_interrupted;
@@ -91,23 +122,6 @@ static bool write_mean(const char *out, const ImageF *mean, float exposure, bool
     return image_write_exr(out, mean, half, attrs, 2);
 }
 
-/* What the command line asked for. */
-typedef struct ReferenceArgs {
-    PtSettings set;           /* the path tracer's settings (progress and stop: cmd_reference's) */
-    const char *scene_name;   /* --scene */
-    const char *out;          /* --out: the mean image */
-    const char *png;          /* --png, or NULL */
-    const char *var_out;      /* --variance, or NULL */
-    const char *emitter_mask; /* --emitter-mask, or NULL */
-    float exposure;           /* --exposure for PNG output; < 0: the scene's */
-    float light_scale;        /* --light-scale; < 0: the scene's lights as they are */
-    bool half;                /* --half: EXR output as half floats */
-    bool animate;             /* --animate: a sequence of `frames` frames into --out's pattern */
-    int frames;               /* --frames (0: not given) */
-    float fps;                /* --fps (0: the frames spread over the duration) */
-    float time;               /* --at (< 0: not given) */
-} ReferenceArgs;
-
 /* The time options agree: 0, or 2 after a usage error. */
 static int reference_check_time(const ReferenceArgs *args)
 {
@@ -124,140 +138,33 @@ static int reference_check_time(const ReferenceArgs *args)
  * cli_check_files), after logging. */
 static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
 {
-    *args = (ReferenceArgs){.scene_name = "cornell", .out = "out/reference.pfm", .exposure = -1.f,
-                            .light_scale = -1.f, .time = -1.f};
+    reference_args_default(args);
     PtSettings *set = &args->set;
-    pt_settings_default(set);
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    set->threads = cores > 0 ? (int)cores : 1;
     CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt, *v;
-    bool spp_given = false;
+    const char *opt;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_reference_help();
             return -1;
-        } else if (!strcmp(opt, "--scene")) {
-            CLI_VALUE(&a, v);
-            if (!cli_scene(opt, v))
-                return 2;
-            args->scene_name = v;
-        } else if (!strcmp(opt, "--mode")) {
-            CLI_VALUE(&a, v);
-            int m = cli_choice(opt, v, pt_mode_names);
-            if (m < 0)
-                return 2;
-            set->mode = (PtMode)m;
-        } else if (!strcmp(opt, "--sampler")) {
-            CLI_VALUE(&a, v);
-            int k = cli_choice(opt, v, pt_sampler_names);
-            if (k < 0)
-                return 2;
-            set->sampler = (PtSampler)k;
-        } else if (!strcmp(opt, "--spp")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1 << 24, &set->spp))
-                return 2;
-            spp_given = true;
-        } else if (!strcmp(opt, "--target-relmse")) {
-            CLI_VALUE(&a, v);
-            float e;
-            if (!cli_float(opt, v, 1e-9f, 1e3f, &e))
-                return 2;
-            set->target_relmse = e;
-        } else if (!strcmp(opt, "--time")) {
-            CLI_VALUE(&a, v);
-            float t;
-            if (!cli_float(opt, v, 1e-3f, 1e7f, &t))
-                return 2;
-            set->time_budget = t;
-        } else if (!strcmp(opt, "--seed")) {
-            CLI_VALUE(&a, v);
-            int s;
-            if (!cli_int(opt, v, 0, 2147483647, &s))
-                return 2;
-            set->seed = (uint64_t)s;
-        } else if (!strcmp(opt, "--threads")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1024, &set->threads))
-                return 2;
-        } else if (!strcmp(opt, "--size")) {
-            CLI_VALUE(&a, v);
-            if (!cli_size(opt, v, 16384, &set->width, &set->height))
-                return 2;
-        } else if (!strcmp(opt, "--out")) {
-            CLI_VALUE(&a, v);
-            args->out = v;
-            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                usage_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
-                return 2;
-            }
-        } else if (!strcmp(opt, "--png")) {
-            CLI_VALUE(&a, v);
-            args->png = v;
-            if (!util_ends_with(v, ".png")) {
-                usage_error(NULL, "--png: '%s' must end in .png", v);
-                return 2;
-            }
-        } else if (!strcmp(opt, "--emitter-mask")) {
-            CLI_VALUE(&a, v);
-            args->emitter_mask = v;
-            if (!util_ends_with(v, ".png")) {
-                usage_error(NULL, "--emitter-mask: '%s' must end in .png", v);
-                return 2;
-            }
-        } else if (!strcmp(opt, "--variance")) {
-            CLI_VALUE(&a, v);
-            args->var_out = v;
-            if (!util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                usage_error(NULL, "--variance: '%s' must end in .pfm or .exr", v);
-                return 2;
-            }
-        } else if (!strcmp(opt, "--exposure")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &args->exposure))
-                return 2;
-        } else if (!strcmp(opt, "--light-scale")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e3f, &args->light_scale))
-                return 2;
-        } else if (!strcmp(opt, "--max-depth")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 100000, &set->max_depth))
-                return 2;
-        } else if (!strcmp(opt, "--rr-depth")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 0, 100000, &set->rr_depth))
-                return 2;
-        } else if (!strcmp(opt, "--half")) {
-            args->half = true;
-        } else if (!strcmp(opt, "--no-rr")) {
-            set->russian_roulette = false;
-        } else if (!strcmp(opt, "--no-jitter")) {
-            set->pixel_jitter = false;
-        } else if (!strcmp(opt, "--animate")) {
-            args->animate = true;
-        } else if (!strcmp(opt, "--frames")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1000000, &args->frames))
-                return 2;
-        } else if (!strcmp(opt, "--fps")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 1e-3f, 1e6f, &args->fps))
-                return 2;
-        } else if (!strcmp(opt, "--at")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e6f, &args->time))
-                return 2;
-        } else {
-            cli_unknown_option(opt, k_reference_options);
+        }
+        int took = options_take(k_reference_options, opt, &a, args);
+        if (took < 0)
+            return 2;
+        if (took == 0) {
+            const char *known[64];
+            int n = 0;
+            options_names(k_reference_options, known, &n, 64);
+            cli_unknown_option(opt, known);
             return 2;
         }
     }
     if (cli_failed(&a))
         return 2;
+    set->seed = args->seed;
+    set->russian_roulette = !args->no_rr;
+    set->pixel_jitter = !args->no_jitter;
     /* A target or a budget without --spp: the samples are what they need. */
-    if (!spp_given && (set->target_relmse > 0.0 || set->time_budget > 0.0))
+    if (!args->spp_given && (set->target_relmse > 0.0 || set->time_budget > 0.0))
         set->spp = 1 << 24;
     int rc = reference_check_time(args);
     if (rc)

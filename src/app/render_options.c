@@ -282,9 +282,9 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
             CLI_VALUE(&a, v);
             shader_set_directory(v);
         } else if ((setting = settings_find_option(opt))) {
-            if (setting->type != SETTING_FLAG)
+            if (setting->type != VALUE_FLAG)
                 CLI_VALUE(&a, v);
-            if (!settings_parse_cli(setting, setting->type == SETTING_FLAG ? NULL : v, &o->set))
+            if (!settings_parse_cli(setting, setting->type == VALUE_FLAG ? NULL : v, &o->set))
                 return 2;
             o->given[setting - settings_table] = true;
         } else {

@@ -13,6 +13,8 @@
 
 #include <cjson/cJSON.h>
 
+#include "base/value.h"
+
 /* Technique parameters a scene file may set and the CLI overrides; their
  * keys, options, ranges and defaults are rows of the settings table
  * (below). */
@@ -116,26 +118,17 @@ typedef struct Settings {
     GiParams gi;
 } Settings;
 
-typedef enum SettingType {
-    SETTING_INT,   /* integer; CLI N, JSON integer */
-    SETTING_UINT,  /* unsigned integer (seeds) */
-    SETTING_FLOAT, /* finite number */
-    SETTING_BOOL,  /* CLI on|off, JSON true/false */
-    SETTING_FLAG,  /* CLI flag without a value (sets true), JSON true/false */
-    SETTING_ENUM,  /* CLI/JSON one of `choices`, stored as int */
-    SETTING_PAIR,  /* two ints: CLI NxM, JSON [n, m] */
-} SettingType;
 
 typedef struct SettingDesc {
     const char *group;           /* scene-file object holding it: "shadow" or "gi" */
     const char *key;             /* its key there */
     const char *option;          /* command-line option */
-    SettingType type;
+    ValueType type;              /* base/value.h */
     size_t offset;               /* in Settings */
-    size_t offset2;              /* SETTING_PAIR: the second int */
+    size_t offset2;              /* VALUE_PAIR: the second int */
     double min, max;             /* inclusive range (pairs: each; enum/bool: unused) */
     double def;                  /* default (pairs: both values) */
-    const char *const *choices;  /* SETTING_ENUM: names, index = stored value; NULL-terminated */
+    const char *const *choices;  /* VALUE_CHOICE: names, index = stored value; NULL-terminated */
     const char *help;            /* one line, with its unit */
 } SettingDesc;
 
@@ -153,7 +146,7 @@ const SettingDesc *settings_find_key(const char *group, const char *key);
  * NULL-terminated (for "did you mean"); returns how many. */
 int settings_keys(const char *group, const char **out, int cap);
 
-/* Parses a command-line value (NULL for SETTING_FLAG) into `s`, range
+/* Parses a command-line value (NULL for VALUE_FLAG) into `s`, range
  * checked. false after logging a usage error (usage_error) "<option>: '<value>'
  * <problem> (allowed: <range>)", with the nearest choice of an enum. */
 bool settings_parse_cli(const SettingDesc *d, const char *value, Settings *s);
@@ -162,6 +155,8 @@ bool settings_parse_cli(const SettingDesc *d, const char *value, Settings *s);
  * no key twice, each value of the row's type and in its range. false after
  * logging "<file>: <group>.<key>: <problem>". */
 bool settings_parse_json(const cJSON *obj, const char *group, const char *file, Settings *s);
+/* Row `d` as the value it stores in a Settings (value.h). */
+ValueSpec settings_value(const SettingDesc *d);
 /* Copies the value of row `d` from `src` to `dst`. */
 void settings_copy(const SettingDesc *d, Settings *dst, const Settings *src);
 /* The value of row `d` in `s` as text ("20", "0.0005", "4x4", "paper", "on"). */

@@ -73,14 +73,14 @@ static bool setting_widget(View *v, const SettingDesc *d)
     snprintf(label, sizeof label, "%s##%s", d->key, d->option);
     bool commit = false;
     switch (d->type) {
-    case SETTING_INT: {
+    case VALUE_INT: {
         bool logarithmic = d->max / fmax(d->min, 1.0) > 1000;
         ui_slider_int(label, (int *)field, (int)d->min, (int)d->max, logarithmic);
         commit = ui_item_deactivated_after_edit();
         snprintf(range, sizeof range, " [%.0f..%.0f]", d->min, d->max);
         break;
     }
-    case SETTING_UINT: {
+    case VALUE_UINT: {
         int x = (int)*(unsigned *)field;
         ui_slider_int(label, &x, (int)d->min, (int)fmin(d->max, 2147483647.0), true);
         *(unsigned *)field = (unsigned)x;
@@ -88,25 +88,25 @@ static bool setting_widget(View *v, const SettingDesc *d)
         snprintf(range, sizeof range, " [%.0f..%.0f]", d->min, d->max);
         break;
     }
-    case SETTING_FLOAT: {
+    case VALUE_FLOAT: {
         bool logarithmic = d->min > 0 ? d->max / d->min > 1000 : d->max > 100;
         ui_slider_float(label, (float *)field, (float)d->min, (float)d->max, logarithmic, "%.4g");
         commit = ui_item_deactivated_after_edit();
         snprintf(range, sizeof range, " [%.6g..%.6g]", d->min, d->max);
         break;
     }
-    case SETTING_BOOL:
-    case SETTING_FLAG:
+    case VALUE_BOOL:
+    case VALUE_FLAG:
         commit = ui_checkbox(label, (bool *)field);
         break;
-    case SETTING_ENUM: {
+    case VALUE_CHOICE: {
         int count = 0;
         while (d->choices[count])
             count++;
         commit = ui_combo(label, (int *)field, d->choices, count);
         break;
     }
-    case SETTING_PAIR: {
+    case VALUE_PAIR: {
         int pair[2] = {*(int *)field, *(int *)((char *)&v->edit + d->offset2)};
         ui_slider_int2(label, pair, (int)d->min, (int)d->max);
         *(int *)field = pair[0];
@@ -115,6 +115,10 @@ static bool setting_widget(View *v, const SettingDesc *d)
         snprintf(range, sizeof range, " [%.0f..%.0f] each", d->min, d->max);
         break;
     }
+    case VALUE_DOUBLE: /* command options' types: no settings row has them */
+    case VALUE_SIZE:
+    case VALUE_TEXT:
+        break;
     }
     snprintf(tip, sizeof tip, "%s%s\n%s, scene key %s.%s", d->help, range, d->option, d->group, d->key);
     ui_tooltip(tip);

@@ -712,11 +712,11 @@ static void cli_conventions(void **state)
         test_expect_cli_error(rc, err, 2, "view: unknown option", want);
     }
     rc = test_run_cli(&err, "view", "--slow-ms=0", NULL);
-    test_expect_cli_error(rc, err, 2, "--slow-ms", "positive");
+    test_expect_cli_error(rc, err, 2, "--slow-ms", "out of range");
     rc = test_run_cli(&err, "view", "--no-panel=1", NULL);
     test_expect_cli_error(rc, err, 2, "--no-panel", "takes no value");
     rc = test_run_cli(&err, "view", "--live-priority", "low", NULL);
-    test_expect_cli_error(rc, err, 2, "--live-priority: 'low'", "idle or normal");
+    test_expect_cli_error(rc, err, 2, "--live-priority: unknown value 'low'", "idle, normal");
     rc = test_run_cli(&err, "view", "--live-threads", "0", NULL);
     test_expect_cli_error(rc, err, 2, "--live-threads", NULL);
     rc = test_run_cli(&err, "view", "--live-spp", "many", NULL);

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "gi/gi.h"
+#include "app/commands.h"
 #include "app/render_options.h"
 #include "core/settings.h"
 #include "test_util.h"
@@ -85,7 +86,7 @@ static void every_setting_round_trips(void **state)
         render_options_init(&o, false);
         char *argv[3] = {(char *)d->option, cli, NULL};
         int argc = d->type == VALUE_FLAG ? 1 : 2;
-        assert_int_equal(render_options_parse(&o, argc, argv, render_options_help), 0);
+        assert_int_equal(render_options_parse(&o, argc, argv, cmd_render_help), 0);
         render_options_settings(&o, &plain, &rs_cli);
 
         Settings a = {rs_file.shadow_params, rs_file.gi_params}, b = {rs_cli.shadow_params, rs_cli.gi_params};

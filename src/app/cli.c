@@ -16,85 +16,17 @@
 /* The options every command takes, handled by cli_next (log_option). */
 static const char *const k_common_options[] = {"--quiet", "--verbose", NULL};
 
-bool cli_in_list(const char *s, const char *const *list)
-{
-    for (int i = 0; list[i]; i++)
-        if (!strcmp(s, list[i]))
-            return true;
-    return false;
-}
-
 /* --quiet: errors only (no info or progress lines); --verbose: debug lines. */
 static void log_option(const char *opt)
 {
     log_set_level(!strcmp(opt, "--quiet") ? LOG_ERROR : LOG_DEBUG);
 }
 
-bool cli_float(const char *opt, const char *v, float lo, float hi, float *out)
-{
-    char *end = NULL;
-    errno = 0;
-    double d = strtod(v, &end);
-    if (!util_decimal_text(v) || end == v || *end || errno || !isfinite(d)) {
-        usage_error(NULL, "%s: '%s' is not a number", opt, v);
-        return false;
-    }
-    if (d < lo || d > hi) {
-        usage_error(NULL, "%s: %s is out of range [%g, %g]", opt, v, (double)lo, (double)hi);
-        return false;
-    }
-    *out = (float)d;
-    return true;
-}
-
-bool cli_int(const char *opt, const char *v, int lo, int hi, int *out)
-{
-    char *end = NULL;
-    errno = 0;
-    long n = strtol(v, &end, 10);
-    if (end == v || *end || errno) {
-        usage_error(NULL, "%s: '%s' is not an integer", opt, v);
-        return false;
-    }
-    if (n < lo || n > hi) {
-        usage_error(NULL, "%s: %s is out of range [%d, %d]", opt, v, lo, hi);
-        return false;
-    }
-    *out = (int)n;
-    return true;
-}
-
-bool cli_size(const char *opt, const char *v, int max, int *w, int *h)
-{
-    char *end = NULL;
-    long a = strtol(v, &end, 10);
-    long b = (end && (*end == 'x' || *end == 'X')) ? strtol(end + 1, &end, 10) : -1;
-    if (b < 0 || *end) {
-        usage_error(NULL, "%s: '%s' is not a size WxH (e.g. 512x512)", opt, v);
-        return false;
-    }
-    if (a < 1 || b < 1 || a > max || b > max) {
-        usage_error(NULL, "%s: %s: width and height must be between 1 and %d", opt, v, max);
-        return false;
-    }
-    *w = (int)a;
-    *h = (int)b;
-    return true;
-}
-
 int cli_choice(const char *opt, const char *v, const char *const *names)
 {
-    for (int i = 0; names[i]; i++)
-        if (strcmp(v, names[i]) == 0)
-            return i;
-    char list[256] = "";
-    for (int i = 0; names[i]; i++) {
-        strncat(list, names[i], sizeof list - strlen(list) - 1);
-        if (names[i + 1])
-            strncat(list, "|", sizeof list - strlen(list) - 1);
-    }
-    usage_error(util_nearest(v, names), "%s: unknown value '%s' (one of %s)", opt, v, list);
-    return -1;
+    int index = -1;
+    ValueSpec spec = {VALUE_CHOICE, 0, 0, 0, 0, names, NULL};
+    return value_parse_text(&spec, opt, v, &index) ? index : -1;
 }
 
 bool cli_scene(const char *opt, const char *v)
@@ -150,7 +82,7 @@ const char *cli_next(CliArgs *a)
             a->pending = eq + 1;
             a->opt = a->optbuf;
         }
-        if (!cli_in_list(a->opt, k_common_options))
+        if (strcmp(a->opt, "--quiet") && strcmp(a->opt, "--verbose"))
             return a->opt;
         if (!a->pending) /* --quiet, --verbose: taken here */
             log_option(a->opt);

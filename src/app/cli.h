@@ -9,11 +9,8 @@
 #include <stdbool.h>
 
 #include "base/usage.h"
+#include "base/value.h"
 
-bool cli_float(const char *opt, const char *v, float lo, float hi, float *out);
-bool cli_int(const char *opt, const char *v, int lo, int hi, int *out);
-/* "WxH", each in [1, max]. */
-bool cli_size(const char *opt, const char *v, int max, int *w, int *h);
 /* Index of `v` in the NULL-terminated `names`, or -1 after logging (with
  * the choices and the nearest one). */
 int cli_choice(const char *opt, const char *v, const char *const *names);
@@ -63,14 +60,5 @@ void cli_unknown_option(const char *opt, const char *const *known);
  * permission: its temporary file is made and removed here, and a missing
  * parent directory made, as the writer would). */
 int cli_check_files(int n, int outputs, const char *const opts[], const char *const paths[]);
-
-/* true if `s` is one of the NULL-terminated `list`. */
-bool cli_in_list(const char *s, const char *const *list);
-
-/* Inside an option loop: fetch the option's value into `v`, or return 2
- * (usage error, already logged) from the enclosing function. */
-#define CLI_VALUE(args, v)            \
-    if (!((v) = cli_value(args)))     \
-        return 2;
 
 #endif

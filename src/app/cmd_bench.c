@@ -28,6 +28,7 @@
 #include "core/animation.h"
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/options.h"
 #include "gl/gl_context.h"
 #include "io/image.h"
 #include "base/log.h"
@@ -64,41 +65,76 @@ static const char *default_gi_list(void)
     return list;
 }
 
+/* What the command line asked for. */
+typedef struct BenchArgs {
+    const char *out;         /* --out DIR (required) */
+    const char *scene_name;  /* --scene */
+    const char *gi_list;     /* --gi: comma-separated NAME[:key=value...] */
+    const char *shadow_list; /* --shadow: comma-separated */
+    const char *cache;       /* --cache DIR */
+    int width, height;       /* --size */
+    int frames;              /* --frames: timed frames per technique */
+    int ssaa;                /* --ssaa */
+    float exposure;          /* --exposure of FLIP and SSIM; < 0: the scene's */
+    bool markdown;           /* --markdown */
+    bool animate;            /* --animate: `frames` frames of the scene's animation */
+    float fps;               /* --fps (0: the frames spread over the duration) */
+    PtSettings ps;           /* the reference's settings */
+    Settings base;           /* the technique settings every entry starts from ... */
+    bool base_given[64];     /* ... and which of them were given, by settings-table row */
+} BenchArgs;
+
+#define BA BenchArgs
+static const OptionDesc k_bench_options[] = {
+    OPT_WORD("--out", BA, out, "DIR", "output directory (required); images go to DIR/images/ (default: none)"),
+    OPT_SCENE("--scene", BA, scene_name, "cornell, or a scene file (.json, .gltf, .obj)"),
+    OPT_SIZE("--size", BA, width, height, 8192, "image size"),
+    OPT_WORD("--gi", BA, gi_list, "LIST", "comma-separated techniques, each optionally with settings: NAME[:key=value[:key=value]] with settings-table keys, e.g. rsm:samples=100,vpl-slc:vpls=65536"),
+    OPT_WORD("--shadow", BA, shadow_list, "LIST", "comma-separated shadow techniques"),
+    OPT_INT("--spp", BA, ps.spp, 1, 1 << 20, "reference samples per pixel"),
+    OPT_CHOICE("--ref-mode", BA, ps.mode, pt_mode_names, "what the reference's paths carry (rtgi reference --mode)"),
+    OPT_INT("--frames", BA, frames, 1, 1000, "timed frames per technique after one warm-up frame (on a GPU, warm-up frames for 0.5 s); with --animate: the sequence's frames (at least 3)"),
+    OPT_FLAG("--animate", BA, animate, "measure over the scene file's animation: every technique renders --frames frames spread over its duration (or at --fps X), each against its own cached reference; adds per-frame relMSE, flicker and a kymograph per technique (the metrics are the middle frame's)"),
+    OPT_FLOAT("--fps", BA, fps, 1e-3, 1e6, "with --animate: frame i at i/X s (default: the frames spread over the duration)"),
+    OPT_INT("--ssaa", BA, ssaa, 1, 8, "render every technique N x N supersampled, box-filtered to WxH (1: off), as rtgi render --ssaa"),
+    OPT_FLOAT("--exposure", BA, exposure, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, "exposure of FLIP and SSIM (default: the scene's)"),
+    OPT_WORD("--cache", BA, cache, "DIR", "reference cache directory"),
+    OPT_INT("--threads", BA, ps.threads, 1, 1024, "reference threads (default: every core)"),
+    OPT_FLAG("--markdown", BA, markdown, "also print the results as a Markdown table on stdout"),
+    OPT_END,
+};
+#undef BA
+
+/* The defaults, before the command line. */
+static void bench_args_default(BenchArgs *args)
+{
+    *args = (BenchArgs){.scene_name = "cornell", .gi_list = default_gi_list(), .shadow_list = "pcss",
+                        .cache = "out/ref-cache", .width = 256, .height = 256, .frames = 3, .ssaa = 1,
+                        .exposure = -1.f};
+    PtSettings *ps = &args->ps;
+    pt_settings_default(ps);
+    ps->spp = 256;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    ps->threads = cores > 0 ? (int)cores : 1;
+    settings_default(&args->base);
+    const SettingDesc *vpls = settings_find_key("gi", "vpls");
+    args->base.gi.vpl_count = 16384; /* what the benchmarks use */
+    args->base_given[vpls - settings_table] = true;
+}
+
 void cmd_bench_help(void)
 {
+    BenchArgs def;
+    bench_args_default(&def);
     printf("usage: rtgi bench --out DIR [options]\n"
            "Renders each technique with per-pass timings, compares it with a cached path-traced\n"
            "reference (emitters masked out) and writes DIR/bench.json, DIR/report.html, and\n"
-           "DIR/bench.csv and DIR/bench_passes.csv (a row per technique, per technique and pass).\n"
-           "  --out DIR          output directory (required); images go to DIR/images/\n"
-           "  --scene S          cornell|FILE.json|FILE.gltf|FILE.obj (default: cornell)\n"
-           "  --size WxH         image size (default: 256x256)\n"
-           "  --gi LIST          comma-separated techniques, each optionally with settings:\n"
-           "                     NAME[:key=value[:key=value]] with settings-table keys, e.g.\n"
-           "                     rsm:samples=100,vpl-slc:vpls=65536 (default:\n"
-           "                     %s)\n"
-           "  --shadow LIST      comma-separated shadow techniques (default: pcss)\n"
-           "  --spp N            reference samples per pixel (default: 256)\n"
-           "  --ref-mode MODE    full|direct|one-bounce|one-bounce-novis|indirect (default: full)\n"
-           "  --frames N         timed frames per technique after one warm-up frame (on a GPU,\n"
-           "                     warm-up frames for 0.5 s) (default: 3); with --animate: the\n"
-           "                     sequence's frames (at least 3)\n"
-           "  --animate          measure over the scene file's animation: every technique renders\n"
-           "                     --frames frames spread over its duration (or at --fps F), each\n"
-           "                     against its own cached reference; adds per-frame relMSE, flicker\n"
-           "                     and a kymograph per technique (the metrics are the middle frame's)\n"
-           "  --fps F            with --animate: frame i at i/F s\n"
-           "  --ssaa N           render every technique N x N supersampled, box-filtered to\n"
-           "                     WxH (default: 1, off), as `rtgi render --ssaa`\n"
-           "  --exposure E       exposure of FLIP and SSIM (default: the scene's)\n"
-           "  --cache DIR        reference cache (default: out/ref-cache)\n"
-           "  --threads T        reference threads (default: all cores)\n"
-           "  --markdown         also print the results as a Markdown table on stdout\n"
-           "  --quiet            errors only: no progress\n"
-           "  --verbose          debug lines too\n"
-           "  --OPTION VALUE     any setting of `rtgi render --help` for every technique\n"
-           "                     (bench sets --vpls 16384 unless given)\n",
-           default_gi_list());
+           "DIR/bench.csv and DIR/bench_passes.csv (a row per technique, per technique and pass).\n");
+    options_print_help(stdout, k_bench_options, &def);
+    printf("  --quiet                      errors only: no progress\n"
+           "  --verbose                    debug lines too\n"
+           "  --OPTION VALUE               any setting of `rtgi render --help` for every technique\n"
+           "                               (bench sets --vpls 16384 unless given)\n");
 }
 
 /* One technique to measure and what was measured. */
@@ -846,121 +882,26 @@ static bool write_csv(const char *dir, const cJSON *doc)
     return ok;
 }
 
-static const char *const k_bench_own[] = {"--animate", "--cache", "--exposure", "--fps", "--frames", "--gi", "--help", "--markdown", "--out", "--ref-mode", "--scene", "--shadow", "--size", "--spp", "--ssaa", "--threads", NULL};
-
-/* What the command line asked for. */
-typedef struct BenchArgs {
-    const char *out;         /* --out DIR (required) */
-    const char *scene_name;  /* --scene */
-    const char *gi_list;     /* --gi: comma-separated NAME[:key=value...] */
-    const char *shadow_list; /* --shadow: comma-separated */
-    const char *cache;       /* --cache DIR */
-    int width, height;       /* --size */
-    int frames;              /* --frames: timed frames per technique */
-    int ssaa;                /* --ssaa */
-    float exposure;          /* --exposure of FLIP and SSIM; < 0: the scene's */
-    bool markdown;           /* --markdown */
-    bool animate;            /* --animate: `frames` frames of the scene's animation */
-    float fps;               /* --fps (0: the frames spread over the duration) */
-    PtSettings ps;           /* the reference's settings */
-    Settings base;           /* the technique settings every entry starts from ... */
-    bool base_given[64];     /* ... and which of them were given, by settings-table row */
-} BenchArgs;
 
 /* Parses argv into *args. 0: go on; -1: --help was shown; else an exit
  * status (2 for usage), after logging. */
 static int bench_parse_args(int argc, char **argv, BenchArgs *args)
 {
-    *args = (BenchArgs){.scene_name = "cornell", .gi_list = default_gi_list(), .shadow_list = "pcss",
-                        .cache = "out/ref-cache", .width = 256, .height = 256, .frames = 3, .ssaa = 1,
-                        .exposure = -1.f};
-    PtSettings *ps = &args->ps;
-    pt_settings_default(ps);
-    ps->spp = 256;
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    ps->threads = cores > 0 ? (int)cores : 1;
-    settings_default(&args->base);
-    const SettingDesc *vpls = settings_find_key("gi", "vpls");
-    args->base.gi.vpl_count = 16384; /* what the benchmarks use */
-    args->base_given[vpls - settings_table] = true;
-
+    bench_args_default(args);
     CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt, *v = NULL;
+    const char *opt;
     while ((opt = cli_next(&a))) {
-        const SettingDesc *d;
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_bench_help();
             return -1;
-        } else if (!strcmp(opt, "--out")) {
-            CLI_VALUE(&a, v);
-            args->out = v;
-        } else if (!strcmp(opt, "--scene")) {
-            CLI_VALUE(&a, v);
-            if (!cli_scene(opt, v))
-                return 2;
-            args->scene_name = v;
-        } else if (!strcmp(opt, "--size")) {
-            CLI_VALUE(&a, v);
-            if (!cli_size(opt, v, 8192, &args->width, &args->height))
-                return 2;
-        } else if (!strcmp(opt, "--gi")) {
-            CLI_VALUE(&a, v);
-            args->gi_list = v;
-        } else if (!strcmp(opt, "--shadow")) {
-            CLI_VALUE(&a, v);
-            args->shadow_list = v;
-        } else if (!strcmp(opt, "--spp")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1 << 20, &ps->spp))
-                return 2;
-        } else if (!strcmp(opt, "--ref-mode")) {
-            CLI_VALUE(&a, v);
-            int m = cli_choice(opt, v, pt_mode_names);
-            if (m < 0)
-                return 2;
-            ps->mode = (PtMode)m;
-        } else if (!strcmp(opt, "--frames")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1000, &args->frames))
-                return 2;
-        } else if (!strcmp(opt, "--ssaa")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 8, &args->ssaa))
-                return 2;
-        } else if (!strcmp(opt, "--exposure")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &args->exposure))
-                return 2;
-        } else if (!strcmp(opt, "--cache")) {
-            CLI_VALUE(&a, v);
-            args->cache = v;
-        } else if (!strcmp(opt, "--threads")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1024, &ps->threads))
-                return 2;
-        } else if (!strcmp(opt, "--markdown")) {
-            args->markdown = true;
-        } else if (!strcmp(opt, "--animate")) {
-            args->animate = true;
-        } else if (!strcmp(opt, "--fps")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 1e-3f, 1e6f, &args->fps))
-                return 2;
-        } else if ((d = settings_find_option(opt))) {
-            if (d->type != VALUE_FLAG)
-                CLI_VALUE(&a, v);
-            if (!settings_parse_cli(d, d->type == VALUE_FLAG ? NULL : v, &args->base))
-                return 2;
-            args->base_given[d - settings_table] = true;
-        } else {
-            const char *known[128];
-            int n = 0;
-            for (int i = 0; k_bench_own[i]; i++)
-                known[n++] = k_bench_own[i];
-            for (int i = 0; i < settings_count && n < 127; i++)
-                known[n++] = settings_table[i].option;
-            known[n] = NULL;
-            cli_unknown_option(opt, known);
+        }
+        int took = options_take(k_bench_options, opt, &a, args);
+        if (!took)
+            took = options_take_setting(opt, &a, &args->base, args->base_given);
+        if (took < 0)
+            return 2;
+        if (!took) {
+            options_unknown(opt, k_bench_options, true);
             return 2;
         }
     }
@@ -984,9 +925,9 @@ static int bench_parse_args(int argc, char **argv, BenchArgs *args)
     }
     if (!render_options_ssaa_fits(args->width, args->height, args->ssaa))
         return 2;
-    ps->width = args->width;
-    ps->height = args->height;
-    ps->progress = log_get_level() <= LOG_INFO;
+    args->ps.width = args->width;
+    args->ps.height = args->height;
+    args->ps.progress = log_get_level() <= LOG_INFO;
     return 0;
 }
 

@@ -8,57 +8,15 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/options.h"
 #include "io/image.h"
 #include "base/log.h"
 #include "io/metrics.h"
 #include "core/scene.h"
 #include "base/util.h"
 
-void cmd_compare_help(void)
-{
-    printf("usage: rtgi compare TEST REFERENCE [options]\n"
-           "  TEST, REFERENCE    .pfm or .exr (OpenEXR, half or float: linear radiance) or .png\n"
-           "                     (sRGB, decoded to linear)\n"
-           "  --metric rmse|relmse|ssim|flip|all   (default: all)\n"
-           "  --heatmap FILE.png per-pixel error of the first metric (FLIP map for all), with a\n"
-           "                     colour bar below it labelled with the value at full heat\n"
-           "  --mask FILE        only pixels where the mask's luminance > 0.5 count\n"
-           "  --mask-emitters FILE  the same, with the mask that render/reference --emitter-mask\n"
-           "                     write: pixels that see an emitter (and their neighbours) do not count\n"
-           "  --unshadowed FILE  shadow artefacts: TEST and REFERENCE are direct light only (render\n"
-           "                     --gi none, reference --mode direct), FILE is TEST's renderer without\n"
-           "                     shadows (render --shadow none); prints shadow_lit_pixels and\n"
-           "                     shadow_shadowed_pixels (where REFERENCE's visibility is >= 0.95,\n"
-           "                     <= 0.05), false_shadow (share of the lit ones TEST darkens below 0.5:\n"
-           "                     acne) and false_lit (of the shadowed ones it lights above 0.5:\n"
-           "                     peter-panning, leaks)\n"
-           "  --block N          also rmse/relmse of N×N block averages (default 8; 0: off):\n"
-           "                     per-pixel noise and edge aliasing average out, bias does not\n"
-           "  --exposure E       display exposure for SSIM and FLIP (default: 1)\n"
-           "  --ppd P            FLIP pixels per degree (default: 67.02)\n"
-           "  --json FILE        also write the results as JSON ('-': stdout, the text lines then\n"
-           "                     go to stderr); non-finite\n"
-           "                     values are written as null\n"
-           "  --allow-nonfinite  compare images with NaN/Inf pixels (an error otherwise)\n"
-           "  --quiet | --verbose   errors only on stderr | debug lines too\n"
-           "  --                 ends the options: what follows are the two images\n"
-           "Prints one 'metric: value' line per metric; with --metric all also\n"
-           "'mean_ratio: X' (TEST's mean luminance over REFERENCE's, on the counted pixels)\n"
-           "and 'mean_ratio_rgb: R G B' (per channel): a scale error shows there, noise averages out.\n");
-}
-
 static const char *const k_metrics[] = {"rmse", "relmse", "ssim", "flip", "all", NULL};
 
-/* A JSON number as %.8g, or null where it is not finite. */
-static void json_number(FILE *f, double v)
-{
-    if (isfinite(v))
-        fprintf(f, "%.8g", v);
-    else
-        fputs("null", f);
-}
-
-/* What the command line asked for. */
 typedef struct CompareArgs {
     const char *files[2];   /* TEST, REFERENCE */
     const char *heatmap;    /* --heatmap FILE.png, or NULL */
@@ -70,6 +28,47 @@ typedef struct CompareArgs {
     float exposure, ppd;    /* for SSIM and FLIP */
     bool allow_nonfinite;
 } CompareArgs;
+
+#define CA CompareArgs
+static const OptionDesc k_compare_options[] = {
+    OPT_CHOICE("--metric", CA, metric, k_metrics, "what to measure"),
+    OPT_TEXT("--heatmap", CA, heatmap, "png", "per-pixel error of the first metric (FLIP map for all), with a colour bar below it labelled with the value at full heat (default: none)"),
+    OPT_WORD("--mask", CA, mask_path, "FILE", "only pixels where the mask's luminance > 0.5 count (default: all)"),
+    OPT_WORD("--mask-emitters", CA, mask_path, "FILE", "the same, with the mask that render/reference --emitter-mask write: pixels that see an emitter (and their neighbours) do not count (default: all)"),
+    OPT_WORD("--unshadowed", CA, unshadowed, "FILE", "shadow artefacts: TEST and REFERENCE are direct light only (render --gi none, reference --mode direct), FILE is TEST's renderer without shadows (render --shadow none); prints shadow_lit_pixels and shadow_shadowed_pixels (where REFERENCE's visibility is >= 0.95, <= 0.05), false_shadow (share of the lit ones TEST darkens below 0.5: acne) and false_lit (of the shadowed ones it lights above 0.5: peter-panning, leaks) (default: none)"),
+    OPT_INT("--block", CA, block, 0, 4096, "also rmse/relmse of N x N block averages (0: off): per-pixel noise and edge aliasing average out, bias does not"),
+    OPT_FLOAT("--exposure", CA, exposure, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, "display exposure for SSIM and FLIP"),
+    OPT_FLOAT("--ppd", CA, ppd, 1, 1000, "FLIP pixels per degree"),
+    OPT_WORD("--json", CA, json, "FILE", "also write the results as JSON ('-': stdout, the text lines then go to stderr); non-finite values are written as null (default: none)"),
+    OPT_FLAG("--allow-nonfinite", CA, allow_nonfinite, "compare images with NaN/Inf pixels (an error otherwise)"),
+    OPT_END,
+};
+#undef CA
+
+void cmd_compare_help(void)
+{
+    CompareArgs def = {.metric = 4, .block = 8, .exposure = 1.f, .ppd = FLIP_DEFAULT_PPD};
+    printf("usage: rtgi compare TEST REFERENCE [options]\n"
+           "  TEST, REFERENCE              .pfm or .exr (OpenEXR, half or float: linear radiance) or .png\n"
+           "                               (sRGB, decoded to linear)\n");
+    options_print_help(stdout, k_compare_options, &def);
+    printf("  --quiet | --verbose          errors only on stderr | debug lines too\n"
+           "  --                           ends the options: what follows are the two images\n"
+           "Prints one 'metric: value' line per metric; with --metric all also\n"
+           "'mean_ratio: X' (TEST's mean luminance over REFERENCE's, on the counted pixels)\n"
+           "and 'mean_ratio_rgb: R G B' (per channel): a scale error shows there, noise averages out.\n");
+}
+
+/* A JSON number as %.8g, or null where it is not finite. */
+static void json_number(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, "%.8g", v);
+    else
+        fputs("null", f);
+}
+
+/* What the command line asked for. */
 
 /* The images, checked (compare_inputs_free frees them). */
 typedef struct CompareInputs {
@@ -187,7 +186,6 @@ static bool read_matching(const char *path, const char *what, const ImageF *like
 }
 
 /* The options this command knows (for "did you mean"). */
-static const char *const k_compare_options[] = {"--allow-nonfinite", "--block", "--exposure", "--heatmap", "--help", "--json", "--mask", "--mask-emitters", "--metric", "--ppd", "--unshadowed", NULL};
 
 /* Parses argv into *args. 0: go on; -1: --help was shown; else an exit
  * status (2 for usage, 1 for an output that cannot be written:
@@ -197,7 +195,7 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
     *args = (CompareArgs){.metric = 4, .block = 8, .exposure = 1.f, .ppd = FLIP_DEFAULT_PPD};
     int nfiles = 0;
     CliArgs a = {.argc = argc, .argv = argv, .operands = true};
-    const char *opt, *v;
+    const char *opt;
     while ((opt = cli_next(&a))) {
         if (cli_operand(&a)) {
             if (nfiles == 2) {
@@ -208,47 +206,19 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
         } else if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_compare_help();
             return -1;
-        } else if (!strcmp(opt, "--metric")) {
-            CLI_VALUE(&a, v);
-            if ((args->metric = cli_choice(opt, v, k_metrics)) < 0)
-                return 2;
-        } else if (!strcmp(opt, "--heatmap")) {
-            CLI_VALUE(&a, v);
-            if (!util_ends_with(v, ".png")) {
-                usage_error(NULL, "--heatmap: '%s' must end in .png", v);
-                return 2;
-            }
-            args->heatmap = v;
-        } else if (!strcmp(opt, "--block")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 0, 4096, &args->block))
-                return 2;
-        } else if (!strcmp(opt, "--mask") || !strcmp(opt, "--mask-emitters")) {
-            if (args->mask_path) {
+        } else {
+            bool mask = !strcmp(opt, "--mask") || !strcmp(opt, "--mask-emitters");
+            if (mask && args->mask_path) {
                 usage_error(NULL, "%s: give one of --mask and --mask-emitters", opt);
                 return 2;
             }
-            CLI_VALUE(&a, v);
-            args->mask_path = v;
-        } else if (!strcmp(opt, "--json")) {
-            CLI_VALUE(&a, v);
-            args->json = v;
-        } else if (!strcmp(opt, "--unshadowed")) {
-            CLI_VALUE(&a, v);
-            args->unshadowed = v;
-        } else if (!strcmp(opt, "--allow-nonfinite")) {
-            args->allow_nonfinite = true;
-        } else if (!strcmp(opt, "--exposure")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &args->exposure))
+            int took = options_take(k_compare_options, opt, &a, args);
+            if (took < 0)
                 return 2;
-        } else if (!strcmp(opt, "--ppd")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 1.f, 1000.f, &args->ppd))
+            if (!took) {
+                options_unknown(opt, k_compare_options, false);
                 return 2;
-        } else {
-            cli_unknown_option(opt, k_compare_options);
-            return 2;
+            }
         }
     }
     if (cli_failed(&a))

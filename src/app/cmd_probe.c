@@ -5,47 +5,54 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/options.h"
 #include "gl/gl_context.h"
 #include "base/log.h"
 #include "gpu/probe.h"
 
+typedef struct ProbeArgs {
+    const char *json; /* --json FILE or "-", or NULL */
+    int map_size;     /* --map-size */
+} ProbeArgs;
+
+static const OptionDesc k_probe_options[] = {
+    OPT_WORD("--json", ProbeArgs, json, "FILE", "also write the result (for render --timings --probe FILE); -: stdout, the text to stderr (default: none)"),
+    OPT_INT("--map-size", ProbeArgs, map_size, 64, PROBE_MAP_MAX, "the maps' side in texels: a gather's rate depends on the size of the map it reads; render --probe run uses the gather's RSM size"),
+    OPT_END,
+};
+
 void cmd_probe_help(void)
 {
+    ProbeArgs def = {NULL, PROBE_MAP_DEFAULT};
     printf("usage: rtgi probe [--json FILE] [--map-size N] [--quiet | --verbose]\n"
            "Measures evaluations per second of the VPL irradiance arithmetic with 0-3 texture\n"
            "fetches per sample from 2D and cube maps, with one packed RSM texel per sample (as\n"
            "the RSM gathers read them), and with one VPL per sample from a storage buffer\n"
-           "(shaders/probe/probe.comp), best of 5.\n"
-           "  --json FILE   also write the result (for render --timings --probe FILE); -: stdout, the text to stderr\n"
-           "  --map-size N  the maps' side in texels, 64..2048 (default 512): a gather's rate depends on\n"
-           "                the size of the map it reads; render --probe run uses the gather's RSM size\n"
-           "  --quiet       errors only on stderr; --verbose: debug lines too\n");
+           "(shaders/probe/probe.comp), best of 5.\n");
+    options_print_help(stdout, k_probe_options, &def);
+    printf("  --quiet | --verbose          errors only on stderr | debug lines too\n");
 }
-
-/* The options this command knows (for "did you mean"). */
-static const char *const k_probe_options[] = {"--help", "--json", "--map-size", NULL};
 
 int cmd_probe(int argc, char **argv)
 {
-    const char *json = NULL, *opt, *v;
-    int map_size = PROBE_MAP_DEFAULT;
+    ProbeArgs args = {NULL, PROBE_MAP_DEFAULT};
+    const char *opt;
     CliArgs a = {.argc = argc, .argv = argv};
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             cmd_probe_help();
             return 0;
-        } else if (!strcmp(opt, "--json")) {
-            CLI_VALUE(&a, v);
-            json = v;
-        } else if (!strcmp(opt, "--map-size")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 64, PROBE_MAP_MAX, &map_size))
-                return 2;
-        } else {
-            cli_unknown_option(opt, k_probe_options);
+        }
+        int took = options_take(k_probe_options, opt, &a, &args);
+        if (took < 0)
+            return 2;
+        if (!took) {
+            options_unknown(opt, k_probe_options, false);
             return 2;
         }
     }
+    const char *json = args.json;
+    int map_size = args.map_size;
     if (cli_failed(&a))
         return 2;
     int files = cli_check_files(1, 1, (const char *const[]){"--json"}, (const char *const[]){json});

@@ -39,11 +39,11 @@ typedef struct ReferenceArgs {
 static const OptionDesc k_reference_options[] = {
     OPT_SCENE("--scene", RA, scene_name, "cornell, or a scene file (.json, .gltf, .obj)"),
     OPT_CHOICE("--mode", RA, set.mode, pt_mode_names, "what the paths carry: every bounce, direct light, one bounce (with or without its visibility), indirect only"),
-    {"--spp", {VALUE_INT, offsetof(RA, set.spp), 0, 1, 1 << 24, NULL, NULL}, "samples per pixel (with --target-relmse or --time and no --spp: as many as they need)", offsetof(RA, spp_given), NULL},
+    {"--spp", {VALUE_INT, offsetof(RA, set.spp), 0, 1, 1 << 24, NULL, NULL}, "samples per pixel (with --target-relmse or --time and no --spp: as many as they need)", offsetof(RA, spp_given), NULL, NULL},
     OPT_DOUBLE("--target-relmse", RA, set.target_relmse, 1e-9, 1e3, "stop once the relMSE estimated from the per-pixel variance is at most X (after each pass, from 16 spp on; with the Sobol' sampler the real error is usually lower); 0: off"),
     OPT_DOUBLE("--time", RA, set.time_budget, 1e-3, 1e7, "stop before a pass that would end past X seconds (the first pass always runs); 0: no budget"),
     OPT_CHOICE("--sampler", RA, set.sampler, pt_sampler_names, "Owen-scrambled Sobol' or independent random numbers"),
-    {"--seed", {VALUE_UINT, offsetof(RA, seed), 0, 0, 2147483647, NULL, NULL}, "random seed; the same seed gives the same image", OPTION_NO_FLAG, NULL},
+    {"--seed", {VALUE_UINT, offsetof(RA, seed), 0, 0, 2147483647, NULL, NULL}, "random seed; the same seed gives the same image", OPTION_NO_FLAG, NULL, NULL},
     OPT_INT("--threads", RA, set.threads, 1, 1024, "worker threads (default: every core)"),
     OPT_SIZE("--size", RA, set.width, set.height, 16384, "image size, as rtgi render's"),
     OPT_TEXT("--out", RA, out, "png|pfm|exr", "the image; an EXR records the samples per pixel reached (int attribute rtgi_spp)"),

@@ -86,7 +86,7 @@ static void announce_estimate(const RenderSettings *rs, const Scene *scene, cons
 void cmd_render_help(void)
 {
     printf("usage: rtgi render [options]\n");
-    render_options_help();
+    render_options_help(false);
 }
 
 /* The technique's ambient visibility (the irradiance image's alpha, --gi

@@ -30,6 +30,31 @@ int options_take(const OptionDesc *table, const char *opt, CliArgs *a, void *out
     return 1;
 }
 
+int options_take_setting(const char *opt, CliArgs *a, Settings *set, bool given[])
+{
+    const SettingDesc *d = settings_find_option(opt);
+    if (!d)
+        return 0;
+    const char *text = NULL;
+    if (d->type != VALUE_FLAG && !(text = cli_value(a)))
+        return -1;
+    if (!settings_parse_cli(d, text, set))
+        return -1;
+    given[d - settings_table] = true;
+    return 1;
+}
+
+void options_unknown(const char *opt, const OptionDesc *table, bool settings)
+{
+    const char *known[256];
+    int n = 0;
+    options_names(table, known, &n, 256);
+    for (int i = 0; settings && i < settings_count && n < 255; i++)
+        known[n++] = settings_table[i].option;
+    known[n] = NULL;
+    cli_unknown_option(opt, known);
+}
+
 void options_names(const OptionDesc *table, const char **out, int *n, int cap)
 {
     for (const OptionDesc *d = table; d->name && *n < cap - 1; d++)
@@ -67,12 +92,15 @@ static void print_wrapped(FILE *f, const char *text, int indent, int column)
 void options_print_help(FILE *f, const OptionDesc *table, const void *defaults)
 {
     for (const OptionDesc *d = table; d->name; d++) {
-        char arg[160], placeholder[96], line[512];
-        value_placeholder(&d->value, placeholder, sizeof placeholder);
+        char arg[160], placeholder[96], line[768];
+        if (d->arg)
+            snprintf(placeholder, sizeof placeholder, "%s", d->arg);
+        else
+            value_placeholder(&d->value, placeholder, sizeof placeholder);
         snprintf(arg, sizeof arg, "%s%s%s", d->name, placeholder[0] ? " " : "", placeholder);
         /* A help line that says its default itself ("(default: the scene's)") keeps it. */
-        if (d->value.type != VALUE_FLAG && defaults && !strstr(d->help, "(default")) {
-            char value[64];
+        if (d->value.type != VALUE_FLAG && defaults && !strstr(d->help, "(default") && !strstr(d->help, "default:")) {
+            char value[256];
             value_format(&d->value, defaults, value, sizeof value);
             snprintf(line, sizeof line, "%s (default %s)", d->help, value);
         } else {

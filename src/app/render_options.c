@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "app/cli.h"
+#include "app/options.h"
 #include "base/log.h"
 #include "gpu/probe.h"
 #include "core/settings.h"
@@ -25,48 +26,6 @@ bool render_options_ssaa_fits(int width, int height, int ssaa)
     usage_error(NULL, "--ssaa %d: %dx%d supersampled is larger than %d per side", ssaa, width * ssaa, height * ssaa,
               MAX_IMAGE_SIZE);
     return false;
-}
-
-void render_options_help(void)
-{
-    printf(
-                "  --scene cornell|FILE.json|FILE.gltf|FILE.obj   scene (default: cornell)\n"
-        "  --shadow none|hard|pcf|pcss   shadow technique (default: pcss)\n"
-        "  --gi TECHNIQUE                indirect light (default: none), see below\n"
-        "  --size WxH                    image size (default: 256x256, as rtgi reference; view: 512x512)\n"
-        "  --exposure E                  radiance multiplier before tone mapping (default: scene's)\n"
-        "  --out FILE.png|FILE.pfm|FILE.exr   output; PNG tone-mapped sRGB, PFM/EXR (OpenEXR,\n"
-        "                                float32 or --half)\n"
-        "                                linear radiance\n"
-        "                                (default: out/render.png)\n"
-        "  --half                        EXR output as half floats (default: float32)\n"
-        "  --png FILE.png                also write the tone-mapped PNG (beside a .pfm/.exr --out)\n"
-        "  --emitter-mask FILE.png       also write the mask of pixels that see an emitter\n"
-        "                                (black; for compare --mask-emitters)\n"
-        "  --out-ao FILE.pfm|FILE.png    also write the ambient visibility (1 = open) of --gi vct\n"
-        "                                with --vct-ao on, at the shading size\n"
-        "  --timings                     print per-pass GPU (and wall) times\n"
-        "  --probe FILE|run              with --timings: the gather's fraction of this device's\n"
-        "                                bound, from 'rtgi probe --json FILE' or measured now\n"
-        "  --frames N                    frames to time after the warm-up (default: 3)\n"
-        "  --warmup N                    untimed frames first (default: 1)\n"
-        "  --animate                     render the scene file's animation: --frames N frames, spread\n"
-        "                                over its duration, into --out's pattern (frame_%%04d.exr)\n"
-        "  --fps F                       with --animate: frame i at i/F s\n"
-        "  --time T                      render the scene's animation at T s (one image)\n"
-        "  --video FILE.mp4              with --animate: also a video of the frames (needs ffmpeg)\n"
-        "  --light-scale S               scale every light's emitter size (0: point lights)\n"
-        "  --ssaa N                      N x N supersampling, box filter (default: 1, off)\n"
-        "  --aa none|fxaa                post-process AA of the tone-mapped image\n"
-        "                                (default: none for render, fxaa for view)\n"
-        "  --shading auto|forward|deferred  frames without a GI technique: shade while drawing\n"
-        "                                the scene or from the G-buffer, as GI frames do; auto\n"
-        "                                (default): forward below 1 triangle per 64 pixels\n"
-        "other:\n"
-        "  --shader-dir DIR   read shaders from DIR instead of the embedded copies\n"
-        "  --debug            GL debug context, KHR_debug messages logged\n"
-        "  --quiet | --verbose\n");
-    render_options_help_settings();
 }
 
 void render_options_help_settings(void)
@@ -107,191 +66,120 @@ void render_options_init(RenderOptions *o, bool view)
     o->live_spp = 4096;
 }
 
-/* The options only one of the two commands takes. */
-static const char *const k_render_only[] = {"--animate", "--emitter-mask", "--fps", "--out-ao", "--png", "--probe", "--time", "--timings", "--video", "--warmup", NULL};
-static const char *const k_view_only[] = {"--compare", "--live-priority", "--live-reference", "--live-spp", "--live-threads", "--no-panel", "--slow-ms", "--ui-test", "--window-out", NULL};
+static const char *const k_live_priorities[] = {"idle", "normal", NULL};
 
-/* The options `render` (view false) or `view` knows, the settings table's
- * included (for "did you mean"). */
-static const char *const *known_options(bool view)
+/* The options of both commands, then those of one (a name in both of
+ * the last two has a row in each, with that command's help). --gi's
+ * choices are the technique table's names (set at first use). */
+#define RO RenderOptions
+static OptionDesc k_shared_options[] = {
+    OPT_SCENE("--scene", RO, scene, "cornell, or a scene file (.json, .gltf, .obj)"),
+    OPT_CHOICE("--shadow", RO, shadow, k_shadow_names, "shadow technique"),
+    {"--gi", {VALUE_CHOICE, offsetof(RO, gi), 0, 0, 0, NULL, NULL}, "indirect light, see the techniques below", OPTION_NO_FLAG, NULL, "TECHNIQUE"},
+    OPT_SIZE("--size", RO, width, height, MAX_IMAGE_SIZE, "image size (view: the window's image area, the panel docked beside it)"),
+    OPT_FLOAT("--exposure", RO, exposure, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, "radiance multiplier before tone mapping (default: the scene's)"),
+    OPT_FLOAT("--light-scale", RO, light_scale, 0, 1e3, "scale every light's emitter size, 0: point lights (default: as the scene has them)"),
+    OPT_INT("--ssaa", RO, ssaa, 1, 8, "N x N supersampling, box filter (1: off)"),
+    OPT_CHOICE("--aa", RO, aa, k_aa_names, "post-process AA of the tone-mapped image"),
+    OPT_CHOICE("--shading", RO, shading, k_shading_names, "frames without a GI technique: shade while drawing the scene (forward) or from the G-buffer, as GI frames do; auto: forward below 1 triangle per 64 pixels"),
+    OPT_FLAG("--half", RO, half, "EXR output (render) or captures (view) as half floats (else float32)"),
+    OPT_WORD("--shader-dir", RO, shader_dir, "DIR", "read shaders from DIR instead of the embedded copies (default: embedded)"),
+    OPT_FLAG("--debug", RO, debug, "GL debug context, KHR_debug messages logged"),
+    OPT_END,
+};
+static const OptionDesc k_render_only[] = {
+    OPT_TEXT("--out", RO, out, "png|pfm|exr", "output: PNG tone-mapped sRGB, PFM/EXR (OpenEXR, float32 or --half) linear radiance"),
+    OPT_TEXT("--png", RO, png, "png", "also the tone-mapped PNG, beside a .pfm/.exr --out (default: none)"),
+    OPT_TEXT("--emitter-mask", RO, emitter_mask, "png", "also the mask of pixels that see an emitter (black; for compare --mask-emitters; default: none)"),
+    OPT_TEXT("--out-ao", RO, out_ao, "png|pfm", "also the ambient visibility (1 = open) of --gi vct with --vct-ao on, at the shading size (default: none)"),
+    OPT_FLAG("--timings", RO, timings, "print per-pass GPU (and wall) times"),
+    OPT_WORD("--probe", RO, probe, "FILE|run", "with --timings: the gather's fraction of this device's bound, from 'rtgi probe --json FILE' or measured now (default: none)"),
+    {"--frames", {VALUE_INT, offsetof(RO, frames), 0, 0, 1000000, NULL, NULL}, "frames to time after the warm-up; with --animate: the sequence's frames", offsetof(RO, frames_given), NULL, NULL},
+    OPT_INT("--warmup", RO, warmup, 0, 10000, "untimed frames first"),
+    OPT_FLAG("--animate", RO, animate, "render the scene file's animation: --frames N frames, spread over its duration, into --out's pattern (frame_%04d.exr)"),
+    OPT_DOUBLE("--fps", RO, fps, 1e-3, 1e6, "with --animate: frame i at i/X s (default: the frames spread over the duration)"),
+    OPT_DOUBLE("--time", RO, time, 0, 1e6, "render the scene's animation at X s, one image (default: as loaded)"),
+    OPT_WORD("--video", RO, video, "FILE.mp4", "with --animate: also a video of the frames (needs ffmpeg; default: none)"),
+    OPT_END,
+};
+static const OptionDesc k_view_only[] = {
+    OPT_TEXT("--out", RO, out, "png|pfm|exr", "the image P saves, and with --frames the last frame: .png as shown, .pfm or .exr linear radiance (default: out/view.png)"),
+    {"--frames", {VALUE_INT, offsetof(RO, frames), 0, 0, 1000000, NULL, NULL}, "exit after N frames (0: run until closed)", offsetof(RO, frames_given), NULL, NULL},
+    OPT_WORD("--compare", RO, compare, "FILE", "reference image for the A/B view (split, reference, difference): .pfm or .exr radiance at the window's exposure, .png shown as it is (default: none)"),
+    OPT_FLAG("--live-reference", RO, live_reference, "the reference path tracer converging in the A/B view on the window's camera (also the panel's box): a camera, light or size change restarts it; with --compare, its relMSE against that file is shown"),
+    OPT_INT("--live-threads", RO, live_threads, 1, 1024, "its threads (default: every core)"),
+    OPT_INT("--live-spp", RO, live_spp, 1, 1 << 24, "the samples per pixel it stops at"),
+    OPT_CHOICE("--live-priority", RO, live_priority, k_live_priorities, "its threads' priority: idle (SCHED_IDLE: only the CPU time nothing else wants) or normal, as any program's"),
+    OPT_TEXT("--window-out", RO, window_out, "png", "what Shift-P saves: the window, panel included; with --frames, the last frame's (default: out/window.png)"),
+    OPT_DOUBLE("--slow-ms", RO, slow_ms, 1e-3, 1e9, "techniques estimated above X ms per frame need a confirming click"),
+    OPT_FLAG("--no-panel", RO, no_panel, "start with the panel hidden (H shows it)"),
+    OPT_WORD("--ui-test", RO, ui_test, "DIR", "run the window test's script, write its captures to DIR (default: none)"),
+    OPT_END,
+};
+#undef RO
+
+static void fill_gi_choices(void)
 {
-    static const char *const shared[] = {"--aa", "--debug", "--exposure", "--frames", "--gi", "--half", "--help", "--light-scale", "--out", "--quiet", "--scene", "--shader-dir", "--shading", "--shadow", "--size", "--ssaa", "--verbose", NULL};
-    static const char *all[2][128];
-    const char **list = all[view];
-    if (!list[0]) {
-        int n = 0;
-        for (int i = 0; shared[i] && n < 127; i++)
-            list[n++] = shared[i];
-        const char *const *own = view ? k_view_only : k_render_only;
-        for (int i = 0; own[i] && n < 127; i++)
-            list[n++] = own[i];
-        for (int i = 0; i < settings_count && n < 127; i++)
-            list[n++] = settings_table[i].option;
-        list[n] = NULL;
-    }
-    return list;
+    for (OptionDesc *d = k_shared_options; d->name; d++)
+        if (!strcmp(d->name, "--gi"))
+            d->value.choices = gi_technique_names();
+}
+
+void render_options_help(bool view)
+{
+    fill_gi_choices();
+    RenderOptions def;
+    render_options_init(&def, view);
+    options_print_help(stdout, k_shared_options, &def);
+    options_print_help(stdout, view ? k_view_only : k_render_only, &def);
+    printf("  --quiet | --verbose          errors only; debug lines too\n");
+    render_options_help_settings();
+}
+
+/* "Did you mean" over the options `render` (view false) or `view` knows,
+ * the settings table's included. */
+static void unknown_option(const char *opt, bool view)
+{
+    const char *known[256];
+    int n = 0;
+    options_names(k_shared_options, known, &n, 256);
+    options_names(view ? k_view_only : k_render_only, known, &n, 256);
+    for (int i = 0; i < settings_count && n < 255; i++)
+        known[n++] = settings_table[i].option;
+    known[n] = NULL;
+    cli_unknown_option(opt, known);
 }
 
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void))
 {
+    fill_gi_choices();
+    const OptionDesc *own = o->view ? k_view_only : k_render_only, *other = o->view ? k_render_only : k_view_only;
     CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt, *v = NULL;
-    const SettingDesc *setting;
+    const char *opt;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
             help();
             return -1;
-        } else if (cli_in_list(opt, o->view ? k_render_only : k_view_only)) {
+        }
+        if (!options_find(own, opt) && options_find(other, opt)) {
             usage_error(NULL, "%s is an option of 'rtgi %s'", opt, o->view ? "render" : "view");
             return 2;
-        } else if (!strcmp(opt, "--compare")) {
-            CLI_VALUE(&a, v);
-            o->compare = v;
-        } else if (!strcmp(opt, "--ui-test")) {
-            CLI_VALUE(&a, v);
-            o->ui_test = v;
-        } else if (!strcmp(opt, "--window-out")) {
-            CLI_VALUE(&a, v);
-            if (!util_ends_with(v, ".png")) {
-                usage_error(NULL, "--window-out: '%s' must end in .png", v);
-                return 2;
-            }
-            o->window_out = v;
-        } else if (!strcmp(opt, "--slow-ms")) {
-            CLI_VALUE(&a, v);
-            char *end;
-            o->slow_ms = strtod(v, &end);
-            if (*end || !(o->slow_ms > 0) || !isfinite(o->slow_ms)) {
-                usage_error(NULL, "--slow-ms: '%s' is not a positive number of milliseconds", v);
-                return 2;
-            }
-        } else if (!strcmp(opt, "--no-panel")) {
-            o->no_panel = true;
-        } else if (!strcmp(opt, "--live-reference")) {
-            o->live_reference = true;
-        } else if (!strcmp(opt, "--live-threads")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1024, &o->live_threads))
-                return 2;
-        } else if (!strcmp(opt, "--live-priority")) {
-            CLI_VALUE(&a, v);
-            if (strcmp(v, "idle") && strcmp(v, "normal")) {
-                usage_error(NULL, "--live-priority: '%s' is not idle or normal", v);
-                return 2;
-            }
-            o->live_ordinary = !strcmp(v, "normal");
-        } else if (!strcmp(opt, "--live-spp")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 1 << 24, &o->live_spp))
-                return 2;
-        } else if (!strcmp(opt, "--scene")) {
-            CLI_VALUE(&a, v);
-            if (!cli_scene(opt, v))
-                return 2;
-            o->scene = v;
-        } else if (!strcmp(opt, "--out")) {
-            CLI_VALUE(&a, v);
-            o->out = v;
-            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm") && !util_ends_with(v, ".exr")) {
-                usage_error(NULL, "--out: '%s' must end in .png, .pfm or .exr", v);
-                return 2;
-            }
-        } else if (!strcmp(opt, "--png")) {
-            CLI_VALUE(&a, v);
-            o->png = v;
-            if (!util_ends_with(v, ".png")) {
-                usage_error(NULL, "--png: '%s' must end in .png", v);
-                return 2;
-            }
-        } else if (!strcmp(opt, "--shadow")) {
-            CLI_VALUE(&a, v);
-            if ((o->shadow = cli_choice(opt, v, k_shadow_names)) < 0)
-                return 2;
-        } else if (!strcmp(opt, "--gi")) {
-            CLI_VALUE(&a, v);
-            if ((o->gi = cli_choice(opt, v, gi_technique_names())) < 0)
-                return 2;
-        } else if (!strcmp(opt, "--size")) {
-            CLI_VALUE(&a, v);
-            if (!cli_size(opt, v, MAX_IMAGE_SIZE, &o->width, &o->height))
-                return 2;
-        } else if (!strcmp(opt, "--exposure")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, SCENE_EXPOSURE_MIN, SCENE_EXPOSURE_MAX, &o->exposure))
-                return 2;
-        } else if (!strcmp(opt, "--light-scale")) {
-            CLI_VALUE(&a, v);
-            if (!cli_float(opt, v, 0.f, 1e3f, &o->light_scale))
-                return 2;
-        } else if (!strcmp(opt, "--ssaa")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 1, 8, &o->ssaa))
-                return 2;
-        } else if (!strcmp(opt, "--aa")) {
-            CLI_VALUE(&a, v);
-            if ((o->aa = cli_choice(opt, v, k_aa_names)) < 0)
-                return 2;
-        } else if (!strcmp(opt, "--shading")) {
-            CLI_VALUE(&a, v);
-            if ((o->shading = cli_choice(opt, v, k_shading_names)) < 0)
-                return 2;
-        } else if (!strcmp(opt, "--frames")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 0, 1000000, &o->frames))
-                return 2;
-            o->frames_given = true;
-        } else if (!strcmp(opt, "--animate")) {
-            o->animate = true;
-        } else if (!strcmp(opt, "--fps") || !strcmp(opt, "--time")) {
-            CLI_VALUE(&a, v);
-            float f;
-            if (!cli_float(opt, v, opt[2] == 'f' ? 1e-3f : 0.f, 1e6f, &f))
-                return 2;
-            *(opt[2] == 'f' ? &o->fps : &o->time) = f;
-        } else if (!strcmp(opt, "--video")) {
-            CLI_VALUE(&a, v);
-            o->video = v;
-        } else if (!strcmp(opt, "--warmup")) {
-            CLI_VALUE(&a, v);
-            if (!cli_int(opt, v, 0, 10000, &o->warmup))
-                return 2;
-        } else if (!strcmp(opt, "--half")) {
-            o->half = true;
-        } else if (!strcmp(opt, "--timings")) {
-            o->timings = true;
-        } else if (!strcmp(opt, "--probe")) {
-            CLI_VALUE(&a, v);
-            o->probe = v;
-        } else if (!strcmp(opt, "--emitter-mask")) {
-            CLI_VALUE(&a, v);
-            if (!util_ends_with(v, ".png")) {
-                usage_error(NULL, "--emitter-mask: '%s' must end in .png", v);
-                return 2;
-            }
-            o->emitter_mask = v;
-        } else if (!strcmp(opt, "--out-ao")) {
-            CLI_VALUE(&a, v);
-            if (!util_ends_with(v, ".png") && !util_ends_with(v, ".pfm")) {
-                usage_error(NULL, "--out-ao: '%s' must end in .png or .pfm", v);
-                return 2;
-            }
-            o->out_ao = v;
-        } else if (!strcmp(opt, "--debug")) {
-            o->debug = true;
-        } else if (!strcmp(opt, "--shader-dir")) {
-            CLI_VALUE(&a, v);
-            shader_set_directory(v);
-        } else if ((setting = settings_find_option(opt))) {
-            if (setting->type != VALUE_FLAG)
-                CLI_VALUE(&a, v);
-            if (!settings_parse_cli(setting, setting->type == VALUE_FLAG ? NULL : v, &o->set))
-                return 2;
-            o->given[setting - settings_table] = true;
-        } else {
-            cli_unknown_option(opt, known_options(o->view));
+        }
+        int took = options_take(k_shared_options, opt, &a, o);
+        if (!took)
+            took = options_take(own, opt, &a, o);
+        if (!took)
+            took = options_take_setting(opt, &a, &o->set, o->given);
+        if (took < 0)
+            return 2;
+        if (!took) {
+            unknown_option(opt, o->view);
             return 2;
         }
     }
+    o->live_ordinary = o->live_priority == 1;
+    if (o->shader_dir)
+        shader_set_directory(o->shader_dir);
     if (cli_failed(&a))
         return 2;
     int time_rc = render_options_check_time(o);

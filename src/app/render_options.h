@@ -49,6 +49,8 @@ typedef struct RenderOptions {
     int live_threads;       /* --live-threads: its threads (0: every core) */
     int live_spp;           /* --live-spp: the samples per pixel it stops at (4096) */
     bool live_ordinary;     /* --live-priority normal (else idle: SCHED_IDLE) */
+    int live_priority;      /* --live-priority as parsed: 0 idle, 1 normal */
+    const char *shader_dir; /* --shader-dir (applied when the options are parsed) */
     Settings set;      /* technique settings given on the command line ... */
     bool given[64];    /* ... by settings-table row */
 } RenderOptions;
@@ -66,8 +68,9 @@ int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(v
  * error. (Part of render_options_parse.) */
 int render_options_check_time(const RenderOptions *o);
 bool render_options_load_scene(const RenderOptions *o, Scene *scene);
-/* Prints the shared options' help. */
-void render_options_help(void);
+/* Prints the options' help of `rtgi view` (view) or `rtgi render`, with
+ * their defaults, then the techniques and the settings table's rows. */
+void render_options_help(bool view);
 /* The techniques and the settings table's rows, the tail of render's and
  * view's --help. */
 void render_options_help_settings(void);

@@ -82,13 +82,13 @@ static OptionDesc k_shared_options[] = {
     OPT_INT("--ssaa", RO, ssaa, 1, 8, "N x N supersampling, box filter (1: off)"),
     OPT_CHOICE("--aa", RO, aa, k_aa_names, "post-process AA of the tone-mapped image"),
     OPT_CHOICE("--shading", RO, shading, k_shading_names, "frames without a GI technique: shade while drawing the scene (forward) or from the G-buffer, as GI frames do; auto: forward below 1 triangle per 64 pixels"),
-    OPT_FLAG("--half", RO, half, "EXR output (render) or captures (view) as half floats (else float32)"),
+    OPT_FLAG("--half", RO, half, "EXR (.exr) output (render) or captures (view) as half floats (else float32)"),
     OPT_WORD("--shader-dir", RO, shader_dir, "DIR", "read shaders from DIR instead of the embedded copies (default: embedded)"),
     OPT_FLAG("--debug", RO, debug, "GL debug context, KHR_debug messages logged"),
     OPT_END,
 };
 static const OptionDesc k_render_only[] = {
-    OPT_TEXT("--out", RO, out, "png|pfm|exr", "output: PNG tone-mapped sRGB, PFM/EXR (OpenEXR, float32 or --half) linear radiance"),
+    OPT_TEXT("--out", RO, out, "png|pfm|exr", "output: .png tone-mapped sRGB, .pfm or .exr (OpenEXR, float32 or --half) linear radiance"),
     OPT_TEXT("--png", RO, png, "png", "also the tone-mapped PNG, beside a .pfm/.exr --out (default: none)"),
     OPT_TEXT("--emitter-mask", RO, emitter_mask, "png", "also the mask of pixels that see an emitter (black; for compare --mask-emitters; default: none)"),
     OPT_TEXT("--out-ao", RO, out_ao, "png|pfm", "also the ambient visibility (1 = open) of --gi vct with --vct-ao on, at the shading size (default: none)"),

@@ -161,8 +161,8 @@ typedef struct Scene {
 /* Every exposure, the scene file's and every --exposure: positive (0
  * would make every image black, and SSIM and FLIP of any two images
  * perfect). */
-#define SCENE_EXPOSURE_MIN 1e-9f
-#define SCENE_EXPOSURE_MAX 1e9f
+#define SCENE_EXPOSURE_MIN 1e-9
+#define SCENE_EXPOSURE_MAX 1e9
 
 /* Empty scene with default camera/exposure/parameters. */
 void scene_init(Scene *s);

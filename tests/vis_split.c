@@ -23,12 +23,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "camera.h"
+#include "core/camera.h"
 #include "gi/visibility/ism.h"
-#include "gl_resources.h"
+#include "gl/gl_resources.h"
 #include "reference/pt_scene.h"
 #include "reference/sampling.h"
-#include "renderer.h"
+#include "frame/renderer.h"
 #include "test_util.h"
 
 typedef struct Vpl {

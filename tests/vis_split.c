@@ -224,8 +224,8 @@ static bool render(const Scene *s, int w, int h, GiMode gi, const GiParams *gp, 
 {
     RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_PCSS);
     rs.gi = gi;
-    rs.gi_params = *gp;
-    rs.gi_params.gi_visibility = on;
+    rs.set.gi = *gp;
+    rs.set.gi.visibility.on = on;
     Renderer r;
     if (!renderer_create(&r, s, &rs))
         return false;
@@ -247,12 +247,12 @@ static bool render(const Scene *s, int w, int h, GiMode gi, const GiParams *gp, 
         free(raw);
         grab->vpls = v;
         grab->nv = count;
-        GiCreateInfo ci = {.scene = s, .params = &rs.gi_params, .lights = &r.lights, .programs = &r.programs,
+        GiCreateInfo ci = {.scene = s, .params = &rs.set.gi, .lights = &r.lights, .programs = &r.programs,
                            .width = w, .height = h, .geometry_version = r.gpu_scene.version};
         Ism m;
         ok = ism_create(&m, ISM_FROM_VPLS, &ci);
         if (ok) {
-            GiFrame f = {.scene = s, .gpu_scene = &r.gpu_scene, .camera = &s->camera, .params = &rs.gi_params,
+            GiFrame f = {.scene = s, .gpu_scene = &r.gpu_scene, .camera = &s->camera, .params = &rs.set.gi,
                          .lights = &r.lights, .timer = &r.timer};
             ism_update(&m, &f);
             int sz[3];
@@ -306,17 +306,17 @@ int main(int argc, char **argv)
     if (!image_read(argv[2], &ref) || !image_read(argv[3], &direct))
         return 1;
     int w = ref.width, h = ref.height, step = 2;
-    GiParams gp = s.gi;
+    GiParams gp = s.settings.gi;
     GiMode gi = GI_VPL_ALL;
     for (int i = 4; i + 1 < argc; i += 2) {
         if (strcmp(argv[i], "--vpls") == 0)
-            gp.vpl_count = atoi(argv[i + 1]);
+            gp.vpl.count = atoi(argv[i + 1]);
         else if (strcmp(argv[i], "--step") == 0)
             step = atoi(argv[i + 1]);
         else if (strcmp(argv[i], "--ism-size") == 0)
-            gp.ism_size = atoi(argv[i + 1]);
+            gp.visibility.ism_size = atoi(argv[i + 1]);
         else if (strcmp(argv[i], "--ism-points") == 0)
-            gp.ism_points = atoi(argv[i + 1]);
+            gp.visibility.ism_points = atoi(argv[i + 1]);
         else if (strcmp(argv[i], "--gi") == 0)
             gi = (GiMode)gi_technique_find(argv[i + 1]);
         else {

@@ -701,7 +701,8 @@ static void thin_wall_stops_cones(void **state)
             glm_vec3_copy(p->d, p->n);
             /* Distance along the cone to the wall: diameter 2^m voxels
              * there, and at least 3 voxels past the apex (2.5 voxels off
-             * the surface; the first sample 1 voxel past it). */
+             * the surface, cone.glsl's VCT_APEX before issue 44's second
+             * round (now 1); the first sample 1 voxel past it). */
             float along = 2.5f * voxel + fmaxf((float)(1 << m) * voxel / (2.f * tan_half), 3.f * voxel);
             p->x[0] = -p->d[0] * along, p->x[1] = 0.f, p->x[2] = -p->d[2] * along;
             p->tan_half = tan_half;
@@ -920,8 +921,8 @@ static void sponza_against_one_bounce(void **state)
  * seen from inside: the indirect light vct adds to the direct image against
  * the one the path tracer's one-bounce adds to its direct light (the two
  * agree on direct light with a point light). Measured at 32³: mean
- * indirect ratio 0.849 (cones that start 2.5 voxels off the surface miss
- * the light of what is nearer), relMSE 0.0050 (no GI 0.0735). Bounds: the
+ * indirect ratio 0.849 (cones that started 2.5 voxels off the surface
+ * missed the light of what is nearer), relMSE 0.0050 (no GI 0.0735). Bounds: the
  * ratio within 25%, relMSE under a fifth of no GI's. */
 static void closed_box(void **state)
 {

@@ -20,7 +20,10 @@ ivec3 vct_voxel_of(uint code) { return ivec3(code & 0xffu, (code >> 8) & 0xffu, 
 layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
 #endif
 
-// The voxel this invocation handles; false past the list or the volume.
+// The voxel this invocation handles; false past the list or the volume
+// (compute shaders; the raster voxelization's fragments define
+// VCT_FRAGMENT).
+#ifndef VCT_FRAGMENT
 bool vct_voxel_here(out ivec3 v)
 {
 #ifdef OPAQUE_LIST
@@ -35,6 +38,7 @@ bool vct_voxel_here(out ivec3 v)
     return all(lessThan(v, ivec3(u_vct.size, u_vct.size, u_vct.size * VCT_CLIP_LEVELS)));
 #endif
 }
+#endif
 
 // World centre of stacked voxel v and its level's voxel size.
 vec3 vct_voxel_centre(ivec3 v, out float voxel)

@@ -8,6 +8,8 @@
 // 2005), and the fragment shader clips to the triangle's bounds and tests
 // each candidate voxel exactly.
 #include "shared/gpu_types.h"
+#define VCT_SETUP_ONLY
+#include "gi/vct/voxelize.glsl"
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
@@ -26,12 +28,6 @@ flat out vec3 g_t2;
 flat out vec4 g_bounds; // its 2D bounds in pixels, grown by half a pixel
 flat out int g_axis;    // dominant axis 0..2
 
-// Voxel coordinates with `axis` moved to z.
-vec3 swizzle(vec3 p, int axis)
-{
-    return axis == 0 ? p.yzx : axis == 1 ? p.zxy : p;
-}
-
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
 void main()
@@ -43,10 +39,10 @@ void main()
     vec3 an = abs(n);
     if (max(an.x, max(an.y, an.z)) <= 0.0)
         return; // degenerate
-    int axis = an.x >= an.y && an.x >= an.z ? 0 : an.y >= an.z ? 1 : 2;
+    int axis = vct_dominant_axis(n);
     vec3 s[3];
     for (int i = 0; i < 3; i++)
-        s[i] = swizzle(p[i], axis);
+        s[i] = vct_swizzle(p[i], axis);
     vec2 a[3] = vec2[3](s[0].xy, s[1].xy, s[2].xy);
     float area = cross2(a[1] - a[0], a[2] - a[0]);
     vec2 q[3] = a;

@@ -32,6 +32,10 @@ layout(location = LOC_VCT_LEVEL) uniform int u_level;
 layout(location = LOC_VCT_RUN) uniform uvec4 u_run;
 
 const int SMALL_COLUMNS = 16;
+// The columns taken are a superset of those whose voxels can pass the
+// triangle–box test (its tolerance is 1e-4 voxel): that test alone decides,
+// as in the raster path (voxelize.geom's VCT_COVER_MARGIN).
+const float COVER_MARGIN = 1e-3;
 const uint TILE_GROUPS = 64u; // most work groups per triangle (groups y)
 
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
@@ -64,11 +68,10 @@ bool setup(uint tri, out Setup s)
     s.a = vec2[3](s.t.t0.xy, s.t.t1.xy, s.t.t2.xy);
     vec2 e1 = s.a[1] - s.a[0], e2 = s.a[2] - s.a[0];
     s.area = cross2(e1, e2);
-    // Pixel squares [x, x + 1] that reach the bounds [min, max]: as the
-    // raster path's, x + 0.5 within [min − 0.5, max + 0.5].
+    // Pixel squares [x, x + 1] that reach the bounds [min, max] (with the margin).
     vec2 lo = min(s.a[0], min(s.a[1], s.a[2])), hi = max(s.a[0], max(s.a[1], s.a[2]));
-    s.lo = max(ivec2(ceil(lo - 1.0)), ivec2(0));
-    s.hi = min(ivec2(floor(hi)), ivec2(u_vct.size - 1));
+    s.lo = max(ivec2(ceil(lo - 1.0 - COVER_MARGIN)), ivec2(0));
+    s.hi = min(ivec2(floor(hi + COVER_MARGIN)), ivec2(u_vct.size - 1));
     // Barycentrics of a point q: b1 = cross2(q − a0, e2) / area, b2 = cross2(e1, q − a0) / area.
     vec2 uv[3] = vec2[3](vec2(vertex_data[8u * v[0] + 6u], vertex_data[8u * v[0] + 7u]),
                          vec2(vertex_data[8u * v[1] + 6u], vertex_data[8u * v[1] + 7u]),
@@ -99,7 +102,7 @@ bool covered(Setup s, ivec2 px)
         vec2 from = sgn > 0.0 ? s.a[i] : s.a[(i + 1) % 3];
         float e = cross2(d, f - from);
         if (u_vct.conservative != 0) {
-            if (e + (0.5 + 1e-4) * (abs(d.x) + abs(d.y)) < 0.0)
+            if (e + (0.5 + COVER_MARGIN) * (abs(d.x) + abs(d.y)) < 0.0)
                 return false;
         } else if (e < 0.0 || (e == 0.0 && !(d.y < 0.0 || (d.y == 0.0 && d.x < 0.0)))) {
             return false;

@@ -9,9 +9,9 @@
  * renderer_invalidate). The first frame of each (shader compilation) is
  * left out.
  *
- * usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE]
+ * usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute]
  * (SCENE: cornell, or a scene file; ROUNDS default 5; VCT_SIZE the
- * scene's --vct-size by default). Not a test: a measuring tool built
+ * scene's --vct-size by default, 0 too; a method named: that one alone). Not a test: a measuring tool built
  * beside the tests (scripts/gpu-check.sh and docs/performance.md run it). */
 #include <stdio.h>
 #include <stdlib.h>
@@ -48,7 +48,7 @@ static double frame_ms(Renderer *r, const Camera *cam)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE]\n");
+        fprintf(stderr, "usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute]\n");
         return 2;
     }
     int w, h, rounds = argc > 3 ? atoi(argv[3]) : 5;
@@ -63,16 +63,20 @@ int main(int argc, char **argv)
         scene_free(&s);
         return 1;
     }
+    int first = 0, last = METHODS - 1; /* the methods timed */
+    for (int m = 0; m < METHODS && argc > 5; m++)
+        if (strcmp(argv[5], k_methods[m]) == 0)
+            first = last = m;
+    int size = argc > 4 && atoi(argv[4]) > 0 ? atoi(argv[4]) : s.gi.vct_size;
     Renderer r[METHODS];
     bool made[METHODS] = {false};
     bool ok = true;
-    for (int m = 0; m < METHODS && ok; m++) {
+    for (int m = first; m <= last && ok; m++) {
         RenderSettings rs = test_settings(&s, w, h, SHADOW_MODE_PCSS);
         rs.gi = GI_VCT;
         rs.gi_params = s.gi;
         rs.gi_params.vct_voxelize = m == 0 ? VCT_VOXELIZE_RASTER : VCT_VOXELIZE_COMPUTE;
-        if (argc > 4)
-            rs.gi_params.vct_size = atoi(argv[4]);
+        rs.gi_params.vct_size = size;
         ok = made[m] = renderer_create(&r[m], &s, &rs);
         if (ok) {
             renderer_frame(&r[m], &s.camera); /* compiles, voxelizes once */
@@ -84,7 +88,7 @@ int main(int argc, char **argv)
     /* Round 0 is a warm-up of every path (the first revoxelization and
      * light-moving frame compile nothing new, but llvmpipe's caches fill). */
     for (int round = 0; ok && round <= rounds; round++) {
-        for (int m = 0; m < METHODS; m++) {
+        for (int m = first; m <= last; m++) {
             SceneChange c = {.what = SCENE_CHANGED_GEOMETRY, .first_vertex = 0, .vertex_count = 1};
             ok = renderer_scene_changed(&r[m], &c);
             double t_moved = frame_ms(&r[m], &s.camera);
@@ -102,15 +106,16 @@ int main(int argc, char **argv)
     }
     if (ok) {
         printf("vct_voxelize_bench: %s %dx%d, --vct-size %d, %d rounds alternating, medians (wall ms)\n", argv[1], w,
-               h, argc > 4 ? atoi(argv[4]) : s.gi.vct_size, rounds);
+               h, size, rounds);
         printf("%-8s %12s %14s %12s %14s\n", "method", "voxelize_ms", "moved_frame_ms", "steady_ms", "light_moved_ms");
-        double med[METHODS];
-        for (int m = 0; m < METHODS; m++) {
+        double med[METHODS] = {0};
+        for (int m = first; m <= last; m++) {
             med[m] = median(vox[m], rounds);
             printf("%-8s %12.2f %14.2f %12.2f %14.2f\n", k_methods[m], med[m], median(moved[m], rounds),
                    median(steady[m], rounds), median(light[m], rounds));
         }
-        printf("voxelize compute/raster: %.3f\n", med[1] / med[0]);
+        if (first != last)
+            printf("voxelize compute/raster: %.3f\n", med[1] / med[0]);
     }
     for (int m = 0; m < METHODS; m++)
         if (made[m])

@@ -32,9 +32,9 @@ layout(location = LOC_VCT_LEVEL) uniform int u_level;
 layout(location = LOC_VCT_RUN) uniform uvec4 u_run;
 
 const int SMALL_COLUMNS = 16;
-// The columns taken are a superset of those whose voxels can pass the
-// triangle–box test (its tolerance is 1e-4 voxel): that test alone decides,
-// as in the raster path (voxelize.geom's VCT_COVER_MARGIN).
+// The column range is a superset of the columns the triangle–box test
+// takes (its tolerance is 1e-4 voxel): that test alone decides, as in the
+// raster path (voxelize.geom's VCT_COVER_MARGIN).
 const float COVER_MARGIN = 1e-3;
 const uint TILE_GROUPS = 64u; // most work groups per triangle (groups y)
 
@@ -43,6 +43,7 @@ float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 // A triangle set up for its columns.
 struct Setup {
     VctTri t;
+    VctSat sat;
     vec2 a[3];      // its projection (swizzled x, y)
     float area;     // signed twice the projection's area (never 0)
     ivec2 lo, hi;   // the columns its bounds touch, within the volume
@@ -65,6 +66,7 @@ bool setup(uint tri, out Setup s)
     s.t.t0 = vct_swizzle(p[0], s.t.axis);
     s.t.t1 = vct_swizzle(p[1], s.t.axis);
     s.t.t2 = vct_swizzle(p[2], s.t.axis);
+    s.sat = vct_sat_setup(s.t);
     s.a = vec2[3](s.t.t0.xy, s.t.t1.xy, s.t.t2.xy);
     vec2 e1 = s.a[1] - s.a[0], e2 = s.a[2] - s.a[0];
     s.area = cross2(e1, e2);
@@ -88,25 +90,21 @@ bool setup(uint tri, out Setup s)
 }
 
 // Whether column px is the raster path's fragment: with the conservative
-// voxelization its pixel square touches the projection (each edge's
-// half-plane moved out by the square's half extent along its normal, as
-// voxelize.geom enlarges it; the bounds are the column range), else its
-// centre lies inside (a centre on an edge shared by two triangles counts
-// for one of them: the top-left rule).
+// voxelization one the triangle touches (vct_column_touched), else one
+// whose centre lies inside (a centre on an edge shared by two triangles
+// counts for one of them: the top-left rule).
 bool covered(Setup s, ivec2 px)
 {
+    if (u_vct.conservative != 0)
+        return vct_column_touched(s.sat, px);
     vec2 f = vec2(px) + 0.5;
     float sgn = s.area > 0.0 ? 1.0 : -1.0;
     for (int i = 0; i < 3; i++) {
         vec2 d = sgn * (s.a[(i + 1) % 3] - s.a[i]); // counter-clockwise edges: inside on the left
         vec2 from = sgn > 0.0 ? s.a[i] : s.a[(i + 1) % 3];
         float e = cross2(d, f - from);
-        if (u_vct.conservative != 0) {
-            if (e + (0.5 + COVER_MARGIN) * (abs(d.x) + abs(d.y)) < 0.0)
-                return false;
-        } else if (e < 0.0 || (e == 0.0 && !(d.y < 0.0 || (d.y == 0.0 && d.x < 0.0)))) {
+        if (e < 0.0 || (e == 0.0 && !(d.y < 0.0 || (d.y == 0.0 && d.x < 0.0))))
             return false;
-        }
     }
     return true;
 }
@@ -123,7 +121,7 @@ void column(Setup s, ivec2 px)
     vec3 albedo = clamp(material_diffuse(uv), 0.0, 1.0); // ρ_d: voxels reflect diffusely
     if (material_masked)
         return;
-    vct_column(s.t, px, u_level, albedo, vct_canonical_normal(s.n0 + s.dn_dx * q.x + s.dn_dy * q.y));
+    vct_column(s.t, s.sat, px, u_level, albedo, vct_canonical_normal(s.n0 + s.dn_dx * q.x + s.dn_dy * q.y));
 }
 
 void main()

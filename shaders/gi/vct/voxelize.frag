@@ -21,6 +21,11 @@ void main()
     vec2 f = gl_FragCoord.xy;
     if (u_vct.conservative != 0 && (f.x < g_bounds.x || f.y < g_bounds.y || f.x > g_bounds.z || f.y > g_bounds.w))
         return;
+    VctTri t = VctTri(g_t0, g_t1, g_t2, g_axis);
+    VctSat sat = vct_sat_setup(t);
+    ivec2 px = ivec2(floor(f));
+    if (u_vct.conservative != 0 && !vct_column_touched(sat, px))
+        return; // the enlarged triangle's corners, or a column it only nears (VCT_COVER_MARGIN)
     vec3 albedo = clamp(material_diffuse(g_uv), 0.0, 1.0); // ρ_d: voxels reflect diffusely
-    vct_column(VctTri(g_t0, g_t1, g_t2, g_axis), ivec2(floor(f)), u_level, albedo, vct_canonical_normal(g_normal));
+    vct_column(t, sat, px, u_level, albedo, vct_canonical_normal(g_normal));
 }

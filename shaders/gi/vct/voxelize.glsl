@@ -61,28 +61,69 @@ layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count, gro
 
 const float VCT_FIXED = 4096.0; // fixed-point units per 1 (albedo, normal components)
 
-// Separating-axis test of the triangle against the box centred on c with
-// half extent h (all in voxel units).
-bool vct_overlaps(VctTri t, vec3 c, float h)
+// The triangle–box test (separating axes, Akenine-Möller 2001) set up
+// once per triangle: its 13 axes, the triangle's extent [lo, hi] along
+// each and the box's half extent r along each (box half extent h =
+// 0.5 + 1e-4 voxel: faces touched count). A box centred on c and the
+// triangle are apart along axis a when lo − a·c > r or hi − a·c < −r.
+// Axes 0–4 (x, y, and z × each edge) have no z component: they test the
+// column (the pixel square against the projection); 5–12 (z, the normal,
+// x × and y × each edge) each voxel of it. Also the plane over the
+// columns: n·p = d.
+struct VctSat {
+    vec3 ax[13];
+    float lo[13], hi[13], r[13];
+    vec3 n;
+    float d, zmin, zmax;
+};
+
+VctSat vct_sat_setup(VctTri t)
 {
-    vec3 v0 = t.t0 - c, v1 = t.t1 - c, v2 = t.t2 - c;
-    vec3 e[3] = vec3[3](v1 - v0, v2 - v1, v0 - v2);
-    vec3 fn = cross(e[0], e[1]);
-    vec3 axes[13];
-    axes[0] = vec3(1, 0, 0);
-    axes[1] = vec3(0, 1, 0);
-    axes[2] = vec3(0, 0, 1);
-    axes[3] = fn;
+    VctSat s;
+    vec3 e[3] = vec3[3](t.t1 - t.t0, t.t2 - t.t1, t.t0 - t.t2);
+    s.ax[0] = vec3(1, 0, 0);
+    s.ax[1] = vec3(0, 1, 0);
+    s.ax[5] = vec3(0, 0, 1);
+    s.ax[6] = cross(e[0], e[1]);
     for (int i = 0; i < 3; i++) {
-        axes[4 + 3 * i] = cross(vec3(1, 0, 0), e[i]);
-        axes[5 + 3 * i] = cross(vec3(0, 1, 0), e[i]);
-        axes[6 + 3 * i] = cross(vec3(0, 0, 1), e[i]);
+        s.ax[2 + i] = vec3(-e[i].y, e[i].x, 0.0);  // z × e
+        s.ax[7 + i] = vec3(0.0, -e[i].z, e[i].y);  // x × e
+        s.ax[10 + i] = vec3(e[i].z, 0.0, -e[i].x); // y × e
     }
+    const float h = 0.5 + 1e-4;
     for (int k = 0; k < 13; k++) {
-        vec3 ax = axes[k];
-        float r = h * (abs(ax.x) + abs(ax.y) + abs(ax.z));
-        float p0 = dot(v0, ax), p1 = dot(v1, ax), p2 = dot(v2, ax);
-        if (min(p0, min(p1, p2)) > r || max(p0, max(p1, p2)) < -r)
+        vec3 ax = s.ax[k];
+        float p0 = dot(t.t0, ax), p1 = dot(t.t1, ax), p2 = dot(t.t2, ax);
+        s.lo[k] = min(p0, min(p1, p2));
+        s.hi[k] = max(p0, max(p1, p2));
+        s.r[k] = h * (abs(ax.x) + abs(ax.y) + abs(ax.z));
+    }
+    s.n = cross(t.t1 - t.t0, t.t2 - t.t0);
+    s.d = dot(s.n, t.t0);
+    s.zmin = min(t.t0.z, min(t.t1.z, t.t2.z));
+    s.zmax = max(t.t0.z, max(t.t1.z, t.t2.z));
+    return s;
+}
+
+// Whether the triangle touches column px (its pixel square, any depth).
+bool vct_column_touched(VctSat s, ivec2 px)
+{
+    vec2 f = vec2(px) + 0.5;
+    for (int k = 0; k < 5; k++) {
+        float c = dot(s.ax[k].xy, f);
+        if (s.lo[k] - c > s.r[k] || s.hi[k] - c < -s.r[k])
+            return false;
+    }
+    return true;
+}
+
+// Whether it touches voxel (px, z) of a column it touches.
+bool vct_voxel_touched(VctSat s, ivec2 px, int z)
+{
+    vec3 centre = vec3(vec2(px) + 0.5, float(z) + 0.5);
+    for (int k = 5; k < 13; k++) {
+        float c = dot(s.ax[k], centre);
+        if (s.lo[k] - c > s.r[k] || s.hi[k] - c < -s.r[k])
             return false;
     }
     return true;
@@ -112,29 +153,28 @@ void vct_add(ivec3 s, int axis, int level, vec3 albedo, vec3 n)
     }
 }
 
-// The voxels of column `px` (its centre f = px + 0.5) that triangle t
-// touches get albedo and the canonical normal n.
-void vct_column(VctTri t, ivec2 px, int level, vec3 albedo, vec3 n)
+// The voxels of column `px` (its centre f = px + 0.5; conservative: one
+// the triangle touches, vct_column_touched) that the triangle touches get
+// albedo and the canonical normal n.
+void vct_column(VctTri t, VctSat s, ivec2 px, int level, vec3 albedo, vec3 n)
 {
     vec2 f = vec2(px) + 0.5;
-    // Depth of the triangle's plane over this column (swizzled z).
-    vec3 pn = cross(t.t1 - t.t0, t.t2 - t.t0);
-    float d = dot(pn, t.t0);
-    // Within the triangle's depth range, as it is exactly: rounded, the
-    // plane equation of a triangle lying on a voxel boundary (a floor at
-    // z = 16) gave 15.99999 on NVIDIA's division while its vertices say 16,
-    // which emptied the range below and left the whole floor unvoxelized.
-    float zmin = min(t.t0.z, min(t.t1.z, t.t2.z)), zmax = max(t.t0.z, max(t.t1.z, t.t2.z));
-    float zc = clamp((d - pn.x * f.x - pn.y * f.y) / pn.z, zmin, zmax);
+    // Depth of the triangle's plane over this column (swizzled z), within
+    // the triangle's depth range, as it is exactly: rounded, the plane
+    // equation of a triangle lying on a voxel boundary (a floor at z = 16)
+    // gave 15.99999 on NVIDIA's division while its vertices say 16, which
+    // emptied the range below and left the whole floor unvoxelized.
+    float zc = clamp((s.d - s.n.x * f.x - s.n.y * f.y) / s.n.z, s.zmin, s.zmax);
     if (u_vct.conservative == 0) {
         vct_add(ivec3(px, int(floor(zc))), t.axis, level, albedo, n);
         return;
     }
-    float dz = 0.5 * (abs(pn.x) + abs(pn.y)) / abs(pn.z);
+    // The plane's slope is at most 1 per column along the dominant axis.
+    float dz = 0.5 * (abs(s.n.x) + abs(s.n.y)) / abs(s.n.z);
     // zmin <= zc <= zmax, so k0 <= floor(zc) <= k1.
-    int k0 = int(floor(max(zc - dz, zmin))), k1 = int(floor(min(zc + dz, zmax)));
+    int k0 = int(floor(max(zc - dz, s.zmin))), k1 = int(floor(min(zc + dz, s.zmax)));
     for (int k = k0; k <= k1; k++)
-        if (vct_overlaps(t, vec3(f, float(k) + 0.5), 0.5 + 1e-4))
+        if (vct_voxel_touched(s, px, k))
             vct_add(ivec3(px, k), t.axis, level, albedo, n);
 }
 #endif

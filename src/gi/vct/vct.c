@@ -58,6 +58,15 @@
 
 enum { ANISO_AXES = 3 }; /* directional volumes: one texture per axis, both signs */
 
+/* The compute voxelization's program per kind of material: llvmpipe runs
+ * the texture code behind a uniform branch, fetches included. */
+typedef enum VoxelizeKind {
+    VOXELIZE_OPAQUE,     /* textured, no alpha mask (OPAQUE_DRAW: no level-0 alpha read) */
+    VOXELIZE_UNTEXTURED, /* neither texture nor mask (UNTEXTURED) */
+    VOXELIZE_MASKED,     /* alpha-masked */
+    VOXELIZE_KINDS
+} VoxelizeKind;
+
 typedef struct VctGi {
     GiParams params;
     ProgramCache *pc;        /* borrowed: owns the programs */
@@ -77,7 +86,7 @@ typedef struct VctGi {
     uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
     uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
     GLuint ubo;              /* GpuVctParams */
-    GLuint voxelize_tris[2], voxelize_tiles[2]; /* voxelize.comp (--vct-voxelize compute): textured, UNTEXTURED */
+    GLuint voxelize_tris[3], voxelize_tiles[3]; /* voxelize.comp (--vct-voxelize compute) per VoxelizeKind */
     GLuint voxelize, resolve, resolve_list, inject, mip, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
     GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
     GLuint probe;            /* probe.comp (vct_probe, tests), built on first use */
@@ -296,13 +305,14 @@ static bool vct_programs(VctGi *v)
     snprintf(list_defs, sizeof list_defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
     bool ok = true;
     if (p->vct_voxelize == VCT_VOXELIZE_COMPUTE) {
-        static const char *const defs[2][2] = {
-            {NULL, "#define UNTEXTURED\n"}, {"#define VOXELIZE_TILES\n", "#define VOXELIZE_TILES\n#define UNTEXTURED\n"}};
-        for (int u = 0; ok && u < 2; u++)
+        static const char *const kinds[VOXELIZE_KINDS] = {"#define OPAQUE_DRAW\n", "#define UNTEXTURED\n", ""};
+        for (int u = 0; ok && u < VOXELIZE_KINDS; u++) {
+            char tiles[64];
+            snprintf(tiles, sizeof tiles, "#define VOXELIZE_TILES\n%s", kinds[u]);
             ok = (v->voxelize_tris[u] =
-                      program(v, "vct_voxelize_tris", NULL, NULL, NULL, "gi/vct/voxelize.comp", defs[0][u])) &&
-                 (v->voxelize_tiles[u] =
-                      program(v, "vct_voxelize_tiles", NULL, NULL, NULL, "gi/vct/voxelize.comp", defs[1][u]));
+                      program(v, "vct_voxelize_tris", NULL, NULL, NULL, "gi/vct/voxelize.comp", kinds[u])) &&
+                 (v->voxelize_tiles[u] = program(v, "vct_voxelize_tiles", NULL, NULL, NULL, "gi/vct/voxelize.comp", tiles));
+        }
     } else {
         ok = (v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom",
                                     "gi/vct/voxelize.frag", NULL, NULL));
@@ -507,10 +517,12 @@ static void voxelize_raster(VctGi *v, const GiFrame *f)
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
 }
 
-/* Whether a material reads no texture (its programs built with
- * UNTEXTURED: llvmpipe runs the texture code behind a uniform branch), as
- * gpu_scene's untextured draws. */
-static bool material_untextured(const Material *m) { return m->albedo_tex < 0 && m->mr_tex < 0 && !m->alpha_mask; }
+/* Which program voxelizes material `m` (untextured as gpu_scene's
+ * untextured draws). */
+static VoxelizeKind voxelize_kind(const Material *m)
+{
+    return m->alpha_mask ? VOXELIZE_MASKED : m->albedo_tex < 0 && m->mr_tex < 0 ? VOXELIZE_UNTEXTURED : VOXELIZE_OPAQUE;
+}
 
 /* The compute voxelization's sums (voxelize.comp): per clipmap level and
  * submesh a dispatch over its triangles, which list their large ones in
@@ -536,7 +548,7 @@ static void voxelize_compute(VctGi *v, const GiFrame *f)
                 uint32_t first = sm->first_index / 3, count = sm->index_count / 3;
                 if (m->light_index >= 0 || count == 0) /* as the raster path's DRAW_SKIP_EMITTERS */
                     continue;
-                GLuint prog = (pass ? v->voxelize_tiles : v->voxelize_tris)[material_untextured(m) ? 1 : 0];
+                GLuint prog = (pass ? v->voxelize_tiles : v->voxelize_tris)[voxelize_kind(m)];
                 glUseProgram(prog);
                 gpu_scene_bind_material(g, m, prog);
                 uint32_t header = (uint32_t)k * (uint32_t)s->submesh_count + (uint32_t)i;

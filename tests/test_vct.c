@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "test_util.h"
+#include "animation.h"
 #include "gi/vct/vct.h"
 #include "metrics.h"
 #include "reference/pathtracer.h"
@@ -557,6 +558,79 @@ static void compute_equals_raster(void **state)
     masked_quad_scene(&s, true);
     compare_voxelizations(&s, 32, "alpha-masked textured quad", 1e-2);
     scene_free(&s);
+}
+
+/* A 2 m floor (grey) and a red wall 0.6 m tall on it at x = 0.3; the
+ * wall's four vertices start at *wall. */
+static void wall_scene(Scene *s, uint32_t *wall)
+{
+    scene_init(s);
+    int grey = scene_add_material(s, "grey", (vec3){0.5f, 0.5f, 0.5f});
+    int red = scene_add_material(s, "red", (vec3){0.8f, 0.1f, 0.1f});
+    test_add_square(s, grey, (vec3){0.f, 0.f, 0.f}, 2.f);
+    *wall = s->vertex_count;
+    assert_true(scene_add_quad(s, red, (vec3){0.3f, 0.f, -0.5f}, (vec3){0.3f, 0.6f, -0.5f}, (vec3){0.3f, 0.6f, 0.5f},
+                               (vec3){0.3f, 0.f, 0.5f}));
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.3f, -1.f, 0.2f}, .color = {1.f, 1.f, 1.f}};
+    scene_add_light(s, &sun);
+    test_camera_down(&s->camera, (vec3){0.f, 3.f, 0.01f});
+    scene_finalize(s);
+}
+
+/* A moved object revoxelizes to what a cold renderer voxelizes, both
+ * ways: no sample of where it stood stays (the sums persist between
+ * voxelizations, cleared by the resolve behind itself), whether the
+ * opaque voxels fit their list (16³) or overflow it (4³: the resolve then
+ * runs over every voxel). Albedo volumes equal exactly (integer sums). */
+static void moved_object_revoxelizes(void **state)
+{
+    (void)state;
+    for (int m = 0; m < 2; m++) {
+        for (int size = 4; size <= 16; size += 12) {
+            Scene s;
+            uint32_t wall;
+            wall_scene(&s, &wall);
+            GiParams gp = s.gi;
+            gp.vct_size = size;
+            gp.vct_aniso = false;
+            gp.vct_voxelize = m ? VCT_VOXELIZE_COMPUTE : VCT_VOXELIZE_RASTER;
+            Renderer r;
+            vct_renderer(&r, &s, 16, 16, &gp);
+            renderer_frame(&r, &s.camera);
+            bool listed_before;
+            vct_opaque_voxels(r.gi_state, &listed_before);
+            for (uint32_t i = wall; i < wall + 4; i++)
+                s.vertices[i].position[0] -= 0.6f; /* to x = -0.3 */
+            assert_true(renderer_scene_changed(&r, &(SceneChange){SCENE_CHANGED_GEOMETRY, wall, 4}));
+            renderer_frame(&r, &s.camera);
+            bool listed;
+            unsigned opaque = vct_opaque_voxels(r.gi_state, &listed);
+            assert_int_equal(renderer_collect_stats(&r)->voxelizations, 2);
+            size_t n3 = (size_t)size * size * size;
+            float *moved = malloc(sizeof(float) * 4 * n3);
+            assert_non_null(moved);
+            assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, moved));
+            renderer_destroy(&r);
+            int n;
+            float origin[3], voxel;
+            float *cold = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
+            int differ = 0, filled = 0;
+            for (size_t i = 0; i < 4 * n3; i++)
+                differ += moved[i] != cold[i];
+            for (size_t i = 0; i < n3; i++)
+                filled += cold[4 * i + 3] > 0.f;
+            print_message("%s, %d^3: after the wall moved %u opaque voxels (%s, before the move %s), %d filled cold; "
+                          "%d values differ from a cold renderer's\n",
+                          m ? "compute" : "raster", size, opaque, listed ? "listed" : "overflowing the list",
+                          listed_before ? "listed" : "overflowing", filled, differ);
+            assert_true(listed == (size == 16) && listed_before == listed);
+            assert_int_equal(opaque, filled);
+            assert_int_equal(differ, 0);
+            free(moved);
+            free(cold);
+            scene_free(&s);
+        }
+    }
 }
 
 /* ---- Clipmap ------------------------------------------------------------- */
@@ -1564,6 +1638,7 @@ int main(void)
         cmocka_unit_test(voxelizes_once),
         cmocka_unit_test(alpha_masked_texels_are_skipped),
         cmocka_unit_test(compute_equals_raster),
+        cmocka_unit_test(moved_object_revoxelizes),
         cmocka_unit_test(clipmap_follows_the_camera),
         cmocka_unit_test(cornell_against_reference),
         cmocka_unit_test(directional_volumes_composite),

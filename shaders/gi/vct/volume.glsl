@@ -8,8 +8,9 @@
 #error "gi/vct/volume.glsl needs VCT_CLIP_LEVELS (src/gi/vct/vct.c defines it)"
 #endif
 // Passes over the voxels run either over every stacked voxel (4×4×4
-// groups) or, with OPAQUE_LIST, over the opaque-voxel list resolve.comp
-// appends (64 entries a group, dispatched indirectly): vct_voxel_here.
+// groups) or, with OPAQUE_LIST, over the opaque-voxel list the
+// voxelization appends (gi/vct/voxelize.glsl; 64 entries a group,
+// dispatched indirectly): vct_voxel_here.
 
 // A stacked voxel as one list entry, and back (N ≤ 256: x, y in 8 bits,
 // z = level·N + z' in 16).

@@ -82,7 +82,7 @@ typedef struct VctGi {
     GLuint sums;             /* SSBO: uint[8] per voxel, the voxelization's fixed-point sums; all 0 between voxelizations */
     GLuint work;             /* SSBO (--vct-voxelize compute): per level and submesh a header, then the large triangles */
     uint32_t work_headers;   /* headers in `work`: levels × submeshes */
-    GLuint opaque;           /* SSBO: the opaque voxels (resolve.comp), count + indirect dispatch first */
+    GLuint opaque;           /* SSBO: the opaque voxels (gi/vct/voxelize.glsl appends them), count + indirect dispatch first */
     uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
     uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
     GLuint ubo;              /* GpuVctParams */

@@ -533,9 +533,9 @@ static void voxelize_compute(VctGi *v, const GiFrame *f)
     const Scene *s = f->scene;
     const GpuScene *g = f->gpu_scene;
     uint32_t tris = s->index_count / 3, headers = v->work_headers;
-    static const uint32_t empty[4] = {0, 0, 1, 0}; /* no groups yet (z = 1), none listed */
-    for (uint32_t h = 0; h < headers; h++)
-        glNamedBufferSubData(v->work, 16 * (GLintptr)h, 16, empty);
+    static const uint32_t empty[4] = {0, 0, 1, 0}; /* every header: no groups yet (z = 1), none listed */
+    glClearNamedBufferSubData(v->work, GL_RGBA32UI, 0, 16 * (GLsizeiptr)headers, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                              empty);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SCENE_VERTICES, g->vbo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SCENE_INDICES, g->ibo);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_WORK, v->work);

@@ -8,11 +8,11 @@
 #include <string.h>
 #include <sys/resource.h>
 
-#include "metrics.h"
+#include "io/metrics.h"
 #include "test_util.h"
 #include "reference/pathtracer.h"
 #include "reference/sampler.h"
-#include "util.h"
+#include "base/util.h"
 
 /* Mean over every pixel and channel, and its standard error from the
  * per-pixel variances (pixels are independent). */

@@ -16,9 +16,9 @@
 #include <unistd.h>
 
 #include "test_util.h"
-#include "animation.h"
+#include "core/animation.h"
 #include "gi/vct/vct.h"
-#include "metrics.h"
+#include "io/metrics.h"
 #include "reference/pathtracer.h"
 
 /* A renderer with `--gi vct` and hard shadows on `s`. */

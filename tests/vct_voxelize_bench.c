@@ -17,9 +17,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "animation.h"
+#include "core/animation.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 enum { METHODS = 2, MAX_ROUNDS = 64 };
 static const char *const k_methods[METHODS] = {"raster", "compute"};

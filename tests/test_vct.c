@@ -26,7 +26,7 @@ static void vct_renderer(Renderer *r, const Scene *s, int w, int h, const GiPara
 {
     RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_HARD);
     rs.gi = GI_VCT;
-    rs.gi_params = gp ? *gp : s->gi;
+    rs.set.gi = gp ? *gp : s->settings.gi;
     assert_true(renderer_create(r, s, &rs));
 }
 
@@ -97,10 +97,10 @@ static bool tri_box(const double a[3], const double b[3], const double c[3], con
  * triangle comes within 1e-3 voxel of). */
 static void count_holes(const Scene *s, int n, bool conservative, int *holes, int *extras, int *filled)
 {
-    GiParams gp = s->gi;
-    gp.vct_size = n;
-    gp.vct_conservative = conservative;
-    gp.vct_aniso = false;
+    GiParams gp = s->settings.gi;
+    gp.vct.size = n;
+    gp.vct.conservative = conservative;
+    gp.vct.aniso = false;
     int size;
     float origin[3], voxel;
     float *vol = vct_volume_of(s, &gp, VCT_VOLUME_ALBEDO, &size, origin, &voxel);
@@ -245,10 +245,10 @@ static void floors_on_voxel_boundaries(void **state)
     float height[FLOORS], box[FLOORS][4];
     boundary_floors(&s, height, box);
     for (int conservative = 0; conservative < 2; conservative++) {
-        GiParams gp = s.gi;
-        gp.vct_size = 32;
-        gp.vct_conservative = conservative;
-        gp.vct_aniso = false;
+        GiParams gp = s.settings.gi;
+        gp.vct.size = 32;
+        gp.vct.conservative = conservative;
+        gp.vct.aniso = false;
         int n;
         float origin[3], voxel;
         float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
@@ -291,8 +291,8 @@ static void injection_matches_lambert(void **state)
     scene_add_light(&s, &sun);
     test_camera_down(&s.camera, (vec3){0.f, 3.f, 0.01f});
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     int n;
     float origin[3], voxel;
     float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_RADIANCE, &n, origin, &voxel);
@@ -332,10 +332,10 @@ static void moved_clipmap_volumes(int bounces, float **albedo, float **radiance,
     scene_add_light(&s, &sun);
     test_camera_down(&s.camera, (vec3){0.f, 0.3f, 0.01f});
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 16;
-    gp.vct_levels = 2;
-    gp.vct_bounces = bounces;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 16;
+    gp.vct.levels = 2;
+    gp.vct.bounces = bounces;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     Camera cam = s.camera;
@@ -410,8 +410,8 @@ static void voxelizes_once(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 16;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 16;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     renderer_frame(&r, &s.camera);
@@ -457,8 +457,8 @@ static void count_masked_quad(bool masked, int *filled, int *beyond)
 {
     Scene s;
     masked_quad_scene(&s, masked);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     int n;
     float origin[3], voxel;
     float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
@@ -503,10 +503,10 @@ static void compare_voxelizations(const Scene *s, int n, const char *what, doubl
     int size;
     float origin[3], voxel;
     for (int m = 0; m < 2; m++) {
-        GiParams gp = s->gi;
-        gp.vct_size = n;
-        gp.vct_aniso = false;
-        gp.vct_voxelize = m ? VCT_VOXELIZE_COMPUTE : VCT_VOXELIZE_RASTER;
+        GiParams gp = s->settings.gi;
+        gp.vct.size = n;
+        gp.vct.aniso = false;
+        gp.vct.voxelize = m ? VCT_VOXELIZE_COMPUTE : VCT_VOXELIZE_RASTER;
         vol[m][0] = vct_volume_of(s, &gp, VCT_VOLUME_ALBEDO, &size, origin, &voxel);
         vol[m][1] = vct_volume_of(s, &gp, VCT_VOLUME_NORMAL, &size, origin, &voxel);
     }
@@ -590,10 +590,10 @@ static void moved_object_revoxelizes(void **state)
             Scene s;
             uint32_t wall;
             wall_scene(&s, &wall);
-            GiParams gp = s.gi;
-            gp.vct_size = size;
-            gp.vct_aniso = false;
-            gp.vct_voxelize = m ? VCT_VOXELIZE_COMPUTE : VCT_VOXELIZE_RASTER;
+            GiParams gp = s.settings.gi;
+            gp.vct.size = size;
+            gp.vct.aniso = false;
+            gp.vct.voxelize = m ? VCT_VOXELIZE_COMPUTE : VCT_VOXELIZE_RASTER;
             Renderer r;
             vct_renderer(&r, &s, 16, 16, &gp);
             renderer_frame(&r, &s.camera);
@@ -645,9 +645,9 @@ static void clipmap_follows_the_camera(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 16;
-    gp.vct_levels = 3;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 16;
+    gp.vct.levels = 3;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     Camera cam = s.camera;
@@ -698,20 +698,20 @@ static void cornell_against_reference(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     scene_rescale_lights(&s, 0.f);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     ImageF one, full_res, iso, two, none, ob, full, clip;
     test_render_gi(&s, W, H, GI_VCT, &gp, &one);
-    gp.vct_trace_scale = 1;
+    gp.vct.trace_scale = 1;
     test_render_gi(&s, W, H, GI_VCT, &gp, &full_res);
-    gp.vct_trace_scale = s.gi.vct_trace_scale;
-    gp.vct_levels = 2;
+    gp.vct.trace_scale = s.settings.gi.vct.trace_scale;
+    gp.vct.levels = 2;
     test_render_gi(&s, W, H, GI_VCT, &gp, &clip);
-    gp.vct_levels = 1;
-    gp.vct_aniso = false;
+    gp.vct.levels = 1;
+    gp.vct.aniso = false;
     test_render_gi(&s, W, H, GI_VCT, &gp, &iso);
-    gp.vct_aniso = true;
-    gp.vct_bounces = 2;
+    gp.vct.aniso = true;
+    gp.vct.bounces = 2;
     test_render_gi(&s, W, H, GI_VCT, &gp, &two);
     test_render_gi(&s, W, H, GI_NONE, NULL, &none);
     test_reference(&s, W, H, PT_ONE_BOUNCE, 256, &ob);
@@ -724,7 +724,7 @@ static void cornell_against_reference(void **state)
                   "bounce %.4f, 2 bounces %.4f, none %.4f\n",
                   v_ob, i_ob, c_ob, n_ob, v_full, t_full, n_full);
     double f_ob = metric_relmse(&full_res, &ob, NULL, NULL);
-    print_message("--vct-trace-scale %d: relMSE vs one-bounce %.4f, every pixel traced %.4f\n", s.gi.vct_trace_scale,
+    print_message("--vct-trace-scale %d: relMSE vs one-bounce %.4f, every pixel traced %.4f\n", s.settings.gi.vct.trace_scale,
                   v_ob, f_ob);
     assert_true(v_ob < 1.1 * f_ob); /* the upsampling loses (almost) nothing */
     assert_true(c_ob < n_ob);
@@ -826,8 +826,8 @@ static void thin_wall_stops_cones(void **state)
     glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.forward);
     glm_vec3_copy((vec3){0.f, 1.f, 0.f}, s.camera.up);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     renderer_frame(&r, &s.camera);
@@ -895,8 +895,8 @@ static double self_lit_share(float yaw, float tilt, int n)
     test_camera_down(&s.camera, (vec3){0.f, 3.f, 0.01f});
     s.camera.fov_y = glm_rad(50.f);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = n;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = n;
     ImageF vct, none;
     test_render_gi(&s, 48, 48, GI_VCT, &gp, &vct);
     test_render_gi(&s, 48, 48, GI_NONE, NULL, &none);
@@ -997,9 +997,9 @@ static void turned_face_has_no_bands(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 64;
-    gp.vct_trace_scale = 1;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 64;
+    gp.vct.trace_scale = 1;
     ImageF vct, none;
     test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
     test_render_gi(&s, W, W, GI_NONE, NULL, &none);
@@ -1051,8 +1051,8 @@ static void closed_box(void **state)
     s.camera.fov_y = glm_rad(90.f);
     s.camera.znear = 0.01f;
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     ImageF vct, none, ob;
     test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
     test_render_gi(&s, W, W, GI_NONE, NULL, &none);
@@ -1105,10 +1105,10 @@ static void check_directional(int n, int levels)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = n;
-    gp.vct_levels = levels;
-    gp.vct_aniso = true;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = n;
+    gp.vct.levels = levels;
+    gp.vct.aniso = true;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     renderer_frame(&r, &s.camera);
@@ -1228,11 +1228,11 @@ static void cones_see_the_facing_side(void **state)
     test_camera_down(&s.camera, (vec3){0.f, 2.f, 0.01f});
     s.camera.fov_y = glm_rad(60.f);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     double side[2][2]; /* [aniso][left/right]: mean (R − G) left, (G − R) right, over the floor's outer thirds */
     for (int a = 0; a < 2; a++) {
-        gp.vct_aniso = a == 1;
+        gp.vct.aniso = a == 1;
         ImageF img;
         test_render_gi(&s, W, W, GI_VCT, &gp, &img);
         for (int half = 0; half < 2; half++) {
@@ -1271,10 +1271,10 @@ static void specular_cone(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
-    gp.vct_f0 = 0.5f;
-    gp.vct_roughness = 0.3f;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
+    gp.vct.f0 = 0.5f;
+    gp.vct.roughness = 0.3f;
     Renderer r;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
@@ -1290,7 +1290,7 @@ static void specular_cone(void **state)
     assert_true(red_side[0] > 0 && green_side[1] > 0);
     assert_true(rr > 1.5 * rg);
     renderer_destroy(&r);
-    gp.vct_f0 = 0.f;
+    gp.vct.f0 = 0.f;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
     glGetTextureImage(r.specular, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
@@ -1334,8 +1334,8 @@ static void glossy_cornell(void **state)
     Scene s;
     assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/cornell_glossy.json"));
     scene_rescale_lights(&s, 0.f);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     ImageF vct, none, ob;
     test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
     test_render_gi(&s, W, W, GI_NONE, NULL, &none);
@@ -1355,8 +1355,8 @@ static void glossy_cornell(void **state)
      * metal face's reflection is a few pixels of a 64² image and blurred
      * by 32³ voxels: 0.5-1.9× the reference there). */
     enum { WM = 128 };
-    GiParams gm = s.gi;
-    gm.vct_size = 64;
+    GiParams gm = s.settings.gi;
+    gm.vct.size = 64;
     ImageF mv, mn, mob, md;
     test_render_gi(&s, WM, WM, GI_VCT, &gm, &mv);
     test_render_gi(&s, WM, WM, GI_NONE, NULL, &mn);
@@ -1398,8 +1398,8 @@ static void ambient_occlusion(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     Renderer r;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
@@ -1420,7 +1420,7 @@ static void ambient_occlusion(void **state)
     assert_true(lo >= 0 && hi <= 1);
     assert_true(corner < middle - 0.05);
     renderer_destroy(&r);
-    gp.vct_ao = false;
+    gp.vct.ao = false;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
     glGetTextureImage(r.irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
@@ -1500,7 +1500,7 @@ static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, 
     double low = scale > 1 ? 2.0 * 16 * ((w + scale - 1) / scale) * ((h + scale - 1) / scale) : 0;
     double opaque = 4.0 * (4 + levels * n * n * n / VCT_OPAQUE_SHARE); /* the opaque-voxel list */
     double sums = 32.0 * levels * n * n * n;
-    double work = s->gi.vct_voxelize == VCT_VOXELIZE_COMPUTE
+    double work = s->settings.gi.vct.voxelize == VCT_VOXELIZE_COMPUTE
                       ? 4.0 * levels * (4.0 * s->submesh_count + (double)(s->index_count / 3))
                       : 0;
     return (8 * voxels + low + opaque + sums + work + sizeof(GpuVctParams)) / (1024.0 * 1024.0); /* and its UBO */
@@ -1624,7 +1624,7 @@ static void bad_vct_settings(void **state)
     path = test_tmp_file("goodvct.json", "{ \"builtin\": \"cornell\", \"gi\": { \"vct_cones\": 9 } }\n");
     Scene s;
     assert_true(scene_load(&s, path));
-    assert_int_equal(s.gi.vct_cones, VCT_CONES_9);
+    assert_int_equal(s.settings.gi.vct.cones, VCT_CONES_9);
     scene_free(&s);
 }
 

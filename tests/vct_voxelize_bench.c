@@ -67,16 +67,16 @@ int main(int argc, char **argv)
     for (int m = 0; m < METHODS && argc > 5; m++)
         if (strcmp(argv[5], k_methods[m]) == 0)
             first = last = m;
-    int size = argc > 4 && atoi(argv[4]) > 0 ? atoi(argv[4]) : s.gi.vct_size;
+    int size = argc > 4 && atoi(argv[4]) > 0 ? atoi(argv[4]) : s.settings.gi.vct.size;
     Renderer r[METHODS];
     bool made[METHODS] = {false};
     bool ok = true;
     for (int m = first; m <= last && ok; m++) {
         RenderSettings rs = test_settings(&s, w, h, SHADOW_MODE_PCSS);
         rs.gi = GI_VCT;
-        rs.gi_params = s.gi;
-        rs.gi_params.vct_voxelize = m == 0 ? VCT_VOXELIZE_RASTER : VCT_VOXELIZE_COMPUTE;
-        rs.gi_params.vct_size = size;
+        rs.set.gi = s.settings.gi;
+        rs.set.gi.vct.voxelize = m == 0 ? VCT_VOXELIZE_RASTER : VCT_VOXELIZE_COMPUTE;
+        rs.set.gi.vct.size = size;
         ok = made[m] = renderer_create(&r[m], &s, &rs);
         if (ok) {
             renderer_frame(&r[m], &s.camera); /* compiles, voxelizes once */

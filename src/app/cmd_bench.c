@@ -118,7 +118,7 @@ static void bench_args_default(BenchArgs *args)
     ps->threads = cores > 0 ? (int)cores : 1;
     settings_default(&args->base);
     const SettingDesc *vpls = settings_find_key("gi", "vpls");
-    args->base.gi.vpl_count = 16384; /* what the benchmarks use */
+    args->base.gi.vpl.count = 16384; /* what the benchmarks use */
     args->base_given[vpls - settings_table] = true;
 }
 
@@ -637,7 +637,7 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddStringToObject(o, "paper", gi_techniques[e->gi]->paper);
     cJSON_AddStringToObject(o, "overrides", e->overrides);
     cJSON *set = cJSON_AddObjectToObject(o, "settings");
-    Settings s = {e->rs.shadow_params, e->rs.gi_params};
+    Settings s = {e->rs.set.shadow, e->rs.set.gi};
     for (int i = 0; i < settings_count; i++) {
         const SettingDesc *d = &settings_table[i];
         char key[96], val[64];

@@ -260,7 +260,7 @@ static uint64_t box_bytes(int w, int h, int d, int levels)
  * directional chain starts from it), so it has no chain of its own. */
 static int radiance_levels(const GiParams *p, int levels)
 {
-    return p->vct_aniso && p->vct_size >= 2 ? 1 : levels;
+    return p->vct.aniso && p->vct.size >= 2 ? 1 : levels;
 }
 
 /* Entries of the opaque-voxel list: N³·L / VCT_OPAQUE_SHARE. */
@@ -273,21 +273,21 @@ static uint32_t opaque_capacity(int n, int clip)
  * per level and submesh, a slot per level and triangle; 0 for raster. */
 static uint64_t work_words(const GiParams *p, const Scene *s)
 {
-    if (p->vct_voxelize != VCT_VOXELIZE_COMPUTE)
+    if (p->vct.voxelize != VCT_VOXELIZE_COMPUTE)
         return 0;
-    return (uint64_t)p->vct_levels * (4u * (uint64_t)s->submesh_count + s->index_count / 3);
+    return (uint64_t)p->vct.levels * (4u * (uint64_t)s->submesh_count + s->index_count / 3);
 }
 
 /* GPU memory the settings' volumes, opaque list and voxelization buffers
  * hold on `s` (vct_stats' figure). */
 static uint64_t vct_bytes(const GiParams *p, const Scene *s)
 {
-    int n = p->vct_size, clip = p->vct_levels;
+    int n = p->vct.size, clip = p->vct.levels;
     int levels = gl_mip_levels(n, n, n);
     int half = aniso_side(n), slab = aniso_slab(n, levels);
-    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) *
+    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct.bounces > 1 ? 2 : 1) *
                                                                        box_bytes(n, n, n, radiance_levels(p, levels))) +
-                     (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
+                     (p->vct.aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
     uint64_t sums = 32u * (uint64_t)clip * n * n * n;
     return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip)) + sums + 4u * work_words(p, s);
 }
@@ -300,11 +300,11 @@ static bool vct_programs(VctGi *v)
     /* The cone tracers read the directional volumes only when compiled
      * with VCT_ANISO (gi/vct/cone.glsl): llvmpipe runs both sides of a
      * branch on a uniform, fetches included. */
-    const char *cones = p->vct_aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
+    const char *cones = p->vct.aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
     char list_defs[64];
     snprintf(list_defs, sizeof list_defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
     bool ok = true;
-    if (p->vct_voxelize == VCT_VOXELIZE_COMPUTE) {
+    if (p->vct.voxelize == VCT_VOXELIZE_COMPUTE) {
         static const char *const kinds[VOXELIZE_KINDS] = {"#define OPAQUE_DRAW\n", "#define UNTEXTURED\n", ""};
         for (int u = 0; ok && u < VOXELIZE_KINDS; u++) {
             char tiles[64];
@@ -331,7 +331,7 @@ static bool vct_programs(VctGi *v)
     /* Not needed for a frame: without it vct_run bounces over every voxel
      * (the window goes on so; render and bench fail, as for any program
      * that did not build). */
-    if (ok && p->vct_bounces > 1)
+    if (ok && p->vct.bounces > 1)
         v->bounce_list = program(v, "vct_bounce_list", NULL, NULL, NULL, "gi/vct/bounce.comp", list_defs);
     return ok;
 }
@@ -350,10 +350,10 @@ static bool vct_volumes(VctGi *v, const Scene *s)
               (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
               (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, radiance_levels(p, levels), TEX_FILTER_LINEAR,
                                                   "vct.radiance"));
-    if (ok && p->vct_bounces > 1)
+    if (ok && p->vct.bounces > 1)
         ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, radiance_levels(p, levels), TEX_FILTER_LINEAR,
                                                  "vct.radiance2"));
-    for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_AXES; i++)
+    for (int i = 0; ok && p->vct.aniso && n >= 2 && i < ANISO_AXES; i++)
         ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
     ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
@@ -383,17 +383,17 @@ static void vct_params_upload(VctGi *v)
     u->clip_levels = v->clip;
     u->size = n;
     u->levels = v->levels;
-    u->aniso = p->vct_aniso && v->aniso[0] ? 1 : 0;
+    u->aniso = p->vct.aniso && v->aniso[0] ? 1 : 0;
     u->aniso_slab = aniso_slab(n, v->levels);
     float tan_half[VCT_MAX_CONES] = {0};
-    u->cones = vct_cone_set(p->vct_cones, u->cone, tan_half);
+    u->cones = vct_cone_set(p->vct.cones, u->cone, tan_half);
     for (int i = 0; i < u->cones; i++)
         u->cone_aperture[i][0] = tan_half[i];
-    u->step = p->vct_step;
+    u->step = p->vct.step;
     u->ao_range = 0.15f * voxel * (float)n;
-    u->conservative = p->vct_conservative ? 1 : 0;
-    u->roughness = p->vct_roughness;
-    u->f0 = p->vct_f0;
+    u->conservative = p->vct.conservative ? 1 : 0;
+    u->roughness = p->vct.roughness;
+    u->f0 = p->vct.f0;
     u->max_distance = sqrtf(3.f) * voxel * (float)n;
     glNamedBufferSubData(v->ubo, 0, sizeof *u, u);
 }
@@ -401,7 +401,7 @@ static void vct_params_upload(VctGi *v)
 static void *vct_create(const GiCreateInfo *ci)
 {
     const GiParams *p = ci->params;
-    int n = p->vct_size, clip = p->vct_levels;
+    int n = p->vct.size, clip = p->vct.levels;
     if (clip > 1 && (n & (n - 1))) {
         log_error("vct", "--vct-levels %d: the clipmap needs a power-of-two --vct-size (got %d)", clip, n);
         return NULL;
@@ -423,7 +423,7 @@ static void *vct_create(const GiCreateInfo *ci)
     v->levels = gl_mip_levels(n, n, n);
     v->bytes = bytes;
     v->opaque_capacity = opaque_capacity(n, clip);
-    v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
+    v->scale = p->vct.trace_scale > 1 ? p->vct.trace_scale : 1;
     v->width = ci->width;
     v->height = ci->height;
     glm_vec3_copy((float *)ci->scene->bounds_min, v->bmin);
@@ -579,7 +579,7 @@ static void voxelize(VctGi *v, const GiFrame *f)
     glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
-    if (v->params.vct_voxelize == VCT_VOXELIZE_COMPUTE)
+    if (v->params.vct.voxelize == VCT_VOXELIZE_COMPUTE)
         voxelize_compute(v, f);
     else
         voxelize_raster(v, f);
@@ -709,8 +709,8 @@ static bool vct_run(void *state, const GiFrame *f)
         build_mips(v, v->radiance[0]);
         gpu_timer_end(t);
     }
-    GLuint radiance = v->params.vct_bounces > 1 ? v->radiance[1] : v->radiance[0];
-    if (build && v->params.vct_bounces > 1) {
+    GLuint radiance = v->params.vct.bounces > 1 ? v->radiance[1] : v->radiance[0];
+    if (build && v->params.vct.bounces > 1) {
         gpu_timer_begin(t, "vct_bounce");
         /* Over the opaque voxels alone when they fit the list (as the
          * injection): the empty ones keep the direct radiance, copied. */
@@ -738,7 +738,7 @@ static bool vct_run(void *state, const GiFrame *f)
     glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
     glBindTextureUnit(TEX_GB_MATERIAL, f->gbuffer->material);
     glBindTextureUnit(TEX_BRDF_ALBEDO, f->brdf_albedo);
-    glProgramUniform1i(v->trace, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
+    glProgramUniform1i(v->trace, LOC_VCT_AO_OUT, v->params.vct.ao ? 1 : 0);
     glProgramUniform1i(v->trace, LOC_VCT_SCALE, v->scale);
     bool low = v->scale > 1;
     glBindImageTexture(IMG_OUT, low ? v->low_irradiance : f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -750,7 +750,7 @@ static bool vct_run(void *state, const GiFrame *f)
     gpu_timer_begin(t, "vct_upsample");
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glUseProgram(v->upsample);
-    glProgramUniform1i(v->upsample, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
+    glProgramUniform1i(v->upsample, LOC_VCT_AO_OUT, v->params.vct.ao ? 1 : 0);
     glProgramUniform1i(v->upsample, LOC_VCT_SCALE, v->scale);
     glBindTextureUnit(TEX_INPUT, v->low_irradiance);
     glBindTextureUnit(TEX_SPECULAR, v->low_specular);
@@ -801,7 +801,7 @@ bool vct_read_volume(void *state, VctVolume which, float *out)
     VctGi *v = state;
     GLuint tex = which == VCT_VOLUME_ALBEDO   ? v->albedo
                  : which == VCT_VOLUME_NORMAL ? v->normal
-                                              : v->radiance[v->params.vct_bounces > 1 ? 1 : 0];
+                                              : v->radiance[v->params.vct.bounces > 1 ? 1 : 0];
     size_t n3 = (size_t)v->n * v->n * v->n * (size_t)v->clip;
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out);
@@ -833,7 +833,7 @@ bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4])
     if (count <= 0)
         return true;
     if (!v->probe) {
-        const char *cones = v->params.vct_aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
+        const char *cones = v->params.vct.aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
         v->probe = program(v, "vct_probe", NULL, NULL, NULL, "gi/vct/probe.comp", cones);
         if (!v->probe)
             return false; /* logged */
@@ -855,7 +855,7 @@ bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4])
     if (ok) {
         glUseProgram(v->probe);
         glBindBufferBase(GL_UNIFORM_BUFFER, UBO_VCT, v->ubo);
-        bind_volumes(v, v->radiance[v->params.vct_bounces > 1 ? 1 : 0]);
+        bind_volumes(v, v->radiance[v->params.vct.bounces > 1 ? 1 : 0]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, ssbo);
         glProgramUniform1i(v->probe, LOC_VCT_SCALE, count);
         glDispatchCompute((GLuint)(count + 63) / 64, 1, 1);
@@ -873,8 +873,8 @@ bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4])
  * fraction), so the count is logarithmic in the volume's size. */
 static double vct_samples_per_cone(const GiParams *p)
 {
-    double grow = 1.0 + (p->vct_step > 0.f ? p->vct_step : 0.5);
-    return ceil(log((double)p->vct_size) / log(grow)) + 1.0;
+    double grow = 1.0 + (p->vct.step > 0.f ? p->vct.step : 0.5);
+    return ceil(log((double)p->vct.size) / log(grow)) + 1.0;
 }
 
 /* Traced pixels × (diffuse cones + the specular one) × samples per cone ×
@@ -887,14 +887,14 @@ static double vct_cost(const GiCostQuery *q)
 {
     const GiParams *p = q->params;
     static const int cones[] = {6, 9, 16};
-    int nc = cones[p->vct_cones >= 0 && p->vct_cones < 3 ? p->vct_cones : 0];
-    double fetches = p->vct_aniso ? 3.0 : 1.0, per_cone = vct_samples_per_cone(p) * fetches;
-    int scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
-    int levels = p->vct_levels > 1 ? p->vct_levels : 1;
-    double voxels = pow(p->vct_size, 3) * levels;
+    int nc = cones[p->vct.cones >= 0 && p->vct.cones < 3 ? p->vct.cones : 0];
+    double fetches = p->vct.aniso ? 3.0 : 1.0, per_cone = vct_samples_per_cone(p) * fetches;
+    int scale = p->vct.trace_scale > 1 ? p->vct.trace_scale : 1;
+    int levels = p->vct.levels > 1 ? p->vct.levels : 1;
+    double voxels = pow(p->vct.size, 3) * levels;
     double e = q->pixels / (scale * scale) * (nc + 1) * per_cone + q->pixels + voxels * 9.0;
-    if (p->vct_bounces > 1)
-        e += 40.0 * p->vct_size * p->vct_size * levels * 2.0 * nc * per_cone;
+    if (p->vct.bounces > 1)
+        e += 40.0 * p->vct.size * p->vct.size * levels * 2.0 * nc * per_cone;
     return e * GI_COST_VOLUME_EVAL;
 }
 

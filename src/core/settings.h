@@ -37,7 +37,7 @@ typedef enum ShadowPcfFilter { SHADOW_PCF_FILTER_DISK = 0, SHADOW_PCF_FILTER_GRI
 
 /* Visibility of the bounce (SPEC §9): how RSM and VPL gathers test it. */
 typedef enum GiVisibilityMethod { GI_VISIBILITY_ISM = 0 } GiVisibilityMethod;
-/* Imperfect shadow maps' texels per side (GiParams.ism_size: an index). */
+/* Imperfect shadow maps' texels per side (GiParams.visibility.ism_size: an index). */
 typedef enum IsmSize { ISM_SIZE_16 = 0, ISM_SIZE_32 = 1, ISM_SIZE_64 = 2 } IsmSize;
 
 typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;

@@ -19,6 +19,7 @@ static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 static const char *const k_lpv_inject[] = {"compute", "points", NULL};
 static const char *const k_lpv_propagation[] = {"directional", "faces", NULL};
 static const char *const k_vct_cones[] = {"6", "9", "16", NULL};
+static const char *const k_vct_voxelize[] = {"raster", "compute", NULL};
 static const char *const k_area_lights[] = {"exact", "point", NULL};
 static const char *const k_pcf_filters[] = {"disk", "grid", NULL};
 static const char *const k_visibility_methods[] = {"ism", NULL};
@@ -144,6 +145,9 @@ const SettingDesc settings_table[] = {
      "vct: ambient occlusion from the diffuse cones (--out-ao)"},
     {"gi", "vct_conservative", "--vct-conservative", VALUE_BOOL, GI(vct.conservative), 0, 0, 1, 1, NULL,
      "vct: conservative voxelization (every voxel a triangle touches); off: fragment centres only"},
+    {"gi", "vct_voxelize", "--vct-voxelize", VALUE_CHOICE, GI(vct.voxelize), 0, 0, 1, 1, k_vct_voxelize,
+     "vct: voxelize in compute (a thread per triangle, large ones split into tiles of columns) or by rasterizing "
+     "each triangle along its dominant axis; the same voxels"},
     {"gi", "vct_roughness", "--vct-roughness", VALUE_FLOAT, GI(vct.roughness), 0, 0, 1, 0.3, NULL,
      "vct: with --vct-f0 > 0, the GGX perceptual roughness of every surface's specular cone"},
     {"gi", "vct_f0", "--vct-f0", VALUE_FLOAT, GI(vct.f0), 0, 0, 1, 0, NULL,

@@ -41,6 +41,8 @@ typedef enum GiVisibilityMethod { GI_VISIBILITY_ISM = 0 } GiVisibilityMethod;
 typedef enum IsmSize { ISM_SIZE_16 = 0, ISM_SIZE_32 = 1, ISM_SIZE_64 = 2 } IsmSize;
 
 typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
+/* How vct voxelizes: triangles projected and rasterized, or in compute. */
+typedef enum VctVoxelize { VCT_VOXELIZE_RASTER = 0, VCT_VOXELIZE_COMPUTE = 1 } VctVoxelize;
 /* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
  * shared/gpu_types.h). */
 typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
@@ -127,6 +129,7 @@ typedef struct VctParams {
     int trace_scale;   /* cones traced at every Nth pixel per axis, upsampled by depth and normal */
     bool ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
     bool conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
+    int voxelize;      /* VctVoxelize: compute (a thread per triangle, large ones in tiles of columns) or raster */
     float roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
     float f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
 } VctParams;

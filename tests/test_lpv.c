@@ -1258,17 +1258,22 @@ static void cornell_against_reference(void **state)
 
 /* ---- Sponza ---------------------------------------------------------------- */
 
-/* The shipped scenes/sponza_nave.json (its LPV grid: 32³, 1 m cells) at 160×90
- * against the path tracer's one bounce (16 spp at pixel centres): the
- * indirect ratio of the whole image within [0.75, 1.33], and no 16×9 block
- * whose reference bounce is above the median's beyond 3×. Measured 1.04,
- * blocks 0.20 .. 2.48 (320×180, 64 spp: 1.03, 0.21 .. 2.21). The lowest
- * blocks are the sunlit floor and curtains, where the path tracer's bounce
- * holds glossy paths no diffuse bounce has: rsm reads 0.26 there, and with
- * every material Lambertian lpv's lowest block is 0.35 (scripts/
- * gi-regions.sh). The paper's faces read the whole image 3.9×, blocks up to
- * 18× (the sunlit floor lighting its shaded surroundings). Skipped where
- * the asset is not present (as test_sponza.c). */
+/* The shipped scenes/sponza_nave.json (its LPV: 3 cascades of 32³ around
+ * the camera, the coarsest on the scene) at 160×90 against the path
+ * tracer's one bounce (16 spp at pixel centres): the indirect ratio of the
+ * whole image within [0.75, 1.33], and every 16×9 block whose reference
+ * bounce is above the median within [0.3, 3]. Measured 1.14, blocks
+ * 0.35 .. 2.20 (the CLI with PCSS 0.33 .. 2.42; 320×180, 64 spp: 1.13,
+ * 0.36 .. 2.21; scripts/gi-regions.sh). With one grid (1 m cells; the
+ * scene file before issue 44's second round) 1.04, blocks 0.20 .. 2.48
+ * (320×180: 0.21 .. 2.22):
+ * the lowest blocks are the bottom rows, surfaces within a few metres of
+ * the camera beside the sunlit floor (the curtains' feet, a column's
+ * base), which the 1 m cells under-light; the cascades' finer cells near
+ * the camera lift them (2 cascades: 0.31). The paper's faces read the
+ * whole image 3.9×, blocks up to 18× (the sunlit floor lighting its shaded
+ * surroundings). Skipped where the asset is not present (as
+ * test_sponza.c). */
 static void sponza_against_one_bounce(void **state)
 {
     (void)state;
@@ -1294,7 +1299,7 @@ static void sponza_against_one_bounce(void **state)
     print_message("Sponza %dx%d: indirect ratio against one-bounce %.3f; 16x9 blocks above the median %.3f .. %.3f\n",
                   W, H, whole, lo, hi);
     assert_true(whole > 0.75 && whole < 1.33);
-    assert_true(hi < 3.0);
+    assert_true(lo > 0.3 && hi < 3.0);
     image_free(&lpv);
     image_free(&none);
     image_free(&ob);

@@ -888,25 +888,9 @@ static bool write_csv(const char *dir, const cJSON *doc)
 static int bench_parse_args(int argc, char **argv, BenchArgs *args)
 {
     bench_args_default(args);
-    CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt;
-    while ((opt = cli_next(&a))) {
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            cmd_bench_help();
-            return -1;
-        }
-        int took = options_take(k_bench_options, opt, &a, args);
-        if (!took)
-            took = options_take_setting(opt, &a, &args->base, args->base_given);
-        if (took < 0)
-            return 2;
-        if (!took) {
-            options_unknown(opt, k_bench_options, true);
-            return 2;
-        }
-    }
-    if (cli_failed(&a))
-        return 2;
+    int rc = options_parse(argc, argv, k_bench_options, args, &args->base, args->base_given, cmd_bench_help);
+    if (rc)
+        return rc;
     if (!args->out) {
         usage_error(NULL, "--out DIR is required");
         return 2;

@@ -19,6 +19,7 @@ static const char *const k_filter_biases[] = {"receiver-plane", "legacy", NULL};
 static const char *const k_lpv_inject[] = {"compute", "points", NULL};
 static const char *const k_lpv_propagation[] = {"directional", "faces", NULL};
 static const char *const k_vct_cones[] = {"6", "9", "16", NULL};
+static const char *const k_vct_voxelize[] = {"raster", "compute", NULL};
 static const char *const k_area_lights[] = {"exact", "point", NULL};
 static const char *const k_pcf_filters[] = {"disk", "grid", NULL};
 static const char *const k_visibility_methods[] = {"ism", NULL};

@@ -37,10 +37,12 @@ typedef enum ShadowPcfFilter { SHADOW_PCF_FILTER_DISK = 0, SHADOW_PCF_FILTER_GRI
 
 /* Visibility of the bounce (SPEC §9): how RSM and VPL gathers test it. */
 typedef enum GiVisibilityMethod { GI_VISIBILITY_ISM = 0 } GiVisibilityMethod;
-/* Imperfect shadow maps' texels per side (GiParams.ism_size: an index). */
+/* Imperfect shadow maps' texels per side (GiParams.visibility.ism_size: an index). */
 typedef enum IsmSize { ISM_SIZE_16 = 0, ISM_SIZE_32 = 1, ISM_SIZE_64 = 2 } IsmSize;
 
 typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
+/* How vct voxelizes: triangles projected and rasterized, or in compute. */
+typedef enum VctVoxelize { VCT_VOXELIZE_RASTER = 0, VCT_VOXELIZE_COMPUTE = 1 } VctVoxelize;
 /* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
  * shared/gpu_types.h). */
 typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;

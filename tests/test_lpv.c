@@ -1289,6 +1289,7 @@ static void sponza_against_one_bounce(void **state)
     Scene s;
     assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/sponza_nave.json"));
     assert_int_equal(s.settings.gi.lpv.size, 32);
+    assert_int_equal(s.settings.gi.lpv.cascades, 3);
     ImageF lpv, none, ob, direct;
     test_render_gi(&s, W, H, GI_LPV, NULL, &lpv);
     test_render_gi(&s, W, H, GI_NONE, NULL, &none);

@@ -456,8 +456,7 @@ static void masked_quad_scene(Scene *s, bool masked)
 static void count_masked_quad(bool masked, int *filled, int *beyond)
 {
     Scene s;
-    assert_true(scene_load(&s, test_tmp_file(file, obj)));
-    assert_int_equal(s.materials[s.submeshes[0].material].alpha_mask, masked);
+    masked_quad_scene(&s, masked);
     GiParams gp = s.settings.gi;
     gp.vct.size = 32;
     int n;

@@ -149,6 +149,9 @@ const SettingDesc settings_table[] = {
      "vct: ambient occlusion from the diffuse cones (--out-ao)"},
     {"gi", "vct_conservative", "--vct-conservative", VALUE_BOOL, GI(vct.conservative), 0, 0, 1, 1, NULL,
      "vct: conservative voxelization (every voxel a triangle touches); off: fragment centres only"},
+    {"gi", "vct_voxelize", "--vct-voxelize", VALUE_CHOICE, GI(vct.voxelize), 0, 0, 1, 1, k_vct_voxelize,
+     "vct: voxelize in compute (a thread per triangle, large ones split into tiles of columns) or by rasterizing "
+     "each triangle along its dominant axis; the same voxels"},
     {"gi", "vct_roughness", "--vct-roughness", VALUE_FLOAT, GI(vct.roughness), 0, 0, 1, 0.3, NULL,
      "vct: with --vct-f0 > 0, the GGX perceptual roughness of every surface's specular cone"},
     {"gi", "vct_f0", "--vct-f0", VALUE_FLOAT, GI(vct.f0), 0, 0, 1, 0, NULL,

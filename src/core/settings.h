@@ -130,6 +130,7 @@ typedef struct VctParams {
     int trace_scale;   /* cones traced at every Nth pixel per axis, upsampled by depth and normal */
     bool ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
     bool conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
+    int voxelize;      /* VctVoxelize: compute (a thread per triangle, large ones in tiles of columns) or raster */
     float roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
     float f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
 } VctParams;

@@ -233,11 +233,10 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
         redo || rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
     bool shading_resized = rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
                            rs->height * renderer_ssaa(rs) != old.height * renderer_ssaa(&old);
-    /* Temporal accumulation is the renderer's pass, not the technique's. */
-    GiParams gp_new = rs->set.gi, gp_old = old.set.gi;
-    gp_new.frame.temporal = gp_old.frame.temporal = false;
-    gp_new.frame.temporal_clamp = gp_old.frame.temporal_clamp = false;
-    bool technique = redo || rs->gi != old.gi || memcmp(&gp_new, &gp_old, sizeof gp_new) != 0;
+    /* The frame family (indirect scale, temporal accumulation) is the
+     * renderer's, not the technique's: the families before it are. */
+    bool technique =
+        redo || rs->gi != old.gi || memcmp(&rs->set.gi, &old.set.gi, offsetof(GiParams, frame)) != 0;
     LightStageDesc ld = light_desc(rs);
     bool lights = !r->lights.made || memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
     bool timer = rs->timings != old.timings || rs->timing_sync != old.timing_sync;

@@ -273,13 +273,23 @@ static uint32_t opaque_capacity(int n, int clip)
  * per level and submesh, a slot per level and triangle; 0 for raster. */
 static uint64_t work_words(const GiParams *p, const Scene *s)
 {
+    if (p->vct.voxelize != VCT_VOXELIZE_COMPUTE)
+        return 0;
+    return (uint64_t)p->vct.levels * (4u * (uint64_t)s->submesh_count + s->index_count / 3);
+}
+
+/* GPU memory the settings' volumes, opaque list and voxelization buffers
+ * hold on `s` (vct_stats' figure). */
+static uint64_t vct_bytes(const GiParams *p, const Scene *s)
+{
     int n = p->vct.size, clip = p->vct.levels;
     int levels = gl_mip_levels(n, n, n);
     int half = aniso_side(n), slab = aniso_slab(n, levels);
     uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct.bounces > 1 ? 2 : 1) *
                                                                        box_bytes(n, n, n, radiance_levels(p, levels))) +
                      (p->vct.aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
-    return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip));
+    uint64_t sums = 32u * (uint64_t)clip * n * n * n;
+    return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip)) + sums + 4u * work_words(p, s);
 }
 
 /* Every program the settings call for; false after the first that failed

@@ -155,11 +155,20 @@ static bool spot_sample(const Light *l, const vec3 o, const float u[2], LightSam
     return true;
 }
 
+/* |quad_u × quad_v|: quad l's area at size 1 (light_quad_area's factor),
+ * inline: the direct light needs it at every vertex. */
+static float quad_area1(const Light *l)
+{
+    const float *u = l->quad_u, *v = l->quad_v;
+    vec3 n = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
 /* Solid-angle pdf of light-sampling a point at distance dist on quad l's
  * emitter, seen at cosine cos_l from its normal: area pdf 1/A converted. */
 static float quad_pdf(const Light *l, float dist, float cos_l)
 {
-    return dist * dist / (cos_l * light_quad_area(l));
+    return dist * dist / (cos_l * quad_area1(l) * l->size * l->size);
 }
 
 /* Quad: one-sided radiance L; intensity L·A·cos θ at size 0 (a point at
@@ -168,21 +177,21 @@ static float quad_pdf(const Light *l, float dist, float cos_l)
 static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
 {
     ls->pdf = 0.f;
-    vec3 lp, out_dir, inten;
+    vec3 lp;
     glm_vec3_copy((float *)l->position, lp);
     if (l->size > 0.f) {
         glm_vec3_muladds((float *)l->quad_u, (u[0] - 0.5f) * l->size, lp);
         glm_vec3_muladds((float *)l->quad_v, (u[1] - 0.5f) * l->size, lp);
     }
     toward(o, lp, ls);
-    glm_vec3_negate_to(ls->wi, out_dir);
-    float cos_l = glm_vec3_dot(out_dir, (float *)l->direction);
+    float cos_l = -glm_vec3_dot(ls->wi, (float *)l->direction);
     if (cos_l <= 0.f)
         return false;
-    light_intensity(l, out_dir, inten); /* L·A·cos_l at size 1 */
-    glm_vec3_scale(inten, 1.f / (ls->dist * ls->dist), ls->li);
+    /* light_intensity's L·A·cos_l at size 1, over dist². */
+    float a1 = quad_area1(l), inv_d2 = 1.f / (ls->dist * ls->dist);
+    glm_vec3_scale((float *)l->color, a1 * cos_l * inv_d2, ls->li);
     if (l->size > 0.f)
-        ls->pdf = quad_pdf(l, ls->dist, cos_l);
+        ls->pdf = ls->dist * ls->dist / (cos_l * a1 * l->size * l->size);
     return true;
 }
 
@@ -333,7 +342,11 @@ static void emitted(Job *j, const PtHit *h, const vec3 d, float pdf_bsdf, bool m
 
 /* ---------------------------------------------------------------- paths */
 
-static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_t *rays, vec3 L)
+/* The radiance arriving at o0 from direction -d0 along one path of `smp`'s
+ * sample; `first` is the ray's closest hit when it was traced already (a
+ * packet of camera rays; NULL if it missed), `traced` says so. */
+static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, bool traced, Sampler *smp,
+                     uint64_t *rays, vec3 L)
 {
     const PtSettings *s = j->set;
     const PtScene *ps = &j->ps;
@@ -349,8 +362,13 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
     for (int depth = 1; depth <= s->max_depth; depth++) {
         PtHit h;
         (*rays)++;
-        if (!pt_intersect(ps, o, d, INFINITY, &h))
+        if (depth == 1 && traced) {
+            if (!first)
+                break;
+            h = *first;
+        } else if (!pt_intersect(ps, o, d, INFINITY, &h)) {
             break;
+        }
         /* Emission reaching the previous vertex is part of its direct light. */
         int owner = depth == 1 ? 1 : depth - 1;
         if (owner >= min_direct && owner <= max_direct) {
@@ -410,24 +428,40 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
     }
 }
 
-/* Samples [s0, s1) of every pixel of one tile, added to the job's sums. */
+/* Samples [s0, s1) of every pixel of one tile, added to the job's sums:
+ * row by row, each sample index of a row's pixels at once, their camera
+ * rays traced as one packet (pt_intersect_packet). A pixel's samples are
+ * added in index order, so the sums do not depend on the tiling. */
 static void render_tile(Job *j, int tile, uint64_t *rays)
 {
+    _Static_assert((int)TILE <= (int)PT_PACKET, "a tile's row is one packet");
     const PtSettings *s = j->set;
     int tx = tile % j->tiles_x, ty = tile / j->tiles_x;
-    for (int y = ty * TILE; y < (ty + 1) * TILE && y < s->height; y++)
-        for (int x = tx * TILE; x < (tx + 1) * TILE && x < s->width; x++) {
-            size_t pix = (size_t)y * s->width + x;
-            Sampler smp = sampler_make(s->sampler, s->seed, pix);
-            double *sum = j->sum + 3 * pix, *sum2 = j->sum2 + 3 * pix;
-            for (int k = j->s0; k < j->s1; k++) {
-                sampler_start(&smp, (uint32_t)k);
+    int x0 = tx * TILE, x1 = x0 + TILE < s->width ? x0 + TILE : s->width;
+    const float *cam = j->scene->camera.position;
+    Sampler smp[TILE];
+    vec3 d[TILE];
+    PtHit hits[TILE];
+    bool hit[TILE];
+    for (int y = ty * TILE; y < (ty + 1) * TILE && y < s->height; y++) {
+        size_t row = (size_t)y * s->width;
+        for (int x = x0; x < x1; x++)
+            smp[x - x0] = sampler_make(s->sampler, s->seed, row + x);
+        for (int k = j->s0; k < j->s1; k++) {
+            for (int x = x0; x < x1; x++) {
+                Sampler *sm = &smp[x - x0];
+                sampler_start(sm, (uint32_t)k);
                 float jit[2] = {0.5f, 0.5f};
                 if (s->pixel_jitter)
-                    sampler_2d(&smp, jit);
-                vec3 d, L;
-                camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d);
-                radiance(j, j->scene->camera.position, d, &smp, rays, L);
+                    sampler_2d(sm, jit);
+                camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d[x - x0]);
+            }
+            pt_intersect_packet(&j->ps, cam, (const vec3 *)d, x1 - x0, hits, hit);
+            for (int x = x0; x < x1; x++) {
+                int i = x - x0;
+                vec3 L;
+                radiance(j, cam, d[i], hit[i] ? &hits[i] : NULL, true, &smp[i], rays, L);
+                double *sum = j->sum + 3 * (row + x), *sum2 = j->sum2 + 3 * (row + x);
                 for (int c = 0; c < 3; c++) {
                     float v = isfinite(L[c]) ? L[c] : 0.f;
                     sum[c] += v;
@@ -435,6 +469,7 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
                 }
             }
         }
+    }
 }
 
 /* Renders tiles of the running pass until none is left or the pass is

@@ -258,6 +258,39 @@ bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtH
     return true;
 }
 
+void pt_intersect_packet(const PtScene *ps, const vec3 o, const vec3 *d, int n, PtHit *h, bool *hit)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    struct RTCRayHit16 rh;
+    int valid[PT_PACKET];
+    for (int i = 0; i < PT_PACKET; i++) {
+        int k = i < n ? i : 0; /* inactive lanes: a copy of ray 0, masked off */
+        valid[i] = i < n ? -1 : 0;
+        rh.ray.org_x[i] = o[0];
+        rh.ray.org_y[i] = o[1];
+        rh.ray.org_z[i] = o[2];
+        rh.ray.dir_x[i] = d[k][0];
+        rh.ray.dir_y[i] = d[k][1];
+        rh.ray.dir_z[i] = d[k][2];
+        rh.ray.tnear[i] = 0.f;
+        rh.ray.tfar[i] = INFINITY;
+        rh.ray.time[i] = 0.f;
+        rh.ray.mask[i] = 0xffffffffu;
+        rh.ray.id[i] = (unsigned)i;
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, ps->rtc, &ctx, &rh);
+    for (int i = 0; i < n; i++) {
+        hit[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (hit[i])
+            fill_hit(ps, d[i], rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], &h[i]);
+    }
+}
+
 typedef struct AllHitsContext {
     struct RTCIntersectContext base; /* first member: Embree passes &base */
     const PtScene *ps;

@@ -59,6 +59,8 @@ typedef struct PtJob {
     int s0, s1;                /* the running pass: sample indices [s0, s1) */
     const atomic_int *cancel;  /* the running pass: no new tile once non-zero (may be NULL) */
     pthread_t *threads;        /* room for set->threads − 1 helpers (owned) */
+    struct MatShade *mats;     /* per material, made at each pass's start (owned; NULL: none) */
+    int mats_count, mats_cap;  /* materials in `mats` (0: shade_make computes every one), its room */
     CameraRayBasis cam;        /* the scene camera's rays at this size */
 } Job;
 
@@ -224,9 +226,43 @@ typedef struct Shade {
 
 static float dot3(const vec3 a, const vec3 b) { return glm_vec3_dot((float *)a, (float *)b); }
 
-static void shade_make(const PtScene *ps, const PtHit *h, const vec3 wo, Shade *sh)
+/* A material's BRDF where it does not vary over the surface (no texture):
+ * made once per pass rather than at every vertex. */
+typedef struct MatShade {
+    BrdfSurface surf;
+    bool constant;    /* no albedo or metallicRoughness texture: surf holds everywhere */
+} MatShade;
+
+/* The job's MatShade of every material of the scene as it is now (the
+ * progressive renderer changes materials between passes); with no room for
+ * them, none (shade_make then computes each). */
+static void materials_refresh(Job *j)
 {
-    pt_surface(ps, h, &sh->surf);
+    int n = j->scene->material_count;
+    if (n > j->mats_cap) {
+        MatShade *m = realloc(j->mats, (size_t)n * sizeof *m);
+        if (!m) {
+            j->mats_count = 0;
+            return;
+        }
+        j->mats = m;
+        j->mats_cap = n;
+    }
+    for (int i = 0; i < n; i++) {
+        const Material *m = &j->scene->materials[i];
+        MatShade *c = &j->mats[i];
+        c->constant = m->albedo_tex < 0 && m->mr_tex < 0;
+        brdf_surface(m->albedo, m->metallic, m->roughness, m->specular, &c->surf);
+    }
+    j->mats_count = n;
+}
+
+static void shade_make(const Job *j, const PtHit *h, const vec3 wo, Shade *sh)
+{
+    if (h->material < j->mats_count && j->mats[h->material].constant)
+        sh->surf = j->mats[h->material].surf;
+    else
+        pt_surface(&j->ps, h, &sh->surf);
     glm_vec3_copy((float *)h->ns, sh->n);
     onb(sh->n, sh->t, sh->b);
     sh->wo[0] = dot3(wo, sh->t);
@@ -292,12 +328,23 @@ static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, 
 static bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi, float *pdf, vec3 weight)
 {
     float p = sh->spec_prob;
-    float u0 = p <= 0.f ? 1.f : p >= 1.f ? 0.f : sampler_1d(smp);
     float u[2];
-    sampler_2d(smp, u);
     vec3 l;
-    if (!brdf_sample_p(&sh->surf, sh->wo, p, u0, u[0], u[1], l))
-        return false;
+    if (sh->lambert) {
+        /* brdf_sample_p's cosine lobe, the same numbers, inline. */
+        sampler_2d(smp, u);
+        float r = sqrtf(u[0]), phi = 2.f * GLM_PIf * u[1];
+        l[0] = r * cosf(phi);
+        l[1] = r * sinf(phi);
+        l[2] = sqrtf(1.f - u[0] > 0.f ? 1.f - u[0] : 0.f);
+        if (!(l[2] > 0.f))
+            return false;
+    } else {
+        float u0 = p <= 0.f ? 1.f : p >= 1.f ? 0.f : sampler_1d(smp);
+        sampler_2d(smp, u);
+        if (!brdf_sample_p(&sh->surf, sh->wo, p, u0, u[0], u[1], l))
+            return false;
+    }
     for (int i = 0; i < 3; i++)
         wi[i] = l[0] * sh->t[i] + l[1] * sh->b[i] + l[2] * sh->n[i];
     glm_vec3_normalize(wi);
@@ -381,7 +428,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, b
         vec3 wo;
         glm_vec3_negate_to(d, wo);
         Shade sh;
-        shade_make(ps, &h, wo, &sh);
+        shade_make(j, &h, wo, &sh);
         pt_offset(h.p, h.ng, o); /* where this vertex's shadow rays and bounce start */
         if (depth >= min_direct) {
             vec3 e;
@@ -404,7 +451,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, b
             for (int k = 0; k < n; k++) {
                 Shade s2;
                 vec3 e, o2;
-                shade_make(ps, &hits[k], wo2, &s2);
+                shade_make(j, &hits[k], wo2, &s2);
                 pt_offset(hits[k].p, hits[k].ng, o2);
                 direct_light(j, &hits[k], &s2, o2, smp, false, rays, e);
                 glm_vec3_muladd(t1, e, L);
@@ -559,6 +606,7 @@ void pt_job_destroy(Job *j)
     free(j->sum);
     free(j->sum2);
     free(j->threads);
+    free(j->mats);
     pt_scene_destroy(&j->ps);
     free(j);
 }
@@ -590,6 +638,7 @@ bool pt_job_pass(Job *j, int s0, int s1, int nthreads, bool background, const at
     j->cancel = cancel;
     atomic_store(&j->next_tile, 0);
     atomic_store(&j->tiles_done, 0);
+    materials_refresh(j);
     int helpers = nthreads - 1, max = j->set->threads > 1 ? j->set->threads - 1 : 0;
     helpers = helpers < 0 ? 0 : helpers > max ? max : helpers;
     int started = 0;

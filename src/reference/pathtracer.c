@@ -407,20 +407,22 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, b
     glm_vec3_zero(L);
     float pdf_prev = -1.f;
     for (int depth = 1; depth <= s->max_depth; depth++) {
-        PtHit h;
+        PtHit traced_hit;
+        const PtHit *hp = &traced_hit;
         (*rays)++;
         if (depth == 1 && traced) {
             if (!first)
                 break;
-            h = *first;
-        } else if (!pt_intersect(ps, o, d, INFINITY, &h)) {
+            hp = first;
+        } else if (!pt_intersect(ps, o, d, INFINITY, &traced_hit)) {
             break;
         }
+        const PtHit *h = hp;
         /* Emission reaching the previous vertex is part of its direct light. */
         int owner = depth == 1 ? 1 : depth - 1;
         if (owner >= min_direct && owner <= max_direct) {
             vec3 e;
-            emitted(j, &h, d, depth == 1 ? -1.f : pdf_prev, mis, e);
+            emitted(j, h, d, depth == 1 ? -1.f : pdf_prev, mis, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (depth > max_direct)
@@ -428,11 +430,11 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, b
         vec3 wo;
         glm_vec3_negate_to(d, wo);
         Shade sh;
-        shade_make(j, &h, wo, &sh);
-        pt_offset(h.p, h.ng, o); /* where this vertex's shadow rays and bounce start */
+        shade_make(j, h, wo, &sh);
+        pt_offset(h->p, h->ng, o); /* where this vertex's shadow rays and bounce start */
         if (depth >= min_direct) {
             vec3 e;
-            direct_light(j, &h, &sh, o, smp, mis, rays, e);
+            direct_light(j, h, &sh, o, smp, mis, rays, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (novis) {
@@ -440,7 +442,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, b
              * the BSDF-sampled ray contributes its direct light. */
             vec3 dir, t1, w;
             float pdf;
-            if (!bsdf_sample(&h, &sh, smp, dir, &pdf, w))
+            if (!bsdf_sample(h, &sh, smp, dir, &pdf, w))
                 break;
             glm_vec3_mul(thr, w, t1);
             vec3 wo2;
@@ -467,7 +469,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, b
             glm_vec3_scale(thr, 1.f / p, thr);
         }
         vec3 w;
-        if (!bsdf_sample(&h, &sh, smp, d, &pdf_prev, w))
+        if (!bsdf_sample(h, &sh, smp, d, &pdf_prev, w))
             break;
         glm_vec3_mul(thr, w, thr); /* f·cos/pdf; Lambertian: ρ */
         if (thr[0] <= 0.f && thr[1] <= 0.f && thr[2] <= 0.f)

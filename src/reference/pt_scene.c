@@ -98,6 +98,12 @@ static void tri_record(const Scene *s, uint32_t tri, uint32_t m, PtTri *t)
         t->uv[k][1] = v[k]->uv[1];
     }
     t->material = m;
+    /* Equal vertex normals: the interpolated normal normalised is n[0]
+     * normalised, made once here (the Cornell box's every triangle). */
+    if (memcmp(t->n[0], t->n[1], sizeof t->n[0]) == 0 && memcmp(t->n[0], t->n[2], sizeof t->n[0]) == 0) {
+        t->flat = 1;
+        glm_vec3_normalize(t->n[0]);
+    }
 }
 
 bool pt_scene_create(PtScene *ps, const Scene *s)
@@ -231,9 +237,13 @@ static void fill_hit(const PtScene *ps, const vec3 d, float t, unsigned geom, un
         h->p[i] = tr->p0[i] + bu * tr->e1[i] + bv * tr->e2[i];
     glm_vec3_copy((float *)tr->ng, h->ng);
     float w = 1.f - bu - bv;
-    for (int i = 0; i < 3; i++)
-        h->ns[i] = w * tr->n[0][i] + bu * tr->n[1][i] + bv * tr->n[2][i];
-    glm_vec3_normalize(h->ns);
+    if (tr->flat) {
+        glm_vec3_copy((float *)tr->n[0], h->ns);
+    } else {
+        for (int i = 0; i < 3; i++)
+            h->ns[i] = w * tr->n[0][i] + bu * tr->n[1][i] + bv * tr->n[2][i];
+        glm_vec3_normalize(h->ns);
+    }
     h->front = glm_vec3_dot(h->ng, (float *)d) < 0.f;
     if (!h->front)
         glm_vec3_negate(h->ng);

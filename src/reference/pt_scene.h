@@ -24,7 +24,8 @@ typedef struct PtTri {
     float n[3][3];    /* vertex normals */
     float uv[3][2];   /* vertex texture coordinates */
     uint32_t material;
-    uint32_t pad_[4];
+    uint32_t flat;    /* 1: the three vertex normals are equal (n[0] is then unit: the shading normal everywhere) */
+    uint32_t pad_[3];
 } PtTri;
 _Static_assert(sizeof(PtTri) == 128, "PtTri is two cache lines");
 

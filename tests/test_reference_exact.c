@@ -14,6 +14,7 @@
 #include "reference/pathtracer.h"
 #include "reference/pt_scene.h"
 #include "reference/sampler.h"
+#include "reference/sampling.h"
 #include "util.h"
 
 /* Mean over every pixel and channel, and its standard error from the
@@ -396,6 +397,24 @@ static void packet_hits_equal_single_rays(void **state)
     scene_free(&s);
 }
 
+/* sincos_2pi (the cosine lobe's angle, without libm) against double
+ * precision sin and cos at every sampler number u = i/2^24: within 2e-7
+ * (float's rounding of values near 1 is 6e-8; a wrong octant or series
+ * term is off by far more). */
+static void sincos_2pi_is_accurate(void **state)
+{
+    (void)state;
+    double worst = 0;
+    for (uint32_t i = 0; i < (1u << 24); i += 7) {
+        float u = (float)i * (1.f / 16777216.f), s, c;
+        sincos_2pi(u, &s, &c);
+        double phi = 2 * GLM_PI * (double)u;
+        worst = fmax(worst, fmax(fabs(s - sin(phi)), fabs(c - cos(phi))));
+    }
+    print_message("sincos_2pi: worst error %.3g\n", worst);
+    assert_true(worst < 2e-7);
+}
+
 /* Root-mean-square difference over every pixel and channel. */
 static double rmse(const ImageF *a, const ImageF *b)
 {
@@ -591,6 +610,7 @@ int main(void)
         cmocka_unit_test(room_far_from_origin),
         cmocka_unit_test(sobol_pairs_are_nets),
         cmocka_unit_test(packet_hits_equal_single_rays),
+        cmocka_unit_test(sincos_2pi_is_accurate),
         cmocka_unit_test(sobol_beats_independent),
         cmocka_unit_test(samplers_deterministic),
         cmocka_unit_test(independent_passes_differ),

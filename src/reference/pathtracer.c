@@ -331,11 +331,12 @@ static bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi, 
     float u[2];
     vec3 l;
     if (sh->lambert) {
-        /* brdf_sample_p's cosine lobe, the same numbers, inline. */
+        /* brdf_sample_p's cosine lobe, inline, its cos and sin without libm. */
         sampler_2d(smp, u);
-        float r = sqrtf(u[0]), phi = 2.f * GLM_PIf * u[1];
-        l[0] = r * cosf(phi);
-        l[1] = r * sinf(phi);
+        float r = sqrtf(u[0]), cphi, sphi;
+        sincos_2pi(u[1], &sphi, &cphi);
+        l[0] = r * cphi;
+        l[1] = r * sphi;
         l[2] = sqrtf(1.f - u[0] > 0.f ? 1.f - u[0] : 0.f);
         if (!(l[2] > 0.f))
             return false;
@@ -347,7 +348,10 @@ static bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi, 
     }
     for (int i = 0; i < 3; i++)
         wi[i] = l[0] * sh->t[i] + l[1] * sh->b[i] + l[2] * sh->n[i];
-    glm_vec3_normalize(wi);
+    /* The cosine lobe's l is unit to a few ulps (r² + z² = 1) and so is the
+     * frame: only the specular lobe's reflection needs normalising. */
+    if (!sh->lambert)
+        glm_vec3_normalize(wi);
     float c = dot3(wi, sh->n);
     if (c <= 0.f || dot3(wi, h->ng) <= 0.f)
         return false;

@@ -167,10 +167,11 @@ static float quad_area1(const Light *l)
 }
 
 /* Solid-angle pdf of light-sampling a point at distance dist on quad l's
- * emitter, seen at cosine cos_l from its normal: area pdf 1/A converted. */
-static float quad_pdf(const Light *l, float dist, float cos_l)
+ * emitter (area at size 1: a1), seen at cosine cos_l from its normal: area
+ * pdf 1/A converted. */
+static float quad_pdf(const Light *l, float a1, float dist, float cos_l)
 {
-    return dist * dist / (cos_l * quad_area1(l) * l->size * l->size);
+    return dist * dist / (cos_l * a1 * l->size * l->size);
 }
 
 /* Quad: one-sided radiance L; intensity L·A·cos θ at size 0 (a point at
@@ -193,7 +194,7 @@ static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSam
     float a1 = quad_area1(l), inv_d2 = 1.f / (ls->dist * ls->dist);
     glm_vec3_scale((float *)l->color, a1 * cos_l * inv_d2, ls->li);
     if (l->size > 0.f)
-        ls->pdf = ls->dist * ls->dist / (cos_l * a1 * l->size * l->size);
+        ls->pdf = quad_pdf(l, a1, ls->dist, cos_l);
     return true;
 }
 
@@ -386,7 +387,7 @@ static void emitted(Job *j, const PtHit *h, const vec3 d, float pdf_bsdf, bool m
         float cos_l = -glm_vec3_dot((float *)d, (float *)l->direction);
         if (cos_l <= 0.f)
             return;
-        w = power_heuristic(pdf_bsdf, quad_pdf(l, h->t, cos_l));
+        w = power_heuristic(pdf_bsdf, quad_pdf(l, quad_area1(l), h->t, cos_l));
     }
     glm_vec3_scale((float *)m->emission, w, out);
 }
@@ -412,16 +413,15 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, b
     float pdf_prev = -1.f;
     for (int depth = 1; depth <= s->max_depth; depth++) {
         PtHit traced_hit;
-        const PtHit *hp = &traced_hit;
+        const PtHit *h = &traced_hit;
         (*rays)++;
         if (depth == 1 && traced) {
             if (!first)
                 break;
-            hp = first;
+            h = first;
         } else if (!pt_intersect(ps, o, d, INFINITY, &traced_hit)) {
             break;
         }
-        const PtHit *h = hp;
         /* Emission reaching the previous vertex is part of its direct light. */
         int owner = depth == 1 ? 1 : depth - 1;
         if (owner >= min_direct && owner <= max_direct) {

@@ -4,8 +4,8 @@
  * decoded image is also checked for non-finite pixels and written back as
  * PFM when finite (the writers' checks). */
 #include "fuzz_util.h"
-#include "image.h"
-#include "log.h"
+#include "io/image.h"
+#include "base/log.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {

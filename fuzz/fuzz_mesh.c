@@ -2,8 +2,8 @@
  * scene_load_mesh. The first byte picks the format (OBJ, glTF, GLB, PLY);
  * the rest is the file. */
 #include "fuzz_util.h"
-#include "log.h"
-#include "scene.h"
+#include "base/log.h"
+#include "core/scene.h"
 
 int LLVMFuzzerInitialize(int *argc, char ***argv)
 {

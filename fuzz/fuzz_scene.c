@@ -8,11 +8,11 @@
 #include <string.h>
 
 #include "fuzz_util.h"
-#include "gl_context.h"
-#include "log.h"
-#include "render_options.h"
-#include "renderer.h"
-#include "scene.h"
+#include "gl/gl_context.h"
+#include "base/log.h"
+#include "app/render_options.h"
+#include "frame/renderer.h"
+#include "core/scene.h"
 
 static GlContext *g_gl;
 

@@ -4,7 +4,7 @@
 # can be checked against an independent unbiased renderer
 # (scripts/crosscheck-cycles.sh runs both and compares them).
 #
-# The scene as rtgi builds it (src/scene_cornell.c, src/scene.c):
+# The scene as rtgi builds it (src/core/scene_cornell.c, src/core/scene.c):
 #   - every face of the facts, millimetres to metres, a Lambertian diffuse
 #     BSDF with the facts' derived linear-sRGB albedo;
 #   - the light quad lowered 1 mm below the ceiling, emitting the facts'
@@ -155,7 +155,7 @@ def cornell_from_facts(scene, facts):
 def from_rtgi_scene(scene, doc):
     """The subset of rtgi's scene format this script knows: "quads"
     (vertices, albedo), quad "lights" (position, direction, radiance, u, v,
-    size: the emitter rtgi builds, src/scene.c) and "camera" (position,
+    size: the emitter rtgi builds, src/core/scene.c) and "camera" (position,
     target or forward, up, fov_y_deg). Anything else is an error."""
     known = {"quads", "lights", "camera", "exposure"}
     extra = set(doc) - known

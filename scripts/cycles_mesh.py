@@ -3,7 +3,7 @@
 # can be checked against an independent renderer on textured, alpha-masked
 # geometry (scripts/crosscheck-cycles.sh runs both and compares them).
 #
-# The scene as rtgi builds it (src/scene_load.c, src/scene.c), from the
+# The scene as rtgi builds it (src/core/scene_load.c, src/core/scene.c), from the
 # scene file and the glTF file, not from rtgi's code:
 #   - the mesh through Blender's own glTF importer, turned back to glTF's
 #     +y up and placed by "mesh_scale" and "mesh_translate" (rtgi: T·S·node);

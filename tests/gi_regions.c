@@ -17,7 +17,7 @@
 #include <string.h>
 
 #include "test_util.h"
-#include "metrics.h"
+#include "io/metrics.h"
 
 #define MIN_PIXELS 40 /* as test_fidelity.c */
 

@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gl_resources.h"
-#include "metrics.h"
+#include "gl/gl_resources.h"
+#include "io/metrics.h"
 #include "reference/pathtracer.h"
 #include "test_util.h"
 

@@ -11,11 +11,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "animation.h"
+#include "core/animation.h"
 #include "gi/vct/vct.h"
-#include "log.h"
-#include "metrics.h"
-#include "renderer.h"
+#include "base/log.h"
+#include "io/metrics.h"
+#include "frame/renderer.h"
 #include "test_util.h"
 
 #define TMP RTGI_TEST_TMP

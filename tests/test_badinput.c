@@ -29,10 +29,10 @@
 /* Rows leave trailing fields (fsize_limit, file lengths) at zero. */
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 
-#include "json_util.h"
-#include "log.h"
+#include "base/json_util.h"
+#include "base/log.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 typedef enum FileKind {
     K_TEXT = 0,  /* content as given (len bytes, or strlen) */
@@ -432,7 +432,7 @@ static const Case k_cases[] = {
     {"probe_json_fifo", {{"p.json", K_FIFO}}, {"probe", "--map-size", "64", "--json", "@p.json"}, 1,
      "p.json: output is a FIFO, not a regular file"},
     {"compare_exposure_zero", {{"a.pfm", K_PFM8}, {"b.pfm", K_PFM8}}, {"compare", "@a.pfm", "@b.pfm", "--exposure", "0"}, 2,
-     "--exposure: 0 is out of range"},
+     "--exposure: '0' is out of range"},
     /* strtod's other forms: hex, blanks, inf (settings had taken 0x10 as 16,
      * where --spp refused it) */
     {"setting_hex", {{0}}, {"render", "--size", "8x8", "--rsm-samples", "0x10", "--out", "@out/r.png"}, 2,
@@ -442,7 +442,7 @@ static const Case k_cases[] = {
     {"exposure_hex_float", {{0}}, {"render", "--size", "8x8", "--exposure", "0x1p1", "--out", "@out/r.png"}, 2,
      "--exposure: '0x1p1' is not a number"},
     {"render_exposure_zero", {{0}}, {"render", "--size", "8x8", "--exposure", "0", "--out", "@out/r.png"}, 2,
-     "--exposure: 0 is out of range"},
+     "--exposure: '0' is out of range"},
     /* ---- compare inputs ---- */
     /* ---- outputs that name one file, or an input ---- */
     {"render_out_is_png", {{NULL}}, {"render", "--size", "8x8", "--out", "@out/r.png", "--png", "@out/r.png"}, 2,

@@ -19,9 +19,9 @@
 
 #include <cjson/cJSON.h>
 
-#include "report_html.h"
+#include "io/report_html.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 typedef DIR DirStream; /* DIR is the output directory below */
 

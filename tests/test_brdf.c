@@ -1,4 +1,4 @@
-/* test_brdf.c — the BRDF of src/brdf.c and shaders/common/brdf.glsl, and the
+/* test_brdf.c — the BRDF of src/core/brdf.c and shaders/common/brdf.glsl, and the
  * quad lights' polygon irradiance (common/lights.glsl), against analytic
  * answers, numerical integration and each other (issue 13):
  *   - χ² goodness of fit of GGX visible-normal sampling against its pdf
@@ -22,11 +22,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "brdf.h"
-#include "metrics.h"
+#include "core/brdf.h"
+#include "io/metrics.h"
 #include "reference/pt_scene.h"
 #include "reference/rng.h"
-#include "shader.h"
+#include "gl/shader.h"
 #include "shared/gpu_types.h"
 #include "test_util.h"
 

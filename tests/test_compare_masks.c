@@ -8,9 +8,9 @@
 
 #include <cjson/cJSON.h>
 
-#include "metrics.h"
+#include "io/metrics.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 /* A reference of constant c; the test adds ±d in a checkerboard (noise
  * that averages out over 2×2 blocks) and a bias b. */

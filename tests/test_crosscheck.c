@@ -7,7 +7,7 @@
 #include <math.h>
 
 #include "test_util.h"
-#include "metrics.h"
+#include "io/metrics.h"
 #include "reference/pathtracer.h"
 
 enum { W = 128, H = 128 };

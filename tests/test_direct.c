@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "metrics.h"
+#include "io/metrics.h"
 
 #include "test_util.h"
 

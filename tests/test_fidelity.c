@@ -17,7 +17,7 @@
 #include <string.h>
 
 #include "test_util.h"
-#include "metrics.h"
+#include "io/metrics.h"
 
 #define W 128
 #define H 128

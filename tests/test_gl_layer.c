@@ -12,12 +12,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "gl_resources.h"
-#include "gpu_timer.h"
-#include "log.h"
-#include "shader.h"
+#include "gl/gl_resources.h"
+#include "gl/gpu_timer.h"
+#include "base/log.h"
+#include "gl/shader.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 /* Highest GL name the census looks at: far above what these tests create. */
 #define MAX_NAME 4096u

@@ -16,7 +16,7 @@
 #include <openexr.h>
 
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 static const char *tmp(const char *name)
 {

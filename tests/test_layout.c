@@ -8,10 +8,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "light_stage.h"
-#include "passes/pass_direct.h"
-#include "scene.h"
-#include "shader.h"
+#include "gpu/light_stage.h"
+#include "frame/pass_direct.h"
+#include "core/scene.h"
+#include "gl/shader.h"
 #include "shared/gpu_types.h"
 #include "test_util.h"
 

@@ -4,9 +4,9 @@
  * objects counted by name). */
 #include <string.h>
 
-#include "gl_resources.h"
-#include "metrics.h"
-#include "renderer.h"
+#include "gl/gl_resources.h"
+#include "io/metrics.h"
+#include "frame/renderer.h"
 #include "test_util.h"
 
 enum { W = 40, H = 32, MAX_NAME = 8192 };

@@ -21,7 +21,7 @@
 
 #include "test_util.h"
 #include "gi/lpv/lpv.h"
-#include "metrics.h"
+#include "io/metrics.h"
 #include "reference/pathtracer.h"
 
 #define LPV_CORNELL_BOUND 0.012 /* relMSE; see cornell_against_reference */

@@ -3,9 +3,9 @@
 #include <math.h>
 
 #include "test_util.h"
-#include "camera.h"
-#include "passes/pass_direct.h"
-#include "shadow_frame.h"
+#include "core/camera.h"
+#include "frame/pass_direct.h"
+#include "gpu/shadow_frame.h"
 
 static const vec3 k_min = {-1, -1, -1}, k_max = {1, 1, 1};
 

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "test_util.h"
-#include "metrics.h"
+#include "io/metrics.h"
 
 static void fill(ImageF *img, int w, int h, float r, float g, float b)
 {

@@ -7,10 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gpu_timer.h"
-#include "probe.h"
+#include "gl/gpu_timer.h"
+#include "gpu/probe.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 static void probe_measures_and_round_trips(void **state)
 {

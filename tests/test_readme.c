@@ -21,7 +21,7 @@
 #include <unistd.h>
 
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 #define SCRATCH RTGI_TEST_TMP "/readme"
 

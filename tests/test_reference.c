@@ -5,8 +5,8 @@
 
 #include "test_util.h"
 #include "reference/pathtracer.h"
-#include "camera.h"
-#include "util.h"
+#include "core/camera.h"
+#include "base/util.h"
 #include <stdio.h>
 #include <stdlib.h>
 

@@ -8,14 +8,14 @@
 #include <string.h>
 #include <sys/resource.h>
 
-#include "metrics.h"
+#include "io/metrics.h"
 #include "test_util.h"
-#include "camera.h"
+#include "core/camera.h"
 #include "reference/pathtracer.h"
 #include "reference/pt_scene.h"
 #include "reference/sampler.h"
 #include "reference/sampling.h"
-#include "util.h"
+#include "base/util.h"
 
 /* Mean over every pixel and channel, and its standard error from the
  * per-pixel variances (pixels are independent). */

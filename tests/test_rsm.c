@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "test_util.h"
-#include "metrics.h"
+#include "io/metrics.h"
 #include "reference/pathtracer.h"
 
 static void cornell_point(Scene *s)

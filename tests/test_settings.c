@@ -8,24 +8,25 @@
 #include <string.h>
 
 #include "gi/gi.h"
-#include "render_options.h"
-#include "settings.h"
+#include "app/commands.h"
+#include "app/render_options.h"
+#include "core/settings.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 /* A value for row d, different from the default and inside the range. */
 static void pick_value(const SettingDesc *d, char *cli, size_t cap, char *json, size_t jcap)
 {
     switch (d->type) {
-    case SETTING_FLAG:
+    case VALUE_FLAG:
         snprintf(cli, cap, "%s", "");
         snprintf(json, jcap, "true");
         break;
-    case SETTING_BOOL:
+    case VALUE_BOOL:
         snprintf(cli, cap, "%s", d->def != 0 ? "off" : "on");
         snprintf(json, jcap, "%s", d->def != 0 ? "false" : "true");
         break;
-    case SETTING_ENUM: {
+    case VALUE_CHOICE: {
         int count = 0;
         while (d->choices[count])
             count++;
@@ -34,11 +35,11 @@ static void pick_value(const SettingDesc *d, char *cli, size_t cap, char *json, 
         snprintf(json, jcap, "\"%s\"", d->choices[other]);
         break;
     }
-    case SETTING_PAIR:
+    case VALUE_PAIR:
         snprintf(cli, cap, "%.0fx%.0f", d->min, d->max);
         snprintf(json, jcap, "[%.0f, %.0f]", d->min, d->max);
         break;
-    case SETTING_FLOAT: {
+    case VALUE_FLOAT: {
         double v = d->min + 0.37 * (d->max - d->min);
         snprintf(cli, cap, "%.9g", v);
         snprintf(json, jcap, "%.9g", v);
@@ -67,7 +68,7 @@ static void every_setting_round_trips(void **state)
     settings_default(&def);
     for (int i = 0; i < settings_count; i++) {
         const SettingDesc *d = &settings_table[i];
-        bool single = d->type == SETTING_ENUM && d->choices[0] && !d->choices[1];
+        bool single = d->type == VALUE_CHOICE && d->choices[0] && !d->choices[1];
         char cli[64], json[64], body[512];
         pick_value(d, cli, sizeof cli, json, sizeof json);
         snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key, json);
@@ -84,8 +85,8 @@ static void every_setting_round_trips(void **state)
         assert_true(scene_load(&plain, "cornell"));
         render_options_init(&o, false);
         char *argv[3] = {(char *)d->option, cli, NULL};
-        int argc = d->type == SETTING_FLAG ? 1 : 2;
-        assert_int_equal(render_options_parse(&o, argc, argv, render_options_help), 0);
+        int argc = d->type == VALUE_FLAG ? 1 : 2;
+        assert_int_equal(render_options_parse(&o, argc, argv, cmd_render_help), 0);
         render_options_settings(&o, &plain, &rs_cli);
 
         Settings a = {rs_file.shadow_params, rs_file.gi_params}, b = {rs_cli.shadow_params, rs_cli.gi_params};
@@ -98,7 +99,7 @@ static void every_setting_round_trips(void **state)
         /* Nothing else differs between the two paths. */
         assert_memory_equal(&a.gi, &b.gi, sizeof a.gi);
         assert_memory_equal(&a.shadow, &b.shadow, sizeof a.shadow);
-        if (d->type == SETTING_BOOL) { /* a switch also as the command line writes it: "on", "off" */
+        if (d->type == VALUE_BOOL) { /* a switch also as the command line writes it: "on", "off" */
             Scene from_word;
             snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": \"%s\" } }\n", d->group,
                      d->key, cli);
@@ -123,14 +124,14 @@ static void out_of_range_is_rejected_by_both(void **state)
     int checked = 0;
     for (int i = 0; i < settings_count; i++) {
         const SettingDesc *d = &settings_table[i];
-        if (d->type != SETTING_INT && d->type != SETTING_UINT && d->type != SETTING_FLOAT &&
-            d->type != SETTING_PAIR)
+        if (d->type != VALUE_INT && d->type != VALUE_UINT && d->type != VALUE_FLOAT &&
+            d->type != VALUE_PAIR)
             continue;
         for (int end = 0; end < 2; end++) {
-            double step = d->type == SETTING_FLOAT ? fmax(fabs(end ? d->max : d->min) * 0.5, 1e-3) : 1.0;
+            double step = d->type == VALUE_FLOAT ? fmax(fabs(end ? d->max : d->min) * 0.5, 1e-3) : 1.0;
             double v = end ? d->max + step : d->min - step;
             char cli[64], json[96], body[512], key[128];
-            if (d->type == SETTING_PAIR) {
+            if (d->type == VALUE_PAIR) {
                 snprintf(cli, sizeof cli, "%.0fx%.0f", d->min, v);
                 snprintf(json, sizeof json, "[%.0f, %.0f]", d->min, v);
             } else {

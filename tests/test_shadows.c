@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "log.h"
-#include "metrics.h"
+#include "base/log.h"
+#include "io/metrics.h"
 #include "test_util.h"
 
 enum { CW = 192, CH = 192 };

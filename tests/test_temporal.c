@@ -10,10 +10,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "animation.h"
-#include "metrics.h"
-#include "metrics_temporal.h"
-#include "renderer.h"
+#include "core/animation.h"
+#include "io/metrics.h"
+#include "io/metrics_temporal.h"
+#include "frame/renderer.h"
 #include "test_util.h"
 
 /* A w×h image of one value. */

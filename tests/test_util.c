@@ -9,9 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "brdf.h"
-#include "camera.h"
-#include "util.h"
+#include "core/brdf.h"
+#include "core/camera.h"
+#include "base/util.h"
 
 static GlContext *g_test_gl;
 

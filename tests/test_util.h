@@ -10,11 +10,11 @@
 
 #include <cmocka.h>
 
-#include "gl_context.h"
-#include "image.h"
+#include "gl/gl_context.h"
+#include "io/image.h"
 #include "reference/pathtracer.h"
-#include "renderer.h"
-#include "scene.h"
+#include "frame/renderer.h"
+#include "core/scene.h"
 
 /* cmocka group setup/teardown that create and destroy a GL context. */
 int test_gl_setup(void **state);

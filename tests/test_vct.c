@@ -17,7 +17,7 @@
 
 #include "test_util.h"
 #include "gi/vct/vct.h"
-#include "metrics.h"
+#include "io/metrics.h"
 #include "reference/pathtracer.h"
 
 /* A renderer with `--gi vct` and hard shadows on `s`. */

@@ -26,9 +26,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "metrics.h"
+#include "io/metrics.h"
 #include "test_util.h"
-#include "util.h"
+#include "base/util.h"
 
 enum { W = 192, H = 216, MAX_PASSES = 32, PANEL = 360 /* VIEW_PANEL_WIDTH */ };
 /* The script's slow frame: the render thread sleeps this long first. */

@@ -8,8 +8,8 @@
 #include <string.h>
 
 #include "test_util.h"
-#include "metrics.h"
-#include "light_stage.h"
+#include "io/metrics.h"
+#include "gpu/light_stage.h"
 #include "shared/hash.h" /* hash_u32: the hash of ξ (common/vpl_record.glsl) */
 
 enum { W = 64, H = 64 };

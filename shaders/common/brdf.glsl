@@ -1,4 +1,4 @@
-// brdf.glsl — the one BRDF of rtgi, identical to src/brdf.c (see brdf.h for
+// brdf.glsl — the one BRDF of rtgi, identical to src/core/brdf.c (see brdf.h for
 // the formulas); tests/test_brdf.c checks both agree to 1e-5. Needs
 // common/math.glsl.
 //   f(v, l) = T·ρ_d/π + D·V·F(v·h), T = (1 − F(n·v))(1 − F(n·l)) / (1 − F0),
@@ -64,7 +64,7 @@ vec3 brdf_diffuse_irradiance_weight(vec3 f0, float n_dot_v)
 
 // Directional albedo of the GGX lobe, ∫ f_s cosθ dω = F0·A + F90·B: what
 // the lobe returns of light that arrives evenly from the hemisphere. A and
-// B from the table src/brdf.c computes for this BRDF (brdf_albedo_table,
+// B from the table src/core/brdf.c computes for this BRDF (brdf_albedo_table,
 // bound at TEX_BRDF_ALBEDO by the passes that use it: x = n·v, y =
 // perceptual roughness on a grid holding both ends: texel centre i is
 // i/(N − 1); linear filtering).

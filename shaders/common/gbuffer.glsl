@@ -13,7 +13,7 @@
 //            0.2% of the largest channel, saturating at 65408 where half
 //            floats overflowed to infinity at 65504). ρ_d and F0 follow
 //            from them by brdf_surface, the same function every renderer
-//            uses (src/brdf.c).
+//            uses (src/core/brdf.c).
 // 32 bytes per pixel, two render targets: five targets of 48 bytes
 // (RGBA32F position, four RGBA16F) cost Sponza's G-buffer pass a quarter
 // of its time on llvmpipe and every pass that read them a fetch per target.

@@ -1,5 +1,5 @@
 // lights.glsl — the light model; identical to light_intensity() in
-// src/scene.c, which the path tracer uses. Change both together.
+// src/core/scene.c, which the path tracer uses. Change both together.
 
 // FLAT_UNIFORMS (the direct-light programs, pass_direct.c): the light block
 // reaches the fragment shader as a flat input that the vertex shader copied

@@ -36,7 +36,7 @@ void basis(vec3 n, out vec3 t, out vec3 b)
 int div_small(int a, int b) { return int((float(a) + 0.5) / float(b)); }
 ivec2 div_small(ivec2 a, ivec2 b) { return ivec2((vec2(a) + 0.5) / vec2(b)); }
 
-// Luminance of linear Rec. 709 RGB (src/image.h's luminance).
+// Luminance of linear Rec. 709 RGB (src/io/image.h's luminance).
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // hash_u32: the 32-bit integer hash C shares (shared/hash.h).

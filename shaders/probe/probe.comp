@@ -95,11 +95,11 @@ void main()
 {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy);
     int layer = int(gl_GlobalInvocationID.z);
-    // Every layer (src/probe.c grows the dispatch by layers until it lasts
+    // Every layer (src/gpu/probe.c grows the dispatch by layers until it lasts
     // long enough to time) reads in layer 0's pattern, shifted across the map.
     vec2 uv = fract((vec2(px) + 0.5) / float(GRID) + float(layer) * vec2(0.6180340, 0.3819660));
     vec3 x = vec3(uv, 0.3), n = vec3(0.0, 0.0, 1.0), e = vec3(0.0);
-    // The packed maps' frame (src/probe.c writes them in the unit box).
+    // The packed maps' frame (src/gpu/probe.c writes them in the unit box).
     RsmTexelFrame f;
     f.box_min = vec3(0.0);
     f.box_step = vec3(1.0 / RSM_POS_MAX);

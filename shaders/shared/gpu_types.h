@@ -44,7 +44,7 @@
 #define TEX_SHADOW_CUBE 2
 #define TEX_GB_SURFACE 3  /* G-buffer RGBA32UI: position bits, octahedral normal (common/gbuffer.glsl) */
 #define TEX_GB_MATERIAL 4 /* G-buffer RGBA32UI: base colour, roughness, emission, metallic, specular weight */
-#define TEX_BRDF_ALBEDO 5 /* RG32F BRDF_ALBEDO_N²: the GGX lobe's directional albedo terms A, B (src/brdf.c) */
+#define TEX_BRDF_ALBEDO 5 /* RG32F BRDF_ALBEDO_N²: the GGX lobe's directional albedo terms A, B (src/core/brdf.c) */
 #define TEX_HDR 7
 #define TEX_RSM 8        /* RGBA32UI: position, normal, flux packed (common/rsm_texel.glsl) */
 #define TEX_PROBE_MAP 8  /* rtgi probe: its maps k = 0..3 at 8 + k (3: the packed RSM texels); the probe binds nothing else */

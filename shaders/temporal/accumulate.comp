@@ -1,5 +1,5 @@
 // temporal/accumulate.comp — temporal accumulation of the indirect
-// irradiance (src/passes/pass_temporal.c, `--temporal on`). Per pixel with
+// irradiance (src/frame/pass_temporal.c, `--temporal on`). Per pixel with
 // a surface:
 //   1. its world position (the G-buffer's, exact) projected by the last
 //      frame's camera: where it was on screen (the motion vector);

@@ -1,6 +1,6 @@
 // test/brdf.comp — evaluates common/brdf.glsl and common/lights.glsl's
 // polygon_irradiance on inputs from tests/test_brdf.c, which compares them
-// with src/brdf.c and with analytic irradiance.
+// with src/core/brdf.c and with analytic irradiance.
 // Case i reads 6 vec4 from `cases` and writes one vec4 to `results`:
 //   mode 0 (BRDF): n, v, l, (ρ_d rgb, roughness), (F0 rgb, –), – → (f rgb, –)
 //   mode 1 (polygon): x, n, p0, p1, p2, p3 → (E/L, –, –, –)

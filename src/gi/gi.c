@@ -7,20 +7,12 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "gl_resources.h"
+#include "gl/gl_resources.h"
 
 const GiTechnique *const gi_techniques[] = {
-    &gi_none,
-    &gi_rsm,
-    &gi_rsm_interp,
-    &gi_rsm_interleaved,
-    &gi_vpl_all,
-    &gi_vpl_clamped,
-    &gi_vpl_slc,
-    &gi_vpl_interleaved,
-    &gi_vpl_metalights,
-    &gi_lpv,
-    &gi_vct,
+#define GI_ROW_ADDRESS(mode, row) &row,
+    GI_TECHNIQUE_LIST(GI_ROW_ADDRESS)
+#undef GI_ROW_ADDRESS
     NULL,
 };
 
@@ -128,6 +120,16 @@ const GiTechnique gi_none = {
     .summary = "direct light only",
     .needs = none_needs,
 };
+
+void gi_print_vpl_stats(const GiStats *st, double pixels, FILE *out)
+{
+    fprintf(out, "vpl_count: %u\n", st->vpl_count);
+    fprintf(out, "vpl_evaluations: %llu\n", (unsigned long long)st->vpl_evaluations);
+    fprintf(out, "vpl_evaluations_per_pixel: %.1f\n", (double)st->vpl_evaluations / pixels);
+    fprintf(out, "vpl_candidates: %llu\n", (unsigned long long)st->vpl_candidates);
+    if (st->tile_overflow)
+        fprintf(out, "vpl_tile_overflow: %u\n", st->tile_overflow);
+}
 
 void gi_stats_add_gather(GiStats *st, const char *name, uint64_t evaluations)
 {

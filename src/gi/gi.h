@@ -20,14 +20,15 @@
 #include <epoxy/gl.h>
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
-#include "gpu_scene.h"
-#include "gpu_timer.h"
-#include "light_stage.h"
-#include "scene.h"
-#include "shader.h"
+#include "gpu/gpu_scene.h"
+#include "gl/gpu_timer.h"
+#include "gpu/light_stage.h"
+#include "core/scene.h"
+#include "gl/shader.h"
 #include "shared/gpu_types.h"
-#include "targets.h"
+#include "gpu/targets.h"
 
 /* A pass that evaluates samples or VPLs per pixel, named as its GPU timer:
  * `--timings` prints each one's evaluations/s and its fraction of the
@@ -94,7 +95,17 @@ enum {
     GI_HAS_SPECULAR = 1u << 0,
     GI_EXHAUSTIVE = 1u << 1, /* brute force, the check of the others: not in bench's default list */
     GI_VISIBILITY = 1u << 2, /* tests the bounce's visibility with --gi-visibility on */
+    GI_READS_TWIN = 1u << 3, /* its gathers have a reads-only twin (GiParams.gather_reads_only; --probe) */
+    GI_AO = 1u << 4,         /* writes ambient visibility for --out-ao (GiParams.vct_ao) */
 };
+
+/* What a cost model is asked (gi_cost_evaluations). */
+typedef struct GiCostQuery {
+    const struct GiTechnique *row;
+    const GiParams *params;
+    const Scene *scene;
+    double pixels; /* shading pixels */
+} GiCostQuery;
 
 typedef struct GiTechnique {
     const char *name;        /* the --gi value */
@@ -112,7 +123,42 @@ typedef struct GiTechnique {
     bool (*run)(void *state, const GiFrame *f);
     void (*stats)(void *state, const GiFrame *f, GiStats *out);
     void (*destroy)(void *state);
+    /* Work of one frame in gather evaluations: an upper bound for estimates
+     * before it runs (gi_cost_evaluations; NULL: none). */
+    double (*cost)(const GiCostQuery *q);
+    /* Its own lines of the --timings report from `st` (NULL: none);
+     * `pixels` are the frame's shading pixels. */
+    void (*print_stats)(const GiStats *st, double pixels, FILE *out);
 } GiTechnique;
+
+/* The technique table, in --gi order: one line per technique, whose row
+ * (GiTechnique `row`) lives in the technique's own file. The GiMode enum,
+ * the table and the rows' declarations are made from this list; nothing
+ * else outside the technique's folder names it (docs/developing.md). */
+#define GI_TECHNIQUE_LIST(X)                                                                                     \
+    X(GI_NONE, gi_none)                       /* direct light only */                                            \
+    X(GI_RSM, gi_rsm)                         /* full-resolution RSM gather */                                   \
+    X(GI_RSM_INTERP, gi_rsm_interp)           /* low-res gather + screen-space interpolation */                  \
+    X(GI_RSM_INTERLEAVED, gi_rsm_interleaved) /* interleaved sampling + geometry-aware blur */                   \
+    X(GI_VPL_ALL, gi_vpl_all)                 /* brute force over every VPL */                                   \
+    X(GI_VPL_CLAMPED, gi_vpl_clamped)         /* VPLs cut at a fixed range (biased baseline) */                  \
+    X(GI_VPL_SLC, gi_vpl_slc)                 /* stochastic light culling, tiled */                              \
+    X(GI_VPL_INTERLEAVED, gi_vpl_interleaved) /* interleaved shading, random VPL subsets */                      \
+    X(GI_VPL_METALIGHTS, gi_vpl_metalights)   /* interleaved shading, subsets dealt from metalights */           \
+    X(GI_LPV, gi_lpv)                         /* light propagation volumes */                                    \
+    X(GI_VCT, gi_vct)                         /* voxel cone tracing */
+
+/* Rows of the technique table, by index. */
+typedef enum GiMode {
+#define GI_MODE_ENUM(mode, row) mode,
+    GI_TECHNIQUE_LIST(GI_MODE_ENUM)
+#undef GI_MODE_ENUM
+    GI_MODE_COUNT
+} GiMode;
+
+#define GI_ROW_EXTERN(mode, row) extern const GiTechnique row;
+GI_TECHNIQUE_LIST(GI_ROW_EXTERN)
+#undef GI_ROW_EXTERN
 
 /* The table, in --gi order; NULL-terminated. Row 0 is "none". */
 extern const GiTechnique *const gi_techniques[];
@@ -121,13 +167,6 @@ const char *const *gi_technique_names(void);
 int gi_technique_count(void);
 /* Index of `name`, or -1. */
 int gi_technique_find(const char *name);
-
-/* Rows, defined in their technique's file. */
-extern const GiTechnique gi_none;
-extern const GiTechnique gi_rsm, gi_rsm_interp, gi_rsm_interleaved;
-extern const GiTechnique gi_vpl_all, gi_vpl_clamped, gi_vpl_slc, gi_vpl_interleaved, gi_vpl_metalights;
-extern const GiTechnique gi_lpv;
-extern const GiTechnique gi_vct;
 
 /* Importance-sampled RSM gathers: a pixel spends half its N samples on the
  * paper's disk around its own projection (a Hammersley set of N/2 points
@@ -168,8 +207,19 @@ void gi_stats_add_gather(GiStats *st, const char *name, uint64_t evaluations);
 #define GI_COST_DEFAULT_EVALS_PER_S 4e7
 /* Work of one frame of technique `gi` (a row index of gi_techniques) with
  * `p` on scene `s` at `px` shading pixels, in gather evaluations: an upper
- * bound for estimates before it runs (src/gi/cost.c). */
+ * bound for estimates before it runs (the row's `cost`; src/gi/cost.c says
+ * how the models were fitted). */
 double gi_cost_evaluations(int gi, const GiParams *p, const Scene *s, double px);
+/* For the rows' cost models: every RSM texel of every light (each face of
+ * a cube), or with `lit_only` only the texels that can hold a lit surface
+ * (about --vpls per light for the VPL rows). */
+double gi_cost_rsm_texels(const GiCostQuery *q, bool lit_only);
+/* The LPV and VCT models count cell updates and voxel fetches, fitted to
+ * wall time at 1.5e7 of them per second: each costs this many gather
+ * evaluations at GI_COST_DEFAULT_EVALS_PER_S. */
+#define GI_COST_VOLUME_EVAL (GI_COST_DEFAULT_EVALS_PER_S / 1.5e7)
+/* The VPL rows' --timings lines (vpl_count, vpl_evaluations, ...); LPV's too. */
+void gi_print_vpl_stats(const GiStats *st, double pixels, FILE *out);
 /* Seconds of that work at `evals_per_s` (a measured rate, or
  * GI_COST_DEFAULT_EVALS_PER_S): the gather's share of a frame. */
 double gi_cost_seconds(int gi, const GiParams *p, const Scene *s, double px, double evals_per_s);

@@ -5,8 +5,8 @@
 #include <string.h>
 
 #include "gi/gi.h"
-#include "gl_resources.h"
-#include "shader.h"
+#include "gl/gl_resources.h"
+#include "gl/shader.h"
 #include "shared/gpu_types.h"
 
 void gi_interleave_defines(char *out, size_t size, const char *mode, int n, int m)

@@ -18,8 +18,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "shader.h"
-#include "targets.h"
+#include "gl/shader.h"
+#include "gpu/targets.h"
 
 typedef struct GiInterleave {
     GLuint split, merge, blur;     /* programs from the cache (split/merge only with de-interleaving) */

@@ -2,7 +2,7 @@
 #define _GNU_SOURCE
 #include "reference/pathtracer.h"
 
-#include "brdf.h"
+#include "core/brdf.h"
 #include <math.h>
 #include <pthread.h>
 #include <sched.h>
@@ -17,14 +17,14 @@
 #include <xmmintrin.h>
 #endif
 
-#include "camera.h"
-#include "log.h"
+#include "core/camera.h"
+#include "base/log.h"
 #include "reference/pt_job.h"
 #include "reference/pt_scene.h"
 #include "reference/rng.h"
 #include "reference/sampler.h"
 #include "reference/sampling.h"
-#include "util.h"
+#include "base/util.h"
 
 const char *const pt_mode_names[] = {"full", "direct", "one-bounce", "one-bounce-novis", "indirect", NULL};
 const char *const pt_sampler_names[] = {"sobol", "independent", NULL};

@@ -25,8 +25,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "image.h"
-#include "scene.h"
+#include "io/image.h"
+#include "core/scene.h"
 
 typedef enum PtMode {
     PT_FULL = 0,           /* all bounces */

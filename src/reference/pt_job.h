@@ -15,9 +15,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "image.h"
+#include "io/image.h"
 #include "reference/pathtracer.h"
-#include "scene.h"
+#include "core/scene.h"
 
 typedef struct PtJob PtJob;
 

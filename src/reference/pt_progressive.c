@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "log.h"
+#include "base/log.h"
 #include "reference/pt_job.h"
-#include "util.h"
+#include "base/util.h"
 
 struct PtProgressive {
     Scene scene;               /* the renderer's: the caller's geometry and textures (borrowed), with

@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image.h"
-#include "log.h"
+#include "io/image.h"
+#include "base/log.h"
 
 /* Embree 3's RTCHitN/RTCRayN accessors are C++ only; these read the same
  * documented structure-of-arrays layout (rtcore_ray.h) from C. */

@@ -11,8 +11,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "brdf.h"
-#include "scene.h"
+#include "core/brdf.h"
+#include "core/scene.h"
 
 /* What a hit needs of its triangle, in one 128-byte record (two cache
  * lines) in Embree's primitive order: a hit reads this and nothing of the

@@ -31,7 +31,7 @@
 #include "reference/pathtracer.h"
 #include "reference/rng.h"
 #include "shared/hash.h"
-#include "util.h"
+#include "base/util.h"
 
 /* Requests whose seeds sampler_make computes once per pixel (a path's
  * first vertices: its pixel jitter, light samples and bounces). */

@@ -6,12 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "log.h"
-#include "metrics.h"
-#include "shader.h"
+#include "base/log.h"
+#include "io/metrics.h"
+#include "gl/shader.h"
 #include "shared/gpu_types.h"
-#include "targets.h"
-#include "util.h"
+#include "gpu/targets.h"
+#include "base/util.h"
 
 GLuint ab_view_build_program(void)
 {

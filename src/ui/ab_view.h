@@ -12,8 +12,8 @@
 #include <epoxy/gl.h>
 #include <stdbool.h>
 
-#include "image.h"
-#include "renderer.h"
+#include "io/image.h"
+#include "frame/renderer.h"
 
 typedef enum AbMode { AB_FRAME = 0, AB_REFERENCE = 1, AB_SPLIT = 2, AB_DIFFERENCE = 3, AB_MODE_COUNT } AbMode;
 

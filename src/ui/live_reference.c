@@ -7,9 +7,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "log.h"
-#include "metrics.h"
-#include "util.h"
+#include "base/log.h"
+#include "io/metrics.h"
+#include "base/util.h"
 
 /* A renderer being made on a thread of its own. */
 struct LiveMake {

@@ -23,10 +23,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "image.h"
+#include "io/image.h"
 #include "reference/pathtracer.h"
 #include "reference/pt_progressive.h"
-#include "scene.h"
+#include "core/scene.h"
 
 /* Where the live reference stands (the panel's line, the ui-test). */
 typedef struct LiveStatus {

@@ -20,7 +20,7 @@
 #include <backends/imgui_impl_opengl3.h>
 
 extern "C" {
-#include "log.h"
+#include "base/log.h"
 }
 
 static GLFWwindow *g_window;

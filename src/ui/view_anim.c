@@ -7,11 +7,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "animation.h"
-#include "log.h"
+#include "core/animation.h"
+#include "base/log.h"
 #include "ui/ui.h"
-#include "ui/view_input.h"
-#include "ui/view_panel.h"
 
 /* How fast the light keys move a light: this fraction of the camera's
  * speed (a quarter of the scene's diagonal per second at first), and turn

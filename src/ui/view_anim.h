@@ -23,43 +23,9 @@
 
 #include <stdbool.h>
 
-#include "renderer.h"
-#include "scene.h"
-
-#define VIEW_MAX_LIGHTS 32
-
-/* Each light's edit in the window, over its animated (or loaded) state. */
-typedef struct ViewLightEdits {
-    float move[VIEW_MAX_LIGHTS][3]; /* added to its position (m): spot, point, quad */
-    float turn[VIEW_MAX_LIGHTS][2]; /* a directional light's direction turned: about +y, then in elevation (rad) */
-    float stops[VIEW_MAX_LIGHTS];   /* its power (intensity, irradiance, radiance) × 2^stops */
-} ViewLightEdits;
-
-/* The window's side (in the View). */
-typedef struct ViewAnim {
-    bool present;           /* the scene has an animation */
-    float duration;         /* its length (s) */
-    bool playing, loop;     /* loop: playback wraps at the end (else it pauses there) */
-    double play_wall0;      /* playback: View.time = play_time0 + (now - play_wall0) */
-    double play_time0;
-    bool camera_tracks;     /* the animation moves the camera ... */
-    bool follow_camera;     /* ... and the window's camera follows it (a user's move turns it off) */
-    float follow_yaw, follow_pitch; /* the camera as the animation set it */
-    float follow_position[3];
-    bool temporal_auto;     /* temporal follows playback (no --temporal given, not ticked in the panel) */
-    bool temporal_scene;    /* the scene file's gi.temporal (kept while paused) */
-    bool temporal_written;  /* what this last wrote into the settings */
-    int light;              /* the light the keys and the panel edit */
-    int light_count;
-    Light base[VIEW_MAX_LIGHTS]; /* the scene's lights as loaded (t = 0, no edit) */
-    ViewLightEdits edits;
-    /* The window's scene (View.scene points here): a shallow copy of the
-     * Scene made before the render thread starts, whose lights are the
-     * window's own (as the next frame draws them, updated each pass) and
-     * whose bounds stay as loaded; the render thread writes the Scene's. */
-    Scene shown;
-    Light shown_lights[VIEW_MAX_LIGHTS];
-} ViewAnim;
+#include "frame/renderer.h"
+#include "core/scene.h"
+#include "ui/view.h"
 
 /* The render thread's side: what the Scene holds now. */
 typedef struct ViewAnimApplied {
@@ -75,7 +41,6 @@ void view_light_edit_apply(const ViewLightEdits *e, int i, Light *l);
 
 /* ---- The window's thread ---- */
 
-typedef struct View View;
 typedef struct GLFWwindow GLFWwindow;
 
 /* The state from the scene (its lights and animation as loaded) and

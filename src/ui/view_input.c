@@ -5,27 +5,13 @@
 #include <GLFW/glfw3.h>
 #include <math.h>
 
-#include "log.h"
+#include "base/log.h"
 #include "ui/ui.h"
+#include "ui/view_anim.h"
+#include "ui/view_panel.h"
 #include "ui/view_render.h"
 
-void view_set_angles(View *v, const Camera *c)
-{
-    v->yaw = atan2f(c->forward[0], c->forward[2]);
-    v->pitch = asinf(fmaxf(-1.f, fminf(1.f, c->forward[1])));
-}
 
-void view_update_camera(View *v)
-{
-    Camera *c = &v->camera;
-    c->forward[0] = cosf(v->pitch) * sinf(v->yaw);
-    c->forward[1] = sinf(v->pitch);
-    c->forward[2] = cosf(v->pitch) * cosf(v->yaw);
-    vec3 right;
-    glm_vec3_cross(c->forward, (vec3){0, 1, 0}, right);
-    glm_vec3_normalize(right);
-    glm_vec3_cross(right, c->forward, c->up);
-}
 
 void view_key(View *v, int key, int mods)
 {

@@ -1,4 +1,5 @@
 /* view_render.c — see view_render.h. */
+#include "ui/view_anim.h"
 #include "ui/view_render.h"
 
 #define GLFW_INCLUDE_NONE
@@ -10,12 +11,12 @@
 #include <string.h>
 #include <time.h>
 
-#include "gl_context.h"
-#include "log.h"
-#include "render_options.h"
-#include "shader.h"
-#include "targets.h"
-#include "util.h"
+#include "gl/gl_context.h"
+#include "base/log.h"
+#include "frame/timings.h"
+#include "gl/shader.h"
+#include "gpu/targets.h"
+#include "base/util.h"
 
 enum { SLOTS = 3 };
 
@@ -381,7 +382,7 @@ static bool do_request(ViewRender *vr, const ViewRequest *req, bool draw)
         pthread_mutex_unlock(&vr->lock);
     }
     if (req->jobs & VIEW_JOB_PRINT_TIMINGS)
-        render_options_print_timings(r, vr->gl_renderer,
+        timings_print(r, vr->gl_renderer,
                                      vr->stats.frame_ms > 0 ? vr->stats.frame_ms : 1e3 * vr->state.last_frame_s);
     /* The interval ends every half second of frames (or 30 of them), and
      * when no frame follows: an idle window shows its last frames' times. */

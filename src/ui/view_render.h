@@ -51,10 +51,10 @@
 #include <epoxy/gl.h>
 #include <stdbool.h>
 
-#include "renderer.h"
-#include "scene.h"
+#include "frame/renderer.h"
+#include "core/scene.h"
 #include "ui/ab_view.h"
-#include "ui/view_panel.h"
+#include "ui/view.h"
 
 typedef struct GLFWwindow GLFWwindow;
 

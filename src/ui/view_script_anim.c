@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "ui/view_anim.h"
 #include "ui/view_input.h"
 
 static void anim_save(ViewScript *t, const char *name)

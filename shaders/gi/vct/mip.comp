@@ -6,7 +6,7 @@
 // dispatches (issue 46). The clip levels stacked along z halve with the
 // volume, so a block never straddles two of them. A source side of 1
 // (the last levels of a small volume) is read clamped: its one texel.
-// Run by gl_texture3d_build_mips (src/gl_resources.h): level L − 1 on
+// Run by gl_texture3d_build_mips (src/gl/gl_resources.h): level L − 1 on
 // image unit 0, level L on unit 1, 4³ invocations a group.
 
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;

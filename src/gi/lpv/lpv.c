@@ -51,11 +51,11 @@
 #include <cglm/cglm.h>
 
 #include "gi/gi.h"
-#include "gl_resources.h"
-#include "gpu_budget.h"
-#include "log.h"
-#include "shader.h"
-#include "util.h"
+#include "gl/gl_resources.h"
+#include "gl/gpu_budget.h"
+#include "base/log.h"
+#include "gl/shader.h"
+#include "base/util.h"
 
 /* Volume sets of a cascade: every VPL inside it, and (k ≥ 1) only those
  * outside the next finer cascade. */
@@ -716,6 +716,18 @@ bool lpv_read_geometry(void *state, int cascade, float *out)
     return true;
 }
 
+/* Cell updates of the propagation (six neighbours a step), the injection
+ * of every RSM texel per cascade, and the lookup per pixel. */
+static double lpv_cost(const GiCostQuery *q)
+{
+    const GiParams *p = q->params;
+    double cells = pow(p->lpv_size, 3) * p->lpv_cascades * p->lpv_groups;
+    int steps = p->lpv_iterations > 0                                  ? p->lpv_iterations
+                : p->lpv_propagation == LPV_PROPAGATION_DIRECTIONAL ? 3 * p->lpv_size
+                                                                     : p->lpv_size;
+    return (cells * steps * 6 + gi_cost_rsm_texels(q, false) * p->lpv_cascades + q->pixels) * GI_COST_VOLUME_EVAL;
+}
+
 const GiTechnique gi_lpv = {
     .name = "lpv",
     .paper = "Kaplanyan & Dachsbacher 2010, Cascaded Light Propagation Volumes",
@@ -726,4 +738,6 @@ const GiTechnique gi_lpv = {
     .run = lpv_run,
     .stats = lpv_stats,
     .destroy = lpv_destroy,
+    .cost = lpv_cost,
+    .print_stats = gi_print_vpl_stats,
 };

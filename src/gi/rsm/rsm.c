@@ -25,9 +25,9 @@
 #include "gi/gi.h"
 #include "gi/interleave.h"
 #include "gi/visibility/ism.h"
-#include "gl_resources.h"
-#include "log.h"
-#include "shader.h"
+#include "gl/gl_resources.h"
+#include "base/log.h"
+#include "gl/shader.h"
 
 /* The interp pixel list: count, indirect dispatch arguments (x, y, z),
  * then the entries (gi/rsm/interp.comp). */
@@ -421,24 +421,45 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     }
 }
 
+/* Per pixel its samples (interleaving splits the pattern, not the count). */
+static double rsm_cost(const GiCostQuery *q)
+{
+    const GiParams *p = q->params;
+    return q->pixels * (p->exhaustive ? gi_cost_rsm_texels(q, false) : p->samples);
+}
+
+/* Low-res gathers plus a tenth of the pixels in full (Cornell: 5%). */
+static double rsm_interp_cost(const GiCostQuery *q)
+{
+    double f = q->params->interp_factor;
+    return rsm_cost(q) * (1.0 / (f * f) + 0.1);
+}
+
+static void rsm_interp_print_stats(const GiStats *st, double pixels, FILE *out)
+{
+    fprintf(out, "rsm_full_gather_fraction: %.4f\n", (double)st->full_gathers / pixels);
+}
+
 #define RSM_PAPER "Dachsbacher & Stamminger 2005, Reflective Shadow Maps"
-#define RSM_ROW(id, variant_name, row_paper, create_fn, text)                                          \
+#define RSM_ROW(id, variant_name, row_paper, create_fn, cost_fn, print_fn, text)                       \
     const GiTechnique id = {                                                                           \
         .name = variant_name,                                                                          \
         .paper = row_paper,                                                                            \
         .summary = text,                                                                               \
-        .flags = GI_VISIBILITY,                                                                        \
+        .flags = GI_VISIBILITY | GI_READS_TWIN,                                                        \
         .needs = rsm_needs,                                                                            \
         .create = create_fn,                                                                           \
         .resize = rsm_resize,                                                                          \
         .run = rsm_run,                                                                                \
         .stats = rsm_stats,                                                                            \
         .destroy = rsm_destroy,                                                                        \
+        .cost = cost_fn,                                                                               \
+        .print_stats = print_fn,                                                                       \
     };
 
-RSM_ROW(gi_rsm, "rsm", RSM_PAPER, rsm_create, "RSM gather, N samples per pixel on the paper's polar pattern")
-RSM_ROW(gi_rsm_interp, "rsm-interp", RSM_PAPER, rsm_interp_create,
+RSM_ROW(gi_rsm, "rsm", RSM_PAPER, rsm_create, rsm_cost, NULL, "RSM gather, N samples per pixel on the paper's polar pattern")
+RSM_ROW(gi_rsm_interp, "rsm-interp", RSM_PAPER, rsm_interp_create, rsm_interp_cost, rsm_interp_print_stats,
         "RSM gather at 1/f resolution + the paper's screen-space interpolation")
 RSM_ROW(gi_rsm_interleaved, "rsm-interleaved", RSM_PAPER "; Keller & Heidrich 2001, Interleaved Sampling",
-        rsm_interleaved_create,
+        rsm_interleaved_create, rsm_cost, NULL,
         "RSM gather with interleaved sampling and a geometry-aware blur")

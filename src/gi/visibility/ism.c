@@ -8,12 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "gl_resources.h"
-#include "gpu_budget.h"
-#include "log.h"
+#include "gl/gl_resources.h"
+#include "gl/gpu_budget.h"
+#include "base/log.h"
 #include "shared/hash.h" /* hash_u32 */
-#include "shader.h"
-#include "util.h"
+#include "gl/shader.h"
+#include "base/util.h"
 
 /* Visible while distance <= stored · (1 + ISM_BIAS_REL) + ISM_BIAS_ABS·scale
  * (scale: the scene's diagonal): the nearest point in a texel's cone lies

@@ -30,10 +30,10 @@
 #include "gi/gi.h"
 #include "gi/interleave.h"
 #include "gi/visibility/ism.h"
-#include "gl_resources.h"
-#include "log.h"
-#include "shader.h"
-#include "util.h"
+#include "gl/gl_resources.h"
+#include "base/log.h"
+#include "gl/shader.h"
+#include "base/util.h"
 
 typedef enum VplMethod { VPL_ALL, VPL_CLAMPED, VPL_SLC, VPL_INTERLEAVED, VPL_METALIGHTS } VplMethod;
 
@@ -438,7 +438,22 @@ static void *vpl_slc_create(const GiCreateInfo *ci) { return vpl_create_method(c
 static void *vpl_interleaved_create(const GiCreateInfo *ci) { return vpl_create_method(ci, VPL_INTERLEAVED); }
 static void *vpl_metalights_create(const GiCreateInfo *ci) { return vpl_create_method(ci, VPL_METALIGHTS); }
 
-#define VPL_ROW(id, row_name, row_paper, create_fn, row_flags, text)                                    \
+/* Every VPL slot the light stage fills at every pixel: tiles visit every
+ * VPL in the worst case; vpl-all keeps its fraction. */
+static double vpl_cost(const GiCostQuery *q)
+{
+    return q->pixels * gi_cost_rsm_texels(q, true);
+}
+
+static double vpl_all_cost(const GiCostQuery *q) { return vpl_cost(q) * q->params->vpl_keep; }
+
+/* Interleaved: each pixel shades one subset of the VPLs. */
+static double vpl_subset_cost(const GiCostQuery *q)
+{
+    return vpl_cost(q) / ((double)q->params->interleave_n * q->params->interleave_m);
+}
+
+#define VPL_ROW(id, row_name, row_paper, create_fn, cost_fn, row_flags, text)                           \
     const GiTechnique id = {                                                                           \
         .name = row_name,                                                                              \
         .paper = row_paper,                                                                            \
@@ -451,15 +466,17 @@ static void *vpl_metalights_create(const GiCreateInfo *ci) { return vpl_create_m
         .run = vpl_run,                                                                                \
         .stats = vpl_stats,                                                                            \
         .destroy = vpl_destroy,                                                                        \
+        .cost = cost_fn,                                                                               \
+        .print_stats = gi_print_vpl_stats,                                                             \
     };
 
-VPL_ROW(gi_vpl_all, "vpl-all", "Keller 1997, Instant Radiosity", vpl_all_create, GI_EXHAUSTIVE,
+VPL_ROW(gi_vpl_all, "vpl-all", "Keller 1997, Instant Radiosity", vpl_all_create, vpl_all_cost, GI_EXHAUSTIVE,
         "every pixel sums every VPL (brute force)")
-VPL_ROW(gi_vpl_clamped, "vpl-clamped", "SPEC §4 (clamped-range baseline)", vpl_clamped_create, 0,
+VPL_ROW(gi_vpl_clamped, "vpl-clamped", "SPEC §4 (clamped-range baseline)", vpl_clamped_create, vpl_cost, 0,
         "each VPL cut at a fixed range (biased baseline), tiled culling")
-VPL_ROW(gi_vpl_slc, "vpl-slc", "Tokuyoshi & Harada 2016, Stochastic Light Culling", vpl_slc_create, 0,
+VPL_ROW(gi_vpl_slc, "vpl-slc", "Tokuyoshi & Harada 2016, Stochastic Light Culling", vpl_slc_create, vpl_cost, 0,
         "stochastic light culling with 16x16 tiled culling")
 VPL_ROW(gi_vpl_interleaved, "vpl-interleaved", "Keller & Heidrich 2001; Segovia et al. 2006",
-        vpl_interleaved_create, 0, "interleaved shading with random disjoint VPL subsets")
-VPL_ROW(gi_vpl_metalights, "vpl-metalights", "Faure & Chang 2010, Metalights", vpl_metalights_create, 0,
+        vpl_interleaved_create, vpl_subset_cost, 0, "interleaved shading with random disjoint VPL subsets")
+VPL_ROW(gi_vpl_metalights, "vpl-metalights", "Faure & Chang 2010, Metalights", vpl_metalights_create, vpl_subset_cost, 0,
         "interleaved shading with subsets dealt from metalights")

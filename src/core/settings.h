@@ -1,0 +1,167 @@
+/* settings.h — the table of technique settings: one row per setting with
+ * its scene-file key, command-line option, type, place, range, default and
+ * help. One parser and one validator serve the command line and the scene
+ * file (so the two cannot disagree), `--help` is printed from the table, and
+ * tests check the guide (docs/guide.md) against it. Adding a setting is adding a row (and
+ * its field in ShadowParams/GiParams, below). */
+#ifndef RTGI_SETTINGS_H
+#define RTGI_SETTINGS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdio.h>
+
+#include <cjson/cJSON.h>
+
+#include "base/value.h"
+
+/* Technique parameters a scene file may set and the CLI overrides; their
+ * keys, options, ranges and defaults are rows of the settings table
+ * (below). */
+typedef struct ShadowParams {
+    int map_size;          /* 2D shadow map / cube face resolution */
+    float bias_const;      /* world-space constant bias (m) */
+    float bias_slope;      /* slope-scaled bias, in shadow-map texels × tanθ */
+    float normal_offset;   /* receiver offset along the normal, in texels */
+    int pcf_samples;       /* Poisson disk samples (≤ 64) */
+    float pcf_radius;      /* PCF filter radius in texels */
+    int blocker_samples;   /* PCSS blocker-search samples (≤ 64) */
+    float pcss_max_radius; /* PCSS search/filter radius cap in texels */
+    int filter_bias;       /* PCF/PCSS depth test: 0 receiver plane (Poisson disk), 1 legacy (slope bias × filter radius, spiral) */
+    int pcf_filter;        /* ShadowPcfFilter: Poisson disk, or a grid of hardware-compare bilinear taps */
+    int area_light;        /* AreaLightMode: quad lights' exact polygon irradiance, or a point at the centre */
+} ShadowParams;
+
+/* PCF's taps (ShadowParams.pcf_filter; SHADOW_FILTER_* in shared/gpu_types.h). */
+typedef enum ShadowPcfFilter { SHADOW_PCF_FILTER_DISK = 0, SHADOW_PCF_FILTER_GRID = 1 } ShadowPcfFilter;
+
+/* Visibility of the bounce (SPEC §9): how RSM and VPL gathers test it. */
+typedef enum GiVisibilityMethod { GI_VISIBILITY_ISM = 0 } GiVisibilityMethod;
+/* Imperfect shadow maps' texels per side (GiParams.ism_size: an index). */
+typedef enum IsmSize { ISM_SIZE_16 = 0, ISM_SIZE_32 = 1, ISM_SIZE_64 = 2 } IsmSize;
+
+typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
+/* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
+ * shared/gpu_types.h). */
+typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
+
+typedef enum LpvInject { LPV_INJECT_COMPUTE = 0, LPV_INJECT_POINTS = 1 } LpvInject;
+/* How a propagation step moves light (shaders/gi/lpv/propagate.comp):
+ * along the directions it travels in, or through the paper's 5 faces per
+ * neighbour, re-emitted towards the faces' normals. */
+typedef enum LpvPropagation { LPV_PROPAGATION_DIRECTIONAL = 0, LPV_PROPAGATION_FACES = 1 } LpvPropagation;
+
+typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;
+
+/* Parameters of the RSM family of GI techniques (SPEC §3). */
+typedef struct GiParams {
+    int rsm_size;          /* RSM texels per side (per cube face for point/quad lights) */
+    int samples;           /* N samples per gather (paper: ~400) */
+    float r_max;           /* sampling radius, in RSM widths (cube: face widths) */
+    RsmWeighting weighting;/* paper's ξ1² normalised, unbiased for the polar pdf, or importance
+                              sampling of the whole map by flux */
+    bool exhaustive;       /* sum over every RSM texel instead of sampling */
+    int interp_factor;     /* screen-space interpolation: low-res = full / factor */
+    float interp_normal;   /* min cosine between normals for a usable low-res sample */
+    float interp_dist;     /* max world distance, as a fraction of the view distance */
+    int interleave_n, interleave_m; /* interleaved sampling pattern n×m */
+    bool interleave_blur;  /* geometry-aware blur after reassembly */
+    float scale;           /* indirect intensity scale (1 = physical) */
+    /* Many-VPL techniques (SPEC §4). */
+    int vpl_count;         /* VPLs per light wanted (sets the RSM size); 0: the RSM size decides */
+    float slc_emax;        /* stochastic light culling error bound e_max (0.0005) */
+    float vpl_near_clamp;  /* falloff 1/max(d², c) with c in m²; 0 = off (the notes use 0.1) */
+    bool vpl_disk;         /* VPLs fall off as disks of their texel's area: 1/(d² + A/π) */
+    float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
+    float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
+    unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
+    /* Visibility of the bounce (SPEC §9, src/gi/visibility/): */
+    bool gi_visibility;    /* RSM and VPL gathers test whether each VPL (sample) sees the shaded point */
+    int gi_visibility_method; /* GiVisibilityMethod */
+    int ism_size;          /* IsmSize: texels per side of each imperfect shadow map */
+    int ism_points;        /* scene points splatted into each map */
+    int ism_maps;          /* RSM gathers: maps per light, one per block of RSM texels */
+    /* Light propagation volumes (SPEC §5). */
+    int lpv_size;          /* cells per side of each grid */
+    int lpv_cascades;      /* 1: one grid fitted to the scene; 2–3: nested grids centred on the camera */
+    int lpv_iterations;    /* propagation steps; 0: the grid size (enough to cross it) */
+    bool lpv_occlusion;    /* attenuate propagation by the geometry volume */
+    float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
+    bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
+    int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
+    int lpv_propagation;   /* LpvPropagation: directional (light keeps its direction) or the paper's faces */
+    int lpv_groups;        /* 1, or 2: the light of surfaces facing +x/+y/+z and of those facing away propagated apart */
+    /* Voxel cone tracing (SPEC §6). */
+    int vct_size;          /* voxels per side of the volume over the scene bounds (of each clipmap level) */
+    int vct_levels;        /* 1: one volume over the bounds; 2–4: a clipmap centred on the camera */
+    bool vct_aniso;        /* six directional mip volumes (Crassin's anisotropic voxels) */
+    int vct_cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
+    int vct_bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */
+    float vct_step;        /* cone sampling step, in units of the cone's current diameter */
+    int vct_trace_scale;   /* cones traced at every Nth pixel per axis, upsampled by depth and normal */
+    bool vct_ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
+    bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
+    float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
+    float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
+    /* Time (SPEC §10). */
+    bool temporal;         /* temporal accumulation of the indirect light (passes/pass_temporal.h) */
+    bool temporal_clamp;   /* its neighbourhood clamp (off: the history lags a moving light; for measuring) */
+    /* Diagnostic, no scene key: the RSM gathers' twin for `render --timings
+     * --probe run`, which reads every sample and evaluates none (the image
+     * is meaningless); its rate is the limit of the gather's own reads. */
+    bool gather_reads_only;
+} GiParams;
+
+/* Everything the table stores. */
+typedef struct Settings {
+    ShadowParams shadow;
+    GiParams gi;
+} Settings;
+
+
+typedef struct SettingDesc {
+    const char *group;           /* scene-file object holding it: "shadow" or "gi" */
+    const char *key;             /* its key there */
+    const char *option;          /* command-line option */
+    ValueType type;              /* base/value.h */
+    size_t offset;               /* in Settings */
+    size_t offset2;              /* VALUE_PAIR: the second int */
+    double min, max;             /* inclusive range (pairs: each; enum/bool: unused) */
+    double def;                  /* default (pairs: both values) */
+    const char *const *choices;  /* VALUE_CHOICE: names, index = stored value; NULL-terminated */
+    const char *help;            /* one line, with its unit */
+} SettingDesc;
+
+extern const SettingDesc settings_table[];
+extern const int settings_count;
+
+/* Every setting at its default. */
+void settings_default(Settings *s);
+/* The row whose option is `option` (e.g. "--pcf-samples"), or NULL. */
+const SettingDesc *settings_find_option(const char *option);
+/* The row of `group`.`key`, or NULL. */
+const SettingDesc *settings_find_key(const char *group, const char *key);
+
+/* The keys of `group`'s rows (NULL: every row's) into out[0..cap-1],
+ * NULL-terminated (for "did you mean"); returns how many. */
+int settings_keys(const char *group, const char **out, int cap);
+
+/* Parses a command-line value (NULL for VALUE_FLAG) into `s`, range
+ * checked. false after logging a usage error (usage_error) "<option>: '<value>'
+ * <problem> (allowed: <range>)", with the nearest choice of an enum. */
+bool settings_parse_cli(const SettingDesc *d, const char *value, Settings *s);
+/* Reads the scene file's `group` object into `s`: every key must be a row
+ * of the group (unknown keys are an error naming the nearest known key),
+ * no key twice, each value of the row's type and in its range. false after
+ * logging "<file>: <group>.<key>: <problem>". */
+bool settings_parse_json(const cJSON *obj, const char *group, const char *file, Settings *s);
+/* Row `d` as the value it stores in a Settings (value.h). */
+ValueSpec settings_value(const SettingDesc *d);
+/* Copies the value of row `d` from `src` to `dst`. */
+void settings_copy(const SettingDesc *d, Settings *dst, const Settings *src);
+/* The value of row `d` in `s` as text ("20", "0.0005", "4x4", "paper", "on"). */
+void settings_format(const SettingDesc *d, const Settings *s, char *out, size_t cap);
+/* Prints the option help of one group, from the table. */
+void settings_print_help(FILE *f, const char *group);
+
+#endif

@@ -6,7 +6,11 @@
 #      with PCSS on the Cornell box and on Sponza (scripts/frame-times.sh),
 #      and the steady frame's passes (GPU ms from timer queries) on Sponza;
 #   3. the 3840x2160 frame without GI;
-#   4. `rtgi probe` (what the device sustains on gather-shaped work).
+#   4. VCT's voxelization per method (--vct-voxelize raster, compute): the
+#      first one's GPU and wall ms from `render --timings`, and with
+#      tests/vct_voxelize_bench (VCT_BENCH) the revoxelization after a move,
+#      medians of alternated rounds, on the Cornell box and Sponza;
+#   5. `rtgi probe` (what the device sustains on gather-shaped work).
 #   scripts/gpu-check.sh [OUT_DIR]        (default out/gpu-check; the tables also go to OUT_DIR/gpu-check.md)
 #   FRAMES=10 SIZE=1920x1080 GI="none rsm vct" scripts/gpu-check.sh    (the defaults, and a subset)
 # Run from the checkout's root after building (or with RTGI=path/to/rtgi:
@@ -18,6 +22,7 @@ out=${1:-out/gpu-check}
 frames=${FRAMES:-10}
 size=${SIZE:-1920x1080}
 rtgi=${RTGI:-build/rtgi}
+vct_bench=${VCT_BENCH:-build/tests/vct_voxelize_bench}
 gi=${GI:-"none rsm rsm-interp rsm-interleaved vpl-clamped vpl-slc vpl-interleaved vpl-metalights vpl-all lpv vct"}
 mkdir -p "$out"
 report="$out/gpu-check.md"
@@ -66,6 +71,31 @@ start=$(date +%s)
         GI=none RTGI="$rtgi" scripts/frame-times.sh scenes/sponza_nave.json 3840x2160 pcss "$frames" | tail -n 1
     fi
     echo
+    echo "## VCT voxelization per method, $size"
+    echo
+    echo "| scene | --vct-voxelize | first: GPU ms | first: wall ms |"
+    echo "|---|---|---|---|"
+    for scene in cornell scenes/sponza_nave.json; do
+        [ "$scene" = cornell ] || [ -r ../shared/assets/sponza/Sponza.gltf ] || continue
+        for m in raster compute; do
+            "$rtgi" render --scene "$scene" --size "$size" --gi vct --vct-voxelize "$m" --timings --frames 1 \
+                --quiet --out "$out/voxelize.png" >"$log"
+            gpu=$(sed -n 's/^  vct_voxelize  *\([0-9.]*\) .*once$/\1/p' "$log")
+            wall=$(sed -n 's/^vct_voxelize_wall_ms: //p' "$log")
+            echo "| $scene | $m | $gpu | $wall |"
+        done
+    done
+    echo
+    if [ -x "$vct_bench" ]; then
+        # revoxelizations after a move (no compilation), raster and compute alternating
+        for scene in cornell scenes/sponza_nave.json; do
+            [ "$scene" = cornell ] || [ -r ../shared/assets/sponza/Sponza.gltf ] || continue
+            echo '```'
+            "$vct_bench" "$scene" "$size" 5
+            echo '```'
+        done
+        echo
+    fi
     echo "## rtgi probe"
     echo
     echo '```'

@@ -58,7 +58,7 @@ static void grazing_scene(Scene *s)
     glm_vec3_copy((vec3){0, -1, 0}, s->camera.forward);
     glm_vec3_copy((vec3){0, 0, -1}, s->camera.up);
     s->camera.fov_y = glm_rad(45.f);
-    s->shadow.map_size = 1024;
+    s->settings.shadow.map_size = 1024;
     scene_finalize(s);
 }
 
@@ -92,7 +92,7 @@ static void pcss_grazing_has_no_leaks(void **state)
     reference_direct(&s, GW, GH, 16, &ref);
     RenderSettings rs = test_settings(&s, GW, GH, SHADOW_MODE_PCSS);
     test_render(&s, &rs, &now);
-    rs.shadow_params.filter_bias = SHADOW_BIAS_LEGACY;
+    rs.set.shadow.filter_bias = SHADOW_BIAS_LEGACY;
     test_render(&s, &rs, &legacy);
     double lit = test_mean(&ref, GW - 8, GH / 2, 3, 3); /* floor far from the wall */
     /* The contact: floor within 5 cm behind the wall's base (2.5 px) is left
@@ -179,7 +179,7 @@ static void sponza_direct_matches_reference(void **state)
     rs.ssaa = 1;
     double leak_new, leak_legacy;
     double e_new1 = render_relmse_leak(&s, &rs, &ref, &m_new1, &leak_new);
-    rs.shadow_params.filter_bias = SHADOW_BIAS_LEGACY;
+    rs.set.shadow.filter_bias = SHADOW_BIAS_LEGACY;
     double e_legacy1 = render_relmse_leak(&s, &rs, &ref, &m_legacy1, &leak_legacy);
     rs.ssaa = 4;
     double e_legacy = render_relmse(&s, &rs, &ref, &m_legacy);
@@ -302,7 +302,7 @@ static void switching_aa_matches_fresh(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     RenderSettings base = test_settings(&s, 40, 32, SHADOW_MODE_PCSS);
-    base.shadow_params.map_size = 128;
+    base.set.shadow.map_size = 128;
     RenderSettings on = base;
     on.ssaa = 3;
     on.aa = AA_FXAA;

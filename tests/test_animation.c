@@ -299,9 +299,9 @@ static void animated_frame_equals_still_render(void **state)
         assert_true(scene_load(&still_scene, test_tmp_file(name, still)));
         RenderSettings rs = test_settings(&still_scene, 32, 32, SHADOW_MODE_PCSS);
         rs.gi = (GiMode)gi_technique_find(cases[k].gi);
-        rs.gi_params = still_scene.gi;
-        rs.gi_params.vpl_count = 1024;
-        rs.gi_params.vct_size = 32;
+        rs.set.gi = still_scene.settings.gi;
+        rs.set.gi.vpl.count = 1024;
+        rs.set.gi.vct.size = 32;
         ImageF a, b, first;
         test_render(&still_scene, &rs, &b);
         scene_free(&still_scene);
@@ -325,13 +325,13 @@ static RenderSettings small_settings(const Scene *s, GiMode gi, bool cache)
 {
     RenderSettings rs = test_settings(s, 24, 24, SHADOW_MODE_PCF);
     rs.gi = gi;
-    rs.gi_params = s->gi;
-    rs.gi_params.rsm_size = 32;
-    rs.gi_params.samples = 32;
-    rs.gi_params.vpl_count = 512;
-    rs.gi_params.lpv_size = 8;
-    rs.gi_params.vct_size = 16;
-    rs.shadow_params.map_size = 64;
+    rs.set.gi = s->settings.gi;
+    rs.set.gi.rsm.size = 32;
+    rs.set.gi.rsm.samples = 32;
+    rs.set.gi.vpl.count = 512;
+    rs.set.gi.lpv.size = 8;
+    rs.set.gi.vct.size = 16;
+    rs.set.shadow.map_size = 64;
     rs.cache = cache;
     return rs;
 }
@@ -371,7 +371,7 @@ static void cached_products_equal_cold_after_motion(void **state)
             assert_true(renderer_scene_changed(&r, &c) && renderer_scene_changed(&cold, &c));
             rs = small_settings(&s, (GiMode)gi, true);
             rs_cold = small_settings(&s, (GiMode)gi, false);
-            rs.gi_params.gi_visibility = rs_cold.gi_params.gi_visibility = vis;
+            rs.set.gi.visibility.on = rs_cold.set.gi.visibility.on = vis;
             assert_true(renderer_apply(&r, &rs) && renderer_apply(&cold, &rs_cold));
             renderer_invalidate(&r);
             renderer_frame(&r, &s.camera);
@@ -460,8 +460,8 @@ static void vct_keeps_no_stale_voxels(void **state)
     Scene s;
     test_load_scene_file(&s, "cornell_moving_block.json");
     RenderSettings rs = small_settings(&s, GI_VCT, true);
-    rs.gi_params.vct_size = 64;
-    rs.gi_params.vct_aniso = false;
+    rs.set.gi.vct.size = 64;
+    rs.set.gi.vct.aniso = false;
     Renderer r;
     assert_true(renderer_create(&r, &s, &rs));
     renderer_frame(&r, &s.camera);

@@ -130,15 +130,23 @@ static void schema(void **state)
          * normal, radiance (level 0: the directional chains start from it)
          * and six directional chains, 126384 bytes), its
          * opaque-voxel list (4 · (4 + 16³/8) = 2064), its two 24×24
-         * RGBA32F images (18432) and its parameters' UBO; null without a
-         * technique. */
+         * RGBA32F images (18432), the voxelization's sums (32 · 16³ =
+         * 131072) and compute work buffer (4 words a submesh, 1 a
+         * triangle, of the Cornell box bench draws) and its parameters'
+         * UBO; null without a technique. */
         const cJSON *mem = cJSON_GetObjectItemCaseSensitive(field(e, "stats", 'o'), "gi_memory_mib");
         if (!mem)
             fail_msg("bench.json: no \"stats.gi_memory_mib\" in %s", gi[i]);
         if (i == 3) {
             assert_true(cJSON_IsNumber(mem));
             mib = mem->valuedouble;
-            assert_true(fabs(mib - (126384 + 2064 + 18432 + sizeof(GpuVctParams)) / (1024.0 * 1024.0)) < 1e-9);
+            Scene cornell;
+            assert_true(scene_build_cornell(&cornell));
+            scene_finalize(&cornell);
+            double work = 4.0 * (4.0 * cornell.submesh_count + (double)(cornell.index_count / 3));
+            scene_free(&cornell);
+            assert_true(fabs(mib - (126384 + 2064 + 18432 + 131072 + work + sizeof(GpuVctParams)) / (1024.0 * 1024.0)) <
+                        1e-9);
         } else if (i == 0) {
             assert_true(cJSON_IsNull(mem)); /* no technique */
         } else {

@@ -918,7 +918,7 @@ static void area_light_direct_matches_reference(void **state)
         RenderSettings rs = test_settings(&s, W, H, SHADOW_MODE_PCSS);
         rs.ssaa = 4;
         test_render(&s, &rs, &exact);
-        rs.shadow_params.area_light = AREA_LIGHT_MODE_POINT;
+        rs.set.shadow.area_light = AREA_LIGHT_MODE_POINT;
         test_render(&s, &rs, &point);
         double e[2], p[2];
         relmse_both(&exact, &ref, mask, e);
@@ -962,7 +962,7 @@ static void small_quads_take_the_point_formula(void **state)
         RenderSettings rs = test_settings(&s, 32, 32, SHADOW_MODE_HARD);
         ImageF exact, point;
         test_render(&s, &rs, &exact);
-        rs.shadow_params.area_light = AREA_LIGHT_MODE_POINT;
+        rs.set.shadow.area_light = AREA_LIGHT_MODE_POINT;
         test_render(&s, &rs, &point);
         double e = metric_relmse(&exact, &point, NULL, NULL);
         double ratio = test_image_mean(&exact) / test_image_mean(&point);

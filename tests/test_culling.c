@@ -62,10 +62,10 @@ static void cornell_culled_equals_unculled(void **state)
     for (int m = 0; m < 2; m++) {
         RenderSettings rs = test_settings(&s, 48, 48, SHADOW_MODE_PCSS);
         rs.gi = modes[m];
-        rs.gi_params = s.gi;
-        rs.gi_params.rsm_size = 32;
-        rs.gi_params.samples = 64;
-        rs.shadow_params.map_size = 128;
+        rs.set.gi = s.settings.gi;
+        rs.set.gi.rsm.size = 32;
+        rs.set.gi.rsm.samples = 64;
+        rs.set.shadow.map_size = 128;
         int culled = 0, light_culled = 0;
         size_t diff = render_both(&s, rs, &culled, &light_culled);
         print_message("cornell (%s): %d clusters culled by the camera, %d by the light's faces, %zu pixels differ\n",
@@ -88,9 +88,9 @@ static void untextured_programs_change_nothing(void **state)
     assert_true(scene_load(&s, "cornell"));
     RenderSettings rs = test_settings(&s, 48, 48, SHADOW_MODE_PCF);
     rs.gi = GI_RSM;
-    rs.gi_params = s.gi;
-    rs.gi_params.rsm_size = 32;
-    rs.gi_params.samples = 64;
+    rs.set.gi = s.settings.gi;
+    rs.set.gi.rsm.size = 32;
+    rs.set.gi.rsm.samples = 64;
     ImageF img[2];
     for (int general = 0; general < 2; general++) {
         Renderer r;

@@ -100,7 +100,7 @@ static void variants_equal_general(void **state)
             assert_true(shadow_frame_point_fitted(&s.lights[0], s.bounds_min, s.bounds_max));
         }
         RenderSettings rs = test_settings(&s, 40, 40, SHADOW_MODE_NONE);
-        rs.shadow_params.map_size = 128;
+        rs.set.shadow.map_size = 128;
         rs.shading = t < 2 ? SHADING_FORWARD : SHADING_DEFERRED; /* each light type once per path */
         Renderer r;
         assert_true(renderer_create(&r, &s, &rs));
@@ -109,8 +109,8 @@ static void variants_equal_general(void **state)
             for (int variant = 0; variant < (mode == SHADOW_MODE_PCF ? 4 : 2); variant++) {
                 int bias = variant % 2, filter = variant / 2;
                 rs.shadow = (ShadowMode)mode;
-                rs.shadow_params.filter_bias = bias;
-                rs.shadow_params.pcf_filter = filter;
+                rs.set.shadow.filter_bias = bias;
+                rs.set.shadow.pcf_filter = filter;
                 assert_true(renderer_apply(&r, &rs));
                 ImageF img[2];
                 for (int g = 0; g < 2; g++) {
@@ -192,8 +192,8 @@ static void forward_equals_deferred(void **state)
         for (int mode = SHADOW_MODE_NONE; mode <= SHADOW_MODE_PCSS; mode++)
             for (int filter = 0; filter < (mode == SHADOW_MODE_PCF ? 2 : 1); filter++) {
                 RenderSettings rs = test_settings(&s, 48, 48, (ShadowMode)mode);
-                rs.shadow_params.map_size = 256;
-                rs.shadow_params.pcf_filter = filter;
+                rs.set.shadow.map_size = 256;
+                rs.set.shadow.pcf_filter = filter;
                 char what[96];
                 snprintf(what, sizeof what, "%s%s%s, shadow mode %d%s", names[t], two ? " + point" : "",
                          glossy ? ", glossy" : "", mode, filter ? " (grid)" : "");
@@ -280,7 +280,7 @@ static void display_image_is_tone_mapped_radiance(void **state)
         Scene s;
         make_scene(&s, LIGHT_SPOT, c == 2, false);
         RenderSettings rs = test_settings(&s, 48, 40, SHADOW_MODE_PCF);
-        rs.shadow_params.map_size = 256;
+        rs.set.shadow.map_size = 256;
         rs.shading = c == 1 ? SHADING_DEFERRED : SHADING_FORWARD;
         Renderer r;
         assert_true(renderer_create(&r, &s, &rs));
@@ -315,7 +315,7 @@ static void display_only_frames(void **state)
     Scene s;
     make_scene(&s, LIGHT_SPOT, false, false);
     RenderSettings rs = test_settings(&s, 48, 40, SHADOW_MODE_PCF);
-    rs.shadow_params.map_size = 256;
+    rs.set.shadow.map_size = 256;
     rs.shading = SHADING_FORWARD;
     Renderer r;
     assert_true(renderer_create(&r, &s, &rs));
@@ -427,8 +427,8 @@ static void auto_shading_follows_triangle_density(void **state)
         RenderSettings rs = test_settings(&s, cases[i].w, cases[i].h, SHADOW_MODE_HARD);
         rs.ssaa = cases[i].ssaa;
         rs.gi = cases[i].gi;
-        rs.gi_params = s.gi;
-        rs.gi_params.rsm_size = 32;
+        rs.set.gi = s.settings.gi;
+        rs.set.gi.rsm.size = 32;
         rs.shading = cases[i].shading;
         Renderer r;
         assert_true(renderer_create(&r, &s, &rs));

@@ -83,7 +83,7 @@ static double check_region_with(const Fixture *f, GiMode gi, const GiParams *gp,
     if (region)
         *region_ratio = test_indirect_ratio(&img, &f->none, ref, direct, region);
     print_message("%s%s against %s: whole image %.3f\n", gi_technique_names()[gi],
-                  gp && gp->gi_visibility ? " with visibility" : "", pt_mode_names[mode], whole);
+                  gp && gp->visibility.on ? " with visibility" : "", pt_mode_names[mode], whole);
     int checked = 0, bad = 0;
     for (int m = 0; m < f->scene.material_count; m++) {
         const Material *mat = &f->scene.materials[m];
@@ -174,8 +174,8 @@ static int strip_behind_tall_block(const Fixture *f, uint8_t *mask)
 static void visibility_against_one_bounce(void **state)
 {
     const Fixture *f = *state;
-    GiParams gp = f->scene.gi;
-    gp.gi_visibility = true;
+    GiParams gp = f->scene.settings.gi;
+    gp.visibility.on = true;
     uint8_t *strip = malloc((size_t)W * H);
     assert_non_null(strip);
     int n = strip_behind_tall_block(f, strip);

@@ -15,11 +15,11 @@ static RenderSettings settings_for(const Scene *s, GiMode gi, int w, int h)
 {
     RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_PCF);
     rs.gi = gi;
-    rs.gi_params = s->gi;
-    rs.gi_params.rsm_size = 32;
-    rs.gi_params.samples = 64;
-    rs.gi_params.vpl_count = 1024;
-    rs.shadow_params.map_size = 64;
+    rs.set.gi = s->settings.gi;
+    rs.set.gi.rsm.size = 32;
+    rs.set.gi.rsm.samples = 64;
+    rs.set.gi.vpl.count = 1024;
+    rs.set.shadow.map_size = 64;
     return rs;
 }
 
@@ -126,7 +126,7 @@ static void resize_and_exposure(void **state)
     assert_true(e < 1e-10);
     /* Shadow settings: the same as fresh too. */
     rs.shadow = SHADOW_MODE_PCSS;
-    rs.shadow_params.map_size = 128;
+    rs.set.shadow.map_size = 128;
     assert_true(renderer_apply(&r, &rs));
     renderer_frame(&r, &s.camera);
     image_free(&got);
@@ -180,7 +180,7 @@ static void cached_light_products(void **state)
     image_free(&want);
 
     /* A new shadow-map size remakes (and so redraws) the maps. */
-    rs.shadow_params.map_size = 96;
+    rs.set.shadow.map_size = 96;
     assert_true(renderer_apply(&r, &rs));
     renderer_frame(&r, &s.camera);
     assert_true(renderer_read_hdr(&r, &got));
@@ -242,12 +242,12 @@ static void cached_gi_volumes(void **state)
         assert_true(scene_load(&s, "cornell"));
         RenderSettings rs = settings_for(&s, cases[k].gi, W, H);
         rs.cache = true;
-        rs.gi_params.lpv_size = 16;
-        rs.gi_params.lpv_cascades = cases[k].gi == GI_LPV ? cases[k].cascades_or_levels : 1;
-        rs.gi_params.lpv_gbuffer_occlusion = cases[k].gbuffer_occlusion;
-        rs.gi_params.vct_size = 16;
-        rs.gi_params.vct_levels = cases[k].gi == GI_VCT ? cases[k].cascades_or_levels : 1;
-        rs.gi_params.vct_bounces = cases[k].bounces;
+        rs.set.gi.lpv.size = 16;
+        rs.set.gi.lpv.cascades = cases[k].gi == GI_LPV ? cases[k].cascades_or_levels : 1;
+        rs.set.gi.lpv.gbuffer_occlusion = cases[k].gbuffer_occlusion;
+        rs.set.gi.vct.size = 16;
+        rs.set.gi.vct.levels = cases[k].gi == GI_VCT ? cases[k].cascades_or_levels : 1;
+        rs.set.gi.vct.bounces = cases[k].bounces;
         bool follows_camera = cases[k].cascades_or_levels > 1 || cases[k].gbuffer_occlusion;
         Renderer r;
         assert_true(renderer_create(&r, &s, &rs));
@@ -317,9 +317,9 @@ static void every_make_failure_is_reported_and_freed(void **state)
     assert_true(scene_load(&s, "cornell"));
     for (int m = 0; m < GI_MODE_COUNT + 1; m++) { /* every technique, then none shaded forward */
         RenderSettings rs = settings_for(&s, m < GI_MODE_COUNT ? (GiMode)m : GI_NONE, 16, 16);
-        rs.gi_params.lpv_size = 8;
-        rs.gi_params.vct_size = 16;
-        rs.gi_params.vct_bounces = 2;
+        rs.set.gi.lpv.size = 8;
+        rs.set.gi.vct.size = 16;
+        rs.set.gi.vct.bounces = 2;
         rs.ssaa = m == GI_RSM ? 2 : 1; /* the resolve's targets */
         rs.aa = m == GI_VCT ? AA_FXAA : AA_NONE;
         rs.shading = m == GI_MODE_COUNT ? SHADING_FORWARD : SHADING_DEFERRED;
@@ -357,8 +357,8 @@ static void every_make_failure_is_reported_and_freed(void **state)
     const GiMode switches[] = {GI_RSM_INTERLEAVED, GI_VPL_SLC, GI_LPV, GI_VCT};
     for (size_t m = 0; m < sizeof switches / sizeof switches[0]; m++) {
         RenderSettings base = settings_for(&s, GI_NONE, 16, 16), to = settings_for(&s, switches[m], 24, 16);
-        to.gi_params.lpv_size = 8;
-        to.gi_params.vct_size = 16;
+        to.set.gi.lpv.size = 8;
+        to.set.gi.vct.size = 16;
         to.ssaa = 2;
         to.aa = AA_FXAA;
         GlObjectCounts before = gl_count_live_objects(MAX_NAME);

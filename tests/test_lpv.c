@@ -34,7 +34,7 @@ static void lpv_renderer(Renderer *r, const Scene *s, int w, int h, const GiPara
 {
     RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_HARD);
     rs.gi = GI_LPV;
-    rs.gi_params = gp ? *gp : s->gi;
+    rs.set.gi = gp ? *gp : s->settings.gi;
     assert_true(renderer_create(r, s, &rs));
 }
 
@@ -140,8 +140,8 @@ static void open_scene(Scene *s, bool wall, float camera_height)
     s->camera.fov_y = glm_rad(camera_height < 1.f ? 90.f : 45.f);
     s->camera.znear = 0.01f;
     scene_finalize(s);
-    s->gi.rsm_size = 64;
-    s->gi.lpv_size = 16;
+    s->settings.gi.rsm.size = 64;
+    s->settings.gi.lpv.size = 16;
 }
 
 /* Renders one frame with these VPLs instead of the light stage's; returns
@@ -179,9 +179,9 @@ static void injection_one_vpl_closed_form(void **state)
     const vec3 nrm[2] = {{0.48f, 0.8f, -0.36f}, {0.f, -1.f, 0.f}};
     const vec3 flux[2] = {{1.f, 0.5f, 0.25f}, {0.2f, 0.4f, 0.8f}};
     for (int method = 0; method < 2; method++) {
-        GiParams gp = s.gi;
-        gp.lpv_inject = method == 0 ? LPV_INJECT_COMPUTE : LPV_INJECT_POINTS;
-        gp.lpv_iterations = 1;
+        GiParams gp = s.settings.gi;
+        gp.lpv.inject = method == 0 ? LPV_INJECT_COMPUTE : LPV_INJECT_POINTS;
+        gp.lpv.iterations = 1;
         GpuVpl v[2];
         vec3 n[2];
         for (int i = 0; i < 2; i++)
@@ -239,11 +239,11 @@ static void check_injected_flux(LpvInject method, float *out_volume)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.rsm_size = 32;
-    gp.lpv_size = 16;
-    gp.lpv_iterations = 1;
-    gp.lpv_inject = method;
+    GiParams gp = s.settings.gi;
+    gp.rsm.size = 32;
+    gp.lpv.size = 16;
+    gp.lpv.iterations = 1;
+    gp.lpv.inject = method;
     Renderer r;
     lpv_renderer(&r, &s, 32, 32, &gp);
     renderer_frame(&r, &s.camera);
@@ -401,11 +401,11 @@ static void directional_step_matches_cpu(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     for (int occ = 0; occ < 2; occ++) {
-        GiParams gp = s.gi;
-        gp.rsm_size = 32;
-        gp.lpv_size = 12;
-        gp.lpv_iterations = 1;
-        gp.lpv_occlusion = occ == 1;
+        GiParams gp = s.settings.gi;
+        gp.rsm.size = 32;
+        gp.lpv.size = 12;
+        gp.lpv.iterations = 1;
+        gp.lpv.occlusion = occ == 1;
         Renderer r;
         lpv_renderer(&r, &s, 32, 32, &gp);
         renderer_frame(&r, &s.camera);
@@ -421,7 +421,7 @@ static void directional_step_matches_cpu(void **state)
             for (int ch = 0; ch < 3; ch++)
                 for (size_t i = 0; i < 4 * n3; i++)
                     in[ch * 4 * n3 + i] = inj[(ch * cells + g * n3) * 4 + i];
-            cpu_directional_step(n, in, gv, gp.lpv_occlusion, step, &blocked, &left);
+            cpu_directional_step(n, in, gv, gp.lpv.occlusion, step, &blocked, &left);
             for (int ch = 0; ch < 3; ch++)
                 for (size_t i = 0; i < 4 * n3; i++) {
                     size_t gi = (ch * cells + g * n3) * 4 + i;
@@ -436,7 +436,7 @@ static void directional_step_matches_cpu(void **state)
                       occ ? "on" : "off", err, scale, blocked, left);
         assert_true(scale > 0.0 && moved > 0.0);
         assert_true(err < 2e-5 * scale);
-        if (gp.lpv_occlusion)
+        if (gp.lpv.occlusion)
             assert_true(blocked > 0.0);
         else
             assert_true(blocked == 0.0);
@@ -483,12 +483,12 @@ static void propagation_free_space(void **state)
     Scene s;
     open_scene(&s, false, 3.f);
     for (int mode = 0; mode < 2; mode++) {
-        GiParams gp = s.gi;
-        gp.lpv_size = 20;
-        gp.lpv_occlusion = false;
-        gp.lpv_groups = 1;
-        gp.lpv_propagation = mode == 0 ? LPV_PROPAGATION_DIRECTIONAL : LPV_PROPAGATION_FACES;
-        gp.lpv_iterations = 1;
+        GiParams gp = s.settings.gi;
+        gp.lpv.size = 20;
+        gp.lpv.occlusion = false;
+        gp.lpv.groups = 1;
+        gp.lpv.propagation = mode == 0 ? LPV_PROPAGATION_DIRECTIONAL : LPV_PROPAGATION_FACES;
+        gp.lpv.iterations = 1;
         Renderer r;
         lpv_renderer(&r, &s, 16, 16, &gp);
         renderer_frame(&r, &s.camera);
@@ -571,12 +571,12 @@ static void propagation_closed_box(void **state)
     s.camera.fov_y = glm_rad(90.f);
     s.camera.znear = 0.01f;
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.rsm_size = 64;
-    gp.lpv_size = 12;
-    gp.lpv_groups = 1;
-    gp.lpv_gbuffer_occlusion = false;
-    gp.lpv_iterations = 0;
+    GiParams gp = s.settings.gi;
+    gp.rsm.size = 64;
+    gp.lpv.size = 12;
+    gp.lpv.groups = 1;
+    gp.lpv.gbuffer_occlusion = false;
+    gp.lpv.iterations = 0;
     Renderer r;
     lpv_renderer(&r, &s, 16, 16, &gp);
     const vec3 p = {0.31f, -0.42f, 0.17f};
@@ -780,13 +780,13 @@ static void faces_step_matches_cpu(void **state)
         sum += face_solid_angle(0, 1 + (f - 1) / 2, f & 1 ? 1 : -1, c0);
     assert_true(fabs(sum - 4.0 * GLM_PI / 6.0) < 1e-9);
     for (int occ = 0; occ < 2; occ++) {
-        GiParams gp = s.gi;
-        gp.rsm_size = 32;
-        gp.lpv_size = 12;
-        gp.lpv_iterations = 1;
-        gp.lpv_occlusion = occ == 1;
-        gp.lpv_propagation = LPV_PROPAGATION_FACES;
-        gp.lpv_groups = 1;
+        GiParams gp = s.settings.gi;
+        gp.rsm.size = 32;
+        gp.lpv.size = 12;
+        gp.lpv.iterations = 1;
+        gp.lpv.occlusion = occ == 1;
+        gp.lpv.propagation = LPV_PROPAGATION_FACES;
+        gp.lpv.groups = 1;
         Renderer r;
         lpv_renderer(&r, &s, 32, 32, &gp);
         renderer_frame(&r, &s.camera);
@@ -799,7 +799,7 @@ static void faces_step_matches_cpu(void **state)
         assert_true(lpv_read_volume(r.gi_state, 0, LPV_VOLUME_INJECTED, inj));
         assert_true(lpv_read_volume(r.gi_state, 0, LPV_VOLUME_ACCUMULATED, acc));
         assert_true(lpv_read_geometry(r.gi_state, 0, gv));
-        cpu_step(n, inj, gv, gp.lpv_occlusion, step);
+        cpu_step(n, inj, gv, gp.lpv.occlusion, step);
         double scale = 0.0, err = 0.0, moved = 0.0, blocked = 0.0;
         for (size_t i = 0; i < 12 * n3; i++) {
             scale = fmax(scale, fmax(fabs(step[i]), fabs(acc[i])));
@@ -808,7 +808,7 @@ static void faces_step_matches_cpu(void **state)
         for (size_t i = 0; i < 12 * n3; i++)
             err = fmax(err, fabs((double)acc[i] - (double)inj[i] - step[i]));
         /* How much the geometry holds back: the step without it, less. */
-        if (gp.lpv_occlusion) {
+        if (gp.lpv.occlusion) {
             cpu_step(n, inj, gv, false, step);
             double open = 0.0;
             for (size_t i = 0; i < 12 * n3; i++)
@@ -820,7 +820,7 @@ static void faces_step_matches_cpu(void **state)
                       occ ? "on" : "off", err, scale, 100.0 * blocked);
         assert_true(scale > 0.0);
         assert_true(err < 1e-6 * scale);
-        if (gp.lpv_occlusion)
+        if (gp.lpv.occlusion)
             assert_true(blocked > 0.02); /* the walls are in the volume (measured 3.5%): the comparison sees them */
         free(inj);
         free(acc);
@@ -856,7 +856,7 @@ static void receiver_scene(Scene *s, float y_r, bool pin, float below)
     s->camera.fov_y = glm_rad(60.f);
     s->camera.znear = 0.01f;
     scene_finalize(s);
-    s->gi.rsm_size = 64;
+    s->settings.gi.rsm.size = 64;
 }
 
 /* Irradiance at x (facing down, y above the plane) from a uniform
@@ -943,9 +943,9 @@ static void lookup_uniform_plane(void **state)
     const int sizes[] = {8, 16, 32, 32, 32};
     double faces = 0.0;
     for (size_t k = 0; k < 5; k++) {
-        GiParams gp = s.gi;
-        gp.lpv_size = sizes[k];
-        gp.lpv_propagation = k < 4 ? LPV_PROPAGATION_DIRECTIONAL : LPV_PROPAGATION_FACES;
+        GiParams gp = s.settings.gi;
+        gp.lpv.size = sizes[k];
+        gp.lpv.propagation = k < 4 ? LPV_PROPAGATION_DIRECTIONAL : LPV_PROPAGATION_FACES;
         float between = k < 3 ? 1.f : 6.f; /* cells between emitter and receiver */
         Renderer r;
         lpv_renderer(&r, &s, 32, 32, &gp);
@@ -982,8 +982,8 @@ static void lookup_anywhere_in_the_cell(void **state)
     for (size_t k = 0; k < sizeof fracs / sizeof fracs[0]; k++) {
         Scene s;
         receiver_scene(&s, 0.f, true, 0.2f); /* to learn the grid: the pins and the receiver's span set it */
-        GiParams gp = s.gi;
-        gp.lpv_size = 16;
+        GiParams gp = s.settings.gi;
+        gp.lpv.size = 16;
         Renderer r;
         lpv_renderer(&r, &s, 32, 32, &gp);
         renderer_frame(&r, &s.camera);
@@ -1032,9 +1032,9 @@ static void cascades_count_once(void **state)
     s.camera.fov_y = glm_rad(120.f);
     enum { W = 32 };
     for (int casc = 1; casc <= 3; casc += 2) {
-        GiParams gp = s.gi;
-        gp.lpv_size = 8;
-        gp.lpv_cascades = casc;
+        GiParams gp = s.settings.gi;
+        gp.lpv.size = 8;
+        gp.lpv.cascades = casc;
         Renderer r;
         lpv_renderer(&r, &s, W, W, &gp);
         int count;
@@ -1114,8 +1114,8 @@ static void one_vpl_inverse_square(void **state)
     (void)state;
     Scene s;
     open_scene(&s, false, 3.f);
-    GiParams gp = s.gi;
-    gp.lpv_occlusion = false;
+    GiParams gp = s.settings.gi;
+    gp.lpv.occlusion = false;
     const float cell = 2.f / 14.f;
     const int cells[] = {3, 4, 5, 6, 8};
     enum { W = 96 };
@@ -1164,8 +1164,8 @@ static void wall_blocks_light(void **state)
     open_scene(&walled, true, 0.4f);
     const float cell = 2.f / 14.f;
     const vec3 p = {0.5f * cell, 6.f * cell, 0.5f * cell}, below = {p[0], 0.f, p[2]};
-    GiParams gp = open.gi;
-    gp.lpv_occlusion = false;
+    GiParams gp = open.settings.gi;
+    gp.lpv.occlusion = false;
     Renderer r;
     float *e = render_one_vpl(&r, &open, &gp, 64, p);
     double free_e = irradiance_at(&r, e, below, 1);
@@ -1175,14 +1175,14 @@ static void wall_blocks_light(void **state)
     double off = irradiance_at(&r, e, below, 1);
     free(e);
     renderer_destroy(&r);
-    gp.lpv_occlusion = true;
+    gp.lpv.occlusion = true;
     e = render_one_vpl(&r, &walled, &gp, 64, p);
     double on = irradiance_at(&r, e, below, 1);
     free(e);
     renderer_destroy(&r);
     /* The camera's G-buffer adds surfels (here the floor it sees): more
      * blockers can only block more. */
-    gp.lpv_gbuffer_occlusion = true;
+    gp.lpv.gbuffer_occlusion = true;
     e = render_one_vpl(&r, &walled, &gp, 64, p);
     double on_gb = irradiance_at(&r, e, below, 1);
     free(e);
@@ -1225,12 +1225,12 @@ static void cornell_against_reference(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     scene_rescale_lights(&s, 0.f);
-    s.gi.rsm_size = 64;
-    s.gi.lpv_size = 16;
+    s.settings.gi.rsm.size = 64;
+    s.settings.gi.lpv.size = 16;
     ImageF lpv, none, ob, novis, casc;
     test_render_gi(&s, W, H, GI_LPV, NULL, &lpv);
-    GiParams gp = s.gi;
-    gp.lpv_cascades = 2;
+    GiParams gp = s.settings.gi;
+    gp.lpv.cascades = 2;
     test_render_gi(&s, W, H, GI_LPV, &gp, &casc);
     test_render_gi(&s, W, H, GI_NONE, NULL, &none);
     test_reference(&s, W, H, PT_ONE_BOUNCE, 256, &ob);
@@ -1258,17 +1258,22 @@ static void cornell_against_reference(void **state)
 
 /* ---- Sponza ---------------------------------------------------------------- */
 
-/* The shipped scenes/sponza_nave.json (its LPV grid: 32³, 1 m cells) at 160×90
- * against the path tracer's one bounce (16 spp at pixel centres): the
- * indirect ratio of the whole image within [0.75, 1.33], and no 16×9 block
- * whose reference bounce is above the median's beyond 3×. Measured 1.04,
- * blocks 0.20 .. 2.48 (320×180, 64 spp: 1.03, 0.21 .. 2.21). The lowest
- * blocks are the sunlit floor and curtains, where the path tracer's bounce
- * holds glossy paths no diffuse bounce has: rsm reads 0.26 there, and with
- * every material Lambertian lpv's lowest block is 0.35 (scripts/
- * gi-regions.sh). The paper's faces read the whole image 3.9×, blocks up to
- * 18× (the sunlit floor lighting its shaded surroundings). Skipped where
- * the asset is not present (as test_sponza.c). */
+/* The shipped scenes/sponza_nave.json (its LPV: 3 cascades of 32³ around
+ * the camera, the coarsest on the scene) at 160×90 against the path
+ * tracer's one bounce (16 spp at pixel centres): the indirect ratio of the
+ * whole image within [0.75, 1.33], and every 16×9 block whose reference
+ * bounce is above the median within [0.3, 3]. Measured 1.14, blocks
+ * 0.35 .. 2.20 (the CLI with PCSS 0.33 .. 2.42; 320×180, 64 spp: 1.13,
+ * 0.36 .. 2.21; scripts/gi-regions.sh). With one grid (1 m cells; the
+ * scene file before issue 44's second round) 1.04, blocks 0.20 .. 2.48
+ * (320×180: 0.21 .. 2.22):
+ * the lowest blocks are the bottom rows, surfaces within a few metres of
+ * the camera beside the sunlit floor (the curtains' feet, a column's
+ * base), which the 1 m cells under-light; the cascades' finer cells near
+ * the camera lift them (2 cascades: 0.31). The paper's faces read the
+ * whole image 3.9×, blocks up to 18× (the sunlit floor lighting its shaded
+ * surroundings). Skipped where the asset is not present (as
+ * test_sponza.c). */
 static void sponza_against_one_bounce(void **state)
 {
     (void)state;
@@ -1283,7 +1288,8 @@ static void sponza_against_one_bounce(void **state)
     enum { W = 160, H = 90 };
     Scene s;
     assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/sponza_nave.json"));
-    assert_int_equal(s.gi.lpv_size, 32);
+    assert_int_equal(s.settings.gi.lpv.size, 32);
+    assert_int_equal(s.settings.gi.lpv.cascades, 3);
     ImageF lpv, none, ob, direct;
     test_render_gi(&s, W, H, GI_LPV, NULL, &lpv);
     test_render_gi(&s, W, H, GI_NONE, NULL, &none);
@@ -1294,7 +1300,7 @@ static void sponza_against_one_bounce(void **state)
     print_message("Sponza %dx%d: indirect ratio against one-bounce %.3f; 16x9 blocks above the median %.3f .. %.3f\n",
                   W, H, whole, lo, hi);
     assert_true(whole > 0.75 && whole < 1.33);
-    assert_true(hi < 3.0);
+    assert_true(lo > 0.3 && hi < 3.0);
     image_free(&lpv);
     image_free(&none);
     image_free(&ob);
@@ -1330,14 +1336,14 @@ static void leak_scene(void **state)
     (void)state;
     Scene s;
     assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/lpv_leak.json"));
-    s.gi.rsm_size = 32;
-    GiParams gp = s.gi;
+    s.settings.gi.rsm.size = 32;
+    GiParams gp = s.settings.gi;
     ImageF img;
     double dark[4], lit[4];
     const char *what[4] = {"16^3 occlusion off", "16^3", "32^3", "none"};
     for (int i = 0; i < 4; i++) {
-        gp.lpv_size = i == 2 ? 32 : 16;
-        gp.lpv_occlusion = i != 0;
+        gp.lpv.size = i == 2 ? 32 : 16;
+        gp.lpv.occlusion = i != 0;
         test_render_gi(&s, 64, 64, i == 3 ? GI_NONE : GI_LPV, &gp, &img);
         room_means(&s, &img, &dark[i], &lit[i]);
         print_message("leak scene, %s: dark room floor %.5f, lit room floor %.5f (ratio %.4f)\n", what[i], dark[i],
@@ -1363,11 +1369,11 @@ static void cascades_snap(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     scene_rescale_lights(&s, 0.f);
-    GiParams gp = s.gi;
-    gp.rsm_size = 32;
-    gp.lpv_size = 16;
-    gp.lpv_iterations = 8;
-    gp.lpv_cascades = 3;
+    GiParams gp = s.settings.gi;
+    gp.rsm.size = 32;
+    gp.lpv.size = 16;
+    gp.lpv.iterations = 8;
+    gp.lpv.cascades = 3;
     Renderer r;
     lpv_renderer(&r, &s, 32, 32, &gp);
     Camera cam = s.camera;

@@ -93,7 +93,7 @@ static void timings_state_the_fraction(void **state)
     assert_null(strstr(text, "steady_rsm_ms"));
 }
 
-/* With --probe, an RSM gather's reads-only twin (GiParams.gather_reads_only)
+/* With --probe, an RSM gather's reads-only twin (GiParams.rsm.reads_only)
  * runs after the report in every layout, map kind and weighting: its rate
  * is positive and the gather's fraction of it printed; VPL techniques have
  * no twin (their bound is the storage-buffer kernel's). */

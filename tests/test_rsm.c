@@ -15,7 +15,7 @@ static void cornell_point(Scene *s)
     scene_build_cornell(s);
     scene_finalize(s);
     scene_rescale_lights(s, 0.f);
-    s->gi.rsm_size = 64;
+    s->settings.gi.rsm.size = 64;
 }
 
 /* Issue 10: the default RSM gather (importance weighting, 400 samples, a
@@ -33,15 +33,15 @@ static void default_rsm_recovers_the_bounce(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     scene_rescale_lights(&s, 0.f);
-    GiParams gp = s.gi; /* the defaults */
+    GiParams gp = s.settings.gi; /* the defaults */
     ImageF def, paper, exh, none, ref;
     test_render_gi(&s, W, H, GI_RSM, &gp, &def);
     test_render_gi(&s, W, H, GI_NONE, &gp, &none);
-    gp.weighting = RSM_WEIGHT_PAPER;
+    gp.rsm.weighting = RSM_WEIGHT_PAPER;
     test_render_gi(&s, W, H, GI_RSM, &gp, &paper);
-    gp.weighting = s.gi.weighting;
-    gp.exhaustive = true;
-    gp.rsm_size = 32;
+    gp.rsm.weighting = s.settings.gi.rsm.weighting;
+    gp.rsm.exhaustive = true;
+    gp.rsm.size = 32;
     test_render_gi(&s, W, H, GI_RSM, &gp, &exh);
     test_reference(&s, W, H, PT_ONE_BOUNCE_NOVIS, 256, &ref);
     double m_none = test_image_mean(&none), m_ref = test_image_mean(&ref) - m_none;
@@ -73,8 +73,8 @@ static void exhaustive_matches_one_bounce_novis(void **state)
     enum { W = 96, H = 96 };
     Scene s;
     cornell_point(&s);
-    GiParams gp = s.gi;
-    gp.exhaustive = true;
+    GiParams gp = s.settings.gi;
+    gp.rsm.exhaustive = true;
     ImageF rsm, none, ref;
     test_render_gi(&s, W, H, GI_RSM, &gp, &rsm);
     test_render_gi(&s, W, H, GI_NONE, NULL, &none);
@@ -146,18 +146,18 @@ static void sampled_and_interpolated(void **state)
     enum { W = 192, H = 192 };
     Scene s;
     cornell_point(&s);
-    GiParams gp = s.gi; /* default weighting: importance */
+    GiParams gp = s.settings.gi; /* default weighting: importance */
     ImageF exh, imp, paper, unb, interp, none;
-    gp.exhaustive = true;
+    gp.rsm.exhaustive = true;
     test_render_gi(&s, W, H, GI_RSM, &gp, &exh);
-    gp.exhaustive = false;
+    gp.rsm.exhaustive = false;
     test_render_gi(&s, W, H, GI_RSM, &gp, &imp);
     test_render_gi(&s, W, H, GI_NONE, &gp, &none);
     RenderStats st = test_render_gi(&s, W, H, GI_RSM_INTERP, &gp, &interp);
-    gp.weighting = RSM_WEIGHT_PAPER;
+    gp.rsm.weighting = RSM_WEIGHT_PAPER;
     test_render_gi(&s, W, H, GI_RSM, &gp, &paper);
-    gp.weighting = RSM_WEIGHT_UNBIASED;
-    gp.r_max = 2.f; /* its best radius on this cube RSM */
+    gp.rsm.weighting = RSM_WEIGHT_UNBIASED;
+    gp.rsm.r_max = 2.f; /* its best radius on this cube RSM */
     test_render_gi(&s, W, H, GI_RSM, &gp, &unb);
     double e_imp = metric_relmse(&imp, &exh, NULL, NULL), e_paper = metric_relmse(&paper, &exh, NULL, NULL);
     double e_unb = metric_relmse(&unb, &exh, NULL, NULL), e_none = metric_relmse(&none, &exh, NULL, NULL);
@@ -197,15 +197,15 @@ static void interleaved_blur_reduces_error(void **state)
     enum { W = 128, H = 128 };
     Scene s;
     cornell_point(&s);
-    GiParams gp = s.gi;
+    GiParams gp = s.settings.gi;
     ImageF exh, blur, raw;
-    gp.exhaustive = true;
+    gp.rsm.exhaustive = true;
     test_render_gi(&s, W, H, GI_RSM, &gp, &exh);
-    gp.exhaustive = false;
-    gp.weighting = RSM_WEIGHT_UNBIASED;
-    gp.r_max = 2.f;
+    gp.rsm.exhaustive = false;
+    gp.rsm.weighting = RSM_WEIGHT_UNBIASED;
+    gp.rsm.r_max = 2.f;
     test_render_gi(&s, W, H, GI_RSM_INTERLEAVED, &gp, &blur);
-    gp.interleave_blur = false;
+    gp.interleave.blur = false;
     test_render_gi(&s, W, H, GI_RSM_INTERLEAVED, &gp, &raw);
     double e_blur = metric_relmse(&blur, &exh, NULL, NULL), e_raw = metric_relmse(&raw, &exh, NULL, NULL);
     print_message("interleaved 4x4 vs exhaustive: blur %.4f, no blur %.4f\n", e_blur, e_raw);
@@ -267,20 +267,20 @@ static void interleaved_blur_is_the_window_mean(void **state)
     static const int pattern[][2] = {{4, 4}, {3, 2}};
     for (int k = 0; k < 2; k++)
         for (int p = 0; p < 2; p++) {
-            GiParams gp = s.gi;
-            gp.interleave_n = pattern[p][0];
-            gp.interleave_m = pattern[p][1];
-            gp.interp_dist = 0.2f; /* at this size neighbours lie ~1% of the view distance apart */
+            GiParams gp = s.settings.gi;
+            gp.interleave.n = pattern[p][0];
+            gp.interleave.m = pattern[p][1];
+            gp.rsm.interp_dist = 0.2f; /* at this size neighbours lie ~1% of the view distance apart */
             ImageF blur, raw, direct;
             test_render_gi(&s, W, H, modes[k], &gp, &blur);
-            gp.interleave_blur = false;
+            gp.interleave.blur = false;
             test_render_gi(&s, W, H, modes[k], &gp, &raw);
-            gp.scale = 0.f;
+            gp.frame.scale = 0.f;
             test_render_gi(&s, W, H, modes[k], &gp, &direct);
-            double fb = blur_is_window_mean(&blur, &raw, &direct, gp.interleave_n, gp.interleave_m);
-            double fr = blur_is_window_mean(&raw, &raw, &direct, gp.interleave_n, gp.interleave_m);
+            double fb = blur_is_window_mean(&blur, &raw, &direct, gp.interleave.n, gp.interleave.m);
+            double fr = blur_is_window_mean(&raw, &raw, &direct, gp.interleave.n, gp.interleave.m);
             print_message("%s %dx%d: window mean at %.3f of the pixels blurred, %.3f unblurred\n",
-                          k ? "vpl-interleaved" : "rsm-interleaved", gp.interleave_n, gp.interleave_m, fb, fr);
+                          k ? "vpl-interleaved" : "rsm-interleaved", gp.interleave.n, gp.interleave.m, fb, fr);
             assert_true(fb > 0.5);
             assert_true(fr < 0.5 * fb);
             image_free(&blur);
@@ -306,16 +306,16 @@ static void interleaved_subsets_partition_the_pattern(void **state)
     enum { W = 96, H = 96 };
     Scene s;
     cornell_point(&s);
-    GiParams gp = s.gi;
+    GiParams gp = s.settings.gi;
     ImageF exh, img;
-    gp.exhaustive = true;
+    gp.rsm.exhaustive = true;
     test_render_gi(&s, W, H, GI_RSM, &gp, &exh);
-    gp.exhaustive = false;
-    gp.interleave_blur = false;
+    gp.rsm.exhaustive = false;
+    gp.interleave.blur = false;
     const int n[3] = {96, 100, 112};
     double e[3];
     for (int i = 0; i < 3; i++) {
-        gp.samples = n[i];
+        gp.rsm.samples = n[i];
         test_render_gi(&s, W, H, GI_RSM_INTERLEAVED, &gp, &img);
         e[i] = metric_relmse(&img, &exh, NULL, NULL);
         image_free(&img);
@@ -345,8 +345,8 @@ static void metal_surfaces_bounce_nothing(void **state)
         for (size_t m = 0; m < sizeof modes / sizeof modes[0]; m++) {
             RenderSettings rs = test_settings(&s, W, W, SHADOW_MODE_HARD);
             rs.gi = modes[m];
-            rs.gi_params = s.gi;
-            rs.gi_params.vpl_count = 1024;
+            rs.set.gi = s.settings.gi;
+            rs.set.gi.vpl.count = 1024;
             Renderer r;
             assert_true(renderer_create(&r, &s, &rs));
             renderer_frame(&r, &s.camera);
@@ -402,9 +402,9 @@ static void two_lights(Scene *s, bool point, bool spot)
         s->lights = more;
         s->lights[s->light_count++] = sp;
     }
-    s->gi.rsm_size = 32;
-    s->gi.vpl_count = 0; /* the RSM's size decides the VPLs, not a budget shared by the lights */
-    s->gi.samples = 64;
+    s->settings.gi.rsm.size = 32;
+    s->settings.gi.vpl.count = 0; /* the RSM's size decides the VPLs, not a budget shared by the lights */
+    s->settings.gi.rsm.samples = 64;
 }
 
 /* a + b − c (c: what both count, the emitters seen without lights) */
@@ -432,12 +432,12 @@ static void maps_of_both_kinds_in_one_scene(void **state)
     const double tol[] = {1e-8, 1e-8, 1e-8, 1e-6}; /* lpv: fixed-point injection and the SH clamp (1.0e-7 measured) */
     for (int m = 0; m < 4; m++) {
         ImageF b, p, sp, sum, drop_p, drop_s;
-        GiParams gp = both.gi;
-        gp.lpv_occlusion = false; /* its geometry volume takes every light's surfels: not linear in the lights */
+        GiParams gp = both.settings.gi;
+        gp.lpv.occlusion = false; /* its geometry volume takes every light's surfels: not linear in the lights */
         /* Nor is the directional propagation (a cell's light is read as one
          * lobe: 2.4e-4 here); the paper's faces are, up to their clamp. */
-        gp.lpv_propagation = LPV_PROPAGATION_FACES;
-        gp.lpv_groups = 1;
+        gp.lpv.propagation = LPV_PROPAGATION_FACES;
+        gp.lpv.groups = 1;
         RenderStats sb = test_render_gi(&both, W, H, modes[m], &gp, &b);
         RenderStats spt = test_render_gi(&point, W, H, modes[m], &gp, &p);
         RenderStats sst = test_render_gi(&spot, W, H, modes[m], &gp, &sp);
@@ -466,7 +466,7 @@ static void maps_of_both_kinds_in_one_scene(void **state)
      * one layer gave 1024 of the point light's 5299). */
     RenderSettings rs = test_settings(&both, W, H, SHADOW_MODE_HARD);
     rs.gi = GI_VPL_ALL;
-    rs.gi_params = both.gi;
+    rs.set.gi = both.settings.gi;
     Renderer r;
     assert_true(renderer_create(&r, &both, &rs));
     renderer_frame(&r, &both.camera);
@@ -490,11 +490,11 @@ static void maps_of_both_kinds_in_one_scene(void **state)
      * one face of its cube was read). */
     for (int k = 0; k < 2; k++) {
         Scene *one = k ? &spot : &point;
-        GiParams gp = one->gi;
+        GiParams gp = one->settings.gi;
         ImageF on, off;
-        gp.lpv_occlusion = true;
+        gp.lpv.occlusion = true;
         test_render_gi(one, W, H, GI_LPV, &gp, &on);
-        gp.lpv_occlusion = false;
+        gp.lpv.occlusion = false;
         test_render_gi(one, W, H, GI_LPV, &gp, &off);
         double e = metric_relmse(&on, &off, NULL, NULL);
         print_message("lpv, %s light alone: relMSE between occlusion on and off %.3g\n", k ? "spot" : "point", e);
@@ -543,15 +543,15 @@ static void evaluations_count_surfaces_only(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    s.gi.samples = 32;
-    s.gi.rsm_size = 32;
-    s.gi.vct_trace_scale = 3;
-    s.gi.interp_factor = 4;
+    s.settings.gi.rsm.samples = 32;
+    s.settings.gi.rsm.size = 32;
+    s.settings.gi.vct.trace_scale = 3;
+    s.settings.gi.rsm.interp_factor = 4;
     const GiMode modes[] = {GI_RSM, GI_RSM_INTERP, GI_RSM_INTERLEAVED, GI_VPL_CLAMPED, GI_LPV, GI_VCT};
     for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++) {
         RenderSettings rs = test_settings(&s, W, H, SHADOW_MODE_HARD);
         rs.gi = modes[i];
-        rs.gi_params = s.gi;
+        rs.set.gi = s.settings.gi;
         Renderer r;
         assert_true(renderer_create(&r, &s, &rs));
         renderer_frame(&r, &s.camera);
@@ -571,9 +571,9 @@ static void evaluations_count_surfaces_only(void **state)
             assert_int_equal(st.gathered_pixels, all);
         }
         if (modes[i] == GI_RSM)
-            assert_int_equal(st.gather_evaluations, (uint64_t)all * (uint64_t)s.gi.samples);
+            assert_int_equal(st.gather_evaluations, (uint64_t)all * (uint64_t)s.settings.gi.rsm.samples);
         if (modes[i] == GI_RSM_INTERLEAVED)
-            assert_int_equal(st.gather_evaluations, (uint64_t)all * (uint64_t)(s.gi.samples / 16));
+            assert_int_equal(st.gather_evaluations, (uint64_t)all * (uint64_t)(s.settings.gi.rsm.samples / 16));
         /* Each gather pass's own count (--timings prints its rate), named as
          * its timer: rsm-interp's two passes split the evaluations. */
         uint64_t sum = 0;
@@ -584,8 +584,8 @@ static void evaluations_count_surfaces_only(void **state)
             assert_int_equal(st.gather_pass_count, 2);
             assert_string_equal(st.gather_passes[0].name, "rsm_gather_lowres");
             assert_string_equal(st.gather_passes[1].name, "rsm_gather_full");
-            assert_true(st.gather_passes[0].evaluations == (uint64_t)st.lowres_gathers * (uint64_t)s.gi.samples);
-            assert_true(st.gather_passes[1].evaluations == (uint64_t)st.full_gathers * (uint64_t)s.gi.samples);
+            assert_true(st.gather_passes[0].evaluations == (uint64_t)st.lowres_gathers * (uint64_t)s.settings.gi.rsm.samples);
+            assert_true(st.gather_passes[1].evaluations == (uint64_t)st.full_gathers * (uint64_t)s.settings.gi.rsm.samples);
         } else if (modes[i] == GI_LPV || modes[i] == GI_VCT) {
             assert_int_equal(st.gather_pass_count, 0); /* no gather pass */
         } else {

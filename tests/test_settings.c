@@ -89,7 +89,7 @@ static void every_setting_round_trips(void **state)
         assert_int_equal(render_options_parse(&o, argc, argv, cmd_render_help), 0);
         render_options_settings(&o, &plain, &rs_cli);
 
-        Settings a = {rs_file.shadow_params, rs_file.gi_params}, b = {rs_cli.shadow_params, rs_cli.gi_params};
+        Settings a = {rs_file.set.shadow, rs_file.set.gi}, b = {rs_cli.set.shadow, rs_cli.set.gi};
         char va[64], vb[64], vd[64];
         settings_format(d, &a, va, sizeof va);
         settings_format(d, &b, vb, sizeof vb);
@@ -107,8 +107,8 @@ static void every_setting_round_trips(void **state)
             RenderSettings rs_word;
             render_options_init(&o, false); /* no command line over the file */
             render_options_settings(&o, &from_word, &rs_word);
-            assert_memory_equal(&rs_word.gi_params, &rs_file.gi_params, sizeof rs_word.gi_params);
-            assert_memory_equal(&rs_word.shadow_params, &rs_file.shadow_params, sizeof rs_word.shadow_params);
+            assert_memory_equal(&rs_word.set.gi, &rs_file.set.gi, sizeof rs_word.set.gi);
+            assert_memory_equal(&rs_word.set.shadow, &rs_file.set.shadow, sizeof rs_word.set.shadow);
             scene_free(&from_word);
         }
         scene_free(&from_file);

@@ -17,10 +17,10 @@ static void render_cornell_filter(ShadowMode mode, float bias_const, float bias_
     scene_finalize(&s);
     RenderSettings rs = test_settings(&s, CW, CH, mode);
     if (bias_const >= 0) {
-        rs.shadow_params.bias_const = bias_const;
-        rs.shadow_params.bias_slope = bias_slope;
+        rs.set.shadow.bias_const = bias_const;
+        rs.set.shadow.bias_slope = bias_slope;
     }
-    rs.shadow_params.pcf_filter = filter;
+    rs.set.shadow.pcf_filter = filter;
     test_render(&s, &rs, img);
     scene_free(&s);
 }
@@ -186,7 +186,7 @@ static void penumbra_scene(Scene *s)
     glm_vec3_copy((vec3){0, -1, 0}, s->camera.forward);
     glm_vec3_copy((vec3){0, 0, -1}, s->camera.up);
     s->camera.fov_y = glm_rad(40.f);
-    s->shadow.map_size = 1024;
+    s->settings.shadow.map_size = 1024;
     scene_finalize(s);
 }
 
@@ -221,11 +221,11 @@ static void pcss_penumbra_grows_pcf_does_not(void **state)
     RenderSettings rs = test_settings(&s, PW, PH, SHADOW_MODE_NONE);
     test_render(&s, &rs, &none);
     rs.shadow = SHADOW_MODE_PCF;
-    rs.shadow_params.pcf_samples = 32;
-    rs.shadow_params.pcf_radius = 6.f;
+    rs.set.shadow.pcf_samples = 32;
+    rs.set.shadow.pcf_radius = 6.f;
     test_render(&s, &rs, &pcf);
     rs.shadow = SHADOW_MODE_PCSS;
-    rs.shadow_params.blocker_samples = 32;
+    rs.set.shadow.blocker_samples = 32;
     test_render(&s, &rs, &pcss);
     double v_pcf[PW], v_pcss[PW];
     visibility_row(&pcf, &none, v_pcf);
@@ -269,17 +269,17 @@ static void grid_pcf_keeps_the_shadow_and_widens_with_radius(void **state)
     (void)state;
     Scene s;
     penumbra_scene(&s);
-    s.shadow.map_size = 256;
+    s.settings.shadow.map_size = 256;
     ImageF none, hard, grid1, grid3;
     RenderSettings rs = test_settings(&s, PW, PH, SHADOW_MODE_NONE);
     test_render(&s, &rs, &none);
     rs.shadow = SHADOW_MODE_HARD;
     test_render(&s, &rs, &hard);
     rs.shadow = SHADOW_MODE_PCF;
-    rs.shadow_params.pcf_filter = SHADOW_PCF_FILTER_GRID;
-    rs.shadow_params.pcf_radius = 1.f;
+    rs.set.shadow.pcf_filter = SHADOW_PCF_FILTER_GRID;
+    rs.set.shadow.pcf_radius = 1.f;
     test_render(&s, &rs, &grid1);
-    rs.shadow_params.pcf_radius = 3.f;
+    rs.set.shadow.pcf_radius = 3.f;
     test_render(&s, &rs, &grid3);
     double v_hard[PW], v1[PW], v3[PW];
     visibility_row(&hard, &none, v_hard);
@@ -335,7 +335,7 @@ static void wide_spot_scene(Scene *s)
     glm_vec3_copy((vec3){1, 0, 0}, s->camera.forward);
     glm_vec3_copy((vec3){0, 1, 0}, s->camera.up);
     s->camera.fov_y = glm_rad(40.f);
-    s->shadow.map_size = 256;
+    s->settings.shadow.map_size = 256;
     scene_finalize(s);
 }
 
@@ -384,8 +384,8 @@ static void off_the_map_is_lit(void **state)
     ImageF none, grid;
     test_render(&s, &rs, &none);
     rs.shadow = SHADOW_MODE_PCF;
-    rs.shadow_params.pcf_filter = SHADOW_PCF_FILTER_GRID;
-    rs.shadow_params.pcf_radius = 1.f;
+    rs.set.shadow.pcf_filter = SHADOW_PCF_FILTER_GRID;
+    rs.set.shadow.pcf_radius = 1.f;
     Renderer r;
     assert_true(renderer_create(&r, &s, &rs));
     renderer_frame(&r, &s.camera);
@@ -422,10 +422,10 @@ static void off_the_map_is_lit(void **state)
     scene_add_light(&s, &sun);
     test_camera_down(&s.camera, (vec3){0.f, 10.f, 0.f});
     s.camera.fov_y = glm_rad(40.f);
-    s.shadow.map_size = 16;
+    s.settings.shadow.map_size = 16;
     scene_finalize(&s);
     rs = test_settings(&s, 32, 32, SHADOW_MODE_PCF);
-    rs.shadow_params.pcf_filter = SHADOW_PCF_FILTER_GRID;
+    rs.set.shadow.pcf_filter = SHADOW_PCF_FILTER_GRID;
     assert_true(renderer_create(&r, &s, &rs));
     renderer_frame(&r, &s.camera);
     assert_true(ring_clear(&r, 0, &inner_drawn) && ring_clear(&r, 1, &inner_drawn));

@@ -153,8 +153,8 @@ static void sponza_rsm_recovers_the_bounce(void **state)
     scene_rescale_lights(&s, 0.f); /* a parallel sun in both renderers */
     enum { W = 80, H = 45 };
     {
-        GiParams gp = s.gi;
-        gp.rsm_size = 256;
+        GiParams gp = s.settings.gi;
+        gp.rsm.size = 256;
         ImageF gi, none, novis, direct;
         test_render_gi(&s, W, H, GI_RSM, &gp, &gi);
         test_render_gi(&s, W, H, GI_NONE, &gp, &none);
@@ -170,12 +170,12 @@ static void sponza_rsm_recovers_the_bounce(void **state)
     for (int i = 0; i < s.material_count; i++)
         if (s.materials[i].light_index < 0)
             s.materials[i].specular = s.materials[i].metallic = 0.f;
-    GiParams gp = s.gi;
-    gp.rsm_size = 256;
+    GiParams gp = s.settings.gi;
+    gp.rsm.size = 256;
     ImageF gi, paper, none, novis, direct;
     test_render_gi(&s, W, H, GI_RSM, &gp, &gi);
     test_render_gi(&s, W, H, GI_NONE, &gp, &none);
-    gp.weighting = RSM_WEIGHT_PAPER;
+    gp.rsm.weighting = RSM_WEIGHT_PAPER;
     test_render_gi(&s, W, H, GI_RSM, &gp, &paper);
     test_reference(&s, W, H, PT_ONE_BOUNCE_NOVIS, 64, &novis);
     test_reference(&s, W, H, PT_DIRECT, 64, &direct);

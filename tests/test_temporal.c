@@ -94,10 +94,10 @@ static Measured sequence(Scene *s, Run run, const ImageF *refs, int from, const 
 {
     RenderSettings rs = test_settings(s, W, H, SHADOW_MODE_NONE);
     rs.gi = run.gi;
-    rs.gi_params = s->gi;
-    rs.gi_params.vpl_count = 1024;
-    rs.gi_params.temporal = run.temporal;
-    rs.gi_params.temporal_clamp = run.clamp;
+    rs.set.gi = s->settings.gi;
+    rs.set.gi.vpl.count = 1024;
+    rs.set.gi.frame.temporal = run.temporal;
+    rs.set.gi.frame.temporal_clamp = run.clamp;
     rs.cache = true;
     animation_apply(s, T0, NULL);
     Renderer r;

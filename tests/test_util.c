@@ -57,7 +57,7 @@ RenderSettings test_settings(const Scene *s, int w, int h, ShadowMode mode)
     rs.shadow = mode;
     rs.gi = GI_NONE;
     rs.exposure = s->exposure;
-    rs.shadow_params = s->shadow;
+    rs.set.shadow = s->settings.shadow;
     return rs;
 }
 
@@ -65,7 +65,7 @@ RenderStats test_render_gi(const Scene *s, int w, int h, GiMode gi, const GiPara
 {
     RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_HARD);
     rs.gi = gi;
-    rs.gi_params = gp ? *gp : s->gi;
+    rs.set.gi = gp ? *gp : s->settings.gi;
     Renderer r;
     assert_true(renderer_create(&r, s, &rs));
     renderer_frame(&r, &s->camera);

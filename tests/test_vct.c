@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "test_util.h"
+#include "core/animation.h"
 #include "gi/vct/vct.h"
 #include "io/metrics.h"
 #include "reference/pathtracer.h"
@@ -25,7 +26,7 @@ static void vct_renderer(Renderer *r, const Scene *s, int w, int h, const GiPara
 {
     RenderSettings rs = test_settings(s, w, h, SHADOW_MODE_HARD);
     rs.gi = GI_VCT;
-    rs.gi_params = gp ? *gp : s->gi;
+    rs.set.gi = gp ? *gp : s->settings.gi;
     assert_true(renderer_create(r, s, &rs));
 }
 
@@ -96,10 +97,10 @@ static bool tri_box(const double a[3], const double b[3], const double c[3], con
  * triangle comes within 1e-3 voxel of). */
 static void count_holes(const Scene *s, int n, bool conservative, int *holes, int *extras, int *filled)
 {
-    GiParams gp = s->gi;
-    gp.vct_size = n;
-    gp.vct_conservative = conservative;
-    gp.vct_aniso = false;
+    GiParams gp = s->settings.gi;
+    gp.vct.size = n;
+    gp.vct.conservative = conservative;
+    gp.vct.aniso = false;
     int size;
     float origin[3], voxel;
     float *vol = vct_volume_of(s, &gp, VCT_VOLUME_ALBEDO, &size, origin, &voxel);
@@ -244,10 +245,10 @@ static void floors_on_voxel_boundaries(void **state)
     float height[FLOORS], box[FLOORS][4];
     boundary_floors(&s, height, box);
     for (int conservative = 0; conservative < 2; conservative++) {
-        GiParams gp = s.gi;
-        gp.vct_size = 32;
-        gp.vct_conservative = conservative;
-        gp.vct_aniso = false;
+        GiParams gp = s.settings.gi;
+        gp.vct.size = 32;
+        gp.vct.conservative = conservative;
+        gp.vct.aniso = false;
         int n;
         float origin[3], voxel;
         float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
@@ -290,8 +291,8 @@ static void injection_matches_lambert(void **state)
     scene_add_light(&s, &sun);
     test_camera_down(&s.camera, (vec3){0.f, 3.f, 0.01f});
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     int n;
     float origin[3], voxel;
     float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_RADIANCE, &n, origin, &voxel);
@@ -331,10 +332,10 @@ static void moved_clipmap_volumes(int bounces, float **albedo, float **radiance,
     scene_add_light(&s, &sun);
     test_camera_down(&s.camera, (vec3){0.f, 0.3f, 0.01f});
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 16;
-    gp.vct_levels = 2;
-    gp.vct_bounces = bounces;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 16;
+    gp.vct.levels = 2;
+    gp.vct.bounces = bounces;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     Camera cam = s.camera;
@@ -409,8 +410,8 @@ static void voxelizes_once(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 16;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 16;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     renderer_frame(&r, &s.camera);
@@ -431,7 +432,7 @@ static void voxelizes_once(void **state)
  * leaves; the same quad without map_d beside it), voxelized at 32³:
  * returns the filled voxels and those whose centre lies more than a voxel
  * past x = 0, on the transparent side. */
-static void count_masked_quad(bool masked, int *filled, int *beyond)
+static void masked_quad_scene(Scene *s, bool masked)
 {
     test_mask_textures("vct_mask_albedo.png", "vct_mask_alpha.png");
     const char *name = masked ? "vct_masked" : "vct_unmasked";
@@ -448,11 +449,16 @@ static void count_masked_quad(bool masked, int *filled, int *beyond)
              "usemtl leaf\nf 1/1/1 4/4/1 3/3/1 2/2/1\n",
              name);
     snprintf(file, sizeof file, "%s.obj", name);
+    assert_true(scene_load(s, test_tmp_file(file, obj)));
+    assert_int_equal(s->materials[s->submeshes[0].material].alpha_mask, masked);
+}
+
+static void count_masked_quad(bool masked, int *filled, int *beyond)
+{
     Scene s;
-    assert_true(scene_load(&s, test_tmp_file(file, obj)));
-    assert_int_equal(s.materials[s.submeshes[0].material].alpha_mask, masked);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    masked_quad_scene(&s, masked);
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     int n;
     float origin[3], voxel;
     float *vol = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
@@ -486,6 +492,147 @@ static void alpha_masked_texels_are_skipped(void **state)
     assert_true(filled[1] > 0.4 * filled[0] && filled[1] < 0.6 * filled[0]);
 }
 
+/* ---- Compute against raster -------------------------------------------------- */
+
+/* Voxelizes `s` at N = n both ways (--vct-voxelize raster, compute) and
+ * compares the volumes voxel by voxel: voxels filled by one alone, and the
+ * largest difference of albedo and of normal where both are filled. */
+static void compare_voxelizations(const Scene *s, int n, const char *what, double albedo_tol)
+{
+    float *vol[2][2]; /* [method][albedo, normal] */
+    int size;
+    float origin[3], voxel;
+    for (int m = 0; m < 2; m++) {
+        GiParams gp = s->settings.gi;
+        gp.vct.size = n;
+        gp.vct.aniso = false;
+        gp.vct.voxelize = m ? VCT_VOXELIZE_COMPUTE : VCT_VOXELIZE_RASTER;
+        vol[m][0] = vct_volume_of(s, &gp, VCT_VOLUME_ALBEDO, &size, origin, &voxel);
+        vol[m][1] = vct_volume_of(s, &gp, VCT_VOLUME_NORMAL, &size, origin, &voxel);
+    }
+    size_t n3 = (size_t)n * n * n;
+    int filled = 0, only_raster = 0, only_compute = 0;
+    double albedo = 0, normal = 0;
+    for (size_t i = 0; i < n3; i++) {
+        bool r = vol[0][0][4 * i + 3] > 0.f, c = vol[1][0][4 * i + 3] > 0.f;
+        filled += r;
+        only_raster += r && !c;
+        only_compute += c && !r;
+        if (!r || !c)
+            continue;
+        for (int k = 0; k < 3; k++) {
+            albedo = fmax(albedo, fabs(vol[0][0][4 * i + k] - vol[1][0][4 * i + k]));
+            normal = fmax(normal, fabs(vol[0][1][4 * i + k] - vol[1][1][4 * i + k]));
+        }
+    }
+    print_message("%s at %d^3: raster fills %d voxels; %d filled by raster alone, %d by compute alone; albedo within "
+                  "%.5f, normal within %.5f\n",
+                  what, n, filled, only_raster, only_compute, albedo, normal);
+    assert_true(filled > 100);
+    assert_int_equal(only_raster, 0);
+    assert_int_equal(only_compute, 0);
+    assert_true(albedo <= albedo_tol);
+    assert_true(normal <= 2e-3); /* RGBA16F rounding of unit vectors */
+    for (int m = 0; m < 2; m++)
+        for (int k = 0; k < 2; k++)
+            free(vol[m][k]);
+}
+
+/* The compute voxelization writes what the raster one does: the same
+ * voxels (conservative coverage) with the same albedo and normal, on the
+ * Cornell box, the thin plane and wall (so it is as watertight), and a
+ * textured quad whose texture is alpha-masked on half of it (texels read
+ * at the explicit gradient: bilinear, mip level within rounding of the
+ * fragments' derivatives). */
+static void compute_equals_raster(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    compare_voxelizations(&s, 32, "cornell", 2e-3);
+    scene_free(&s);
+    thin_scene(&s);
+    compare_voxelizations(&s, 32, "thin plane and wall", 2e-3);
+    scene_free(&s);
+    masked_quad_scene(&s, true);
+    compare_voxelizations(&s, 32, "alpha-masked textured quad", 1e-2);
+    scene_free(&s);
+}
+
+/* A 2 m floor (grey) and a red wall 0.6 m tall on it at x = 0.3; the
+ * wall's four vertices start at *wall. */
+static void wall_scene(Scene *s, uint32_t *wall)
+{
+    scene_init(s);
+    int grey = scene_add_material(s, "grey", (vec3){0.5f, 0.5f, 0.5f});
+    int red = scene_add_material(s, "red", (vec3){0.8f, 0.1f, 0.1f});
+    test_add_square(s, grey, (vec3){0.f, 0.f, 0.f}, 2.f);
+    *wall = s->vertex_count;
+    assert_true(scene_add_quad(s, red, (vec3){0.3f, 0.f, -0.5f}, (vec3){0.3f, 0.6f, -0.5f}, (vec3){0.3f, 0.6f, 0.5f},
+                               (vec3){0.3f, 0.f, 0.5f}));
+    Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.3f, -1.f, 0.2f}, .color = {1.f, 1.f, 1.f}};
+    scene_add_light(s, &sun);
+    test_camera_down(&s->camera, (vec3){0.f, 3.f, 0.01f});
+    scene_finalize(s);
+}
+
+/* A moved object revoxelizes to what a cold renderer voxelizes, both
+ * ways: no sample of where it stood stays (the sums persist between
+ * voxelizations, cleared by the resolve behind itself), whether the
+ * opaque voxels fit their list (16³) or overflow it (4³: the resolve then
+ * runs over every voxel). Albedo volumes equal exactly (integer sums). */
+static void moved_object_revoxelizes(void **state)
+{
+    (void)state;
+    for (int m = 0; m < 2; m++) {
+        for (int size = 4; size <= 16; size += 12) {
+            Scene s;
+            uint32_t wall;
+            wall_scene(&s, &wall);
+            GiParams gp = s.settings.gi;
+            gp.vct.size = size;
+            gp.vct.aniso = false;
+            gp.vct.voxelize = m ? VCT_VOXELIZE_COMPUTE : VCT_VOXELIZE_RASTER;
+            Renderer r;
+            vct_renderer(&r, &s, 16, 16, &gp);
+            renderer_frame(&r, &s.camera);
+            bool listed_before;
+            vct_opaque_voxels(r.gi_state, &listed_before);
+            for (uint32_t i = wall; i < wall + 4; i++)
+                s.vertices[i].position[0] -= 0.6f; /* to x = -0.3 */
+            assert_true(renderer_scene_changed(&r, &(SceneChange){SCENE_CHANGED_GEOMETRY, wall, 4}));
+            renderer_frame(&r, &s.camera);
+            bool listed;
+            unsigned opaque = vct_opaque_voxels(r.gi_state, &listed);
+            assert_int_equal(renderer_collect_stats(&r)->voxelizations, 2);
+            size_t n3 = (size_t)size * size * size;
+            float *moved = malloc(sizeof(float) * 4 * n3);
+            assert_non_null(moved);
+            assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, moved));
+            renderer_destroy(&r);
+            int n;
+            float origin[3], voxel;
+            float *cold = vct_volume_of(&s, &gp, VCT_VOLUME_ALBEDO, &n, origin, &voxel);
+            int differ = 0, filled = 0;
+            for (size_t i = 0; i < 4 * n3; i++)
+                differ += moved[i] != cold[i];
+            for (size_t i = 0; i < n3; i++)
+                filled += cold[4 * i + 3] > 0.f;
+            print_message("%s, %d^3: after the wall moved %u opaque voxels (%s, before the move %s), %d filled cold; "
+                          "%d values differ from a cold renderer's\n",
+                          m ? "compute" : "raster", size, opaque, listed ? "listed" : "overflowing the list",
+                          listed_before ? "listed" : "overflowing", filled, differ);
+            assert_true(listed == (size == 16) && listed_before == listed);
+            assert_int_equal(opaque, filled);
+            assert_int_equal(differ, 0);
+            free(moved);
+            free(cold);
+            scene_free(&s);
+        }
+    }
+}
+
 /* ---- Clipmap ------------------------------------------------------------- */
 
 /* --vct-levels 3: levels of whole voxels around the camera, each voxel
@@ -498,9 +645,9 @@ static void clipmap_follows_the_camera(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 16;
-    gp.vct_levels = 3;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 16;
+    gp.vct.levels = 3;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     Camera cam = s.camera;
@@ -551,20 +698,20 @@ static void cornell_against_reference(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     scene_rescale_lights(&s, 0.f);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     ImageF one, full_res, iso, two, none, ob, full, clip;
     test_render_gi(&s, W, H, GI_VCT, &gp, &one);
-    gp.vct_trace_scale = 1;
+    gp.vct.trace_scale = 1;
     test_render_gi(&s, W, H, GI_VCT, &gp, &full_res);
-    gp.vct_trace_scale = s.gi.vct_trace_scale;
-    gp.vct_levels = 2;
+    gp.vct.trace_scale = s.settings.gi.vct.trace_scale;
+    gp.vct.levels = 2;
     test_render_gi(&s, W, H, GI_VCT, &gp, &clip);
-    gp.vct_levels = 1;
-    gp.vct_aniso = false;
+    gp.vct.levels = 1;
+    gp.vct.aniso = false;
     test_render_gi(&s, W, H, GI_VCT, &gp, &iso);
-    gp.vct_aniso = true;
-    gp.vct_bounces = 2;
+    gp.vct.aniso = true;
+    gp.vct.bounces = 2;
     test_render_gi(&s, W, H, GI_VCT, &gp, &two);
     test_render_gi(&s, W, H, GI_NONE, NULL, &none);
     test_reference(&s, W, H, PT_ONE_BOUNCE, 256, &ob);
@@ -577,7 +724,7 @@ static void cornell_against_reference(void **state)
                   "bounce %.4f, 2 bounces %.4f, none %.4f\n",
                   v_ob, i_ob, c_ob, n_ob, v_full, t_full, n_full);
     double f_ob = metric_relmse(&full_res, &ob, NULL, NULL);
-    print_message("--vct-trace-scale %d: relMSE vs one-bounce %.4f, every pixel traced %.4f\n", s.gi.vct_trace_scale,
+    print_message("--vct-trace-scale %d: relMSE vs one-bounce %.4f, every pixel traced %.4f\n", s.settings.gi.vct.trace_scale,
                   v_ob, f_ob);
     assert_true(v_ob < 1.1 * f_ob); /* the upsampling loses (almost) nothing */
     assert_true(c_ob < n_ob);
@@ -679,8 +826,8 @@ static void thin_wall_stops_cones(void **state)
     glm_vec3_copy((vec3){0.f, 0.f, -1.f}, s.camera.forward);
     glm_vec3_copy((vec3){0.f, 1.f, 0.f}, s.camera.up);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     renderer_frame(&r, &s.camera);
@@ -701,7 +848,8 @@ static void thin_wall_stops_cones(void **state)
             glm_vec3_copy(p->d, p->n);
             /* Distance along the cone to the wall: diameter 2^m voxels
              * there, and at least 3 voxels past the apex (2.5 voxels off
-             * the surface; the first sample 1 voxel past it). */
+             * the surface, cone.glsl's VCT_APEX before issue 44's second
+             * round (now 1); the first sample 1 voxel past it). */
             float along = 2.5f * voxel + fmaxf((float)(1 << m) * voxel / (2.f * tan_half), 3.f * voxel);
             p->x[0] = -p->d[0] * along, p->x[1] = 0.f, p->x[2] = -p->d[2] * along;
             p->tan_half = tan_half;
@@ -748,8 +896,8 @@ static double self_lit_share(float yaw, float tilt, int n)
     test_camera_down(&s.camera, (vec3){0.f, 3.f, 0.01f});
     s.camera.fov_y = glm_rad(50.f);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = n;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = n;
     ImageF vct, none;
     test_render_gi(&s, 48, 48, GI_VCT, &gp, &vct);
     test_render_gi(&s, 48, 48, GI_NONE, NULL, &none);
@@ -850,9 +998,9 @@ static void turned_face_has_no_bands(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 64;
-    gp.vct_trace_scale = 1;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 64;
+    gp.vct.trace_scale = 1;
     ImageF vct, none;
     test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
     test_render_gi(&s, W, W, GI_NONE, NULL, &none);
@@ -870,14 +1018,58 @@ static void turned_face_has_no_bands(void **state)
     scene_free(&s);
 }
 
+/* ---- Sponza ---------------------------------------------------------------- */
+
+/* The shipped scenes/sponza_nave.json (its volume: 256³, 0.12 m voxels) at
+ * 160×90 against the path tracer's one bounce (16 spp at pixel centres):
+ * the indirect ratio of the whole image within [0.8, 1.25], and every 16×9
+ * block whose reference bounce is above the median within [0.15, 3].
+ * Measured 0.90, blocks 0.21 .. 2.05 (320×180, 64 spp: 0.92, 0.27 ..
+ * 2.16; scripts/gi-regions.sh). The lowest blocks are the soffits of the
+ * arcades' arches (y = 3 m, facing down), lit by the sunlit floor through
+ * the 0.75 m between the arch and the curtain's rod below it: the issue's
+ * ⅓ is not met there. Before the cap and the lift asked the same
+ * clearance (cone.glsl) the lift put the soffits' cones into the curtain:
+ * blocks 0.02 .. 2.23 at 256³ (0.003 .. 4.22 at 128³, the earlier
+ * default). Skipped where the asset is not present (as test_sponza.c). */
+static void sponza_against_one_bounce(void **state)
+{
+    (void)state;
+    const char *file = test_sponza_file();
+    if (!file) {
+        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
+        skip();
+    }
+    enum { W = 160, H = 90 };
+    Scene s;
+    assert_true(scene_load(&s, file));
+    assert_int_equal(s.settings.gi.vct.size, 256);
+    ImageF vct, none, ob, direct;
+    test_render_gi(&s, W, H, GI_VCT, NULL, &vct);
+    test_render_gi(&s, W, H, GI_NONE, NULL, &none);
+    test_reference(&s, W, H, PT_ONE_BOUNCE, 16, &ob);
+    test_reference(&s, W, H, PT_DIRECT, 16, &direct);
+    double whole = test_indirect_ratio(&vct, &none, &ob, &direct, NULL), lo, hi;
+    test_block_ratio_range(&vct, &none, &ob, &direct, 16, 9, &lo, &hi);
+    print_message("Sponza %dx%d: indirect ratio against one-bounce %.3f; 16x9 blocks above the median %.3f .. %.3f\n",
+                  W, H, whole, lo, hi);
+    assert_true(whole > 0.8 && whole < 1.25);
+    assert_true(lo > 0.15 && hi < 3.0);
+    image_free(&vct);
+    image_free(&none);
+    image_free(&ob);
+    image_free(&direct);
+    scene_free(&s);
+}
+
 /* ---- A closed box --------------------------------------------------------- */
 
 /* Inside a closed white box (2 m, ρ = 0.5) with a point light off centre,
  * seen from inside: the indirect light vct adds to the direct image against
  * the one the path tracer's one-bounce adds to its direct light (the two
  * agree on direct light with a point light). Measured at 32³: mean
- * indirect ratio 0.849 (cones that start 2.5 voxels off the surface miss
- * the light of what is nearer), relMSE 0.0050 (no GI 0.0735). Bounds: the
+ * indirect ratio 0.849 (cones that started 2.5 voxels off the surface
+ * missed the light of what is nearer), relMSE 0.0050 (no GI 0.0735). Bounds: the
  * ratio within 25%, relMSE under a fifth of no GI's. */
 static void closed_box(void **state)
 {
@@ -904,8 +1096,8 @@ static void closed_box(void **state)
     s.camera.fov_y = glm_rad(90.f);
     s.camera.znear = 0.01f;
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     ImageF vct, none, ob;
     test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
     test_render_gi(&s, W, W, GI_NONE, NULL, &none);
@@ -958,10 +1150,10 @@ static void check_directional(int n, int levels)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = n;
-    gp.vct_levels = levels;
-    gp.vct_aniso = true;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = n;
+    gp.vct.levels = levels;
+    gp.vct.aniso = true;
     Renderer r;
     vct_renderer(&r, &s, 16, 16, &gp);
     renderer_frame(&r, &s.camera);
@@ -1081,11 +1273,11 @@ static void cones_see_the_facing_side(void **state)
     test_camera_down(&s.camera, (vec3){0.f, 2.f, 0.01f});
     s.camera.fov_y = glm_rad(60.f);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     double side[2][2]; /* [aniso][left/right]: mean (R − G) left, (G − R) right, over the floor's outer thirds */
     for (int a = 0; a < 2; a++) {
-        gp.vct_aniso = a == 1;
+        gp.vct.aniso = a == 1;
         ImageF img;
         test_render_gi(&s, W, W, GI_VCT, &gp, &img);
         for (int half = 0; half < 2; half++) {
@@ -1124,10 +1316,10 @@ static void specular_cone(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
-    gp.vct_f0 = 0.5f;
-    gp.vct_roughness = 0.3f;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
+    gp.vct.f0 = 0.5f;
+    gp.vct.roughness = 0.3f;
     Renderer r;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
@@ -1143,7 +1335,7 @@ static void specular_cone(void **state)
     assert_true(red_side[0] > 0 && green_side[1] > 0);
     assert_true(rr > 1.5 * rg);
     renderer_destroy(&r);
-    gp.vct_f0 = 0.f;
+    gp.vct.f0 = 0.f;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
     glGetTextureImage(r.specular, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
@@ -1187,8 +1379,8 @@ static void glossy_cornell(void **state)
     Scene s;
     assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/cornell_glossy.json"));
     scene_rescale_lights(&s, 0.f);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     ImageF vct, none, ob;
     test_render_gi(&s, W, W, GI_VCT, &gp, &vct);
     test_render_gi(&s, W, W, GI_NONE, NULL, &none);
@@ -1208,8 +1400,8 @@ static void glossy_cornell(void **state)
      * metal face's reflection is a few pixels of a 64² image and blurred
      * by 32³ voxels: 0.5-1.9× the reference there). */
     enum { WM = 128 };
-    GiParams gm = s.gi;
-    gm.vct_size = 64;
+    GiParams gm = s.settings.gi;
+    gm.vct.size = 64;
     ImageF mv, mn, mob, md;
     test_render_gi(&s, WM, WM, GI_VCT, &gm, &mv);
     test_render_gi(&s, WM, WM, GI_NONE, NULL, &mn);
@@ -1251,8 +1443,8 @@ static void ambient_occlusion(void **state)
     Scene s;
     scene_build_cornell(&s);
     scene_finalize(&s);
-    GiParams gp = s.gi;
-    gp.vct_size = 32;
+    GiParams gp = s.settings.gi;
+    gp.vct.size = 32;
     Renderer r;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
@@ -1273,7 +1465,7 @@ static void ambient_occlusion(void **state)
     assert_true(lo >= 0 && hi <= 1);
     assert_true(corner < middle - 0.05);
     renderer_destroy(&r);
-    gp.vct_ao = false;
+    gp.vct.ao = false;
     vct_renderer(&r, &s, W, W, &gp);
     renderer_frame(&r, &s.camera);
     glGetTextureImage(r.irradiance, 0, GL_RGBA, GL_FLOAT, (GLsizei)(sizeof(float) * 4 * W * W), e);
@@ -1336,9 +1528,11 @@ static void out_ao_cli(void **state)
  * clipmap level, radiance with its mip chain (two with a second bounce),
  * with --vct-aniso six directional volumes of (N/2)³ and their chains (three
  * textures of both signs; N a power of two, as here: no padding), and
- * two RGBA32F images of ⌈w/s⌉ × ⌈h/s⌉ at --vct-trace-scale s > 1, and the
- * opaque-voxel list (a count, an indirect dispatch and N³·L/8 entries). */
-static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, int h, int scale)
+ * two RGBA32F images of ⌈w/s⌉ × ⌈h/s⌉ at --vct-trace-scale s > 1, the
+ * opaque-voxel list (a count, an indirect dispatch and N³·L/8 entries),
+ * the voxelization's sums (8 uints a voxel) and, voxelizing in compute, its
+ * work buffer on `s` (4 words per submesh and 1 per triangle, per level). */
+static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, int h, int scale, const Scene *s)
 {
     double chain = 0, half_chain = 0;
     for (int k = n; k >= 1; k /= 2)
@@ -1350,7 +1544,11 @@ static double vct_memory_mib(int n, int levels, bool aniso, int bounces, int w, 
     double voxels = levels * (2.0 * n * n * n + bounces * radiance + (aniso ? 6 * half_chain : 0));
     double low = scale > 1 ? 2.0 * 16 * ((w + scale - 1) / scale) * ((h + scale - 1) / scale) : 0;
     double opaque = 4.0 * (4 + levels * n * n * n / VCT_OPAQUE_SHARE); /* the opaque-voxel list */
-    return (8 * voxels + low + opaque + sizeof(GpuVctParams)) / (1024.0 * 1024.0); /* and its UBO */
+    double sums = 32.0 * levels * n * n * n;
+    double work = s->settings.gi.vct.voxelize == VCT_VOXELIZE_COMPUTE
+                      ? 4.0 * levels * (4.0 * s->submesh_count + (double)(s->index_count / 3))
+                      : 0;
+    return (8 * voxels + low + opaque + sums + work + sizeof(GpuVctParams)) / (1024.0 * 1024.0); /* and its UBO */
 }
 
 /* The row of pass `name` in the --timings table: its GPU and wall ms and
@@ -1390,6 +1588,9 @@ static void timings_and_memory_cli(void **state)
     };
     char img[512];
     snprintf(img, sizeof img, "%s/vct_timings.pfm", RTGI_TEST_TMP);
+    Scene cornell; /* what `render` draws: its triangles size the compute voxelization's work buffer */
+    scene_build_cornell(&cornell);
+    scene_finalize(&cornell);
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; k++) {
         char *out = NULL, *err = NULL;
         int rc = test_run_cli_out(&out, &err, "render", "--gi", "vct", "--vct-size", "16", "--size", "32x32",
@@ -1398,7 +1599,7 @@ static void timings_and_memory_cli(void **state)
             fail_msg("render --timings %s %s: exit %d: %s", runs[k].opt, runs[k].val, rc, err ? err : "");
         free(err);
         assert_non_null(out);
-        double mib = -1, want = vct_memory_mib(16, runs[k].levels, runs[k].aniso, runs[k].bounces, 32, 32, 2);
+        double mib = -1, want = vct_memory_mib(16, runs[k].levels, runs[k].aniso, runs[k].bounces, 32, 32, 2, &cornell);
         const char *m = strstr(out, "\ngi_memory_mib: ");
         assert_non_null(m);
         assert_int_equal(sscanf(m, "\ngi_memory_mib: %lf", &mib), 1);
@@ -1436,6 +1637,7 @@ static void timings_and_memory_cli(void **state)
         }
         free(out);
     }
+    scene_free(&cornell);
 }
 
 /* ---- Bad settings ------------------------------------------------------- */
@@ -1467,7 +1669,7 @@ static void bad_vct_settings(void **state)
     path = test_tmp_file("goodvct.json", "{ \"builtin\": \"cornell\", \"gi\": { \"vct_cones\": 9 } }\n");
     Scene s;
     assert_true(scene_load(&s, path));
-    assert_int_equal(s.gi.vct_cones, VCT_CONES_9);
+    assert_int_equal(s.settings.gi.vct.cones, VCT_CONES_9);
     scene_free(&s);
 }
 
@@ -1480,6 +1682,8 @@ int main(void)
         cmocka_unit_test(injection_covers_the_opaque_voxels),
         cmocka_unit_test(voxelizes_once),
         cmocka_unit_test(alpha_masked_texels_are_skipped),
+        cmocka_unit_test(compute_equals_raster),
+        cmocka_unit_test(moved_object_revoxelizes),
         cmocka_unit_test(clipmap_follows_the_camera),
         cmocka_unit_test(cornell_against_reference),
         cmocka_unit_test(directional_volumes_composite),
@@ -1489,6 +1693,7 @@ int main(void)
         cmocka_unit_test(surfaces_do_not_light_themselves),
         cmocka_unit_test(turned_face_has_no_bands),
         cmocka_unit_test(closed_box),
+        cmocka_unit_test(sponza_against_one_bounce),
         cmocka_unit_test(specular_cone),
         cmocka_unit_test(glossy_cornell),
         cmocka_unit_test(ambient_occlusion),

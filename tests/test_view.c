@@ -576,7 +576,7 @@ static void help_and_options(void **state)
     rc = test_run_cli(&err, "view", "--warmup=2", NULL);
     test_expect_cli_error(rc, err, 2, "--warmup", "rtgi render");
     rc = test_run_cli(&err, "view", "--slow-ms", "-1", NULL);
-    test_expect_cli_error(rc, err, 2, "--slow-ms", "positive");
+    test_expect_cli_error(rc, err, 2, "--slow-ms", "out of range");
     rc = test_run_cli(&err, "view", "--compare", NULL);
     test_expect_cli_error(rc, err, 2, "--compare", "needs a value");
 }

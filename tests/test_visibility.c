@@ -54,10 +54,10 @@ enum { MODES = sizeof k_modes / sizeof k_modes[0] };
  * to --gi none (`none`), with visibility `on`. */
 static double receiver_bounce(const Scene *s, GiMode gi, bool on, const ImageF *none, const uint8_t *mask)
 {
-    GiParams gp = s->gi;
-    gp.vpl_count = 1024;
-    gp.ism_maps = 1024;
-    gp.gi_visibility = on;
+    GiParams gp = s->settings.gi;
+    gp.vpl.count = 1024;
+    gp.visibility.ism_maps = 1024;
+    gp.visibility.on = on;
     ImageF img;
     test_render_gi(s, W, H, gi, &gp, &img);
     double sum = 0;
@@ -142,10 +142,10 @@ static void sponza_against_one_bounce(void **state)
     for (int k = 0; k < 2; k++) {
         double r[2];
         for (int on = 0; on < 2; on++) {
-            GiParams gp = s.gi;
-            gp.gi_visibility = on;
+            GiParams gp = s.settings.gi;
+            gp.visibility.on = on;
             if (modes[k] == GI_VPL_SLC)
-                gp.vpl_count = 16384;
+                gp.vpl.count = 16384;
             ImageF img;
             test_render_gi(&s, SW, SH, modes[k], &gp, &img);
             r[on] = test_indirect_ratio(&img, &none, &ref, &direct, NULL);

@@ -25,8 +25,8 @@ static void cornell(Scene *s, GiParams *gp, int vpls)
 {
     scene_build_cornell(s);
     scene_finalize(s);
-    *gp = s->gi;
-    gp->vpl_count = vpls;
+    *gp = s->settings.gi;
+    gp->vpl.count = vpls;
 }
 
 /* The mean over many ξ seeds of the SLC image converges to brute force:
@@ -47,7 +47,7 @@ static void slc_is_unbiased_clamped_is_not(void **state)
     size_t n = (size_t)W * H;
     double *sum = calloc(n, sizeof(double)), *sum2 = calloc(n, sizeof(double)), *img_means = calloc(K, sizeof(double));
     for (int k = 0; k < K; k++) {
-        gp.vpl_seed = (unsigned)(1000 + k);
+        gp.vpl.seed = (unsigned)(1000 + k);
         render_vpl(&s, GI_VPL_SLC, &gp, &img);
         for (size_t i = 0; i < n; i++) {
             double v = luminance(img.rgb + 3 * i);
@@ -100,7 +100,7 @@ static void slc_work_is_sublinear(void **state)
     image_free(&img);
     RenderStats s1 = render_vpl(&s, GI_VPL_SLC, &gp, &img);
     image_free(&img);
-    gp.vpl_count = 16384;
+    gp.vpl.count = 16384;
     RenderStats b16 = render_vpl(&s, GI_VPL_ALL, &gp, &img);
     image_free(&img);
     RenderStats s16 = render_vpl(&s, GI_VPL_SLC, &gp, &img);
@@ -134,11 +134,11 @@ static void slc_beats_uniform_subsampling(void **state)
     ImageF brute, slc, uni;
     RenderStats bst = render_vpl(&s, GI_VPL_ALL, &gp, &brute);
     RenderStats sst = render_vpl(&s, GI_VPL_SLC, &gp, &slc);
-    gp.vpl_keep = (float)((double)sst.vpl_evaluations / (double)bst.vpl_evaluations);
+    gp.vpl.keep = (float)((double)sst.vpl_evaluations / (double)bst.vpl_evaluations);
     RenderStats ust = render_vpl(&s, GI_VPL_ALL, &gp, &uni);
     double e_slc = metric_rmse(&slc, &brute, NULL, NULL), e_uni = metric_rmse(&uni, &brute, NULL, NULL);
     print_message("budget %llu vs %llu evaluations (keep %.3f): RMSE SLC %.5f, uniform %.5f\n",
-                  (unsigned long long)sst.vpl_evaluations, (unsigned long long)ust.vpl_evaluations, gp.vpl_keep, e_slc,
+                  (unsigned long long)sst.vpl_evaluations, (unsigned long long)ust.vpl_evaluations, gp.vpl.keep, e_slc,
                   e_uni);
     /* the budgets match to within the binomial spread of the subsample */
     assert_true(fabs((double)ust.vpl_evaluations - (double)sst.vpl_evaluations) < 0.1 * (double)sst.vpl_evaluations);
@@ -161,13 +161,13 @@ static void metalights(void **state)
     Scene s;
     GiParams gp;
     cornell(&s, &gp, 4096);
-    gp.interleave_blur = false;
+    gp.interleave.blur = false;
     ImageF brute, meta, rnd;
     render_vpl(&s, GI_VPL_ALL, &gp, &brute);
     RenderStats ms = render_vpl(&s, GI_VPL_METALIGHTS, &gp, &meta);
     double e_meta = metric_relmse(&meta, &brute, NULL, NULL), e_rnd = 0;
     for (int k = 0; k < SEEDS; k++) {
-        gp.vpl_seed = (unsigned)k;
+        gp.vpl.seed = (unsigned)k;
         RenderStats rs = render_vpl(&s, GI_VPL_INTERLEAVED, &gp, &rnd);
         double e = metric_relmse(&rnd, &brute, NULL, NULL);
         print_message("random subsets, seed %d: relMSE %.5f (metalights %.5f)\n", k, e, e_meta);
@@ -184,7 +184,7 @@ static void metalights(void **state)
     /* Regrouping: same light → kept; moved light → recomputed. */
     RenderSettings set = test_settings(&s, W, H, SHADOW_MODE_HARD);
     set.gi = GI_VPL_METALIGHTS;
-    set.gi_params = gp;
+    set.set.gi = gp;
     Renderer r;
     assert_true(renderer_create(&r, &s, &set));
     renderer_frame(&r, &s.camera);
@@ -219,7 +219,7 @@ static void interleaved_covers_odd_sizes(void **state)
     Scene s;
     GiParams gp;
     cornell(&s, &gp, 1024);
-    gp.interleave_blur = false;
+    gp.interleave.blur = false;
     ImageF brute, img;
     test_render_gi(&s, OW, OH, GI_VPL_ALL, &gp, &brute);
     const GiMode modes[2] = {GI_VPL_INTERLEAVED, GI_VPL_METALIGHTS};
@@ -269,10 +269,10 @@ static void lists_sum_like_brute_force(void **state)
     Scene s;
     GiParams gp;
     cornell(&s, &gp, 1000);
-    gp.interleave_blur = false;
+    gp.interleave.blur = false;
     RenderSettings set = test_settings(&s, OW, OH, SHADOW_MODE_HARD);
     set.gi = GI_VPL_ALL;
-    set.gi_params = gp;
+    set.set.gi = gp;
     Renderer r;
     assert_true(renderer_create(&r, &s, &set));
     renderer_frame(&r, &s.camera);
@@ -290,7 +290,7 @@ static void lists_sum_like_brute_force(void **state)
     uint32_t n = b.vpl_count;
     assert_true(b.vpl_evaluations == (uint64_t)n * (shown[0] + shown[1] + shown[2]));
 
-    gp.vpl_range = 1e6f;
+    gp.vpl.range = 1e6f;
     RenderStats c = test_render_gi(&s, OW, OH, GI_VPL_CLAMPED, &gp, &img);
     double dc = max_pixel_rel_diff(&img, &brute);
     print_message("vpl-clamped, range 1e6: %llu evaluations of %llu candidates (brute force %llu), "
@@ -303,7 +303,7 @@ static void lists_sum_like_brute_force(void **state)
     assert_true(dc < 2e-5); /* rounding: 2e-6 measured; one entry read twice: 7e-5 */
     image_free(&img);
 
-    gp.interleave_n = gp.interleave_m = 1;
+    gp.interleave.n = gp.interleave.m = 1;
     RenderStats one = test_render_gi(&s, OW, OH, GI_VPL_INTERLEAVED, &gp, &img);
     double d1 = max_pixel_rel_diff(&img, &brute);
     print_message("vpl-interleaved 1x1: %llu evaluations, largest pixel difference %.2g\n",
@@ -312,7 +312,7 @@ static void lists_sum_like_brute_force(void **state)
     assert_true(d1 < 2e-5);
     image_free(&img);
 
-    gp.interleave_n = 3;
+    gp.interleave.n = 3;
     RenderStats three = test_render_gi(&s, OW, OH, GI_VPL_INTERLEAVED, &gp, &img);
     uint64_t expect = 0;
     for (uint32_t k = 0; k < 3; k++)
@@ -335,7 +335,7 @@ static void near_clamp_bias_is_measurable(void **state)
     cornell(&s, &gp, 1024);
     ImageF a, b;
     render_vpl(&s, GI_VPL_ALL, &gp, &a);
-    gp.vpl_near_clamp = 0.1f;
+    gp.vpl.near_clamp = 0.1f;
     render_vpl(&s, GI_VPL_ALL, &gp, &b);
     double ma = test_image_mean(&a), mb = test_image_mean(&b);
     print_message("near clamp 0.1 m^2: image mean %.6f -> %.6f (%.1f%%)\n", ma, mb, 100 * (mb - ma) / ma);
@@ -383,10 +383,10 @@ static void vpl_all_sums_every_vpl(void **state)
     Scene s;
     GiParams gp;
     cornell(&s, &gp, 150000);
-    gp.vpl_seed = 7; /* check_xi: a seed that reaches the hash (vpl-all itself takes no ξ) */
+    gp.vpl.seed = 7; /* check_xi: a seed that reaches the hash (vpl-all itself takes no ξ) */
     RenderSettings rs = test_settings(&s, W8, H8, SHADOW_MODE_HARD);
     rs.gi = GI_VPL_ALL;
-    rs.gi_params = gp;
+    rs.set.gi = gp;
     Renderer r;
     assert_true(renderer_create(&r, &s, &rs));
     renderer_frame(&r, &s.camera);
@@ -423,7 +423,7 @@ static void vpl_all_sums_every_vpl(void **state)
                 cp += v[i].normal_xi[c] * d[c] * inv;
                 cx -= gp_px.normal[c] * d[c] * inv;
             }
-            double r2 = gp.vpl_disk ? v[i].flux[3] / GLM_PI : 0.0; /* disk VPLs (the default) */
+            double r2 = gp.vpl.disk ? v[i].flux[3] / GLM_PI : 0.0; /* disk VPLs (the default) */
             double g = (cp > 0 ? cp : 0) * (cx > 0 ? cx : 0) / (GLM_PI * (d2 + r2));
             for (int c = 0; c < 3; c++)
                 e[c] += v[i].flux[c] * g;
@@ -462,9 +462,9 @@ static void disk_vpls_bound_the_singularity(void **state)
     ImageF disk, point, clamp, none, ref;
     test_render_gi(&s, S, S, GI_VPL_ALL, &gp, &disk);
     test_render_gi(&s, S, S, GI_NONE, &gp, &none);
-    gp.vpl_disk = false;
+    gp.vpl.disk = false;
     test_render_gi(&s, S, S, GI_VPL_ALL, &gp, &point);
-    gp.vpl_near_clamp = 0.1f;
+    gp.vpl.near_clamp = 0.1f;
     test_render_gi(&s, S, S, GI_VPL_ALL, &gp, &clamp);
     test_reference(&s, S, S, PT_ONE_BOUNCE_NOVIS, 32, &ref);
     double max_ref = 0, max_disk = 0, max_point = 0;
@@ -486,20 +486,20 @@ static void disk_vpls_bound_the_singularity(void **state)
     assert_true(rc < 0.9);                  /* as the clamp does */
     assert_true(ed < ep);
     GiParams gr = gp;
-    gr.vpl_near_clamp = 0.f;
-    gr.exhaustive = true;
-    gr.rsm_size = light_stage_rsm_size_for_vpls(&s, &s.lights[0], gp.vpl_count); /* the VPL techniques' map */
+    gr.vpl.near_clamp = 0.f;
+    gr.rsm.exhaustive = true;
+    gr.rsm.size = light_stage_rsm_size_for_vpls(&s, &s.lights[0], gp.vpl.count); /* the VPL techniques' map */
     ImageF rsm_disk, rsm_point;
-    gr.vpl_disk = true;
+    gr.vpl.disk = true;
     test_render_gi(&s, S, S, GI_RSM, &gr, &rsm_disk);
-    gr.vpl_disk = false;
+    gr.vpl.disk = false;
     test_render_gi(&s, S, S, GI_RSM, &gr, &rsm_point);
     double max_rd = 0, max_rp = 0;
     for (int k = 0; k < S * S; k++) {
         max_rd = fmax(max_rd, luminance(rsm_disk.rgb + 3 * k));
         max_rp = fmax(max_rp, luminance(rsm_point.rgb + 3 * k));
     }
-    print_message("exhaustive RSM (%d² faces): max luminance disk %.3f, point %.3f\n", gr.rsm_size, max_rd, max_rp);
+    print_message("exhaustive RSM (%d² faces): max luminance disk %.3f, point %.3f\n", gr.rsm.size, max_rd, max_rp);
     assert_true(max_rp > 1.5 * max_ref);
     assert_true(max_rd < 1.2 * max_ref);
     image_free(&rsm_disk);
@@ -536,24 +536,24 @@ static void vpls_sum_the_rsm_on_sponza(void **state)
     enum { SW = 80, SH = 45 };
     Scene s;
     test_sponza_lambert(&s); /* a parallel sun */
-    GiParams gp = s.gi;
+    GiParams gp = s.settings.gi;
     ImageF none, rsm, rsm64, img;
     test_render_gi(&s, SW, SH, GI_NONE, &gp, &none);
     test_render_gi(&s, SW, SH, GI_RSM, &gp, &rsm);
     GiParams gx = gp;
-    gx.exhaustive = true;
-    gx.rsm_size = light_stage_rsm_size_for_vpls(&s, &s.lights[0], gp.vpl_count); /* 64: the VPLs' map */
+    gx.rsm.exhaustive = true;
+    gx.rsm.size = light_stage_rsm_size_for_vpls(&s, &s.lights[0], gp.vpl.count); /* 64: the VPLs' map */
     test_render_gi(&s, SW, SH, GI_RSM, &gx, &rsm64);
     double m0 = test_image_mean(&none), m_rsm = test_image_mean(&rsm) - m0, m64 = test_image_mean(&rsm64) - m0;
     const int counts[] = {4096, 3600, 16384};
     for (int k = 0; k < 3; k++) {
-        gp.vpl_count = counts[k];
+        gp.vpl.count = counts[k];
         test_render_gi(&s, SW, SH, GI_VPL_ALL, &gp, &img);
         double r = (test_image_mean(&img) - m0) / m_rsm;
         print_message("vpl-all, %5d VPLs: indirect mean / rsm's %.3f", counts[k], r);
         if (k == 0) { /* the same RSM, summed by both */
             double same = (test_image_mean(&img) - m0) / m64;
-            print_message(", / rsm's over the same %d² map %.4f\n", gx.rsm_size, same);
+            print_message(", / rsm's over the same %d² map %.4f\n", gx.rsm.size, same);
             assert_true(fabs(same - 1.0) < 2e-3);
             assert_true(r < 0.93); /* the 64² grid's error: were it gone, this test would say so */
         } else {

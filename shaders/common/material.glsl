@@ -16,6 +16,18 @@ flat in vec4 v_pbr;
 #define u_emission v_emission
 #define u_pbr v_pbr
 #endif
+#ifdef MATERIAL_GRADIENTS
+// Compute shaders (no derivatives, no discard: gi/vct/voxelize.comp): the
+// caller sets the uv's screen-space gradients, and an alpha-masked texel
+// sets material_masked instead of discarding.
+vec2 material_dx, material_dy;
+bool material_masked;
+#define MATERIAL_TEXTURE(t, uv) textureGrad(t, uv, material_dx, material_dy)
+#define MATERIAL_DISCARD material_masked = true
+#else
+#define MATERIAL_TEXTURE(t, uv) texture(t, uv)
+#define MATERIAL_DISCARD discard
+#endif
 
 // Linear base colour; discards alpha-masked texels. Programs compiled with
 // OPAQUE_DRAW draw only opaque materials (gpu_scene_draw_split) and hold no
@@ -29,10 +41,10 @@ vec3 material_albedo(vec2 uv)
 #ifdef UNTEXTURED
     vec4 t = vec4(1.0); // programs for materials without textures (gpu_scene.h DrawPrograms)
 #else
-    vec4 t = u_has_tex != 0 ? texture(u_albedo_tex, uv) : vec4(1.0);
+    vec4 t = u_has_tex != 0 ? MATERIAL_TEXTURE(u_albedo_tex, uv) : vec4(1.0);
 #ifndef OPAQUE_DRAW
     if (u_alpha_cutoff >= 0.0 && u_has_tex != 0 && textureLod(u_albedo_tex, uv, 0.0).a < u_alpha_cutoff)
-        discard;
+        MATERIAL_DISCARD;
 #endif
 #endif
     return u_albedo * t.rgb;
@@ -44,7 +56,7 @@ vec2 material_metal_rough(vec2 uv)
     vec2 mr = u_pbr.xy;
 #ifndef UNTEXTURED
     if (u_pbr.w != 0.0) {
-        vec4 t = texture(u_mr_tex, uv);
+        vec4 t = MATERIAL_TEXTURE(u_mr_tex, uv);
         mr *= vec2(t.b, t.g);
     }
 #endif

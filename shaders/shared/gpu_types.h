@@ -37,6 +37,9 @@
 #define SSBO_STATS 13     /* gi/count_surfaces.comp: [0] the count (stats read back on request) */
 #define SSBO_ISM_REPS 14  /* ism from an RSM: uvec4 per map, its block's representative texel (position bits, oct normal) */
 #define SSBO_ISM_CELLS 15 /* ism: uint[grid_n³ + 1], where each cell's points start in SSBO_ISM_POINTS */
+#define SSBO_SCENE_VERTICES 16 /* the scene's vertex buffer read as floats (Vertex: 8 each; vct compute voxelization) */
+#define SSBO_SCENE_INDICES 17  /* the scene's index buffer read as uints (vct compute voxelization) */
+#define SSBO_VCT_WORK 18   /* vct compute voxelization: per submesh and level a header (indirect dispatch, count), then its large triangles */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -166,6 +169,7 @@
 #define LOC_VCT_AO_OUT 10       /* vct trace: int, 1 writes ambient visibility into the irradiance alpha */
 #define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */
 #define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
+#define LOC_VCT_RUN 21          /* vct voxelize.comp: uvec4, first triangle, triangles, header, list start */
 #define LOC_COUNT_STEP 10       /* gi/count_surfaces.comp: int, the lattice's step */
 #define LOC_ISM_MAP_BASE 15     /* rsm gathers, ism passes: uint, the first map of the light being gathered */
 #define LOC_ISM_PUSH 16         /* gi/visibility/pull_push.comp: int, 0 pull, 1 push */

@@ -118,7 +118,7 @@ static void bench_args_default(BenchArgs *args)
     ps->threads = cores > 0 ? (int)cores : 1;
     settings_default(&args->base);
     const SettingDesc *vpls = settings_find_key("gi", "vpls");
-    args->base.gi.vpl_count = 16384; /* what the benchmarks use */
+    args->base.gi.vpl.count = 16384; /* what the benchmarks use */
     args->base_given[vpls - settings_table] = true;
 }
 
@@ -637,7 +637,7 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddStringToObject(o, "paper", gi_techniques[e->gi]->paper);
     cJSON_AddStringToObject(o, "overrides", e->overrides);
     cJSON *set = cJSON_AddObjectToObject(o, "settings");
-    Settings s = {e->rs.shadow_params, e->rs.gi_params};
+    Settings s = {e->rs.set.shadow, e->rs.set.gi};
     for (int i = 0; i < settings_count; i++) {
         const SettingDesc *d = &settings_table[i];
         char key[96], val[64];
@@ -888,25 +888,9 @@ static bool write_csv(const char *dir, const cJSON *doc)
 static int bench_parse_args(int argc, char **argv, BenchArgs *args)
 {
     bench_args_default(args);
-    CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt;
-    while ((opt = cli_next(&a))) {
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            cmd_bench_help();
-            return -1;
-        }
-        int took = options_take(k_bench_options, opt, &a, args);
-        if (!took)
-            took = options_take_setting(opt, &a, &args->base, args->base_given);
-        if (took < 0)
-            return 2;
-        if (!took) {
-            options_unknown(opt, k_bench_options, true);
-            return 2;
-        }
-    }
-    if (cli_failed(&a))
-        return 2;
+    int rc = options_parse(argc, argv, k_bench_options, args, &args->base, args->base_given, cmd_bench_help);
+    if (rc)
+        return rc;
     if (!args->out) {
         usage_error(NULL, "--out DIR is required");
         return 2;

@@ -36,25 +36,11 @@ void cmd_probe_help(void)
 int cmd_probe(int argc, char **argv)
 {
     ProbeArgs args = {NULL, PROBE_MAP_DEFAULT};
-    const char *opt;
-    CliArgs a = {.argc = argc, .argv = argv};
-    while ((opt = cli_next(&a))) {
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            cmd_probe_help();
-            return 0;
-        }
-        int took = options_take(k_probe_options, opt, &a, &args);
-        if (took < 0)
-            return 2;
-        if (!took) {
-            options_unknown(opt, k_probe_options, false);
-            return 2;
-        }
-    }
+    int rc = options_parse(argc, argv, k_probe_options, &args, NULL, NULL, cmd_probe_help);
+    if (rc)
+        return rc < 0 ? 0 : rc;
     const char *json = args.json;
     int map_size = args.map_size;
-    if (cli_failed(&a))
-        return 2;
     int files = cli_check_files(1, 1, (const char *const[]){"--json"}, (const char *const[]){json});
     if (files)
         return files;

@@ -140,33 +140,16 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
 {
     reference_args_default(args);
     PtSettings *set = &args->set;
-    CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt;
-    while ((opt = cli_next(&a))) {
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            cmd_reference_help();
-            return -1;
-        }
-        int took = options_take(k_reference_options, opt, &a, args);
-        if (took < 0)
-            return 2;
-        if (took == 0) {
-            const char *known[64];
-            int n = 0;
-            options_names(k_reference_options, known, &n, 64);
-            cli_unknown_option(opt, known);
-            return 2;
-        }
-    }
-    if (cli_failed(&a))
-        return 2;
+    int rc = options_parse(argc, argv, k_reference_options, args, NULL, NULL, cmd_reference_help);
+    if (rc)
+        return rc;
     set->seed = args->seed;
     set->russian_roulette = !args->no_rr;
     set->pixel_jitter = !args->no_jitter;
     /* A target or a budget without --spp: the samples are what they need. */
     if (!args->spp_given && (set->target_relmse > 0.0 || set->time_budget > 0.0))
         set->spp = 1 << 24;
-    int rc = reference_check_time(args);
+    rc = reference_check_time(args);
     if (rc)
         return rc;
     char first[UTIL_PATH_MAX]; /* a sequence's frames are checked as its first */

@@ -77,7 +77,7 @@ static void announce_estimate(const RenderSettings *rs, const Scene *scene, cons
 {
     int n = renderer_ssaa(rs);
     double px = (double)rs->width * rs->height * n * n;
-    double s = gi_cost_seconds(rs->gi, &rs->gi_params, scene, px, GI_COST_DEFAULT_EVALS_PER_S);
+    double s = gi_cost_seconds(rs->gi, &rs->set.gi, scene, px, GI_COST_DEFAULT_EVALS_PER_S);
     if (s > c->slow_s)
         log_progress("render: %s at %dx%d: about %.1f s per frame (estimate); %d frame%s to draw",
                      gi_techniques[rs->gi]->name, rs->width, rs->height, s, c->total, c->total == 1 ? "" : "s");
@@ -201,7 +201,7 @@ static bool print_timings(Renderer *r, const RenderSettings *rs, const Camera *c
         return false;
     timings_print_steady(r, cold_ms, ms);
     RenderSettings twin = steady;
-    twin.gi_params.gather_reads_only = true;
+    twin.set.gi.rsm.reads_only = true;
     if (!timings_reads_twin(rs, &gather))
         return true;
     if (!timed_frames(r, &twin, cam, clock, frames, &ms) || !renderer_frames_whole(r))
@@ -235,7 +235,7 @@ int cmd_render(int argc, char **argv)
     /* A PNG is the final image only: frames that can skip the radiance do. */
     bool hdr_out = util_ends_with(o.out, ".pfm") || util_ends_with(o.out, ".exr");
     rs.display_only = !hdr_out;
-    if (o.out_ao && (!(gi_techniques[rs.gi]->flags & GI_AO) || !rs.gi_params.vct_ao)) {
+    if (o.out_ao && (!(gi_techniques[rs.gi]->flags & GI_AO) || !rs.set.gi.vct.ao)) {
         usage_error(NULL, "--out-ao %s: ambient occlusion comes from --gi vct with --vct-ao on", o.out_ao);
         scene_free(&scene);
         return 2;

@@ -253,8 +253,8 @@ static void view_init(View *v, const RenderOptions *o, const Scene *scene, ViewS
     /* The window shows the final image; the A/B view also reads the radiance. */
     v->live_wanted = o->live_reference;
     v->settings.display_only = o->compare == NULL && !v->live_wanted;
-    v->edit.shadow = v->settings.shadow_params;
-    v->edit.gi = v->settings.gi_params;
+    v->edit.shadow = v->settings.set.shadow;
+    v->edit.gi = v->settings.set.gi;
     v->camera = v->home = scene->camera;
     view_set_angles(v, &v->camera);
     view_update_camera(v);

@@ -55,6 +55,29 @@ void options_unknown(const char *opt, const OptionDesc *table, bool settings)
     cli_unknown_option(opt, known);
 }
 
+int options_parse(int argc, char **argv, const OptionDesc *table, void *out, Settings *set, bool given[],
+                  void (*help)(void))
+{
+    CliArgs a = {.argc = argc, .argv = argv};
+    const char *opt;
+    while ((opt = cli_next(&a))) {
+        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
+            help();
+            return -1;
+        }
+        int took = options_take(table, opt, &a, out);
+        if (!took && set)
+            took = options_take_setting(opt, &a, set, given);
+        if (took < 0)
+            return 2;
+        if (!took) {
+            options_unknown(opt, table, set != NULL);
+            return 2;
+        }
+    }
+    return cli_failed(&a) ? 2 : 0;
+}
+
 void options_names(const OptionDesc *table, const char **out, int *n, int cap)
 {
     for (const OptionDesc *d = table; d->name && *n < cap - 1; d++)

@@ -55,6 +55,11 @@ int options_take_setting(const char *opt, CliArgs *a, Settings *set, bool given[
 /* "Did you mean" over a command's table and, with `settings`, every
  * settings row: logs "unknown option" for `opt`. */
 void options_unknown(const char *opt, const OptionDesc *table, bool settings);
+/* A command's whole option loop: --help (help(), then -1), every row of
+ * `table`, and with `set` every settings row (into set, marking given[]).
+ * 0: go on; -1: help was shown; 2: a usage error was logged. */
+int options_parse(int argc, char **argv, const OptionDesc *table, void *out, Settings *set, bool given[],
+                  void (*help)(void));
 /* Prints the rows' help, with each value's default from `defaults` (the
  * command's struct as initialised). */
 void options_print_help(FILE *f, const OptionDesc *table, const void *defaults);

@@ -233,12 +233,12 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->shadow = (ShadowMode)o->shadow;
     rs->gi = (GiMode)o->gi;
     /* The scene's settings, then the command line's over them. */
-    Settings set = {scene->shadow, scene->gi};
+    Settings set = {scene->settings.shadow, scene->settings.gi};
     for (int i = 0; i < settings_count; i++)
         if (o->given[i])
             settings_copy(&settings_table[i], &set, &o->set);
-    rs->shadow_params = set.shadow;
-    rs->gi_params = set.gi;
+    rs->set.shadow = set.shadow;
+    rs->set.gi = set.gi;
     rs->exposure = o->exposure >= 0.f ? o->exposure : scene->exposure;
     timings_use_probe(o->probe, &o->probe_file);
     rs->timings = o->timings;

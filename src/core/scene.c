@@ -15,8 +15,8 @@ void scene_init(Scene *s)
     s->exposure = 1.0f;
     Settings defaults; /* the settings table's */
     settings_default(&defaults);
-    s->shadow = defaults.shadow;
-    s->gi = defaults.gi;
+    s->settings.shadow = defaults.shadow;
+    s->settings.gi = defaults.gi;
     glm_vec3_copy((vec3){0, 1, 5}, s->camera.position);
     glm_vec3_copy((vec3){0, 0, -1}, s->camera.forward);
     glm_vec3_copy((vec3){0, 1, 0}, s->camera.up);

@@ -147,8 +147,7 @@ typedef struct Scene {
     int light_count;
     Camera camera;
     float exposure;        /* scene's default exposure */
-    ShadowParams shadow;   /* scene's default shadow parameters */
-    GiParams gi;           /* scene's default GI parameters */
+    Settings settings;     /* the scene's default technique settings */
     vec3 bounds_min, bounds_max; /* of all geometry but light emitters */
     /* Time (animation.h): named rigid objects and keyframe tracks of a
      * scene file's "objects" and "animation"; NULL/0 when it has none. */

@@ -76,7 +76,7 @@ bool scene_build_cornell(Scene *s)
     c->znear = 0.01f;
     c->zfar = 10.0f;
     s->exposure = 3.0f;
-    s->shadow.map_size = 512;
+    s->settings.shadow.map_size = 512;
     /* Sampling radius for the light's cube RSM, in face widths. With the
      * paper's ξ1² weights a larger disk lowers the image relMSE against the
      * exhaustive sum (0.030 at 0.3, 0.025 at 1, 0.020 at 2) but lets distant
@@ -85,6 +85,6 @@ bool scene_build_cornell(Scene *s)
      * the red wall at r_max 2); 0.5 keeps the bleeding right. The unbiased
      * weighting does best at 2 (relMSE 0.011): --rsm-weighting unbiased
      * --rsm-rmax 2. */
-    s->gi.r_max = 0.5f;
+    s->settings.gi.rsm.r_max = 0.5f;
     return ok;
 }

@@ -1283,13 +1283,13 @@ static void parse_materials(Ctx *c, Scene *s, const cJSON *obj)
 /* The "shadow" and "gi" objects: the settings table's one parser. */
 static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
 {
-    Settings set = {s->shadow, s->gi};
+    Settings set = {s->settings.shadow, s->settings.gi};
     if (!settings_parse_json(j, group, c->file, &set)) {
         c->ok = false;
         return;
     }
-    s->shadow = set.shadow;
-    s->gi = set.gi;
+    s->settings.shadow = set.shadow;
+    s->settings.gi = set.gi;
 }
 
 static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "mesh_translate", "quads",
@@ -1497,7 +1497,7 @@ static bool load_any(Scene *s, const char *what)
         scene_free(s);
         return false;
     }
-    s->shadow.map_size = 2048; /* a sun over a whole model needs the texels */
+    s->settings.shadow.map_size = 2048; /* a sun over a whole model needs the texels */
     s->exposure = 8.f;         /* a 4 W/m² sun, most of the view in its bounce light */
     if (!scene_add_default_sun(s) || !scene_finalize(s)) {
         scene_free(s); /* logged */

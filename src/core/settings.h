@@ -37,10 +37,12 @@ typedef enum ShadowPcfFilter { SHADOW_PCF_FILTER_DISK = 0, SHADOW_PCF_FILTER_GRI
 
 /* Visibility of the bounce (SPEC §9): how RSM and VPL gathers test it. */
 typedef enum GiVisibilityMethod { GI_VISIBILITY_ISM = 0 } GiVisibilityMethod;
-/* Imperfect shadow maps' texels per side (GiParams.ism_size: an index). */
+/* Imperfect shadow maps' texels per side (GiParams.visibility.ism_size: an index). */
 typedef enum IsmSize { ISM_SIZE_16 = 0, ISM_SIZE_32 = 1, ISM_SIZE_64 = 2 } IsmSize;
 
 typedef enum VctCones { VCT_CONES_6 = 0, VCT_CONES_9 = 1, VCT_CONES_16 = 2 } VctCones;
+/* How vct voxelizes: triangles projected and rasterized, or in compute. */
+typedef enum VctVoxelize { VCT_VOXELIZE_RASTER = 0, VCT_VOXELIZE_COMPUTE = 1 } VctVoxelize;
 /* How the rasterizer lights with quad lights (values AREA_LIGHT_* in
  * shared/gpu_types.h). */
 typedef enum AreaLightMode { AREA_LIGHT_MODE_EXACT = 0, AREA_LIGHT_MODE_POINT = 1 } AreaLightMode;
@@ -53,9 +55,16 @@ typedef enum LpvPropagation { LPV_PROPAGATION_DIRECTIONAL = 0, LPV_PROPAGATION_F
 
 typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_WEIGHT_IMPORTANCE = 2 } RsmWeighting;
 
-/* Parameters of the RSM family of GI techniques (SPEC §3). */
-typedef struct GiParams {
-    int rsm_size;          /* RSM texels per side (per cube face for point/quad lights) */
+/* The GI settings by family (issue 45): each technique reads its family's
+ * struct (and visibility, interleave where it takes them); `frame` is the
+ * renderer's own (read when it composites), so changing it remakes no
+ * technique. Field names are the settings-table keys without their family
+ * prefix (gi.lpv_size is GiParams.lpv.size). */
+
+/* Reflective shadow maps (SPEC §3): the gathers of rsm, rsm-interp and
+ * rsm-interleaved; `size` is also the RSMs' size where --vpls does not set it. */
+typedef struct RsmParams {
+    int size;              /* RSM texels per side (per cube face for point/quad lights) */
     int samples;           /* N samples per gather (paper: ~400) */
     float r_max;           /* sampling radius, in RSM widths (cube: face widths) */
     RsmWeighting weighting;/* paper's ξ1² normalised, unbiased for the polar pdf, or importance
@@ -64,52 +73,83 @@ typedef struct GiParams {
     int interp_factor;     /* screen-space interpolation: low-res = full / factor */
     float interp_normal;   /* min cosine between normals for a usable low-res sample */
     float interp_dist;     /* max world distance, as a fraction of the view distance */
-    int interleave_n, interleave_m; /* interleaved sampling pattern n×m */
-    bool interleave_blur;  /* geometry-aware blur after reassembly */
-    float scale;           /* indirect intensity scale (1 = physical) */
-    /* Many-VPL techniques (SPEC §4). */
-    int vpl_count;         /* VPLs per light wanted (sets the RSM size); 0: the RSM size decides */
-    float slc_emax;        /* stochastic light culling error bound e_max (0.0005) */
-    float vpl_near_clamp;  /* falloff 1/max(d², c) with c in m²; 0 = off (the notes use 0.1) */
-    bool vpl_disk;         /* VPLs fall off as disks of their texel's area: 1/(d² + A/π) */
-    float vpl_range;       /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
-    float vpl_keep;        /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
-    unsigned vpl_seed;     /* seed of the VPLs' fixed random ξ */
-    /* Visibility of the bounce (SPEC §9, src/gi/visibility/): */
-    bool gi_visibility;    /* RSM and VPL gathers test whether each VPL (sample) sees the shaded point */
-    int gi_visibility_method; /* GiVisibilityMethod */
-    int ism_size;          /* IsmSize: texels per side of each imperfect shadow map */
-    int ism_points;        /* scene points splatted into each map */
-    int ism_maps;          /* RSM gathers: maps per light, one per block of RSM texels */
-    /* Light propagation volumes (SPEC §5). */
-    int lpv_size;          /* cells per side of each grid */
-    int lpv_cascades;      /* 1: one grid fitted to the scene; 2–3: nested grids centred on the camera */
-    int lpv_iterations;    /* propagation steps; 0: the grid size (enough to cross it) */
-    bool lpv_occlusion;    /* attenuate propagation by the geometry volume */
-    float lpv_offset;      /* VPLs move this many cells along their normal before injection (0.5) */
-    bool lpv_gbuffer_occlusion; /* also inject the camera's G-buffer into the geometry volume */
-    int lpv_inject;        /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
-    int lpv_propagation;   /* LpvPropagation: directional (light keeps its direction) or the paper's faces */
-    int lpv_groups;        /* 1, or 2: the light of surfaces facing +x/+y/+z and of those facing away propagated apart */
-    /* Voxel cone tracing (SPEC §6). */
-    int vct_size;          /* voxels per side of the volume over the scene bounds (of each clipmap level) */
-    int vct_levels;        /* 1: one volume over the bounds; 2–4: a clipmap centred on the camera */
-    bool vct_aniso;        /* six directional mip volumes (Crassin's anisotropic voxels) */
-    int vct_cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
-    int vct_bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */
-    float vct_step;        /* cone sampling step, in units of the cone's current diameter */
-    int vct_trace_scale;   /* cones traced at every Nth pixel per axis, upsampled by depth and normal */
-    bool vct_ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
-    bool vct_conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
-    float vct_roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
-    float vct_f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
-    /* Time (SPEC §10). */
-    bool temporal;         /* temporal accumulation of the indirect light (passes/pass_temporal.h) */
-    bool temporal_clamp;   /* its neighbourhood clamp (off: the history lags a moving light; for measuring) */
     /* Diagnostic, no scene key: the RSM gathers' twin for `render --timings
      * --probe run`, which reads every sample and evaluates none (the image
      * is meaningless); its rate is the limit of the gather's own reads. */
-    bool gather_reads_only;
+    bool reads_only;
+} RsmParams;
+
+/* Interleaved sampling and shading (rsm-interleaved, vpl-interleaved, vpl-metalights). */
+typedef struct InterleaveParams {
+    int n, m;              /* the sub-image pattern n×m */
+    bool blur;             /* geometry-aware blur after reassembly */
+} InterleaveParams;
+
+/* Many-VPL techniques (SPEC §4). */
+typedef struct VplParams {
+    int count;             /* VPLs per light wanted (sets the RSM size); 0: the RSM size decides */
+    float slc_emax;        /* stochastic light culling error bound e_max (0.0005) */
+    float near_clamp;      /* falloff 1/max(d², c) with c in m²; 0 = off (the notes use 0.1) */
+    bool disk;             /* VPLs fall off as disks of their texel's area: 1/(d² + A/π) */
+    float range;           /* clamped-range baseline, metres; 0 = 0.15 × scene diagonal */
+    float keep;            /* vpl-all: fraction q of VPLs kept (uniform subsampling, weight 1/q) */
+    unsigned seed;         /* seed of the VPLs' fixed random ξ */
+} VplParams;
+
+/* Visibility of the bounce (SPEC §9, src/gi/visibility/). */
+typedef struct VisibilityParams {
+    bool on;               /* RSM and VPL gathers test whether each VPL (sample) sees the shaded point */
+    int method;            /* GiVisibilityMethod */
+    int ism_size;          /* IsmSize: texels per side of each imperfect shadow map */
+    int ism_points;        /* scene points splatted into each map */
+    int ism_maps;          /* RSM gathers: maps per light, one per block of RSM texels */
+} VisibilityParams;
+
+/* Light propagation volumes (SPEC §5). */
+typedef struct LpvParams {
+    int size;              /* cells per side of each grid */
+    int cascades;          /* 1: one grid fitted to the scene; 2–3: nested grids centred on the camera */
+    int iterations;        /* propagation steps; 0: the grid size (enough to cross it) */
+    bool occlusion;        /* attenuate propagation by the geometry volume */
+    float offset;          /* VPLs move this many cells along their normal before injection (0.5) */
+    bool gbuffer_occlusion;/* also inject the camera's G-buffer into the geometry volume */
+    int inject;            /* LpvInject: compute with fixed-point atomics, or points into 3D-texture layers with blending */
+    int propagation;       /* LpvPropagation: directional (light keeps its direction) or the paper's faces */
+    int groups;            /* 1, or 2: the light of surfaces facing +x/+y/+z and of those facing away propagated apart */
+} LpvParams;
+
+/* Voxel cone tracing (SPEC §6). */
+typedef struct VctParams {
+    int size;          /* voxels per side of the volume over the scene bounds (of each clipmap level) */
+    int levels;        /* 1: one volume over the bounds; 2–4: a clipmap centred on the camera */
+    bool aniso;        /* six directional mip volumes (Crassin's anisotropic voxels) */
+    int cones;         /* VctCones: the diffuse cone set (6, 9 or 16 cones) */
+    int bounces;       /* 1: direct light in the voxels; 2: plus one cone-traced bounce */
+    float step;        /* cone sampling step, in units of the cone's current diameter */
+    int trace_scale;   /* cones traced at every Nth pixel per axis, upsampled by depth and normal */
+    bool ao;           /* ambient occlusion from the diffuse cones (irradiance alpha, --out-ao) */
+    bool conservative; /* conservative voxelization (off: one voxel per fragment centre; tests) */
+    int voxelize;      /* VctVoxelize: compute (a thread per triangle, large ones in tiles of columns) or raster */
+    float roughness;   /* with vct_f0 > 0: GGX perceptual roughness of every surface's specular cone */
+    float f0;          /* > 0: F0 of every surface's specular cone instead of the material's (tests); 0: the material's */
+} VctParams;
+
+/* What the renderer does with any technique's light (no technique reads it). */
+typedef struct FrameParams {
+    float scale;           /* indirect intensity scale (1 = physical) */
+    bool temporal;         /* temporal accumulation of the indirect light (frame/pass_temporal.h) */
+    bool temporal_clamp;   /* its neighbourhood clamp (off: the history lags a moving light; for measuring) */
+} FrameParams;
+
+/* Every GI family; `frame` last (renderer_apply compares what precedes it). */
+typedef struct GiParams {
+    RsmParams rsm;
+    InterleaveParams interleave;
+    VplParams vpl;
+    VisibilityParams visibility;
+    LpvParams lpv;
+    VctParams vct;
+    FrameParams frame;
 } GiParams;
 
 /* Everything the table stores. */

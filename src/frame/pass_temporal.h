@@ -49,7 +49,7 @@ void pass_temporal_destroy(PassTemporal *p);
 void pass_temporal_reset(PassTemporal *p);
 /* Accumulates `irradiance` (RGBA32F at the G-buffer's size) of the frame
  * seen from `cam`, the history clamped to the neighbourhood unless `clamp`
- * is false (GiParams.temporal_clamp, for measuring); returns the texture that holds the result (valid until
+ * is false (GiParams.frame.temporal_clamp, for measuring); returns the texture that holds the result (valid until
  * the next run), or 0 after logging where its images or program could not
  * be made. */
 GLuint pass_temporal_run(PassTemporal *p, const GBuffer *gb, GLuint irradiance, const Camera *cam, bool clamp);

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <stddef.h>
 #include <string.h>
 
 #include <cglm/cglm.h>
@@ -20,14 +21,14 @@
 static LightStageDesc light_desc(const RenderSettings *rs)
 {
     const GiTechnique *t = gi_techniques[rs->gi];
-    const GiParams *gp = &rs->gi_params;
+    const GiParams *gp = &rs->set.gi;
     LightStageDesc d;
     memset(&d, 0, sizeof d);
     d.needs = t->needs(gp) | (rs->shadow != SHADOW_MODE_NONE ? LIGHT_NEEDS_SHADOW_MAPS : 0u);
-    d.shadow_map_size = rs->shadow_params.map_size;
-    d.rsm_size = gp->rsm_size;
-    d.vpl_count = t->rsm_from_vpl_count ? gp->vpl_count : 0;
-    d.vpl_seed = gp->vpl_seed;
+    d.shadow_map_size = rs->set.shadow.map_size;
+    d.rsm_size = gp->rsm.size;
+    d.vpl_count = t->rsm_from_vpl_count ? gp->vpl.count : 0;
+    d.vpl_seed = gp->vpl.seed;
     d.cache = rs->cache;
     d.no_cull = rs->no_cull;
     return d;
@@ -147,14 +148,14 @@ static bool technique_create(Renderer *r)
     const RenderSettings *rs = &r->settings;
     r->gi = gi_techniques[rs->gi];
     r->gi_failed = false;
-    if (rs->gi_params.gi_visibility && !(r->gi->flags & GI_VISIBILITY))
+    if (rs->set.gi.visibility.on && !(r->gi->flags & GI_VISIBILITY))
         log_warn("gi", "--gi-visibility on: %s does not test the bounce's visibility (rsm and the vpl techniques do); "
                        "ignored",
                  r->gi->name);
     if (!r->gi->create)
         return true;
     int n = renderer_ssaa(rs);
-    GiCreateInfo ci = {r->scene, &rs->gi_params, &r->lights, &r->programs, rs->width * n, rs->height * n,
+    GiCreateInfo ci = {r->scene, &rs->set.gi, &r->lights, &r->programs, rs->width * n, rs->height * n,
                        r->gpu_scene.version};
     r->gi_state = r->gi->create(&ci);
     return r->gi_state != NULL;
@@ -195,7 +196,7 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
     r->brdf_albedo = brdf_albedo_texture_make();
     if (!r->frame_ubo || !r->brdf_albedo) /* each logs its failure */
         return false;
-    pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
+    pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->set.shadow);
     pass_temporal_create(&r->pass_temporal, pc);
     return technique_create(r);
 }
@@ -231,11 +232,10 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
         redo || rs->width != old.width || rs->height != old.height || renderer_ssaa(rs) != renderer_ssaa(&old);
     bool shading_resized = rs->width * renderer_ssaa(rs) != old.width * renderer_ssaa(&old) ||
                            rs->height * renderer_ssaa(rs) != old.height * renderer_ssaa(&old);
-    /* Temporal accumulation is the renderer's pass, not the technique's. */
-    GiParams gp_new = rs->gi_params, gp_old = old.gi_params;
-    gp_new.temporal = gp_old.temporal = false;
-    gp_new.temporal_clamp = gp_old.temporal_clamp = false;
-    bool technique = redo || rs->gi != old.gi || memcmp(&gp_new, &gp_old, sizeof gp_new) != 0;
+    /* The frame family (indirect scale, temporal accumulation) is the
+     * renderer's, not the technique's: the families before it are. */
+    bool technique =
+        redo || rs->gi != old.gi || memcmp(&rs->set.gi, &old.set.gi, offsetof(GiParams, frame)) != 0;
     LightStageDesc ld = light_desc(rs);
     bool lights = !r->lights.made || memcmp(&ld, &r->lights.desc, sizeof ld) != 0;
     bool timer = rs->timings != old.timings || rs->timing_sync != old.timing_sync;
@@ -245,8 +245,8 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
         technique_destroy(r); /* it may hold sizes of the old light products */
         gpu_timer_forget_once(&r->timer); /* its one-time passes (vct_voxelize) */
     }
-    if (technique || lights || resized || rs->gi_params.temporal != old.gi_params.temporal ||
-        rs->gi_params.temporal_clamp != old.gi_params.temporal_clamp)
+    if (technique || lights || resized || rs->set.gi.frame.temporal != old.set.gi.frame.temporal ||
+        rs->set.gi.frame.temporal_clamp != old.set.gi.frame.temporal_clamp)
         pass_temporal_reset(&r->pass_temporal); /* its history is of other frames */
     if (timer) {
         gpu_timer_destroy(&r->timer);
@@ -254,8 +254,8 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
     }
     if (lights && !light_stage_configure(&r->lights, &ld))
         return false;
-    if (redo || rs->shadow != old.shadow || memcmp(&rs->shadow_params, &old.shadow_params, sizeof rs->shadow_params))
-        pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->shadow_params);
+    if (redo || rs->shadow != old.shadow || memcmp(&rs->set.shadow, &old.set.shadow, sizeof rs->set.shadow))
+        pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->set.shadow);
     if (resized) {
         targets_destroy(r);
         if (!targets_create(r, rs->width, rs->height))
@@ -287,7 +287,7 @@ static void upload_frame(Renderer *r, const Camera *cam)
     glm_vec3_copy((float *)cam->position, f.camera);
     f.width = r->settings.width * renderer_ssaa(&r->settings); /* the shading size */
     f.height = r->settings.height * renderer_ssaa(&r->settings);
-    f.indirect_scale = r->settings.gi_params.scale;
+    f.indirect_scale = r->settings.set.gi.frame.scale;
     f.exposure = r->settings.exposure;
     glNamedBufferSubData(r->frame_ubo, 0, sizeof f, &f);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_FRAME, r->frame_ubo);
@@ -351,7 +351,7 @@ void renderer_frame(Renderer *r, const Camera *cam)
                 .scene = r->scene,
                 .gpu_scene = &r->gpu_scene,
                 .camera = cam,
-                .params = &r->settings.gi_params,
+                .params = &r->settings.set.gi,
                 .exposure = r->settings.exposure,
                 .gbuffer = &r->gbuffer,
                 .lights = &r->lights,
@@ -364,10 +364,10 @@ void renderer_frame(Renderer *r, const Camera *cam)
                 r->gi_failed = true;
             r->last_frame = f;
             GLuint irradiance = r->irradiance;
-            if (r->settings.gi_params.temporal) {
+            if (r->settings.set.gi.frame.temporal) {
                 gpu_timer_begin(t, "temporal");
                 GLuint accumulated = pass_temporal_run(&r->pass_temporal, &r->gbuffer, r->irradiance, cam,
-                                                         r->settings.gi_params.temporal_clamp);
+                                                         r->settings.set.gi.frame.temporal_clamp);
                 gpu_timer_end(t);
                 if (accumulated)
                     irradiance = accumulated;

@@ -39,8 +39,7 @@ typedef struct RenderSettings {
     ShadowMode shadow;
     GiMode gi;
     float exposure;
-    ShadowParams shadow_params;
-    GiParams gi_params;
+    Settings set;     /* the settings table's values (core/settings.h) */
     bool timings;     /* per-pass GPU timer queries */
     bool timing_sync; /* also wall time per pass (glFinish around passes) */
     bool cache;       /* keep light products (shadow maps, RSMs) until their light or size changes */

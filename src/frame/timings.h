@@ -25,7 +25,7 @@ typedef struct GatherRates {
 } GatherRates;
 /* Whether the report measures the RSM gather's reads-only twin (with
  * --probe, when the timings report gave the gather's evaluations/s): the
- * same passes with GiParams.gather_reads_only, which read every sample and
+ * same passes with GiParams.rsm.reads_only, which read every sample and
  * evaluate none. */
 bool timings_reads_twin(const RenderSettings *rs, const GatherRates *gather);
 /* Prints the twin's evaluations/s (r runs it: its timer holds only the

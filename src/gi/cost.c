@@ -29,8 +29,8 @@
 static int rsm_size(const GiCostQuery *q, const Light *l)
 {
     const GiParams *p = q->params;
-    return q->row->rsm_from_vpl_count && p->vpl_count > 0 ? light_stage_rsm_size_for_vpls(q->scene, l, p->vpl_count)
-                                                          : p->rsm_size;
+    return q->row->rsm_from_vpl_count && p->vpl.count > 0 ? light_stage_rsm_size_for_vpls(q->scene, l, p->vpl.count)
+                                                          : p->rsm.size;
 }
 
 /* The Cornell box: 4107 slots for --vpls 4096, 3163 VPLs made. */

@@ -95,8 +95,8 @@ enum {
     GI_HAS_SPECULAR = 1u << 0,
     GI_EXHAUSTIVE = 1u << 1, /* brute force, the check of the others: not in bench's default list */
     GI_VISIBILITY = 1u << 2, /* tests the bounce's visibility with --gi-visibility on */
-    GI_READS_TWIN = 1u << 3, /* its gathers have a reads-only twin (GiParams.gather_reads_only; --probe) */
-    GI_AO = 1u << 4,         /* writes ambient visibility for --out-ao (GiParams.vct_ao) */
+    GI_READS_TWIN = 1u << 3, /* its gathers have a reads-only twin (GiParams.rsm.reads_only; --probe) */
+    GI_AO = 1u << 4,         /* writes ambient visibility for --out-ao (GiParams.vct.ao) */
 };
 
 /* What a cost model is asked (gi_cost_evaluations). */

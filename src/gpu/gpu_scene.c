@@ -359,7 +359,7 @@ static int drawitem_cmp(const void *a, const void *b)
     return x->cluster - y->cluster; /* stable: equal distances keep scene order */
 }
 
-static void bind_material(const GpuScene *g, const Material *m, GLuint program)
+void gpu_scene_bind_material(const GpuScene *g, const Material *m, GLuint program)
 {
     glProgramUniform3fv(program, LOC_MATERIAL_ALBEDO, 1, m->albedo);
     glProgramUniform1i(program, LOC_MATERIAL_HAS_TEX, m->albedo_tex >= 0);
@@ -425,7 +425,7 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, const DrawPrograms *
                 bound = -1;
             }
             if (mi != bound)
-                bind_material(g, m, program);
+                gpu_scene_bind_material(g, m, program);
             bound = mi;
             glDrawElements(GL_TRIANGLES, (GLsizei)c->index_count, GL_UNSIGNED_INT,
                            (const void *)(sizeof(uint32_t) * c->first_index));

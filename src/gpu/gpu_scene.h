@@ -80,5 +80,9 @@ typedef struct DrawPrograms {
  * G-buffer 800×600: 10.9 -> 9.0 ms). */
 void gpu_scene_draw_view(const GpuScene *g, const Scene *s, const DrawPrograms *programs, DrawFlags flags,
                          const DrawView *view);
+/* Sets material `m`'s uniforms (LOC_MATERIAL_*) in `program` and binds
+ * its textures, as gpu_scene_draw does per submesh (compute passes over
+ * the scene's triangles: vct's voxelize.comp). */
+void gpu_scene_bind_material(const GpuScene *g, const Material *m, GLuint program);
 
 #endif

@@ -16,7 +16,7 @@
 #include <stdint.h>
 
 #include "io/image.h"
-#include "reference/pathtracer.h"
+#include "reference/pt_settings.h"
 #include "core/scene.h"
 
 typedef struct PtJob PtJob;

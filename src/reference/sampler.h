@@ -28,7 +28,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "reference/pathtracer.h"
+#include "reference/pt_settings.h"
 #include "reference/rng.h"
 #include "shared/hash.h"
 #include "base/util.h"

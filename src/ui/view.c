@@ -17,7 +17,7 @@ double view_estimate_ms(const View *v, int gi)
         return m->measured_ms[gi] * px / m->measured_px[gi];
     double base = m->measured_px[GI_NONE] > 0 ? m->measured_ms[GI_NONE] * px / m->measured_px[GI_NONE] : 0;
     double rate = m->evals_per_s > 0 ? m->evals_per_s : GI_COST_DEFAULT_EVALS_PER_S;
-    return base + 1e3 * gi_cost_seconds(gi, &v->settings.gi_params, v->scene, px, rate);
+    return base + 1e3 * gi_cost_seconds(gi, &v->settings.set.gi, v->scene, px, rate);
 }
 
 bool view_gi_is_slow(const View *v, int gi)

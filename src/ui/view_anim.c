@@ -55,9 +55,9 @@ void view_anim_init(View *v, const Scene *s, bool temporal_given)
     a->follow_yaw = v->yaw;
     a->follow_pitch = v->pitch;
     glm_vec3_copy(v->camera.position, a->follow_position);
-    a->temporal_scene = s->gi.temporal;
+    a->temporal_scene = s->settings.gi.frame.temporal;
     a->temporal_auto = a->present && !temporal_given;
-    a->temporal_written = v->settings.gi_params.temporal;
+    a->temporal_written = v->settings.set.gi.frame.temporal;
     a->shown = *s;
     memcpy(a->shown_lights, s->lights, sizeof(Light) * (size_t)a->light_count);
     a->shown.lights = a->shown_lights;
@@ -221,12 +221,12 @@ bool view_anim_advance(View *v, double now)
     for (int i = 0; i < a->light_count; i++) /* the window's scene: the lights the next frame draws */
         view_anim_light(v, i, &a->shown_lights[i]);
     if (a->temporal_auto) {
-        if (v->edit.gi.temporal != a->temporal_written) { /* ticked in the panel: the user's choice from now on */
+        if (v->edit.gi.frame.temporal != a->temporal_written) { /* ticked in the panel: the user's choice from now on */
             a->temporal_auto = false;
         } else {
             bool want = a->temporal_scene || a->playing;
             if (want != a->temporal_written) {
-                v->settings.gi_params.temporal = v->edit.gi.temporal = a->temporal_written = want;
+                v->settings.set.gi.frame.temporal = v->edit.gi.frame.temporal = a->temporal_written = want;
                 changed = true;
             }
         }
@@ -259,7 +259,7 @@ static void animation_section(View *v)
         }
         ui_tooltip("moving the camera (WASD, drag, R) stops following; tick to follow again");
     }
-    bool on = v->settings.gi_params.temporal;
+    bool on = v->settings.set.gi.frame.temporal;
     ui_text("temporal accumulation %s (%s)", on ? "on" : "off",
             a->temporal_auto ? "on while playing" : "chosen: --temporal or the settings");
 }

@@ -203,8 +203,8 @@ static void settings_section(View *v)
             ui_text("%s", group);
         }
         if (setting_widget(v, d)) {
-            v->settings.shadow_params = v->edit.shadow;
-            v->settings.gi_params = v->edit.gi;
+            v->settings.set.shadow = v->edit.shadow;
+            v->settings.set.gi = v->edit.gi;
         }
     }
 }

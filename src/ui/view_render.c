@@ -275,8 +275,8 @@ static bool draw_frame(ViewRender *vr, const ViewRequest *req)
     }
     double t0 = glfwGetTime();
     const RenderSettings *was = &r->settings, *want = &req->scene.settings;
-    if (memcmp(&was->gi_params, &want->gi_params, sizeof was->gi_params) ||
-        memcmp(&was->shadow_params, &want->shadow_params, sizeof was->shadow_params) ||
+    if (memcmp(&was->set.gi, &want->set.gi, sizeof was->set.gi) ||
+        memcmp(&was->set.shadow, &want->set.shadow, sizeof was->set.shadow) ||
         was->shadow != want->shadow || was->ssaa != want->ssaa || was->aa != want->aa)
         memset(vr->stats.measured_px, 0, sizeof vr->stats.measured_px); /* the costs were for other settings */
     int remakes = r->remakes;

@@ -52,7 +52,7 @@ bool view_script_anim_step(ViewScript *t, View *v, int frame, int fw, int fh)
     switch (frame) {
     case 0: {
         printf("ui-test: animation %.4g s, %d lights, time %.4g, temporal %s (%s)\n", (double)v->anim.duration,
-               v->anim.light_count, v->time, v->settings.gi_params.temporal ? "on" : "off",
+               v->anim.light_count, v->time, v->settings.set.gi.frame.temporal ? "on" : "off",
                v->anim.temporal_auto ? "auto" : "chosen");
         anim_save(t, "anim_t0.pfm");
         const char *at = getenv("RTGI_UI_TEST_TIME");
@@ -62,7 +62,7 @@ bool view_script_anim_step(ViewScript *t, View *v, int frame, int fw, int fh)
     case 1:
         anim_save(t, "anim_t.pfm");
         printf("ui-test: scrubbed to %.9g s: temporal %s, playing %d\n", v->time,
-               v->settings.gi_params.temporal ? "on" : "off", (int)v->anim.playing);
+               v->settings.set.gi.frame.temporal ? "on" : "off", (int)v->anim.playing);
         print_light(v, "at the time");
         /* Keys held: Shift-Right for 0.3 s, Shift-Page Down for 0.2 s (in
          * the steps of a window's passes). */
@@ -124,7 +124,7 @@ bool view_script_anim_tick(ViewScript *t, View *v, const ViewScriptPass *p)
         pass_names(&st->stats, passes, sizeof passes);
         printf("ui-test: played %.2f s: scene frames +%u, time %.4g to %.4g, temporal %s, passes %s\n",
                p->now - t->t0, st->frames - t->frames0, t->anim_time0, v->time,
-               v->settings.gi_params.temporal ? "on" : "off", passes);
+               v->settings.set.gi.frame.temporal ? "on" : "off", passes);
         view_key(v, GLFW_KEY_SPACE, 0);
         t->deadline = p->now + 0.2;
         t->phase = PAUSE_SETTLE;
@@ -138,7 +138,7 @@ bool view_script_anim_tick(ViewScript *t, View *v, const ViewScriptPass *p)
         printf("ui-test: paused at %.4g s, idle %.2f s: scene frames +%u, window redraws +%d, loop passes +%d, "
                "temporal %s, playing %d\n",
                v->time, p->now - t->t0, st->frames - t->frames0, p->redraws - t->redraws0, p->wakeups - t->wakeups0,
-               v->settings.gi_params.temporal ? "on" : "off", (int)v->anim.playing);
+               v->settings.set.gi.frame.temporal ? "on" : "off", (int)v->anim.playing);
         fflush(stdout);
         return false;
     }

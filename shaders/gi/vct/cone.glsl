@@ -96,30 +96,56 @@ float vct_cone_diameter(VctCone c) { return max(c.v0, 2.0 * c.t * c.tan_half); }
 // wall. With every side sending, it had lit itself instead (floor 3.2,
 // back wall 1.8). Two limits keep the filter clear of the surface's voxels
 // (tests/test_vct.c, surfaces_do_not_light_themselves):
-//  - the mip is capped where the sample is low (vct_mip_cap): the sample's
-//    texels, 1.5 of them each side of it, must fit between the sample and
-//    the surface's voxels, which reach VCT_SURFACE_TOP level voxels past
-//    its plane (conservative voxelization) and rise across the filter's
-//    footprint as the plane slopes against its dominant axis (c.spread);
-//    a capped sample is a narrower cone there, and steps by its own texel;
-//  - the sample is moved along the normal's dominant axis, where need be,
-//    until it stands VCT_CLEAR texels of its finer mip above those voxels
-//    (vct_clear_of_surface).
-// Measured on the Cornell box (256², against one-bounce; scripts/
-// gi-regions.sh): a clearance of 2, 2.5, 3 texels gave the whole image
-// 0.88, 1.04, 1.17 of the reference's bounce; 2.5 keeps every surface in
-// 0.89-1.28. A lift along n by one diameter (the code before) left the
-// filter's lower texels on the surface.
+//  - the mip is capped where the sample is low (vct_mip_cap), down to mip
+//    0: the sample must stand VCT_CLEAR texels of its mip above the
+//    surface's voxels, which reach VCT_SURFACE_TOP level voxels past its
+//    plane (conservative voxelization) and rise across the filter's
+//    footprint (1.5 texels each side) as the plane slopes against its
+//    dominant axis (c.spread); a capped sample is a narrower cone there,
+//    and steps by its own texel;
+//  - where the cap cannot keep it there (a sample below that height at
+//    mip 0, or one of a cone near the horizon), the sample is moved along
+//    the normal's dominant axis until it does (vct_clear_of_surface).
+// The cap and the lift ask the same clearance (issue 44, Sponza). The cap
+// had allowed 1.5 texels and stopped at mip 1 while the lift asked
+// VCT_CLEAR = 2.5 texels of the mip floor: nearly every sample near a
+// surface was lifted, by up to 6 level voxels at mip 1 (1.4 m at 128³),
+// past its cone's path and into whatever lay there. Under Sponza's
+// arcades the soffit of an arch is 0.75 m above the curtain's rod (3
+// voxels at 128³, 6 at 256³); the lift put every cone of the soffit into
+// the curtain, which read 0.00-0.04 of the reference's bounce (tests/
+// vct_diag-style probes: a cone toward the sunlit floor, clear at level 0
+// along its axis, opaque at its first sample, 0.85 m below the soffit).
+// Measured (scripts/gi-regions.sh; Cornell 128², 256 spp; Sponza 320×180
+// at 256³, blocks above the median): VCT_CLEAR 1.5, 1.75, 2.0, 2.5 gave
+// Cornell's whole image 0.87, 1.04, 1.13, 1.19 (relMSE 0.0037, 0.0035,
+// 0.0048, 0.0069; before 1.04, 0.0030) and Sponza's lowest block 0.15,
+// 0.19, 0.17, 0.12 (before 0.04).
+// A clipmap (VCT_CLIP_LEVELS > 1) keeps the cap of before (1.5 texels, at
+// least mip 1) and its clearance 2.5: its level is chosen by the cone's
+// diameter, not by the capped mip, so a capped sample read a level whose
+// voxels are coarser than its cap (Cornell 128², 2 levels of 32³: relMSE
+// 0.028 -> 0.054, the floor 2.2 -> 5.7 of the reference's bounce). Open.
 const float VCT_SURFACE_TOP = 1.0;
+#if VCT_CLIP_LEVELS == 1
+const float VCT_CLEAR = 1.75;
+#else
 const float VCT_CLEAR = 2.5;
+#endif
 
-// The coarsest mip (of a level of voxel vk) whose filter at sample q stays
-// above the voxels of the surface cone c leaves; at least 1.
+// The coarsest mip (of a level of voxel vk) at which sample q stands the
+// clearance vct_clear_of_surface asks above the voxels of the surface cone
+// c leaves; at least 0 (a clipmap: at least 1, with 1.5 texels of room).
 float vct_mip_cap(VctCone c, vec3 q, float vk)
 {
     float h = dot(c.n, q - c.x) / c.n_a; // height above the plane along the dominant axis
+#if VCT_CLIP_LEVELS == 1
+    float texel = (h - vk * (VCT_SURFACE_TOP + 0.5 * c.spread)) / (VCT_CLEAR + 1.5 * c.spread);
+    return log2(max(texel, vk) / vk);
+#else
     float room = (h - vk * (VCT_SURFACE_TOP + 0.5 * c.spread)) / (1.5 * (1.0 + c.spread));
     return room >= 2.0 * vk ? log2(room / vk) : 1.0;
+#endif
 }
 
 // Sample q moved along the normal's dominant axis, if need be, until it
@@ -174,8 +200,15 @@ bool vct_cone_step(inout VctCone c, const bool below1)
 
 // Where a surface's cones start: their apex VCT_APEX voxels off the
 // surface along its normal, their first sample one voxel further along
-// the cone.
-const float VCT_APEX = 2.5;
+// the cone. The clearance above keeps the samples off the surface's own
+// voxels; a larger apex offset moves the whole cone off its path (Sponza
+// 320×180 at 256³, the lowest block: apex 2.5 voxels 0.19, 1.0 0.27, 0.5
+// 0.27; Cornell 128² whole image 1.04, 1.02, 1.02).
+#if VCT_CLIP_LEVELS == 1
+const float VCT_APEX = 1.0;
+#else
+const float VCT_APEX = 2.5; // the clipmap's as before (see VCT_CLEAR)
+#endif
 
 // Traces a cone along unit d with tan(half-angle) `tan_half` from surface
 // point x of unit normal n (voxel: the voxel size there; the apex and the
@@ -209,12 +242,14 @@ vec4 vct_cone(vec3 x, vec3 d, vec3 n, float tan_half, float voxel, out float occ
     int i = 0;
 #if VCT_CLIP_LEVELS == 1 && defined(VCT_ANISO)
     bool live = true;
-    // One volume: the mip grows with the diameter, so the steps below mip 1
-    // (diameter < 2·v0) come first, and only they read the isotropic level
-    // 0 (3 fetches a step after them instead of 4; Cornell 256², one
+    // One volume: the mip grows with the diameter and the cap with the
+    // height over the surface, so the steps below mip 1 (diameter < 2·v0,
+    // or capped below 1 near the surface) come first, and only they read
+    // the isotropic level 0 (3 fetches a step after them instead of 4; Cornell 256², one
     // thread, with the uniforms read once and level 0 constant: vct_trace
     // 88 -> 66 ms).
-    for (; i < 4096 && c.a < 0.99 && c.t < max_distance && vct_cone_diameter(c) < 2.0 * c.v0; i++)
+    for (; i < 4096 && c.a < 0.99 && c.t < max_distance &&
+                  (vct_cone_diameter(c) < 2.0 * c.v0 || vct_mip_cap(c, c.p + c.d * c.t, c.v0) < 1.0); i++)
         if (!vct_cone_step(c, true)) {
             live = false;
             break;

@@ -1,19 +1,23 @@
 // gi/vct/resolve.comp — the voxelization's fixed-point sums into the voxel
-// volumes: albedo = Σ albedo / count with opacity 1 where any fragment
-// landed, normal = the normalized sum (sign-canonical, see voxelize.frag).
+// volumes: albedo = Σ albedo / count with opacity 1 where any sample
+// landed, normal = the normalized sum (sign-canonical, see
+// gi/vct/voxelize.glsl); the sums are cleared behind it for the next
+// voxelization. With OPAQUE_LIST over the opaque voxels the voxelization
+// listed (the volumes cleared before), else over every voxel (the list
+// overflowed: empty voxels written 0).
 #include "shared/gpu_types.h"
 #include "gi/vct/volume.glsl"
 
+#ifdef OPAQUE_LIST
+layout(local_size_x = 64) in;
+#else
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
-layout(std430, binding = SSBO_VCT_VOXELS) readonly buffer Voxels { uint voxels[]; };
-// The opaque voxels, appended (vct_voxel_code) with the indirect
-// dispatch of the injection over them (64 a group); past the list's
-// capacity only the count grows (vct.c then injects over every voxel).
-layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
+#endif
+layout(std430, binding = SSBO_VCT_VOXELS) buffer Voxels { uint voxels[]; };
 layout(binding = IMG_VCT_DST, rgba16f) writeonly uniform image3D u_albedo;
 layout(binding = IMG_VCT_DST2, rgba16f) writeonly uniform image3D u_normal;
 
-const float FIXED = 4096.0;
+const float FIXED = 4096.0; // as gi/vct/voxelize.glsl's VCT_FIXED
 
 void main()
 {
@@ -33,10 +37,6 @@ void main()
     n = dot(n, n) > 0.0 ? normalize(n) : vec3(0.0, 1.0, 0.0);
     imageStore(u_albedo, v, vec4(albedo, 1.0));
     imageStore(u_normal, v, vec4(n, 0.0));
-    uint slot = atomicAdd(opaque_count, 1u);
-    if (slot < uint(opaque.length())) {
-        opaque[slot] = vct_voxel_code(v);
-        if (slot % 64u == 0u)
-            atomicMax(groups_x, slot / 64u + 1u);
-    }
+    for (uint w = 0u; w < 7u; w++)
+        voxels[i + w] = 0u;
 }

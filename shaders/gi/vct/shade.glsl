@@ -3,11 +3,9 @@
 // the reflection, its aperture from the GGX roughness, its radiance times
 // the GGX lobe's directional albedo into the specular image;
 // F0 and roughness from the G-buffer's material, or from
-// --vct-f0 / --vct-roughness for every surface when --vct-f0 > 0. Cones start 2.5 voxels off the
-// surface along the normal, so that they leave the surface's own voxels (a
-// conservatively voxelized plane is up to 2 voxels thick; measured on the
-// Cornell box at 64³ against one-bounce: offsets 1.5, 2.5, 3.5 voxels →
-// relMSE 0.0228, 0.0189, 0.0159; larger offsets skip nearby occluders).
+// --vct-f0 / --vct-roughness for every surface when --vct-f0 > 0. Cones start VCT_APEX voxels off
+// the surface along the normal, and their samples keep clear of the
+// surface's own voxels (cone.glsl: vct_mip_cap, vct_clear_of_surface).
 #include "shared/gpu_types.h"
 #include "common/math.glsl"
 #include "common/brdf.glsl"

@@ -8,8 +8,9 @@
 #error "gi/vct/volume.glsl needs VCT_CLIP_LEVELS (src/gi/vct/vct.c defines it)"
 #endif
 // Passes over the voxels run either over every stacked voxel (4×4×4
-// groups) or, with OPAQUE_LIST, over the opaque-voxel list resolve.comp
-// appends (64 entries a group, dispatched indirectly): vct_voxel_here.
+// groups) or, with OPAQUE_LIST, over the opaque-voxel list the
+// voxelization appends (gi/vct/voxelize.glsl; 64 entries a group,
+// dispatched indirectly): vct_voxel_here.
 
 // A stacked voxel as one list entry, and back (N ≤ 256: x, y in 8 bits,
 // z = level·N + z' in 16).
@@ -20,7 +21,10 @@ ivec3 vct_voxel_of(uint code) { return ivec3(code & 0xffu, (code >> 8) & 0xffu, 
 layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
 #endif
 
-// The voxel this invocation handles; false past the list or the volume.
+// The voxel this invocation handles; false past the list or the volume
+// (compute shaders; the raster voxelization's fragments define
+// VCT_FRAGMENT).
+#ifndef VCT_FRAGMENT
 bool vct_voxel_here(out ivec3 v)
 {
 #ifdef OPAQUE_LIST
@@ -35,6 +39,7 @@ bool vct_voxel_here(out ivec3 v)
     return all(lessThan(v, ivec3(u_vct.size, u_vct.size, u_vct.size * VCT_CLIP_LEVELS)));
 #endif
 }
+#endif
 
 // World centre of stacked voxel v and its level's voxel size.
 vec3 vct_voxel_centre(ivec3 v, out float voxel)

@@ -6,8 +6,14 @@
 // pixel square it touches is rasterized (each edge moved out by the pixel's
 // half extent along the edge normal, 0.5·(|nx| + |ny|); Hasselgren et al.
 // 2005), and the fragment shader clips to the triangle's bounds and tests
-// each candidate voxel exactly.
+// each candidate voxel exactly. Edges and bounds move VCT_COVER_MARGIN
+// further, more than the rasterizer's snapping of vertices to sub-pixels
+// (1/256 on llvmpipe): a column that the triangle only touches along its
+// side (the Cornell box's side walls ending on the back wall's voxel face)
+// is then drawn, and the voxel test alone decides, as in the compute path.
 #include "shared/gpu_types.h"
+#define VCT_SETUP_ONLY
+#include "gi/vct/voxelize.glsl"
 
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
@@ -26,11 +32,7 @@ flat out vec3 g_t2;
 flat out vec4 g_bounds; // its 2D bounds in pixels, grown by half a pixel
 flat out int g_axis;    // dominant axis 0..2
 
-// Voxel coordinates with `axis` moved to z.
-vec3 swizzle(vec3 p, int axis)
-{
-    return axis == 0 ? p.yzx : axis == 1 ? p.zxy : p;
-}
+const float VCT_COVER_MARGIN = 1.0 / 64.0; // pixels
 
 float cross2(vec2 a, vec2 b) { return a.x * b.y - a.y * b.x; }
 
@@ -43,10 +45,10 @@ void main()
     vec3 an = abs(n);
     if (max(an.x, max(an.y, an.z)) <= 0.0)
         return; // degenerate
-    int axis = an.x >= an.y && an.x >= an.z ? 0 : an.y >= an.z ? 1 : 2;
+    int axis = vct_dominant_axis(n);
     vec3 s[3];
     for (int i = 0; i < 3; i++)
-        s[i] = swizzle(p[i], axis);
+        s[i] = vct_swizzle(p[i], axis);
     vec2 a[3] = vec2[3](s[0].xy, s[1].xy, s[2].xy);
     float area = cross2(a[1] - a[0], a[2] - a[0]);
     vec2 q[3] = a;
@@ -56,7 +58,7 @@ void main()
             l[i] = cross(vec3(a[i], 1.0), vec3(a[(i + 1) % 3], 1.0));
             if (dot(l[i], vec3(a[(i + 2) % 3], 1.0)) < 0.0)
                 l[i] = -l[i]; // inside positive
-            l[i].z += 0.5 * (abs(l[i].x) + abs(l[i].y));
+            l[i].z += (0.5 + VCT_COVER_MARGIN) * (abs(l[i].x) + abs(l[i].y));
         }
         for (int i = 0; i < 3; i++) {
             vec3 v = cross(l[(i + 2) % 3], l[i]);
@@ -64,7 +66,8 @@ void main()
                 q[i] = v.xy / v.z;
         }
     }
-    vec2 lo = min(a[0], min(a[1], a[2])) - 0.5, hi = max(a[0], max(a[1], a[2])) + 0.5;
+    vec2 lo = min(a[0], min(a[1], a[2])) - 0.5 - VCT_COVER_MARGIN;
+    vec2 hi = max(a[0], max(a[1], a[2])) + 0.5 + VCT_COVER_MARGIN;
     for (int i = 0; i < 3; i++) {
         // Barycentrics of the moved vertex in the original triangle, for its uv and normal.
         vec3 b = vec3(1.0, 0.0, 0.0);

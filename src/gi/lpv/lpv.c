@@ -165,11 +165,11 @@ static bool lpv_resize(void *state, int w, int h)
     return true;
 }
 
-static bool directional(const LpvGi *l) { return l->params.lpv_propagation == LPV_PROPAGATION_DIRECTIONAL; }
+static bool directional(const LpvGi *l) { return l->params.lpv.propagation == LPV_PROPAGATION_DIRECTIONAL; }
 
 /* Texels per cell of the propagation's face factors (propagate.comp):
  * directional 6 factors in 2, faces 30 in 8. */
-static int face_texels(const GiParams *p) { return p->lpv_propagation == LPV_PROPAGATION_DIRECTIONAL ? 2 : 8; }
+static int face_texels(const GiParams *p) { return p->lpv.propagation == LPV_PROPAGATION_DIRECTIONAL ? 2 : 8; }
 
 static GLuint program(LpvGi *l, const char *label, const char *vert, const char *geom, const char *frag,
                       const char *comp, const char *defines)
@@ -186,13 +186,13 @@ static GLuint program(LpvGi *l, const char *label, const char *vert, const char 
  * the fixed-point sums (12 words per cell, 6 per geometry corner). */
 static uint64_t lpv_bytes(const GiParams *p)
 {
-    uint64_t n = (uint64_t)p->lpv_size, n3 = n * n * n, g3 = (n + 1) * (n + 1) * (n + 1), texel = 16;
-    uint64_t sets = 1 + 2 * (uint64_t)(p->lpv_cascades - 1);
-    uint64_t bytes = sets * 2 * 3 * n3 * (uint64_t)p->lpv_groups * texel + (uint64_t)p->lpv_cascades * 2 * g3 * texel +
+    uint64_t n = (uint64_t)p->lpv.size, n3 = n * n * n, g3 = (n + 1) * (n + 1) * (n + 1), texel = 16;
+    uint64_t sets = 1 + 2 * (uint64_t)(p->lpv.cascades - 1);
+    uint64_t bytes = sets * 2 * 3 * n3 * (uint64_t)p->lpv.groups * texel + (uint64_t)p->lpv.cascades * 2 * g3 * texel +
                      2 * 3 * n3 * texel;
-    if (p->lpv_occlusion)
+    if (p->lpv.occlusion)
         bytes += (uint64_t)face_texels(p) * n3 * texel;
-    if (p->lpv_inject == LPV_INJECT_COMPUTE)
+    if (p->lpv.inject == LPV_INJECT_COMPUTE)
         bytes += 4 * (12 * n3 + 6 * g3);
     return bytes;
 }
@@ -211,10 +211,10 @@ static bool lpv_programs(LpvGi *l)
      * `faces`, else they are constants (llvmpipe runs a branch's both arms). */
     const char *mode = directional(l) ? "#define DIRECTIONAL\n" : "";
     char defs[192];
-    snprintf(defs, sizeof defs, "%s%s", mode, l->params.lpv_occlusion ? "#define OCCLUSION\n" : "");
+    snprintf(defs, sizeof defs, "%s%s", mode, l->params.lpv.occlusion ? "#define OCCLUSION\n" : "");
     l->propagate = program(l, "lpv_propagate", NULL, NULL, NULL, "gi/lpv/propagate.comp", defs);
     snprintf(defs, sizeof defs, "%s#define OCCLUSION\n#define MODE_FACES\n", mode);
-    if (l->params.lpv_occlusion &&
+    if (l->params.lpv.occlusion &&
         !(l->propagate_faces = program(l, "lpv_propagate_faces", NULL, NULL, NULL, "gi/lpv/propagate.comp", defs)))
         return false;
     /* The cascade count is compiled in: with it known, every cascade's
@@ -225,7 +225,7 @@ static bool lpv_programs(LpvGi *l)
     l->lookup = program(l, "lpv_lookup", NULL, NULL, NULL, "gi/lpv/lookup.comp", cascades_def);
     if (!l->inject || !l->geom_rsm[0] || !l->geom_rsm[1] || !l->geom_gbuf || !l->propagate || !l->lookup)
         return false;
-    if (l->params.lpv_inject != LPV_INJECT_COMPUTE)
+    if (l->params.lpv.inject != LPV_INJECT_COMPUTE)
         return true;
     l->inject_fixed = program(l, "lpv_inject_fixed", NULL, NULL, NULL, "gi/lpv/inject_fixed.comp", NULL);
     l->inject_resolve = program(l, "lpv_inject_resolve", NULL, NULL, NULL, "gi/lpv/inject_resolve.comp", NULL);
@@ -245,10 +245,10 @@ static bool lpv_volumes(LpvGi *l)
 {
     int n = l->n;
     bool ok = true;
-    if (l->params.lpv_occlusion)
+    if (l->params.lpv.occlusion)
         ok = (l->faces = gl_texture3d_make(GL_RGBA32F, face_texels(&l->params) * n, n, n, 1, TEX_FILTER_NEAREST,
                                            "lpv.faces")) != 0;
-    if (ok && l->params.lpv_inject == LPV_INJECT_COMPUTE) {
+    if (ok && l->params.lpv.inject == LPV_INJECT_COMPUTE) {
         size_t n3 = (size_t)n * n * n, g3 = (size_t)(n + 1) * (n + 1) * (n + 1);
         ok = (l->fixed = gl_buffer_make(sizeof(int32_t) * 12 * n3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.fixed")) &&
              (l->gv_fixed = gl_buffer_make(sizeof(int32_t) * 6 * g3, NULL, GL_DYNAMIC_STORAGE_BIT, "lpv.geometry_fixed"));
@@ -293,7 +293,7 @@ static float scene_power(const Scene *s)
 static void *lpv_create(const GiCreateInfo *ci)
 {
     char what[64];
-    snprintf(what, sizeof what, "--lpv-size %d with --lpv-cascades %d", ci->params->lpv_size, ci->params->lpv_cascades);
+    snprintf(what, sizeof what, "--lpv-size %d with --lpv-cascades %d", ci->params->lpv.size, ci->params->lpv.cascades);
     if (!gpu_budget_check(lpv_bytes(ci->params), what))
         return NULL;
     LpvGi *l = calloc(1, sizeof *l);
@@ -303,12 +303,12 @@ static void *lpv_create(const GiCreateInfo *ci)
     }
     l->params = *ci->params;
     l->pc = ci->programs;
-    l->n = ci->params->lpv_size;
-    l->cascades = ci->params->lpv_cascades;
-    l->groups = ci->params->lpv_groups;
+    l->n = ci->params->lpv.size;
+    l->cascades = ci->params->lpv.cascades;
+    l->groups = ci->params->lpv.groups;
     /* 0: enough steps to cross the grid's diagonal, √3·N cells (directional:
      * LPV_SPEED = 1/√3 cells a step; faces: a cell a step along an axis). */
-    l->iterations = ci->params->lpv_iterations > 0 ? ci->params->lpv_iterations : directional(l) ? 3 * l->n : l->n;
+    l->iterations = ci->params->lpv.iterations > 0 ? ci->params->lpv.iterations : directional(l) ? 3 * l->n : l->n;
     glm_vec3_copy((float *)ci->scene->bounds_min, l->bmin);
     glm_vec3_copy((float *)ci->scene->bounds_max, l->bmax);
     l->width = ci->width;
@@ -328,7 +328,7 @@ static void place_grids(LpvGi *l, const Camera *cam)
     GpuLpvParams *u = &l->gpu;
     memset(u, 0, sizeof *u);
     u->size = l->n;
-    u->inject_offset = l->params.lpv_offset;
+    u->inject_offset = l->params.lpv.offset;
     u->blend = 0.1f;
     if (l->cascades == 1) {
         /* The bounds plus one cell of margin on each side. */
@@ -395,7 +395,7 @@ static void inject_light(LpvGi *l, const GiFrame *f)
         glCopyNamedBufferSubData(f->lights->vpls.counters, l->indirect, 0, 0, sizeof(GLuint));
     }
     glMemoryBarrier(GL_COMMAND_BARRIER_BIT);
-    if (l->params.lpv_inject == LPV_INJECT_COMPUTE) {
+    if (l->params.lpv.inject == LPV_INJECT_COMPUTE) {
         inject_light_fixed(l, f);
         return;
     }
@@ -440,7 +440,7 @@ static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
         float cell = l->gpu.cascade[k][3];
         glClearNamedBufferData(l->gv_fixed, GL_R32I, GL_RED_INTEGER, GL_INT, NULL);
         GLuint progs[3] = {l->geom_fixed_rsm[0], l->geom_fixed_rsm[1],
-                           l->params.lpv_gbuffer_occlusion ? l->geom_fixed_gbuf : 0};
+                           l->params.lpv.gbuffer_occlusion ? l->geom_fixed_gbuf : 0};
         for (int pi = 0; pi < 3 && progs[pi]; pi++) {
             glProgramUniform1i(progs[pi], LOC_LPV_CASCADE, k);
             glProgramUniform1f(progs[pi], LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
@@ -469,7 +469,7 @@ static void inject_geometry_fixed(LpvGi *l, const GiFrame *f)
 
 static void inject_geometry(LpvGi *l, const GiFrame *f)
 {
-    if (l->params.lpv_inject == LPV_INJECT_COMPUTE && l->params.lpv_occlusion) {
+    if (l->params.lpv.inject == LPV_INJECT_COMPUTE && l->params.lpv.occlusion) {
         inject_geometry_fixed(l, f);
         return;
     }
@@ -480,7 +480,7 @@ static void inject_geometry(LpvGi *l, const GiFrame *f)
         float cell = l->gpu.cascade[k][3];
         clear_volume(c->gv[0]);
         clear_volume(c->gv[1]);
-        if (!l->params.lpv_occlusion)
+        if (!l->params.lpv.occlusion)
             continue;
         glBindFramebuffer(GL_FRAMEBUFFER, c->fbo_gv);
         /* A surfel larger than 4 cell faces is a depth discontinuity. */
@@ -494,7 +494,7 @@ static void inject_geometry(LpvGi *l, const GiFrame *f)
             light_stage_bind_rsm_layers(ls, i);
             glDrawArrays(GL_POINTS, 0, m->size * m->size * (m->cube ? 6 : 1));
         }
-        if (l->params.lpv_gbuffer_occlusion) {
+        if (l->params.lpv.gbuffer_occlusion) {
             glProgramUniform1i(l->geom_gbuf, LOC_LPV_CASCADE, k);
             glProgramUniform1f(l->geom_gbuf, LOC_LPV_SURFEL_AREA, 4.f * cell * cell);
             glUseProgram(l->geom_gbuf);
@@ -538,7 +538,7 @@ static void propagate(LpvGi *l)
     if (l->faces)
         glBindImageTexture(IMG_LPV_FACES, l->faces, 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
     for (int k = 0; k < l->cascades; k++) {
-        if (l->params.lpv_occlusion) {
+        if (l->params.lpv.occlusion) {
             glBindTextureUnit(TEX_LPV_GV0, l->c[k].gv[0]);
             glBindTextureUnit(TEX_LPV_GV1, l->c[k].gv[1]);
             glUseProgram(l->propagate_faces);
@@ -581,7 +581,7 @@ static bool lpv_run(void *state, const GiFrame *f)
     key = util_hash_bytes(key, &l->test_vpls, sizeof l->test_vpls);
     key = util_hash_bytes(key, &l->test_count, sizeof l->test_count);
     key = util_hash_bytes(key, &l->iterations, sizeof l->iterations);
-    if (l->params.lpv_gbuffer_occlusion) {
+    if (l->params.lpv.gbuffer_occlusion) {
         key = util_hash_bytes(key, f->camera, sizeof *f->camera);
         key = util_hash_bytes(key, &l->width, sizeof l->width);
         key = util_hash_bytes(key, &l->height, sizeof l->height);
@@ -721,11 +721,11 @@ bool lpv_read_geometry(void *state, int cascade, float *out)
 static double lpv_cost(const GiCostQuery *q)
 {
     const GiParams *p = q->params;
-    double cells = pow(p->lpv_size, 3) * p->lpv_cascades * p->lpv_groups;
-    int steps = p->lpv_iterations > 0                                  ? p->lpv_iterations
-                : p->lpv_propagation == LPV_PROPAGATION_DIRECTIONAL ? 3 * p->lpv_size
-                                                                     : p->lpv_size;
-    return (cells * steps * 6 + gi_cost_rsm_texels(q, false) * p->lpv_cascades + q->pixels) * GI_COST_VOLUME_EVAL;
+    double cells = pow(p->lpv.size, 3) * p->lpv.cascades * p->lpv.groups;
+    int steps = p->lpv.iterations > 0                                  ? p->lpv.iterations
+                : p->lpv.propagation == LPV_PROPAGATION_DIRECTIONAL ? 3 * p->lpv.size
+                                                                     : p->lpv.size;
+    return (cells * steps * 6 + gi_cost_rsm_texels(q, false) * p->lpv.cascades + q->pixels) * GI_COST_VOLUME_EVAL;
 }
 
 const GiTechnique gi_lpv = {

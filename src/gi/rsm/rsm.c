@@ -64,7 +64,7 @@ typedef struct RsmGi {
 
 static unsigned rsm_needs(const GiParams *p)
 {
-    return LIGHT_NEEDS_RSM | (p->exhaustive ? LIGHT_NEEDS_VPLS : 0u);
+    return LIGHT_NEEDS_RSM | (p->rsm.exhaustive ? LIGHT_NEEDS_VPLS : 0u);
 }
 
 static bool make_gather(RsmGi *g, GatherLayout layout)
@@ -75,8 +75,8 @@ static bool make_gather(RsmGi *g, GatherLayout layout)
     for (int c = 0; c < 2; c++) {
         /* The weighting, the exhaustive sum and the visibility are compiled in (gather.comp). */
         snprintf(defs, sizeof defs, "%s%s#define WEIGHTING %d\n%s%s%s", layout_def[layout], light_stage_rsm_kind(c),
-                 (int)g->params.weighting, g->params.exhaustive ? "#define EXHAUSTIVE\n" : "",
-                 g->params.gather_reads_only ? "#define READS_ONLY\n" : "", ism_defines(g->ism));
+                 (int)g->params.rsm.weighting, g->params.rsm.exhaustive ? "#define EXHAUSTIVE\n" : "",
+                 g->params.rsm.reads_only ? "#define READS_ONLY\n" : "", ism_defines(g->ism));
         g->gather[layout][c] = program_cache_get(g->pc, &(ShaderProgramDesc){.label = "rsm_gather", .comp = "gi/rsm/gather.comp", .defines = defs});
         if (!g->gather[layout][c])
             return false;
@@ -107,14 +107,14 @@ static bool rsm_resize(void *state, int w, int h)
                                  GL_DYNAMIC_STORAGE_BIT, "gi.pixel_list");
         return g->lowres && g->list; /* each logs its failure */
     } else if (g->variant == RSM_INTERLEAVED) {
-        return gi_interleave_create(&g->il, g->pc, g->params.interleave_n, g->params.interleave_m, w, h, true);
+        return gi_interleave_create(&g->il, g->pc, g->params.interleave.n, g->params.interleave.m, w, h, true);
     }
     return true;
 }
 
 static bool importance_on(const RsmGi *g)
 {
-    return g->params.weighting == RSM_WEIGHT_IMPORTANCE && !g->params.exhaustive;
+    return g->params.rsm.weighting == RSM_WEIGHT_IMPORTANCE && !g->params.rsm.exhaustive;
 }
 
 static void importance_destroy(RsmGi *g)
@@ -159,7 +159,7 @@ static bool importance_create(RsmGi *g, const LightStage *ls)
         log_error("rsm", "out of memory for %d importance pyramids", g->lights);
         return false;
     }
-    size_t list = (size_t)rsm_far_samples(g->params.samples) * RSM_LIST_SETS;
+    size_t list = (size_t)rsm_far_samples(g->params.rsm.samples) * RSM_LIST_SETS;
     for (int i = 0; i < g->lights; i++) {
         const RsmMap *m = &ls->rsm[i];
         int p = 4, levels = 3; /* the blocks pass writes levels 1 and 2 (RSM sizes are at least 4) */
@@ -203,7 +203,7 @@ static void importance_run(RsmGi *g, const LightStage *ls, int i)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SAMPLES, g->samples[i]);
     glProgramUniform1i(g->importance_sample[m->cube], LOC_IMPORTANCE_LEVEL, top);
     glUseProgram(g->importance_sample[m->cube]);
-    GLuint n = (GLuint)(rsm_far_samples(g->params.samples) * RSM_LIST_SETS);
+    GLuint n = (GLuint)(rsm_far_samples(g->params.rsm.samples) * RSM_LIST_SETS);
     glDispatchCompute((n + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
@@ -230,8 +230,8 @@ static void *rsm_create_variant(const GiCreateInfo *ci, RsmVariant variant)
     g->variant = variant;
     g->params = *ci->params;
     g->pc = ci->programs;
-    if (g->params.gi_visibility &&
-        !(g->ism = ism_new(g->params.exhaustive ? ISM_FROM_VPLS : ISM_FROM_RSM, ci, "rsm"))) {
+    if (g->params.visibility.on &&
+        !(g->ism = ism_new(g->params.rsm.exhaustive ? ISM_FROM_VPLS : ISM_FROM_RSM, ci, "rsm"))) {
         rsm_destroy(g);
         return NULL;
     }
@@ -267,7 +267,7 @@ static void *rsm_interleaved_create(const GiCreateInfo *ci) { return rsm_create_
 static void gather_lights(RsmGi *g, const GiFrame *f, GatherLayout layout, GLuint out)
 {
     const LightStage *ls = f->lights;
-    bool exh = g->params.exhaustive;
+    bool exh = g->params.rsm.exhaustive;
     if (exh)
         light_stage_bind_vpls(ls);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_PIXEL_LIST, g->list);
@@ -370,7 +370,7 @@ static bool rsm_run(void *state, const GiFrame *f)
         gather_lights(g, f, GATHER_INTERLEAVED, f->irradiance);
         gpu_timer_end(t);
         gpu_timer_begin(t, "interleave_merge_blur");
-        gi_interleave_merge(&g->il, f->gbuffer, g->params.interleave_blur, f->irradiance);
+        gi_interleave_merge(&g->il, f->gbuffer, g->params.interleave.blur, f->irradiance);
         gpu_timer_end(t);
         break;
     }
@@ -380,18 +380,18 @@ static bool rsm_run(void *state, const GiFrame *f)
 static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
 {
     RsmGi *g = state;
-    st->vpl_count = g->params.exhaustive ? light_stage_vpl_count(f->lights) : 0;
+    st->vpl_count = g->params.rsm.exhaustive ? light_stage_vpl_count(f->lights) : 0;
     if (g->variant == RSM_INTERP) {
-        st->lowres_gathers = gi_count_surfaces(f, g->pc, g->params.interp_factor);
+        st->lowres_gathers = gi_count_surfaces(f, g->pc, g->params.rsm.interp_factor);
         glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
         glGetNamedBufferSubData(g->list, 0, sizeof st->full_gathers, &st->full_gathers);
         st->gathered_pixels = st->lowres_gathers + st->full_gathers;
     } else {
         st->gathered_pixels = gi_count_surfaces(f, g->pc, 1); /* interleaved: each pixel once, padding none */
     }
-    uint64_t per_pixel = g->params.exhaustive ? st->vpl_count : (uint64_t)g->params.samples;
-    if (g->variant == RSM_INTERLEAVED && !g->params.exhaustive)
-        per_pixel = (uint64_t)(g->params.samples / (g->params.interleave_n * g->params.interleave_m));
+    uint64_t per_pixel = g->params.rsm.exhaustive ? st->vpl_count : (uint64_t)g->params.rsm.samples;
+    if (g->variant == RSM_INTERLEAVED && !g->params.rsm.exhaustive)
+        per_pixel = (uint64_t)(g->params.rsm.samples / (g->params.interleave.n * g->params.interleave.m));
     per_pixel = per_pixel ? per_pixel : 1;
     switch (g->variant) { /* each gather pass, named as its timer (rsm_run) */
     case RSM_FULL:
@@ -408,7 +408,7 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     st->gather_cube = f->lights->light_count > 0 && f->lights->rsm[0].cube;
     st->gather_map_size = f->lights->light_count > 0 ? f->lights->rsm[0].size : 0;
     st->rsm_importance_builds = g->importance_builds;
-    st->gather_vpl = g->params.exhaustive;
+    st->gather_vpl = g->params.rsm.exhaustive;
     st->gather_from_list = importance_on(g) ? 0.5f : 0.f;
     const GLuint bufs[2] = {g->ubo, g->list};
     st->gpu_bytes = gl_texture_bytes(g->lowres) + gl_buffers_bytes(bufs, 2) + gi_interleave_bytes(&g->il);
@@ -425,13 +425,13 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
 static double rsm_cost(const GiCostQuery *q)
 {
     const GiParams *p = q->params;
-    return q->pixels * (p->exhaustive ? gi_cost_rsm_texels(q, false) : p->samples);
+    return q->pixels * (p->rsm.exhaustive ? gi_cost_rsm_texels(q, false) : p->rsm.samples);
 }
 
 /* Low-res gathers plus a tenth of the pixels in full (Cornell: 5%). */
 static double rsm_interp_cost(const GiCostQuery *q)
 {
-    double f = q->params->interp_factor;
+    double f = q->params->rsm.interp_factor;
     return rsm_cost(q) * (1.0 / (f * f) + 0.1);
 }
 

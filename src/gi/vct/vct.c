@@ -3,13 +3,17 @@
  * SPEC §6; one row of the technique table, `--gi vct`. Passes:
  *   vct_voxelize  once, and again when the scene's geometry moves (an
  *                 animated object: GpuScene.version; the whole volume is
- *                 rebuilt, so no voxel of where it was stays): every
- *                 triangle projected along its dominant
- *                 axis into an N×N attachment-less framebuffer, enlarged
- *                 conservatively and clipped per voxel by an exact
- *                 triangle–box test (shaders/gi/vct/voxelize.*); albedo,
- *                 normal and a count summed in fixed point with atomics,
- *                 then resolved into the albedo/opacity and normal volumes
+ *                 rebuilt, so no voxel of where it was stays): each
+ *                 triangle's voxel columns along its dominant axis, its
+ *                 pixel squares conservatively and each voxel by an exact
+ *                 triangle–box test (shaders/gi/vct/voxelize.*), found by
+ *                 compute (--vct-voxelize compute, voxelize.comp: a thread
+ *                 per triangle, large ones in tiles of columns) or by
+ *                 rasterizing into an N×N attachment-less framebuffer
+ *                 (raster: voxelize.geom/.frag); albedo, normal and a count
+ *                 summed in fixed point with atomics (a voxel's first
+ *                 sample lists it as opaque), then resolved over the
+ *                 opaque list into the albedo/opacity and normal volumes
  *   vct_inject    per light: each opaque voxel's outgoing diffuse radiance
  *                 ρ/π · E · V, V from the light's shadow map
  *   vct_mips      without --vct-aniso the isotropic mip chain (box filter
@@ -33,8 +37,8 @@
  * when the camera moves a level by a voxel.
  * Inputs: the scene's meshes, the light stage's shadow maps, the G-buffer.
  * Outputs: irradiance (alpha: ambient visibility), specular radiance.
- * Owns: its volumes, framebuffer, UBO, low-resolution images (programs
- * come from the cache). */
+ * Owns: its volumes, the voxelization's sums and work buffer, framebuffer,
+ * UBO, low-resolution images (programs come from the cache). */
 #include "gi/vct/vct.h"
 
 #include <math.h>
@@ -54,6 +58,15 @@
 
 enum { ANISO_AXES = 3 }; /* directional volumes: one texture per axis, both signs */
 
+/* The compute voxelization's program per kind of material: llvmpipe runs
+ * the texture code behind a uniform branch, fetches included. */
+typedef enum VoxelizeKind {
+    VOXELIZE_OPAQUE,     /* textured, no alpha mask (OPAQUE_DRAW: no level-0 alpha read) */
+    VOXELIZE_UNTEXTURED, /* neither texture nor mask (UNTEXTURED) */
+    VOXELIZE_MASKED,     /* alpha-masked */
+    VOXELIZE_KINDS
+} VoxelizeKind;
+
 typedef struct VctGi {
     GiParams params;
     ProgramCache *pc;        /* borrowed: owns the programs */
@@ -65,12 +78,16 @@ typedef struct VctGi {
     GLuint albedo, normal;   /* RGBA16F N×N×N·L, one level */
     GLuint radiance[2];      /* RGBA16F N×N×N·L with mips: direct; direct + bounce (--vct-bounces 2) */
     GLuint aniso[ANISO_AXES];/* RGBA16F N/2 × N/2 × 2·S·L with mips (--vct-aniso; GpuVctParams) */
-    GLuint fbo;              /* attachment-less N×N, for the voxelization */
-    GLuint opaque;           /* SSBO: the opaque voxels (resolve.comp), count + indirect dispatch first */
+    GLuint fbo;              /* attachment-less N×N, for the raster voxelization */
+    GLuint sums;             /* SSBO: uint[8] per voxel, the voxelization's fixed-point sums; all 0 between voxelizations */
+    GLuint work;             /* SSBO (--vct-voxelize compute): per level and submesh a header, then the large triangles */
+    uint32_t work_headers;   /* headers in `work`: levels × submeshes */
+    GLuint opaque;           /* SSBO: the opaque voxels (gi/vct/voxelize.glsl appends them), count + indirect dispatch first */
     uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
     uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
     GLuint ubo;              /* GpuVctParams */
-    GLuint voxelize, resolve, inject, mip, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
+    GLuint voxelize_tris[3], voxelize_tiles[3]; /* voxelize.comp (--vct-voxelize compute) per VoxelizeKind */
+    GLuint voxelize, resolve, resolve_list, inject, mip, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
     GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
     GLuint probe;            /* probe.comp (vct_probe, tests), built on first use */
     int scale;               /* --vct-trace-scale */
@@ -167,6 +184,8 @@ static void vct_destroy(void *state)
     for (int i = 0; i < ANISO_AXES; i++)
         gl_texture3d_destroy(&v->aniso[i]);
     gl_fbo_destroy(&v->fbo);
+    glDeleteBuffers(1, &v->sums);
+    glDeleteBuffers(1, &v->work);
     glDeleteBuffers(1, &v->opaque);
     glDeleteBuffers(1, &v->ubo);
     glDeleteTextures(1, &v->low_irradiance);
@@ -241,7 +260,7 @@ static uint64_t box_bytes(int w, int h, int d, int levels)
  * directional chain starts from it), so it has no chain of its own. */
 static int radiance_levels(const GiParams *p, int levels)
 {
-    return p->vct_aniso && p->vct_size >= 2 ? 1 : levels;
+    return p->vct.aniso && p->vct.size >= 2 ? 1 : levels;
 }
 
 /* Entries of the opaque-voxel list: N³·L / VCT_OPAQUE_SHARE. */
@@ -250,17 +269,27 @@ static uint32_t opaque_capacity(int n, int clip)
     return (uint32_t)((uint64_t)clip * n * n * n / VCT_OPAQUE_SHARE);
 }
 
-/* GPU memory the settings' volumes and opaque list hold (vct_stats'
- * figure); the voxelization's sums come on top while it runs. */
-static uint64_t vct_bytes(const GiParams *p)
+/* Words of the compute voxelization's work buffer on `s`: a header of 4
+ * per level and submesh, a slot per level and triangle; 0 for raster. */
+static uint64_t work_words(const GiParams *p, const Scene *s)
 {
-    int n = p->vct_size, clip = p->vct_levels;
+    if (p->vct.voxelize != VCT_VOXELIZE_COMPUTE)
+        return 0;
+    return (uint64_t)p->vct.levels * (4u * (uint64_t)s->submesh_count + s->index_count / 3);
+}
+
+/* GPU memory the settings' volumes, opaque list and voxelization buffers
+ * hold on `s` (vct_stats' figure). */
+static uint64_t vct_bytes(const GiParams *p, const Scene *s)
+{
+    int n = p->vct.size, clip = p->vct.levels;
     int levels = gl_mip_levels(n, n, n);
     int half = aniso_side(n), slab = aniso_slab(n, levels);
-    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct_bounces > 1 ? 2 : 1) *
+    uint64_t bytes = (uint64_t)clip * (2 * box_bytes(n, n, n, 1) + (uint64_t)(p->vct.bounces > 1 ? 2 : 1) *
                                                                        box_bytes(n, n, n, radiance_levels(p, levels))) +
-                     (p->vct_aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
-    return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip));
+                     (p->vct.aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
+    uint64_t sums = 32u * (uint64_t)clip * n * n * n;
+    return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip)) + sums + 4u * work_words(p, s);
 }
 
 /* Every program the settings call for; false after the first that failed
@@ -271,12 +300,26 @@ static bool vct_programs(VctGi *v)
     /* The cone tracers read the directional volumes only when compiled
      * with VCT_ANISO (gi/vct/cone.glsl): llvmpipe runs both sides of a
      * branch on a uniform, fetches included. */
-    const char *cones = p->vct_aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
+    const char *cones = p->vct.aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
     char list_defs[64];
     snprintf(list_defs, sizeof list_defs, "%s#define OPAQUE_LIST\n", cones ? cones : "");
-    bool ok = (v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom",
-                                     "gi/vct/voxelize.frag", NULL, NULL)) &&
-              (v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL)) &&
+    bool ok = true;
+    if (p->vct.voxelize == VCT_VOXELIZE_COMPUTE) {
+        static const char *const kinds[VOXELIZE_KINDS] = {"#define OPAQUE_DRAW\n", "#define UNTEXTURED\n", ""};
+        for (int u = 0; ok && u < VOXELIZE_KINDS; u++) {
+            char tiles[64];
+            snprintf(tiles, sizeof tiles, "#define VOXELIZE_TILES\n%s", kinds[u]);
+            ok = (v->voxelize_tris[u] =
+                      program(v, "vct_voxelize_tris", NULL, NULL, NULL, "gi/vct/voxelize.comp", kinds[u])) &&
+                 (v->voxelize_tiles[u] = program(v, "vct_voxelize_tiles", NULL, NULL, NULL, "gi/vct/voxelize.comp", tiles));
+        }
+    } else {
+        ok = (v->voxelize = program(v, "vct_voxelize", "frame/scene.vert", "gi/vct/voxelize.geom",
+                                    "gi/vct/voxelize.frag", NULL, NULL));
+    }
+    ok = ok && (v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL)) &&
+              (v->resolve_list =
+                   program(v, "vct_resolve_list", NULL, NULL, NULL, "gi/vct/resolve.comp", "#define OPAQUE_LIST\n")) &&
               (v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL)) &&
               (v->mip = program(v, "vct_mip", NULL, NULL, NULL, "gi/vct/mip.comp", NULL)) &&
               (v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL)) &&
@@ -288,15 +331,16 @@ static bool vct_programs(VctGi *v)
     /* Not needed for a frame: without it vct_run bounces over every voxel
      * (the window goes on so; render and bench fail, as for any program
      * that did not build). */
-    if (ok && p->vct_bounces > 1)
+    if (ok && p->vct.bounces > 1)
         v->bounce_list = program(v, "vct_bounce_list", NULL, NULL, NULL, "gi/vct/bounce.comp", list_defs);
     return ok;
 }
 
-/* Every volume vct_bytes counts, the voxelization's framebuffer, the
- * low-resolution images, the opaque list and the parameter block; false
- * after one failed (it logged). */
-static bool vct_volumes(VctGi *v)
+/* Every volume vct_bytes counts, the voxelization's sums (cleared: the
+ * resolve clears them after each voxelization), work buffer and
+ * framebuffer, the low-resolution images, the opaque list and the
+ * parameter block; false after one failed (it logged). */
+static bool vct_volumes(VctGi *v, const Scene *s)
 {
     const GiParams *p = &v->params;
     int n = v->n, clip = v->clip, levels = v->levels;
@@ -306,13 +350,21 @@ static bool vct_volumes(VctGi *v)
               (v->normal = gl_texture3d_make(GL_RGBA16F, n, n, d, 1, TEX_FILTER_NEAREST, "vct.normal")) &&
               (v->radiance[0] = gl_texture3d_make(GL_RGBA16F, n, n, d, radiance_levels(p, levels), TEX_FILTER_LINEAR,
                                                   "vct.radiance"));
-    if (ok && p->vct_bounces > 1)
+    if (ok && p->vct.bounces > 1)
         ok = (v->radiance[1] = gl_texture3d_make(GL_RGBA16F, n, n, d, radiance_levels(p, levels), TEX_FILTER_LINEAR,
                                                  "vct.radiance2"));
-    for (int i = 0; ok && p->vct_aniso && n >= 2 && i < ANISO_AXES; i++)
+    for (int i = 0; ok && p->vct.aniso && n >= 2 && i < ANISO_AXES; i++)
         ok = (v->aniso[i] = gl_texture3d_make(GL_RGBA16F, half, half, 2 * slab * clip, levels - 1, TEX_FILTER_LINEAR,
                                               "vct.aniso")) != 0;
     ok = ok && (v->fbo = gl_fbo_empty_make(n, n, 0, 0, "vct.voxelize")) && make_low_images(v);
+    ok = ok && (v->sums = gl_buffer_make(32u * (uint64_t)clip * n * n * n, NULL, GL_DYNAMIC_STORAGE_BIT,
+                                         "vct.voxel_sums"));
+    if (ok)
+        glClearNamedBufferData(v->sums, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
+    uint64_t words = work_words(p, s);
+    v->work_headers = (uint32_t)clip * (uint32_t)s->submesh_count;
+    if (ok && words)
+        ok = (v->work = gl_buffer_make(4u * words, NULL, GL_DYNAMIC_STORAGE_BIT, "vct.voxelize_work")) != 0;
     ok = ok && (v->opaque = gl_buffer_make(4u * (4u + (uint64_t)v->opaque_capacity), NULL, GL_DYNAMIC_STORAGE_BIT,
                                            "vct.opaque"));
     return ok && (v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params"));
@@ -331,17 +383,17 @@ static void vct_params_upload(VctGi *v)
     u->clip_levels = v->clip;
     u->size = n;
     u->levels = v->levels;
-    u->aniso = p->vct_aniso && v->aniso[0] ? 1 : 0;
+    u->aniso = p->vct.aniso && v->aniso[0] ? 1 : 0;
     u->aniso_slab = aniso_slab(n, v->levels);
     float tan_half[VCT_MAX_CONES] = {0};
-    u->cones = vct_cone_set(p->vct_cones, u->cone, tan_half);
+    u->cones = vct_cone_set(p->vct.cones, u->cone, tan_half);
     for (int i = 0; i < u->cones; i++)
         u->cone_aperture[i][0] = tan_half[i];
-    u->step = p->vct_step;
+    u->step = p->vct.step;
     u->ao_range = 0.15f * voxel * (float)n;
-    u->conservative = p->vct_conservative ? 1 : 0;
-    u->roughness = p->vct_roughness;
-    u->f0 = p->vct_f0;
+    u->conservative = p->vct.conservative ? 1 : 0;
+    u->roughness = p->vct.roughness;
+    u->f0 = p->vct.f0;
     u->max_distance = sqrtf(3.f) * voxel * (float)n;
     glNamedBufferSubData(v->ubo, 0, sizeof *u, u);
 }
@@ -349,13 +401,12 @@ static void vct_params_upload(VctGi *v)
 static void *vct_create(const GiCreateInfo *ci)
 {
     const GiParams *p = ci->params;
-    int n = p->vct_size, clip = p->vct_levels;
+    int n = p->vct.size, clip = p->vct.levels;
     if (clip > 1 && (n & (n - 1))) {
         log_error("vct", "--vct-levels %d: the clipmap needs a power-of-two --vct-size (got %d)", clip, n);
         return NULL;
     }
-    uint64_t bytes = vct_bytes(p);
-    uint64_t peak = bytes + (uint64_t)clip * n * n * n * 32u; /* the voxelization's sums, while it runs */
+    uint64_t bytes = vct_bytes(p, ci->scene), peak = bytes;
     char what[64];
     snprintf(what, sizeof what, "--vct-size %d with --vct-levels %d", n, clip);
     if (!gpu_budget_check(peak, what))
@@ -372,12 +423,12 @@ static void *vct_create(const GiCreateInfo *ci)
     v->levels = gl_mip_levels(n, n, n);
     v->bytes = bytes;
     v->opaque_capacity = opaque_capacity(n, clip);
-    v->scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
+    v->scale = p->vct.trace_scale > 1 ? p->vct.trace_scale : 1;
     v->width = ci->width;
     v->height = ci->height;
     glm_vec3_copy((float *)ci->scene->bounds_min, v->bmin);
     glm_vec3_copy((float *)ci->scene->bounds_max, v->bmax);
-    if (!vct_programs(v) || !vct_volumes(v)) { /* what failed logged its line */
+    if (!vct_programs(v) || !vct_volumes(v, ci->scene)) { /* what failed logged its line */
         vct_destroy(v);
         return NULL;
     }
@@ -426,19 +477,26 @@ static void dispatch_box(int side, int depth)
 /* The same over the n × n × n·layers stacked volume. */
 static void dispatch_volume(int n, int layers) { dispatch_box(n, n * layers); }
 
-/* Rasterizes the scene into fixed-point sums, resolves them into the
- * albedo and normal volumes, frees the sums. */
-static bool voxelize(VctGi *v, const GiFrame *f)
-{
-    size_t n3 = (size_t)v->n * v->n * v->n * (size_t)v->clip;
-    glFinish(); /* once per technique: its wall time is worth the wait */
-    double t0 = util_seconds();
-    GLuint sums = gl_buffer_make(n3 * 8 * sizeof(uint32_t), NULL, GL_DYNAMIC_STORAGE_BIT, "vct.voxel_sums");
-    if (!sums) /* logged */
-        return false;
-    glClearNamedBufferData(sums, GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, NULL);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, sums);
+/* Whether the last voxelization's opaque voxels fit their list, so that
+ * the injection and the bounce run over it rather than every voxel. */
+static bool opaque_listed(const VctGi *v) { return v->opaque_count <= v->opaque_capacity; }
 
+/* One invocation per listed opaque voxel (gi/vct/volume.glsl, OPAQUE_LIST). */
+static void dispatch_opaque(const VctGi *v)
+{
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
+    glDispatchComputeIndirect(sizeof(uint32_t));
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                    GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+}
+
+/* The raster voxelization's sums: every triangle projected along its
+ * dominant axis into the N×N attachment-less framebuffer
+ * (voxelize.geom/.frag). */
+static void voxelize_raster(VctGi *v, const GiFrame *f)
+{
     GLint viewport[4];
     glGetIntegerv(GL_VIEWPORT, viewport);
     glBindFramebuffer(GL_FRAMEBUFFER, v->fbo);
@@ -457,36 +515,91 @@ static bool voxelize(VctGi *v, const GiFrame *f)
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
 
-    glUseProgram(v->resolve);
-    gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
+/* Which program voxelizes material `m` (untextured as gpu_scene's
+ * untextured draws). */
+static VoxelizeKind voxelize_kind(const Material *m)
+{
+    return m->alpha_mask ? VOXELIZE_MASKED : m->albedo_tex < 0 && m->mr_tex < 0 ? VOXELIZE_UNTEXTURED : VOXELIZE_OPAQUE;
+}
+
+/* The compute voxelization's sums (voxelize.comp): per clipmap level and
+ * submesh a dispatch over its triangles, which list their large ones in
+ * the work buffer; then per level and submesh an indirect dispatch over
+ * those, in tiles of columns. */
+static void voxelize_compute(VctGi *v, const GiFrame *f)
+{
+    const Scene *s = f->scene;
+    const GpuScene *g = f->gpu_scene;
+    uint32_t tris = s->index_count / 3, headers = v->work_headers;
+    static const uint32_t empty[4] = {0, 0, 1, 0}; /* every header: no groups yet (z = 1), none listed */
+    glClearNamedBufferSubData(v->work, GL_RGBA32UI, 0, 16 * (GLsizeiptr)headers, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                              empty);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SCENE_VERTICES, g->vbo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_SCENE_INDICES, g->ibo);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_WORK, v->work);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->work);
+    for (int pass = 0; pass < 2; pass++) { /* the triangles, then the large ones' tiles */
+        for (int k = 0; k < v->clip; k++) {
+            for (int i = 0; i < s->submesh_count; i++) {
+                const Submesh *sm = &s->submeshes[i];
+                const Material *m = &s->materials[sm->material];
+                uint32_t first = sm->first_index / 3, count = sm->index_count / 3;
+                if (m->light_index >= 0 || count == 0) /* as the raster path's DRAW_SKIP_EMITTERS */
+                    continue;
+                GLuint prog = (pass ? v->voxelize_tiles : v->voxelize_tris)[voxelize_kind(m)];
+                glUseProgram(prog);
+                gpu_scene_bind_material(g, m, prog);
+                uint32_t header = (uint32_t)k * (uint32_t)s->submesh_count + (uint32_t)i;
+                glProgramUniform1i(prog, LOC_VCT_LEVEL, k);
+                glProgramUniform4ui(prog, LOC_VCT_RUN, first, count, header, 4 * headers + (uint32_t)k * tris + first);
+                if (pass) {
+                    glDispatchComputeIndirect(16 * (GLintptr)header);
+                } else {
+                    GLuint groups = (count + 63) / 64, gx = groups < 65535 ? groups : 65535;
+                    glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
+                }
+            }
+        }
+        glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    }
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+}
+
+/* Voxelizes the scene into the fixed-point sums (raster or compute), each
+ * voxel's first sample listing it as opaque, then resolves them into the
+ * albedo and normal volumes over that list (every voxel when the list
+ * overflowed), clearing the sums behind it. */
+static void voxelize(VctGi *v, const GiFrame *f)
+{
+    glFinish(); /* its wall time is worth the wait */
+    double t0 = util_seconds();
     const uint32_t empty[4] = {0, 0, 1, 1}; /* no voxels; an indirect dispatch of 0 × 1 × 1 */
     glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
-    dispatch_volume(v->n, v->clip);
-    glDeleteBuffers(1, &sums);
-    glFinish();
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
+    if (v->params.vct.voxelize == VCT_VOXELIZE_COMPUTE)
+        voxelize_compute(v, f);
+    else
+        voxelize_raster(v, f);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
+
+    gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    if (opaque_listed(v)) { /* the empty voxels hold the clear's 0 */
+        glClearTexImage(v->albedo, 0, GL_RGBA, GL_FLOAT, NULL);
+        glClearTexImage(v->normal, 0, GL_RGBA, GL_FLOAT, NULL);
+        glUseProgram(v->resolve_list);
+        dispatch_opaque(v);
+    } else {
+        glUseProgram(v->resolve);
+        dispatch_volume(v->n, v->clip);
+    }
+    glFinish();
     v->voxelize_ms = 1e3 * (util_seconds() - t0);
     v->voxelizations++;
-    return true;
-}
-
-/* Whether the last voxelization's opaque voxels fit their list, so that
- * the injection and the bounce run over it rather than every voxel. */
-static bool opaque_listed(const VctGi *v) { return v->opaque_count <= v->opaque_capacity; }
-
-/* One invocation per listed opaque voxel (gi/vct/volume.glsl, OPAQUE_LIST). */
-static void dispatch_opaque(const VctGi *v)
-{
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
-    glDispatchComputeIndirect(sizeof(uint32_t));
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
-                    GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
 
 /* The injection program for one light type (LIGHT_FIXED_TYPE: the other
@@ -577,10 +690,9 @@ static bool vct_run(void *state, const GiFrame *f)
     if (!v->voxelized) {
         gpu_timer_begin_once(t, "vct_voxelize"); /* in the warm-up frame: kept apart from the means */
         v->voxels_version = f->gpu_scene->version;
-        v->voxelized = voxelize(v, f);
+        voxelize(v, f);
+        v->voxelized = true;
         gpu_timer_end(t);
-        if (!v->voxelized)
-            return false;
     }
     /* The radiance volumes (injection, mips, the second bounce) depend on
      * the voxels and the light products alone: kept while both stand. */
@@ -597,8 +709,8 @@ static bool vct_run(void *state, const GiFrame *f)
         build_mips(v, v->radiance[0]);
         gpu_timer_end(t);
     }
-    GLuint radiance = v->params.vct_bounces > 1 ? v->radiance[1] : v->radiance[0];
-    if (build && v->params.vct_bounces > 1) {
+    GLuint radiance = v->params.vct.bounces > 1 ? v->radiance[1] : v->radiance[0];
+    if (build && v->params.vct.bounces > 1) {
         gpu_timer_begin(t, "vct_bounce");
         /* Over the opaque voxels alone when they fit the list (as the
          * injection): the empty ones keep the direct radiance, copied. */
@@ -626,7 +738,7 @@ static bool vct_run(void *state, const GiFrame *f)
     glBindTextureUnit(TEX_GB_SURFACE, f->gbuffer->surface);
     glBindTextureUnit(TEX_GB_MATERIAL, f->gbuffer->material);
     glBindTextureUnit(TEX_BRDF_ALBEDO, f->brdf_albedo);
-    glProgramUniform1i(v->trace, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
+    glProgramUniform1i(v->trace, LOC_VCT_AO_OUT, v->params.vct.ao ? 1 : 0);
     glProgramUniform1i(v->trace, LOC_VCT_SCALE, v->scale);
     bool low = v->scale > 1;
     glBindImageTexture(IMG_OUT, low ? v->low_irradiance : f->irradiance, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA32F);
@@ -638,7 +750,7 @@ static bool vct_run(void *state, const GiFrame *f)
     gpu_timer_begin(t, "vct_upsample");
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glUseProgram(v->upsample);
-    glProgramUniform1i(v->upsample, LOC_VCT_AO_OUT, v->params.vct_ao ? 1 : 0);
+    glProgramUniform1i(v->upsample, LOC_VCT_AO_OUT, v->params.vct.ao ? 1 : 0);
     glProgramUniform1i(v->upsample, LOC_VCT_SCALE, v->scale);
     glBindTextureUnit(TEX_INPUT, v->low_irradiance);
     glBindTextureUnit(TEX_SPECULAR, v->low_specular);
@@ -656,9 +768,10 @@ static void vct_stats(void *state, const GiFrame *f, GiStats *st)
     /* As GL sizes them, like every technique's; test_vct checks it against
      * what the settings call for (v->bytes, the budget's estimate, and the
      * low-resolution images). */
-    const GLuint tex[4] = {v->albedo, v->normal, v->low_irradiance, v->low_specular}, bufs[2] = {v->opaque, v->ubo};
+    const GLuint tex[4] = {v->albedo, v->normal, v->low_irradiance, v->low_specular},
+                 bufs[4] = {v->opaque, v->ubo, v->sums, v->work};
     st->gpu_bytes = gl_textures_bytes(tex, 4) + gl_textures_bytes(v->radiance, 2) +
-                    gl_textures_bytes(v->aniso, ANISO_AXES) + gl_buffers_bytes(bufs, 2);
+                    gl_textures_bytes(v->aniso, ANISO_AXES) + gl_buffers_bytes(bufs, 4);
     st->voxelizations = v->voxelizations;
     st->volume_builds = v->builds;
     st->voxelize_ms = v->voxelize_ms;
@@ -688,7 +801,7 @@ bool vct_read_volume(void *state, VctVolume which, float *out)
     VctGi *v = state;
     GLuint tex = which == VCT_VOLUME_ALBEDO   ? v->albedo
                  : which == VCT_VOLUME_NORMAL ? v->normal
-                                              : v->radiance[v->params.vct_bounces > 1 ? 1 : 0];
+                                              : v->radiance[v->params.vct.bounces > 1 ? 1 : 0];
     size_t n3 = (size_t)v->n * v->n * v->n * (size_t)v->clip;
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
     glGetTextureImage(tex, 0, GL_RGBA, GL_FLOAT, (GLsizei)(n3 * 4 * sizeof(float)), out);
@@ -720,7 +833,7 @@ bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4])
     if (count <= 0)
         return true;
     if (!v->probe) {
-        const char *cones = v->params.vct_aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
+        const char *cones = v->params.vct.aniso && v->n >= 2 ? "#define VCT_ANISO\n" : NULL;
         v->probe = program(v, "vct_probe", NULL, NULL, NULL, "gi/vct/probe.comp", cones);
         if (!v->probe)
             return false; /* logged */
@@ -742,7 +855,7 @@ bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4])
     if (ok) {
         glUseProgram(v->probe);
         glBindBufferBase(GL_UNIFORM_BUFFER, UBO_VCT, v->ubo);
-        bind_volumes(v, v->radiance[v->params.vct_bounces > 1 ? 1 : 0]);
+        bind_volumes(v, v->radiance[v->params.vct.bounces > 1 ? 1 : 0]);
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, ssbo);
         glProgramUniform1i(v->probe, LOC_VCT_SCALE, count);
         glDispatchCompute((GLuint)(count + 63) / 64, 1, 1);
@@ -760,8 +873,8 @@ bool vct_probe(void *state, int count, const VctProbe *probes, float (*out)[4])
  * fraction), so the count is logarithmic in the volume's size. */
 static double vct_samples_per_cone(const GiParams *p)
 {
-    double grow = 1.0 + (p->vct_step > 0.f ? p->vct_step : 0.5);
-    return ceil(log((double)p->vct_size) / log(grow)) + 1.0;
+    double grow = 1.0 + (p->vct.step > 0.f ? p->vct.step : 0.5);
+    return ceil(log((double)p->vct.size) / log(grow)) + 1.0;
 }
 
 /* Traced pixels × (diffuse cones + the specular one) × samples per cone ×
@@ -774,14 +887,14 @@ static double vct_cost(const GiCostQuery *q)
 {
     const GiParams *p = q->params;
     static const int cones[] = {6, 9, 16};
-    int nc = cones[p->vct_cones >= 0 && p->vct_cones < 3 ? p->vct_cones : 0];
-    double fetches = p->vct_aniso ? 3.0 : 1.0, per_cone = vct_samples_per_cone(p) * fetches;
-    int scale = p->vct_trace_scale > 1 ? p->vct_trace_scale : 1;
-    int levels = p->vct_levels > 1 ? p->vct_levels : 1;
-    double voxels = pow(p->vct_size, 3) * levels;
+    int nc = cones[p->vct.cones >= 0 && p->vct.cones < 3 ? p->vct.cones : 0];
+    double fetches = p->vct.aniso ? 3.0 : 1.0, per_cone = vct_samples_per_cone(p) * fetches;
+    int scale = p->vct.trace_scale > 1 ? p->vct.trace_scale : 1;
+    int levels = p->vct.levels > 1 ? p->vct.levels : 1;
+    double voxels = pow(p->vct.size, 3) * levels;
     double e = q->pixels / (scale * scale) * (nc + 1) * per_cone + q->pixels + voxels * 9.0;
-    if (p->vct_bounces > 1)
-        e += 40.0 * p->vct_size * p->vct_size * levels * 2.0 * nc * per_cone;
+    if (p->vct.bounces > 1)
+        e += 40.0 * p->vct.size * p->vct.size * levels * 2.0 * nc * per_cone;
     return e * GI_COST_VOLUME_EVAL;
 }
 

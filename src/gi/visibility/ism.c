@@ -242,8 +242,8 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
     const Scene *s = ci->scene;
     m->source = source;
     m->pc = ci->programs;
-    m->size = size_texels(p->ism_size);
-    m->points = p->ism_points;
+    m->size = size_texels(p->visibility.ism_size);
+    m->points = p->visibility.ism_points;
     m->lights = ls->light_count;
     m->blocks = calloc((size_t)m->lights + 1, sizeof(int));
     m->block_texels = calloc((size_t)m->lights + 1, sizeof(int));
@@ -258,7 +258,7 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
         for (int i = 0; i < m->lights; i++) {
             const RsmMap *r = &ls->rsm[i];
             int layers = r->cube ? 6 : 1;
-            int b = (int)floor(sqrt((double)p->ism_maps / layers));
+            int b = (int)floor(sqrt((double)p->visibility.ism_maps / layers));
             b = b < 1 ? 1 : b > r->size ? r->size : b;
             m->block_texels[i] = (r->size + b - 1) / b;
             m->blocks[i] = (r->size + m->block_texels[i] - 1) / m->block_texels[i];

@@ -73,7 +73,7 @@ static bool tiled(const VplGi *v) { return v->method == VPL_CLAMPED || v->method
  * (shaders/gi/vpl/shade.comp). */
 static void shade_groups(const VplGi *v, int *gx, int *gy)
 {
-    int n = interleaved(v) ? v->params.interleave_n : 1, m = interleaved(v) ? v->params.interleave_m : 1;
+    int n = interleaved(v) ? v->params.interleave.n : 1, m = interleaved(v) ? v->params.interleave.m : 1;
     *gx = (v->width + 8 * n - 1) / (8 * n) * n;
     *gy = (v->height + 8 * m - 1) / (8 * m) * m;
 }
@@ -117,7 +117,7 @@ static bool vpl_resize(void *state, int w, int h)
     gi_params_to_gpu(&v->params, w, h, &g);
     glNamedBufferSubData(v->gi_ubo, 0, sizeof g, &g);
     if (interleaved(v))
-        return gi_interleave_create(&v->il, v->pc, v->params.interleave_n, v->params.interleave_m, w, h, false);
+        return gi_interleave_create(&v->il, v->pc, v->params.interleave.n, v->params.interleave.m, w, h, false);
     return true;
 }
 
@@ -152,7 +152,7 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
     v->params = *ci->params;
     v->pc = ci->programs;
     v->vpl_capacity = ci->lights->vpls.capacity ? ci->lights->vpls.capacity : 1;
-    if (v->params.gi_visibility && !(v->ism = ism_new(ISM_FROM_VPLS, ci, "vpl"))) {
+    if (v->params.visibility.on && !(v->ism = ism_new(ISM_FROM_VPLS, ci, "vpl"))) {
         vpl_destroy(v);
         return NULL;
     }
@@ -169,8 +169,8 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
         ok = (v->shade = cached(v, "vpl_shade_all", "gi/vpl/shade.comp", "#define MODE_ALL\n")) != 0;
     } else {
         char defs[96]; /* the pattern compiled in: constant divisors */
-        gi_interleave_defines(defs, sizeof defs, "#define MODE_INTERLEAVED", v->params.interleave_n,
-                              v->params.interleave_m);
+        gi_interleave_defines(defs, sizeof defs, "#define MODE_INTERLEAVED", v->params.interleave.n,
+                              v->params.interleave.m);
         v->shade = cached(v, "vpl_shade_interleaved", "gi/vpl/shade.comp", defs);
         if (method == VPL_METALIGHTS)
             v->signature = cached(v, "metalight_signature", "gi/vpl/metalight_signature.comp", NULL);
@@ -195,19 +195,19 @@ static void upload_params(VplGi *v, float exposure, float range)
     const GiParams *gp = &v->params;
     GpuVplParams u;
     memset(&u, 0, sizeof u);
-    u.slc_emax = gp->slc_emax;
+    u.slc_emax = gp->vpl.slc_emax;
     u.slc_exposure = exposure > 0.f ? exposure : 1.f;
-    u.near_clamp = gp->vpl_near_clamp;
+    u.near_clamp = gp->vpl.near_clamp;
     u.clamp_range = range;
-    u.keep = gp->vpl_keep;
+    u.keep = gp->vpl.keep;
     u.tile_capacity = v->tile_capacity;
-    u.subset_count = (uint32_t)(gp->interleave_n * gp->interleave_m);
+    u.subset_count = (uint32_t)(gp->interleave.n * gp->interleave.m);
     u.subset_len = v->subset_len;
     u.tiles_x = v->tiles_x;
     u.tiles_y = v->tiles_y;
     u.signature_w = 16;
     u.signature_h = 16;
-    u.disk = gp->vpl_disk ? 1 : 0;
+    u.disk = gp->vpl.disk ? 1 : 0;
     v->gpu = u;
     glNamedBufferSubData(v->ubo, 0, sizeof u, &u);
 }
@@ -286,7 +286,7 @@ static bool subsets(VplGi *v, const GiFrame *f)
     const LightStage *ls = f->lights;
     const GiParams *gp = &v->params;
     uint32_t n = light_stage_vpl_count(ls);
-    uint32_t K = (uint32_t)(gp->interleave_n * gp->interleave_m);
+    uint32_t K = (uint32_t)(gp->interleave.n * gp->interleave.m);
     uint32_t L = (n + K - 1) / K;
     SortItem *items = malloc(sizeof(SortItem) * (n + 1));
     GpuVpl *vpls = malloc(sizeof(GpuVpl) * (n + 1));
@@ -358,7 +358,7 @@ static bool vpl_run(void *state, const GiFrame *f)
     const GiParams *gp = &v->params;
     GpuTimer *t = f->timer;
     const Scene *s = f->scene;
-    float range = gp->vpl_range > 0.f ? gp->vpl_range
+    float range = gp->vpl.range > 0.f ? gp->vpl.range
                                       : 0.15f * glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
     upload_params(v, f->exposure, range);
     if (v->ism)
@@ -375,7 +375,7 @@ static bool vpl_run(void *state, const GiFrame *f)
         if (!grouped)
             return false; /* its subsets would be last frame's, or undefined */
     }
-    bool blur = interleaved(v) && gp->interleave_blur;
+    bool blur = interleaved(v) && gp->interleave.blur;
     GLuint out = blur ? v->il.merged : f->irradiance;
     gpu_timer_begin(t, "vpl_shade");
     bind_all(v, f->lights);
@@ -445,12 +445,12 @@ static double vpl_cost(const GiCostQuery *q)
     return q->pixels * gi_cost_rsm_texels(q, true);
 }
 
-static double vpl_all_cost(const GiCostQuery *q) { return vpl_cost(q) * q->params->vpl_keep; }
+static double vpl_all_cost(const GiCostQuery *q) { return vpl_cost(q) * q->params->vpl.keep; }
 
 /* Interleaved: each pixel shades one subset of the VPLs. */
 static double vpl_subset_cost(const GiCostQuery *q)
 {
-    return vpl_cost(q) / ((double)q->params->interleave_n * q->params->interleave_m);
+    return vpl_cost(q) / ((double)q->params->interleave.n * q->params->interleave.m);
 }
 
 #define VPL_ROW(id, row_name, row_paper, create_fn, cost_fn, row_flags, text)                           \

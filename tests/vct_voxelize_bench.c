@@ -1,0 +1,126 @@
+/* vct_voxelize_bench.c — vct's voxelization, raster against compute
+ * (--vct-voxelize), on the machine it runs on: one renderer per method on
+ * the same scene, alternating within each round (a shared machine's load
+ * hits both alike), medians printed. Per round and method: the scene's
+ * geometry is marked moved (its first vertex re-uploaded: a new version,
+ * as an animated object's), so the next frame revoxelizes: its
+ * voxelization's wall time (glFinish both sides) and the frame's; then a
+ * steady frame and a light-moving frame (every light product redrawn:
+ * renderer_invalidate). The first frame of each (shader compilation) is
+ * left out.
+ *
+ * usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute]
+ * (SCENE: cornell, or a scene file; ROUNDS default 5; VCT_SIZE the
+ * scene's --vct-size by default, 0 too; a method named: that one alone). Not a test: a measuring tool built
+ * beside the tests (scripts/gpu-check.sh and docs/performance.md run it). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/animation.h"
+#include "test_util.h"
+#include "base/util.h"
+
+enum { METHODS = 2, MAX_ROUNDS = 64 };
+static const char *const k_methods[METHODS] = {"raster", "compute"};
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Wall time of one frame (glFinish after it). */
+static double frame_ms(Renderer *r, const Camera *cam)
+{
+    double t0 = util_seconds();
+    renderer_frame(r, cam);
+    glFinish();
+    return 1e3 * (util_seconds() - t0);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) {
+        fprintf(stderr, "usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute]\n");
+        return 2;
+    }
+    int w, h, rounds = argc > 3 ? atoi(argv[3]) : 5;
+    if (sscanf(argv[2], "%dx%d", &w, &h) != 2 || w <= 0 || h <= 0 || rounds < 1 || rounds > MAX_ROUNDS) {
+        fprintf(stderr, "vct_voxelize_bench: bad size '%s' or rounds (1-%d)\n", argv[2], MAX_ROUNDS);
+        return 2;
+    }
+    Scene s;
+    if (!scene_load(&s, argv[1]))
+        return 1;
+    if (test_gl_setup(NULL) != 0) {
+        scene_free(&s);
+        return 1;
+    }
+    int first = 0, last = METHODS - 1; /* the methods timed */
+    for (int m = 0; m < METHODS && argc > 5; m++)
+        if (strcmp(argv[5], k_methods[m]) == 0)
+            first = last = m;
+    int size = argc > 4 && atoi(argv[4]) > 0 ? atoi(argv[4]) : s.settings.gi.vct.size;
+    Renderer r[METHODS];
+    bool made[METHODS] = {false};
+    bool ok = true;
+    for (int m = first; m <= last && ok; m++) {
+        RenderSettings rs = test_settings(&s, w, h, SHADOW_MODE_PCSS);
+        rs.gi = GI_VCT;
+        rs.set.gi = s.settings.gi;
+        rs.set.gi.vct.voxelize = m == 0 ? VCT_VOXELIZE_RASTER : VCT_VOXELIZE_COMPUTE;
+        rs.set.gi.vct.size = size;
+        ok = made[m] = renderer_create(&r[m], &s, &rs);
+        if (ok) {
+            renderer_frame(&r[m], &s.camera); /* compiles, voxelizes once */
+            renderer_frame(&r[m], &s.camera);
+        }
+    }
+    double vox[METHODS][MAX_ROUNDS], moved[METHODS][MAX_ROUNDS], steady[METHODS][MAX_ROUNDS],
+        light[METHODS][MAX_ROUNDS];
+    /* Round 0 is a warm-up of every path (the first revoxelization and
+     * light-moving frame compile nothing new, but llvmpipe's caches fill). */
+    for (int round = 0; ok && round <= rounds; round++) {
+        for (int m = first; m <= last; m++) {
+            SceneChange c = {.what = SCENE_CHANGED_GEOMETRY, .first_vertex = 0, .vertex_count = 1};
+            ok = renderer_scene_changed(&r[m], &c);
+            double t_moved = frame_ms(&r[m], &s.camera);
+            double t_vox = renderer_collect_stats(&r[m])->voxelize_ms;
+            double t_steady = frame_ms(&r[m], &s.camera);
+            renderer_invalidate(&r[m]);
+            double t_light = frame_ms(&r[m], &s.camera);
+            if (round > 0) {
+                vox[m][round - 1] = t_vox;
+                moved[m][round - 1] = t_moved;
+                steady[m][round - 1] = t_steady;
+                light[m][round - 1] = t_light;
+            }
+        }
+    }
+    if (ok) {
+        printf("vct_voxelize_bench: %s %dx%d, --vct-size %d, %d rounds alternating, medians (wall ms)\n", argv[1], w,
+               h, size, rounds);
+        printf("%-8s %12s %14s %12s %14s\n", "method", "voxelize_ms", "moved_frame_ms", "steady_ms", "light_moved_ms");
+        double med[METHODS] = {0};
+        for (int m = first; m <= last; m++) {
+            med[m] = median(vox[m], rounds);
+            printf("%-8s %12.2f %14.2f %12.2f %14.2f\n", k_methods[m], med[m], median(moved[m], rounds),
+                   median(steady[m], rounds), median(light[m], rounds));
+        }
+        if (first != last)
+            printf("voxelize compute/raster: %.3f\n", med[1] / med[0]);
+    }
+    for (int m = 0; m < METHODS; m++)
+        if (made[m])
+            renderer_destroy(&r[m]);
+    test_gl_teardown(NULL);
+    scene_free(&s);
+    return ok ? 0 : 1;
+}

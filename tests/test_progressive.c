@@ -93,10 +93,11 @@ static void matches_pt_render(void **state)
     scene_free(&s);
 }
 
-/* A restart renders the camera and lights of the call: after the caller
- * moves its camera, doubles its light and restarts, then changes its own
- * scene again (the light off), the image is pt_render's of the state at
- * the restart. */
+/* A restart renders the camera, lights and materials of the call: after
+ * the caller moves its camera, doubles its light, darkens its first
+ * material and restarts, then changes its own scene again (the light off,
+ * the material back), the image is pt_render's of the state at the
+ * restart (the path tracer's per-pass material table, MatShade, included). */
 static void restart_takes_the_state_of_the_call(void **state)
 {
     (void)state;
@@ -113,9 +114,13 @@ static void restart_takes_the_state_of_the_call(void **state)
 
     s.camera.position[0] += 0.05f;
     glm_vec3_scale(s.lights[0].color, 2.f, s.lights[0].color);
+    vec3 albedo0;
+    glm_vec3_copy(s.materials[0].albedo, albedo0);
+    glm_vec3_scale(s.materials[0].albedo, 0.5f, s.materials[0].albedo);
     assert_true(pt_progressive_restart(p, &s));
     assert_true(pt_render(&s, &set, &ref, NULL, NULL)); /* the state of the restart */
     glm_vec3_zero(s.lights[0].color);                    /* not seen by the renderer */
+    glm_vec3_copy(albedo0, s.materials[0].albedo);
     pt_progressive_status(p, &st);
     assert_int_equal(st.restarts, 1);
     wait_done(p, &st, NULL, 0);

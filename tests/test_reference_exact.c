@@ -10,8 +10,11 @@
 
 #include "io/metrics.h"
 #include "test_util.h"
+#include "core/camera.h"
 #include "reference/pathtracer.h"
+#include "reference/pt_scene.h"
 #include "reference/sampler.h"
+#include "reference/sampling.h"
 #include "base/util.h"
 
 /* Mean over every pixel and channel, and its standard error from the
@@ -335,6 +338,83 @@ static void sobol_pairs_are_nets(void **state)
     }
 }
 
+/* The packet of camera rays (pt_intersect_packet, what the render traces
+ * first) finds what pt_intersect finds ray by ray: the same hits and
+ * misses, triangle (material, normals) and distance within 1e-5, on the
+ * Cornell box's pixels and on directions all around its camera (most of
+ * them miss), in packets of 1 to PT_PACKET rays. A lane that read or
+ * wrote another's ray would fail. */
+static void packet_hits_equal_single_rays(void **state)
+{
+    (void)state;
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    PtScene ps;
+    assert_true(pt_scene_create(&ps, &s));
+    enum { W = 48, H = 40, RANDOM = 400 };
+    int hits = 0, misses = 0, total = 0;
+    srand(48);
+    for (int row = 0; row < H + RANDOM / PT_PACKET; row++) {
+        int n = 1 + row % PT_PACKET; /* every packet size */
+        vec3 d[PT_PACKET];
+        for (int i = 0; i < n; i++) {
+            if (row < H) {
+                camera_ray(&s.camera, W, H, (float)(i * W / n) + 0.5f, (float)row + 0.5f, d[i]);
+            } else {
+                vec3 r = {(float)rand() / RAND_MAX - 0.5f, (float)rand() / RAND_MAX - 0.5f,
+                          (float)rand() / RAND_MAX - 0.5f};
+                glm_vec3_normalize_to(r, d[i]);
+            }
+        }
+        PtHit ph[PT_PACKET];
+        bool phit[PT_PACKET];
+        pt_intersect_packet(&ps, s.camera.position, (const vec3 *)d, n, ph, phit);
+        for (int i = 0; i < n; i++, total++) {
+            PtHit h;
+            bool hit = pt_intersect(&ps, s.camera.position, d[i], INFINITY, &h);
+            if (hit != phit[i])
+                fail_msg("ray %d of a packet of %d: single ray %s, packet %s", i, n, hit ? "hit" : "missed",
+                         phit[i] ? "hit" : "missed");
+            if (!hit) {
+                misses++;
+                continue;
+            }
+            hits++;
+            assert_int_equal(h.material, ph[i].material);
+            assert_int_equal(h.front, ph[i].front);
+            assert_true(fabsf(h.t - ph[i].t) <= 1e-5f * h.t);
+            for (int c = 0; c < 3; c++) {
+                assert_true(fabsf(h.p[c] - ph[i].p[c]) <= 1e-5f * ps.diag);
+                assert_true(fabsf(h.ng[c] - ph[i].ng[c]) <= 1e-5f);
+                assert_true(fabsf(h.ns[c] - ph[i].ns[c]) <= 1e-5f);
+            }
+        }
+    }
+    print_message("%d rays in packets: %d hits, %d misses, as single rays\n", total, hits, misses);
+    assert_true(hits > total / 3 && misses > total / 5);
+    pt_scene_destroy(&ps);
+    scene_free(&s);
+}
+
+/* sincos_2pi (the cosine lobe's angle, without libm) against double
+ * precision sin and cos at every sampler number u = i/2^24: within 2e-7
+ * (float's rounding of values near 1 is 6e-8; a wrong octant or series
+ * term is off by far more). */
+static void sincos_2pi_is_accurate(void **state)
+{
+    (void)state;
+    double worst = 0;
+    for (uint32_t i = 0; i < (1u << 24); i += 7) {
+        float u = (float)i * (1.f / 16777216.f), s, c;
+        sincos_2pi(u, &s, &c);
+        double phi = 2 * GLM_PI * (double)u;
+        worst = fmax(worst, fmax(fabs(s - sin(phi)), fabs(c - cos(phi))));
+    }
+    print_message("sincos_2pi: worst error %.3g\n", worst);
+    assert_true(worst < 2e-7);
+}
+
 /* Root-mean-square difference over every pixel and channel. */
 static double rmse(const ImageF *a, const ImageF *b)
 {
@@ -529,6 +609,8 @@ int main(void)
         cmocka_unit_test(plane_under_quad_light),
         cmocka_unit_test(room_far_from_origin),
         cmocka_unit_test(sobol_pairs_are_nets),
+        cmocka_unit_test(packet_hits_equal_single_rays),
+        cmocka_unit_test(sincos_2pi_is_accurate),
         cmocka_unit_test(sobol_beats_independent),
         cmocka_unit_test(samplers_deterministic),
         cmocka_unit_test(independent_passes_differ),

@@ -59,6 +59,8 @@ typedef struct PtJob {
     int s0, s1;                /* the running pass: sample indices [s0, s1) */
     const atomic_int *cancel;  /* the running pass: no new tile once non-zero (may be NULL) */
     pthread_t *threads;        /* room for set->threads − 1 helpers (owned) */
+    struct MatShade *mats;     /* per material, made at each pass's start (owned; NULL: none) */
+    int mats_count, mats_cap;  /* materials in `mats` (0: shade_make computes every one), its room */
     CameraRayBasis cam;        /* the scene camera's rays at this size */
 } Job;
 
@@ -155,11 +157,21 @@ static bool spot_sample(const Light *l, const vec3 o, const float u[2], LightSam
     return true;
 }
 
-/* Solid-angle pdf of light-sampling a point at distance dist on quad l's
- * emitter, seen at cosine cos_l from its normal: area pdf 1/A converted. */
-static float quad_pdf(const Light *l, float dist, float cos_l)
+/* |quad_u × quad_v|: quad l's area at size 1 (light_quad_area's factor),
+ * inline: the direct light needs it at every vertex. */
+static float quad_area1(const Light *l)
 {
-    return dist * dist / (cos_l * light_quad_area(l));
+    const float *u = l->quad_u, *v = l->quad_v;
+    vec3 n = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* Solid-angle pdf of light-sampling a point at distance dist on quad l's
+ * emitter (area at size 1: a1), seen at cosine cos_l from its normal: area
+ * pdf 1/A converted. */
+static float quad_pdf(const Light *l, float a1, float dist, float cos_l)
+{
+    return dist * dist / (cos_l * a1 * l->size * l->size);
 }
 
 /* Quad: one-sided radiance L; intensity L·A·cos θ at size 0 (a point at
@@ -168,21 +180,21 @@ static float quad_pdf(const Light *l, float dist, float cos_l)
 static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
 {
     ls->pdf = 0.f;
-    vec3 lp, out_dir, inten;
+    vec3 lp;
     glm_vec3_copy((float *)l->position, lp);
     if (l->size > 0.f) {
         glm_vec3_muladds((float *)l->quad_u, (u[0] - 0.5f) * l->size, lp);
         glm_vec3_muladds((float *)l->quad_v, (u[1] - 0.5f) * l->size, lp);
     }
     toward(o, lp, ls);
-    glm_vec3_negate_to(ls->wi, out_dir);
-    float cos_l = glm_vec3_dot(out_dir, (float *)l->direction);
+    float cos_l = -glm_vec3_dot(ls->wi, (float *)l->direction);
     if (cos_l <= 0.f)
         return false;
-    light_intensity(l, out_dir, inten); /* L·A·cos_l at size 1 */
-    glm_vec3_scale(inten, 1.f / (ls->dist * ls->dist), ls->li);
+    /* light_intensity's L·A·cos_l at size 1, over dist². */
+    float a1 = quad_area1(l), inv_d2 = 1.f / (ls->dist * ls->dist);
+    glm_vec3_scale((float *)l->color, a1 * cos_l * inv_d2, ls->li);
     if (l->size > 0.f)
-        ls->pdf = quad_pdf(l, ls->dist, cos_l);
+        ls->pdf = quad_pdf(l, a1, ls->dist, cos_l);
     return true;
 }
 
@@ -215,9 +227,43 @@ typedef struct Shade {
 
 static float dot3(const vec3 a, const vec3 b) { return glm_vec3_dot((float *)a, (float *)b); }
 
-static void shade_make(const PtScene *ps, const PtHit *h, const vec3 wo, Shade *sh)
+/* A material's BRDF where it does not vary over the surface (no texture):
+ * made once per pass rather than at every vertex. */
+typedef struct MatShade {
+    BrdfSurface surf;
+    bool constant;    /* no albedo or metallicRoughness texture: surf holds everywhere */
+} MatShade;
+
+/* The job's MatShade of every material of the scene as it is now (the
+ * progressive renderer changes materials between passes); with no room for
+ * them, none (shade_make then computes each). */
+static void materials_refresh(Job *j)
 {
-    pt_surface(ps, h, &sh->surf);
+    int n = j->scene->material_count;
+    if (n > j->mats_cap) {
+        MatShade *m = realloc(j->mats, (size_t)n * sizeof *m);
+        if (!m) {
+            j->mats_count = 0;
+            return;
+        }
+        j->mats = m;
+        j->mats_cap = n;
+    }
+    for (int i = 0; i < n; i++) {
+        const Material *m = &j->scene->materials[i];
+        MatShade *c = &j->mats[i];
+        c->constant = m->albedo_tex < 0 && m->mr_tex < 0;
+        brdf_surface(m->albedo, m->metallic, m->roughness, m->specular, &c->surf);
+    }
+    j->mats_count = n;
+}
+
+static void shade_make(const Job *j, const PtHit *h, const vec3 wo, Shade *sh)
+{
+    if (h->material < j->mats_count && j->mats[h->material].constant)
+        sh->surf = j->mats[h->material].surf;
+    else
+        pt_surface(&j->ps, h, &sh->surf);
     glm_vec3_copy((float *)h->ns, sh->n);
     onb(sh->n, sh->t, sh->b);
     sh->wo[0] = dot3(wo, sh->t);
@@ -283,15 +329,30 @@ static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, 
 static bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi, float *pdf, vec3 weight)
 {
     float p = sh->spec_prob;
-    float u0 = p <= 0.f ? 1.f : p >= 1.f ? 0.f : sampler_1d(smp);
     float u[2];
-    sampler_2d(smp, u);
     vec3 l;
-    if (!brdf_sample_p(&sh->surf, sh->wo, p, u0, u[0], u[1], l))
-        return false;
+    if (sh->lambert) {
+        /* brdf_sample_p's cosine lobe, inline, its cos and sin without libm. */
+        sampler_2d(smp, u);
+        float r = sqrtf(u[0]), cphi, sphi;
+        sincos_2pi(u[1], &sphi, &cphi);
+        l[0] = r * cphi;
+        l[1] = r * sphi;
+        l[2] = sqrtf(1.f - u[0] > 0.f ? 1.f - u[0] : 0.f);
+        if (!(l[2] > 0.f))
+            return false;
+    } else {
+        float u0 = p <= 0.f ? 1.f : p >= 1.f ? 0.f : sampler_1d(smp);
+        sampler_2d(smp, u);
+        if (!brdf_sample_p(&sh->surf, sh->wo, p, u0, u[0], u[1], l))
+            return false;
+    }
     for (int i = 0; i < 3; i++)
         wi[i] = l[0] * sh->t[i] + l[1] * sh->b[i] + l[2] * sh->n[i];
-    glm_vec3_normalize(wi);
+    /* The cosine lobe's l is unit to a few ulps (r² + z² = 1) and so is the
+     * frame: only the specular lobe's reflection needs normalising. */
+    if (!sh->lambert)
+        glm_vec3_normalize(wi);
     float c = dot3(wi, sh->n);
     if (c <= 0.f || dot3(wi, h->ng) <= 0.f)
         return false;
@@ -326,14 +387,18 @@ static void emitted(Job *j, const PtHit *h, const vec3 d, float pdf_bsdf, bool m
         float cos_l = -glm_vec3_dot((float *)d, (float *)l->direction);
         if (cos_l <= 0.f)
             return;
-        w = power_heuristic(pdf_bsdf, quad_pdf(l, h->t, cos_l));
+        w = power_heuristic(pdf_bsdf, quad_pdf(l, quad_area1(l), h->t, cos_l));
     }
     glm_vec3_scale((float *)m->emission, w, out);
 }
 
 /* ---------------------------------------------------------------- paths */
 
-static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_t *rays, vec3 L)
+/* The radiance arriving at o0 from direction -d0 along one path of `smp`'s
+ * sample; `first` is the ray's closest hit when it was traced already (a
+ * packet of camera rays; NULL if it missed), `traced` says so. */
+static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, bool traced, Sampler *smp,
+                     uint64_t *rays, vec3 L)
 {
     const PtSettings *s = j->set;
     const PtScene *ps = &j->ps;
@@ -347,15 +412,21 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
     glm_vec3_zero(L);
     float pdf_prev = -1.f;
     for (int depth = 1; depth <= s->max_depth; depth++) {
-        PtHit h;
+        PtHit traced_hit;
+        const PtHit *h = &traced_hit;
         (*rays)++;
-        if (!pt_intersect(ps, o, d, INFINITY, &h))
+        if (depth == 1 && traced) {
+            if (!first)
+                break;
+            h = first;
+        } else if (!pt_intersect(ps, o, d, INFINITY, &traced_hit)) {
             break;
+        }
         /* Emission reaching the previous vertex is part of its direct light. */
         int owner = depth == 1 ? 1 : depth - 1;
         if (owner >= min_direct && owner <= max_direct) {
             vec3 e;
-            emitted(j, &h, d, depth == 1 ? -1.f : pdf_prev, mis, e);
+            emitted(j, h, d, depth == 1 ? -1.f : pdf_prev, mis, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (depth > max_direct)
@@ -363,11 +434,11 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
         vec3 wo;
         glm_vec3_negate_to(d, wo);
         Shade sh;
-        shade_make(ps, &h, wo, &sh);
-        pt_offset(h.p, h.ng, o); /* where this vertex's shadow rays and bounce start */
+        shade_make(j, h, wo, &sh);
+        pt_offset(h->p, h->ng, o); /* where this vertex's shadow rays and bounce start */
         if (depth >= min_direct) {
             vec3 e;
-            direct_light(j, &h, &sh, o, smp, mis, rays, e);
+            direct_light(j, h, &sh, o, smp, mis, rays, e);
             glm_vec3_muladd(thr, e, L);
         }
         if (novis) {
@@ -375,7 +446,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
              * the BSDF-sampled ray contributes its direct light. */
             vec3 dir, t1, w;
             float pdf;
-            if (!bsdf_sample(&h, &sh, smp, dir, &pdf, w))
+            if (!bsdf_sample(h, &sh, smp, dir, &pdf, w))
                 break;
             glm_vec3_mul(thr, w, t1);
             vec3 wo2;
@@ -386,7 +457,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
             for (int k = 0; k < n; k++) {
                 Shade s2;
                 vec3 e, o2;
-                shade_make(ps, &hits[k], wo2, &s2);
+                shade_make(j, &hits[k], wo2, &s2);
                 pt_offset(hits[k].p, hits[k].ng, o2);
                 direct_light(j, &hits[k], &s2, o2, smp, false, rays, e);
                 glm_vec3_muladd(t1, e, L);
@@ -402,7 +473,7 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
             glm_vec3_scale(thr, 1.f / p, thr);
         }
         vec3 w;
-        if (!bsdf_sample(&h, &sh, smp, d, &pdf_prev, w))
+        if (!bsdf_sample(h, &sh, smp, d, &pdf_prev, w))
             break;
         glm_vec3_mul(thr, w, thr); /* f·cos/pdf; Lambertian: ρ */
         if (thr[0] <= 0.f && thr[1] <= 0.f && thr[2] <= 0.f)
@@ -410,24 +481,40 @@ static void radiance(Job *j, const vec3 o0, const vec3 d0, Sampler *smp, uint64_
     }
 }
 
-/* Samples [s0, s1) of every pixel of one tile, added to the job's sums. */
+/* Samples [s0, s1) of every pixel of one tile, added to the job's sums:
+ * row by row, each sample index of a row's pixels at once, their camera
+ * rays traced as one packet (pt_intersect_packet). A pixel's samples are
+ * added in index order, so the sums do not depend on the tiling. */
 static void render_tile(Job *j, int tile, uint64_t *rays)
 {
+    _Static_assert((int)TILE <= (int)PT_PACKET, "a tile's row is one packet");
     const PtSettings *s = j->set;
     int tx = tile % j->tiles_x, ty = tile / j->tiles_x;
-    for (int y = ty * TILE; y < (ty + 1) * TILE && y < s->height; y++)
-        for (int x = tx * TILE; x < (tx + 1) * TILE && x < s->width; x++) {
-            size_t pix = (size_t)y * s->width + x;
-            Sampler smp = sampler_make(s->sampler, s->seed, pix);
-            double *sum = j->sum + 3 * pix, *sum2 = j->sum2 + 3 * pix;
-            for (int k = j->s0; k < j->s1; k++) {
-                sampler_start(&smp, (uint32_t)k);
+    int x0 = tx * TILE, x1 = x0 + TILE < s->width ? x0 + TILE : s->width;
+    const float *cam = j->scene->camera.position;
+    Sampler smp[TILE];
+    vec3 d[TILE];
+    PtHit hits[TILE];
+    bool hit[TILE];
+    for (int y = ty * TILE; y < (ty + 1) * TILE && y < s->height; y++) {
+        size_t row = (size_t)y * s->width;
+        for (int x = x0; x < x1; x++)
+            smp[x - x0] = sampler_make(s->sampler, s->seed, row + x);
+        for (int k = j->s0; k < j->s1; k++) {
+            for (int x = x0; x < x1; x++) {
+                Sampler *sm = &smp[x - x0];
+                sampler_start(sm, (uint32_t)k);
                 float jit[2] = {0.5f, 0.5f};
                 if (s->pixel_jitter)
-                    sampler_2d(&smp, jit);
-                vec3 d, L;
-                camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d);
-                radiance(j, j->scene->camera.position, d, &smp, rays, L);
+                    sampler_2d(sm, jit);
+                camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d[x - x0]);
+            }
+            pt_intersect_packet(&j->ps, cam, (const vec3 *)d, x1 - x0, hits, hit);
+            for (int x = x0; x < x1; x++) {
+                int i = x - x0;
+                vec3 L;
+                radiance(j, cam, d[i], hit[i] ? &hits[i] : NULL, true, &smp[i], rays, L);
+                double *sum = j->sum + 3 * (row + x), *sum2 = j->sum2 + 3 * (row + x);
                 for (int c = 0; c < 3; c++) {
                     float v = isfinite(L[c]) ? L[c] : 0.f;
                     sum[c] += v;
@@ -435,6 +522,7 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
                 }
             }
         }
+    }
 }
 
 /* Renders tiles of the running pass until none is left or the pass is
@@ -524,6 +612,7 @@ void pt_job_destroy(Job *j)
     free(j->sum);
     free(j->sum2);
     free(j->threads);
+    free(j->mats);
     pt_scene_destroy(&j->ps);
     free(j);
 }
@@ -555,6 +644,7 @@ bool pt_job_pass(Job *j, int s0, int s1, int nthreads, bool background, const at
     j->cancel = cancel;
     atomic_store(&j->next_tile, 0);
     atomic_store(&j->tiles_done, 0);
+    materials_refresh(j);
     int helpers = nthreads - 1, max = j->set->threads > 1 ? j->set->threads - 1 : 0;
     helpers = helpers < 0 ? 0 : helpers > max ? max : helpers;
     int started = 0;

@@ -98,6 +98,12 @@ static void tri_record(const Scene *s, uint32_t tri, uint32_t m, PtTri *t)
         t->uv[k][1] = v[k]->uv[1];
     }
     t->material = m;
+    /* Equal vertex normals: the interpolated normal normalised is n[0]
+     * normalised, made once here (the Cornell box's every triangle). */
+    if (memcmp(t->n[0], t->n[1], sizeof t->n[0]) == 0 && memcmp(t->n[0], t->n[2], sizeof t->n[0]) == 0) {
+        t->flat = 1;
+        glm_vec3_normalize(t->n[0]);
+    }
 }
 
 bool pt_scene_create(PtScene *ps, const Scene *s)
@@ -231,9 +237,13 @@ static void fill_hit(const PtScene *ps, const vec3 d, float t, unsigned geom, un
         h->p[i] = tr->p0[i] + bu * tr->e1[i] + bv * tr->e2[i];
     glm_vec3_copy((float *)tr->ng, h->ng);
     float w = 1.f - bu - bv;
-    for (int i = 0; i < 3; i++)
-        h->ns[i] = w * tr->n[0][i] + bu * tr->n[1][i] + bv * tr->n[2][i];
-    glm_vec3_normalize(h->ns);
+    if (tr->flat) {
+        glm_vec3_copy((float *)tr->n[0], h->ns);
+    } else {
+        for (int i = 0; i < 3; i++)
+            h->ns[i] = w * tr->n[0][i] + bu * tr->n[1][i] + bv * tr->n[2][i];
+        glm_vec3_normalize(h->ns);
+    }
     h->front = glm_vec3_dot(h->ng, (float *)d) < 0.f;
     if (!h->front)
         glm_vec3_negate(h->ng);
@@ -256,6 +266,39 @@ bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtH
         return false;
     fill_hit(ps, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, h);
     return true;
+}
+
+void pt_intersect_packet(const PtScene *ps, const vec3 o, const vec3 *d, int n, PtHit *h, bool *hit)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    struct RTCRayHit16 rh;
+    int valid[PT_PACKET];
+    for (int i = 0; i < PT_PACKET; i++) {
+        int k = i < n ? i : 0; /* inactive lanes: a copy of ray 0, masked off */
+        valid[i] = i < n ? -1 : 0;
+        rh.ray.org_x[i] = o[0];
+        rh.ray.org_y[i] = o[1];
+        rh.ray.org_z[i] = o[2];
+        rh.ray.dir_x[i] = d[k][0];
+        rh.ray.dir_y[i] = d[k][1];
+        rh.ray.dir_z[i] = d[k][2];
+        rh.ray.tnear[i] = 0.f;
+        rh.ray.tfar[i] = INFINITY;
+        rh.ray.time[i] = 0.f;
+        rh.ray.mask[i] = 0xffffffffu;
+        rh.ray.id[i] = (unsigned)i;
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, ps->rtc, &ctx, &rh);
+    for (int i = 0; i < n; i++) {
+        hit[i] = rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        if (hit[i])
+            fill_hit(ps, d[i], rh.ray.tfar[i], rh.hit.geomID[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i], &h[i]);
+    }
 }
 
 typedef struct AllHitsContext {

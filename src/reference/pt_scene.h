@@ -24,7 +24,8 @@ typedef struct PtTri {
     float n[3][3];    /* vertex normals */
     float uv[3][2];   /* vertex texture coordinates */
     uint32_t material;
-    uint32_t pad_[4];
+    uint32_t flat;    /* 1: the three vertex normals are equal (n[0] is then unit: the shading normal everywhere) */
+    uint32_t pad_[3];
 } PtTri;
 _Static_assert(sizeof(PtTri) == 128, "PtTri is two cache lines");
 
@@ -53,6 +54,13 @@ void pt_scene_destroy(PtScene *ps);
 
 /* Closest hit along o + t·d, t in (0, tmax); false if none. */
 bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h);
+/* Closest hits of up to PT_PACKET rays from one origin o along d[i],
+ * i < n, t in (0, ∞), traced together as one Embree packet (coherent rays:
+ * a row of camera rays): hit[i] says whether ray i hit, and h[i] is then
+ * its hit, as pt_intersect would give it (test_reference_exact checks the
+ * two agree). */
+enum { PT_PACKET = 16 };
+void pt_intersect_packet(const PtScene *ps, const vec3 o, const vec3 *d, int n, PtHit *h, bool *hit);
 /* Every hit along the ray (unordered), at most `max`; returns the count. */
 int pt_intersect_all(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *hits, int max);
 /* true if anything blocks o + t·d for t in (0, tmax). */

@@ -29,6 +29,30 @@ static inline void to_world(const vec3 n, float x, float y, float z, vec3 out)
         out[i] = x * t[i] + y * b[i] + z * n[i];
 }
 
+/* cos and sin of 2πu for u in [0, 1), without a libm call: u's octant
+ * picks the rotation, and the angle θ = 2π·frac(8u)/8 in [0, π/4] goes
+ * through the Taylor series of sin to x⁹ and of cos to x¹⁰ (truncation
+ * below 2e-9 on [0, π/4], under float rounding; frac(8u) and 1 − frac(8u)
+ * are exact for u a multiple of 2^-24, as sampler numbers are). */
+static inline void sincos_2pi(float u, float *s, float *c)
+{
+    float x8 = u * 8.f;
+    int k = (int)x8;
+    k = k < 0 ? 0 : k > 7 ? 7 : k;
+    float t = x8 - (float)k;
+    /* The octant's second half: α = π/4 + θ = π/2 − β with β = (1 − t)π/4. */
+    float x = (k & 1 ? 1.f - t : t) * (GLM_PIf / 4.f), x2 = x * x;
+    float sn = x * (1.f + x2 * (-1.f / 6 + x2 * (1.f / 120 + x2 * (-1.f / 5040 + x2 * (1.f / 362880)))));
+    float cs = 1.f + x2 * (-0.5f + x2 * (1.f / 24 + x2 * (-1.f / 720 + x2 * (1.f / 40320 + x2 * (-1.f / 3628800)))));
+    float ca = k & 1 ? sn : cs, sa = k & 1 ? cs : sn; /* cos and sin of the angle within the quadrant */
+    switch (k >> 1) {
+    case 0: *c = ca, *s = sa; break;
+    case 1: *c = -sa, *s = ca; break;
+    case 2: *c = -ca, *s = -sa; break;
+    default: *c = sa, *s = -ca; break;
+    }
+}
+
 /* Cosine-weighted hemisphere around n; pdf = cosθ/π. */
 static inline void sample_cosine(const vec3 n, float u1, float u2, vec3 out)
 {

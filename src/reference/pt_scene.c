@@ -274,7 +274,7 @@ void pt_intersect_packet(const PtScene *ps, const vec3 o, const vec3 *d, int n, 
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     struct RTCRayHit16 rh;
-    int valid[PT_PACKET];
+    _Alignas(64) int valid[PT_PACKET]; /* Embree reads the mask with aligned loads */
     for (int i = 0; i < PT_PACKET; i++) {
         int k = i < n ? i : 0; /* inactive lanes: a copy of ray 0, masked off */
         valid[i] = i < n ? -1 : 0;

@@ -9,17 +9,6 @@
 #include "test_util.h"
 #include "reference/pathtracer.h"
 
-static const char *sponza_path(void)
-{
-    static char path[1024];
-    snprintf(path, sizeof path, "%s/assets/sponza/Sponza.gltf", RTGI_SHARED_DIR);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fclose(f);
-    return path;
-}
-
 static double lit_fraction(const ImageF *img)
 {
     int lit = 0;
@@ -31,7 +20,7 @@ static double lit_fraction(const ImageF *img)
 static void sponza_loads_and_renders(void **state)
 {
     (void)state;
-    const char *path = sponza_path();
+    const char *path = test_sponza_gltf();
     if (!path) {
         print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
         skip();
@@ -103,12 +92,12 @@ static double lit_share(const ImageF *im, float exposure)
 static void sponza_default_view_shows_the_bounce(void **state)
 {
     (void)state;
-    if (!sponza_path()) {
+    if (!test_sponza_gltf()) {
         print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
         skip();
     }
     enum { W = 160, H = 90 };
-    const char *files[] = {RTGI_SOURCE_DIR "/scenes/sponza.json", sponza_path(),
+    const char *files[] = {RTGI_SOURCE_DIR "/scenes/sponza.json", test_sponza_gltf(),
                            RTGI_SOURCE_DIR "/scenes/sponza_nave.json"};
     for (int f = 0; f < 3; f++) {
         Scene s;
@@ -142,7 +131,7 @@ static void sponza_default_view_shows_the_bounce(void **state)
 static void sponza_rsm_recovers_the_bounce(void **state)
 {
     (void)state;
-    if (!sponza_path()) {
+    if (!test_sponza_gltf()) {
         print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
         skip();
     }
@@ -208,7 +197,7 @@ static void sponza_rsm_recovers_the_bounce(void **state)
 static void sponza_direct_matches_reference(void **state)
 {
     (void)state;
-    if (!sponza_path()) {
+    if (!test_sponza_gltf()) {
         print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
         skip();
     }

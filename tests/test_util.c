@@ -524,7 +524,7 @@ void test_add_square(Scene *s, int material, const vec3 c, float a)
     scene_add_quad(s, material, p0, p1, p2, p3);
 }
 
-const char *test_sponza_file(void)
+const char *test_sponza_gltf(void)
 {
     static char path[1024];
     snprintf(path, sizeof path, "%s/assets/sponza/Sponza.gltf", RTGI_SHARED_DIR);
@@ -532,6 +532,14 @@ const char *test_sponza_file(void)
     if (!f)
         return NULL;
     fclose(f);
+    return path;
+}
+
+const char *test_sponza_file(void)
+{
+    static char path[1024];
+    if (!test_sponza_gltf())
+        return NULL;
     snprintf(path, sizeof path, "%s/scenes/sponza_nave.json", RTGI_SOURCE_DIR);
     return path;
 }

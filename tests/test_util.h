@@ -150,6 +150,8 @@ void test_camera_down(Camera *c, const vec3 position);
  * where its asset is present under RTGI_SHARED_DIR, else NULL (the caller
  * skips). Static buffer. */
 const char *test_sponza_file(void);
+/* Sponza's glTF under ../shared/assets, or NULL when it is not there. */
+const char *test_sponza_gltf(void);
 /* Loads test_sponza_file() (it must exist) with its glTF materials made
  * Lambertian (specular 0, metallic 0) and its sun a parallel one (size 0):
  * the path tracer's bounce then has no glossy paths a diffuse gather

@@ -888,7 +888,10 @@ static bool write_csv(const char *dir, const cJSON *doc)
 static int bench_parse_args(int argc, char **argv, BenchArgs *args)
 {
     bench_args_default(args);
-    int rc = options_parse(argc, argv, k_bench_options, args, &args->base, args->base_given, cmd_bench_help);
+    int rc = options_parse(argc, argv,
+                           &(OptionSet){.tables = (const OptionDesc *const[]){k_bench_options, NULL},
+                                        .set = &args->base, .given = args->base_given, .help = cmd_bench_help},
+                           args);
     if (rc)
         return rc;
     if (!args->out) {

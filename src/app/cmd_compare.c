@@ -216,7 +216,7 @@ static int compare_parse_args(int argc, char **argv, CompareArgs *args)
             if (took < 0)
                 return 2;
             if (!took) {
-                options_unknown(opt, k_compare_options, false);
+                options_unknown(opt, (const OptionDesc *const[]){k_compare_options, NULL}, false);
                 return 2;
             }
         }

@@ -36,7 +36,7 @@ void cmd_probe_help(void)
 int cmd_probe(int argc, char **argv)
 {
     ProbeArgs args = {NULL, PROBE_MAP_DEFAULT};
-    int rc = options_parse(argc, argv, k_probe_options, &args, NULL, NULL, cmd_probe_help);
+    int rc = options_parse(argc, argv, &(OptionSet){.tables = (const OptionDesc *const[]){k_probe_options, NULL}, .help = cmd_probe_help}, &args);
     if (rc)
         return rc < 0 ? 0 : rc;
     const char *json = args.json;

@@ -140,7 +140,7 @@ static int reference_parse_args(int argc, char **argv, ReferenceArgs *args)
 {
     reference_args_default(args);
     PtSettings *set = &args->set;
-    int rc = options_parse(argc, argv, k_reference_options, args, NULL, NULL, cmd_reference_help);
+    int rc = options_parse(argc, argv, &(OptionSet){.tables = (const OptionDesc *const[]){k_reference_options, NULL}, .help = cmd_reference_help}, args);
     if (rc)
         return rc;
     set->seed = args->seed;

@@ -44,34 +44,49 @@ int options_take_setting(const char *opt, CliArgs *a, Settings *set, bool given[
     return 1;
 }
 
-void options_unknown(const char *opt, const OptionDesc *table, bool settings)
+void options_unknown(const char *opt, const OptionDesc *const *tables, bool settings)
 {
     const char *known[256];
     int n = 0;
-    options_names(table, known, &n, 256);
+    for (int t = 0; tables[t]; t++)
+        options_names(tables[t], known, &n, 256);
     for (int i = 0; settings && i < settings_count && n < 255; i++)
         known[n++] = settings_table[i].option;
     known[n] = NULL;
     cli_unknown_option(opt, known);
 }
 
-int options_parse(int argc, char **argv, const OptionDesc *table, void *out, Settings *set, bool given[],
-                  void (*help)(void))
+/* The row named `opt` in any of the tables, or NULL. */
+static const OptionDesc *find_in(const OptionDesc *const *tables, const char *opt)
+{
+    const OptionDesc *d = NULL;
+    for (int t = 0; tables[t] && !d; t++)
+        d = options_find(tables[t], opt);
+    return d;
+}
+
+int options_parse(int argc, char **argv, const OptionSet *os, void *out)
 {
     CliArgs a = {.argc = argc, .argv = argv};
     const char *opt;
     while ((opt = cli_next(&a))) {
         if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            help();
+            os->help();
             return -1;
         }
-        int took = options_take(table, opt, &a, out);
-        if (!took && set)
-            took = options_take_setting(opt, &a, set, given);
+        if (os->elsewhere && !find_in(os->tables, opt) && options_find(os->elsewhere, opt)) {
+            usage_error(NULL, "%s is an option of 'rtgi %s'", opt, os->elsewhere_command);
+            return 2;
+        }
+        int took = 0;
+        for (int t = 0; os->tables[t] && !took; t++)
+            took = options_take(os->tables[t], opt, &a, out);
+        if (!took && os->set)
+            took = options_take_setting(opt, &a, os->set, os->given);
         if (took < 0)
             return 2;
         if (!took) {
-            options_unknown(opt, table, set != NULL);
+            options_unknown(opt, os->tables, os->set != NULL);
             return 2;
         }
     }

@@ -52,14 +52,24 @@ void options_names(const OptionDesc *table, const char **out, int *n, int cap);
  * value into `set`, marks given[row] and returns 1, or -1 after logging; 0
  * if it is none. */
 int options_take_setting(const char *opt, CliArgs *a, Settings *set, bool given[]);
-/* "Did you mean" over a command's table and, with `settings`, every
- * settings row: logs "unknown option" for `opt`. */
-void options_unknown(const char *opt, const OptionDesc *table, bool settings);
+/* "Did you mean" over the tables (NULL-terminated) and, with `settings`,
+ * every settings row: logs "unknown option" for `opt`. */
+void options_unknown(const char *opt, const OptionDesc *const *tables, bool settings);
+/* What a command's option loop reads: its tables (NULL-terminated), with
+ * `set` every settings row (into set, marking given[]), and the options of
+ * another command, refused by name ("--x is an option of 'rtgi view'"). */
+typedef struct OptionSet {
+    const OptionDesc *const *tables;
+    Settings *set;
+    bool *given;
+    const OptionDesc *elsewhere;  /* may be NULL */
+    const char *elsewhere_command;
+    void (*help)(void);
+} OptionSet;
 /* A command's whole option loop: --help (help(), then -1), every row of
- * `table`, and with `set` every settings row (into set, marking given[]).
- * 0: go on; -1: help was shown; 2: a usage error was logged. */
-int options_parse(int argc, char **argv, const OptionDesc *table, void *out, Settings *set, bool given[],
-                  void (*help)(void));
+ * its tables and settings rows, an option of the other command, unknown
+ * options. 0: go on; -1: help was shown; 2: a usage error was logged. */
+int options_parse(int argc, char **argv, const OptionSet *os, void *out);
 /* Prints the rows' help, with each value's default from `defaults` (the
  * command's struct as initialised). */
 void options_print_help(FILE *f, const OptionDesc *table, const void *defaults);

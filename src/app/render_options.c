@@ -136,52 +136,22 @@ void render_options_help(bool view)
     render_options_help_settings();
 }
 
-/* "Did you mean" over the options `render` (view false) or `view` knows,
- * the settings table's included. */
-static void unknown_option(const char *opt, bool view)
-{
-    const char *known[256];
-    int n = 0;
-    options_names(k_shared_options, known, &n, 256);
-    options_names(view ? k_view_only : k_render_only, known, &n, 256);
-    for (int i = 0; i < settings_count && n < 255; i++)
-        known[n++] = settings_table[i].option;
-    known[n] = NULL;
-    cli_unknown_option(opt, known);
-}
-
 int render_options_parse(RenderOptions *o, int argc, char **argv, void (*help)(void))
 {
     fill_gi_choices();
     const OptionDesc *own = o->view ? k_view_only : k_render_only, *other = o->view ? k_render_only : k_view_only;
-    CliArgs a = {.argc = argc, .argv = argv};
-    const char *opt;
-    while ((opt = cli_next(&a))) {
-        if (!strcmp(opt, "--help") || !strcmp(opt, "-h")) {
-            help();
-            return -1;
-        }
-        if (!options_find(own, opt) && options_find(other, opt)) {
-            usage_error(NULL, "%s is an option of 'rtgi %s'", opt, o->view ? "render" : "view");
-            return 2;
-        }
-        int took = options_take(k_shared_options, opt, &a, o);
-        if (!took)
-            took = options_take(own, opt, &a, o);
-        if (!took)
-            took = options_take_setting(opt, &a, &o->set, o->given);
-        if (took < 0)
-            return 2;
-        if (!took) {
-            unknown_option(opt, o->view);
-            return 2;
-        }
-    }
+    OptionSet os = {.tables = (const OptionDesc *const[]){k_shared_options, own, NULL},
+                    .set = &o->set,
+                    .given = o->given,
+                    .elsewhere = other,
+                    .elsewhere_command = o->view ? "render" : "view",
+                    .help = help};
+    int rc = options_parse(argc, argv, &os, o);
+    if (rc)
+        return rc;
     o->live_ordinary = o->live_priority == 1;
     if (o->shader_dir)
         shader_set_directory(o->shader_dir);
-    if (cli_failed(&a))
-        return 2;
     int time_rc = render_options_check_time(o);
     if (time_rc)
         return time_rc;

@@ -1277,34 +1277,20 @@ static void cornell_against_reference(void **state)
 static void sponza_against_one_bounce(void **state)
 {
     (void)state;
-    char asset[1024];
-    snprintf(asset, sizeof asset, "%s/assets/sponza/Sponza.gltf", RTGI_SHARED_DIR);
-    FILE *probe = fopen(asset, "rb");
-    if (!probe) {
+    const char *file = test_sponza_file();
+    if (!file) {
         print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
         skip();
     }
-    fclose(probe);
     enum { W = 160, H = 90 };
     Scene s;
-    assert_true(scene_load(&s, RTGI_SOURCE_DIR "/scenes/sponza_nave.json"));
+    assert_true(scene_load(&s, file));
     assert_int_equal(s.settings.gi.lpv.size, 32);
     assert_int_equal(s.settings.gi.lpv.cascades, 3);
-    ImageF lpv, none, ob, direct;
-    test_render_gi(&s, W, H, GI_LPV, NULL, &lpv);
-    test_render_gi(&s, W, H, GI_NONE, NULL, &none);
-    test_reference(&s, W, H, PT_ONE_BOUNCE, 16, &ob);
-    test_reference(&s, W, H, PT_DIRECT, 16, &direct);
-    double whole = test_indirect_ratio(&lpv, &none, &ob, &direct, NULL), lo, hi;
-    test_block_ratio_range(&lpv, &none, &ob, &direct, 16, 9, &lo, &hi);
-    print_message("Sponza %dx%d: indirect ratio against one-bounce %.3f; 16x9 blocks above the median %.3f .. %.3f\n",
-                  W, H, whole, lo, hi);
+    double whole, lo, hi;
+    test_one_bounce_regions(&s, GI_LPV, W, H, "Sponza lpv", &whole, &lo, &hi);
     assert_true(whole > 0.75 && whole < 1.33);
     assert_true(lo > 0.3 && hi < 3.0);
-    image_free(&lpv);
-    image_free(&none);
-    image_free(&ob);
-    image_free(&direct);
     scene_free(&s);
 }
 

@@ -554,3 +554,21 @@ void test_sponza_lambert(Scene *s)
         if (s->materials[i].light_index < 0)
             s->materials[i].specular = s->materials[i].metallic = 0.f;
 }
+
+void test_one_bounce_regions(const Scene *s, GiMode gi, int w, int h, const char *label, double *whole, double *lo,
+                             double *hi)
+{
+    ImageF tech, none, ob, direct;
+    test_render_gi(s, w, h, gi, NULL, &tech);
+    test_render_gi(s, w, h, GI_NONE, NULL, &none);
+    test_reference(s, w, h, PT_ONE_BOUNCE, 16, &ob);
+    test_reference(s, w, h, PT_DIRECT, 16, &direct);
+    *whole = test_indirect_ratio(&tech, &none, &ob, &direct, NULL);
+    test_block_ratio_range(&tech, &none, &ob, &direct, 16, 9, lo, hi);
+    print_message("%s %dx%d: indirect ratio against one-bounce %.3f; 16x9 blocks above the median %.3f .. %.3f\n",
+                  label, w, h, *whole, *lo, *hi);
+    image_free(&tech);
+    image_free(&none);
+    image_free(&ob);
+    image_free(&direct);
+}

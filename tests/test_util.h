@@ -70,6 +70,12 @@ double test_indirect_ratio(const ImageF *tech, const ImageF *none, const ImageF 
  * ⅓" checks on a mesh scene, where surfaces have no names worth keeping). */
 void test_block_ratio_range(const ImageF *tech, const ImageF *none, const ImageF *ref, const ImageF *direct, int bx,
                             int by, double *lo, double *hi);
+/* Technique `gi` (the scene's own settings) on scene `s` at w×h against
+ * the path tracer's one-bounce and direct light (16 spp): the whole image's
+ * indirect ratio and the range over the 16×9 blocks above the median
+ * (test_block_ratio_range); prints them under `label`. */
+void test_one_bounce_regions(const Scene *s, GiMode gi, int w, int h, const char *label, double *whole, double *lo,
+                             double *hi);
 
 /* Writes `content` to RTGI_TEST_TMP/name; returns the path (static buffer,
  * valid until the next call). */

@@ -1044,21 +1044,10 @@ static void sponza_against_one_bounce(void **state)
     Scene s;
     assert_true(scene_load(&s, file));
     assert_int_equal(s.settings.gi.vct.size, 256);
-    ImageF vct, none, ob, direct;
-    test_render_gi(&s, W, H, GI_VCT, NULL, &vct);
-    test_render_gi(&s, W, H, GI_NONE, NULL, &none);
-    test_reference(&s, W, H, PT_ONE_BOUNCE, 16, &ob);
-    test_reference(&s, W, H, PT_DIRECT, 16, &direct);
-    double whole = test_indirect_ratio(&vct, &none, &ob, &direct, NULL), lo, hi;
-    test_block_ratio_range(&vct, &none, &ob, &direct, 16, 9, &lo, &hi);
-    print_message("Sponza %dx%d: indirect ratio against one-bounce %.3f; 16x9 blocks above the median %.3f .. %.3f\n",
-                  W, H, whole, lo, hi);
+    double whole, lo, hi;
+    test_one_bounce_regions(&s, GI_VCT, W, H, "Sponza vct", &whole, &lo, &hi);
     assert_true(whole > 0.8 && whole < 1.25);
     assert_true(lo > 0.15 && hi < 3.0);
-    image_free(&vct);
-    image_free(&none);
-    image_free(&ob);
-    image_free(&direct);
     scene_free(&s);
 }
 

@@ -152,6 +152,8 @@ typedef struct GiParams {
     VctParams vct;
     FrameParams frame;
 } GiParams;
+_Static_assert(offsetof(GiParams, frame) + sizeof(FrameParams) == sizeof(GiParams),
+               "frame is GiParams' last member: renderer_apply compares the families before it");
 
 /* Everything the table stores. */
 typedef struct Settings {

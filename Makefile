@@ -52,7 +52,7 @@ space := $(empty) $(empty)
 
 test-asan: $(ASAN_BUILD)/CMakeCache.txt
 	cmake --build $(ASAN_BUILD) -j $(JOBS) --target rtgi alloc_failure_shim rtgi_nodlclose $(RTGI_ASAN_TESTS)
-	cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -R '^($(subst $(space),|,$(strip $(RTGI_ASAN_TESTS))))$$'
+	cd $(ASAN_BUILD) && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -R '^($(subst $(space),|,$(strip $(RTGI_ASAN_TESTS))))(_[0-9]+of[0-9]+)?$$'
 
 
 # libFuzzer targets (fuzz/, clang only) and a bounded run of each on its

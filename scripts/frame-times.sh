@@ -9,6 +9,8 @@
 #   scripts/frame-times.sh [SCENE] [SIZE] [SHADOW] [FRAMES]
 #       (default: cornell 1920x1080 pcss 20)
 #   GI="rsm vct" scripts/frame-times.sh      (the techniques; default all)
+#   PROBE=out/probe.json scripts/frame-times.sh   (the gathers' bound from
+#       a saved `rtgi probe --json` result instead of a probe run each)
 # Run from the checkout's root after building.
 set -eu
 scene=${1:-cornell}
@@ -25,7 +27,7 @@ get() { v=$(sed -n "s/^$1: \([^ ]*\).*/\1/p" "$log" | head -n 1); echo "${v:-—
 first=1
 for g in $gi; do
     probe=""
-    case $g in rsm*|vpl*) probe="--probe run" ;; esac
+    case $g in rsm*|vpl*) probe="--probe ${PROBE:-run}" ;; esac
     # shellcheck disable=SC2086
     "$rtgi" render --scene "$scene" --size "$size" --shadow "$shadow" --gi "$g" --timings \
         --frames "$frames" $probe --quiet --out "$img" >"$log"

@@ -572,3 +572,20 @@ void test_one_bounce_regions(const Scene *s, GiMode gi, int w, int h, const char
     image_free(&ob);
     image_free(&direct);
 }
+
+int test_run_group_part(const char *name, const struct CMUnitTest *tests, size_t count, int argc, char **argv)
+{
+    int k = 1, n = 1;
+    if (argc > 1 && (sscanf(argv[1], "%d/%d", &k, &n) != 2 || n < 1 || k < 1 || k > n)) {
+        fprintf(stderr, "%s: part '%s' is not K/N with 1 <= K <= N\n", name, argv[1]);
+        return 2;
+    }
+    struct CMUnitTest *part = calloc(count, sizeof *part);
+    assert_non_null(part);
+    size_t m = 0;
+    for (size_t i = (size_t)k - 1; i < count; i += (size_t)n)
+        part[m++] = tests[i];
+    int rc = _cmocka_run_group_tests(name, part, m, NULL, NULL);
+    free(part);
+    return rc;
+}

@@ -164,5 +164,9 @@ const char *test_sponza_gltf(void);
  * cannot have, and its direct light is the rasterizer's apart from
  * shadow-map resolution. */
 void test_sponza_lambert(Scene *s);
+/* Runs the group's tests, or with argument "K/N" (1 <= K <= N) every Nth
+ * of them from the Kth: ctest runs a long program as N entries
+ * (rtgi_split_test in tests/CMakeLists.txt) that the cores share. */
+int test_run_group_part(const char *name, const struct CMUnitTest *tests, size_t count, int argc, char **argv);
 
 #endif

@@ -573,6 +573,9 @@ static void wall_scene(Scene *s, uint32_t *wall)
                                (vec3){0.3f, 0.f, 0.5f}));
     Light sun = {.type = LIGHT_DIRECTIONAL, .direction = {0.3f, -1.f, 0.2f}, .color = {1.f, 1.f, 1.f}};
     scene_add_light(s, &sun);
+    /* a second light: injection adds to what the first wrote */
+    Light sun2 = {.type = LIGHT_DIRECTIONAL, .direction = {-0.4f, -1.f, -0.1f}, .color = {0.5f, 0.5f, 0.5f}};
+    scene_add_light(s, &sun2);
     test_camera_down(&s->camera, (vec3){0.f, 3.f, 0.01f});
     scene_finalize(s);
 }
@@ -581,7 +584,12 @@ static void wall_scene(Scene *s, uint32_t *wall)
  * ways: no sample of where it stood stays (the sums persist between
  * voxelizations, cleared by the resolve behind itself), whether the
  * opaque voxels fit their list (16³) or overflow it (4³: the resolve then
- * runs over every voxel). Albedo volumes equal exactly (integer sums). */
+ * runs over every voxel). Albedo volumes equal exactly (integer sums).
+ * The compute voxelization revoxelizes the moved wall's region alone
+ * where it is at most a quarter of the volume (issue 46: 16³), and its
+ * frame equals the cold renderer's bit for bit (the
+ * opaque list made again holds every opaque voxel once: a voxel listed
+ * twice would be lit twice by the second light). */
 static void moved_object_revoxelizes(void **state)
 {
     (void)state;
@@ -605,11 +613,33 @@ static void moved_object_revoxelizes(void **state)
             renderer_frame(&r, &s.camera);
             bool listed;
             unsigned opaque = vct_opaque_voxels(r.gi_state, &listed);
-            assert_int_equal(renderer_collect_stats(&r)->voxelizations, 2);
+            const GiStats *st = renderer_collect_stats(&r);
+            assert_int_equal(st->voxelizations, 2);
+            /* 16³: the region is 640 of 4096 voxels; 4³: all of them (whole, cheaper) */
+            assert_int_equal(st->region_voxelizations, m && size == 16);
             size_t n3 = (size_t)size * size * size;
             float *moved = malloc(sizeof(float) * 4 * n3);
             assert_non_null(moved);
             assert_true(vct_read_volume(r.gi_state, VCT_VOLUME_ALBEDO, moved));
+            if (m) { /* the region's frame against a cold renderer's */
+                print_message("compute, %d^3: the region held %llu of %zu voxels\n", size,
+                              (unsigned long long)st->region_voxels, n3);
+                assert_true(size == 4 || (st->region_voxels > 0 && 4 * st->region_voxels <= n3));
+                ImageF got, want;
+                assert_true(renderer_read_hdr(&r, &got));
+                Renderer cold;
+                vct_renderer(&cold, &s, 16, 16, &gp);
+                renderer_frame(&cold, &s.camera);
+                assert_true(renderer_read_hdr(&cold, &want));
+                renderer_destroy(&cold);
+                int px = 0;
+                for (int i = 0; i < 3 * got.width * got.height; i++)
+                    px += got.rgb[i] != want.rgb[i];
+                print_message("compute, %d^3: %d frame values differ from a cold renderer's\n", size, px);
+                assert_int_equal(px, 0);
+                image_free(&got);
+                image_free(&want);
+            }
             renderer_destroy(&r);
             int n;
             float origin[3], voxel;

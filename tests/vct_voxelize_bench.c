@@ -2,14 +2,17 @@
  * (--vct-voxelize), on the machine it runs on: one renderer per method on
  * the same scene, alternating within each round (a shared machine's load
  * hits both alike), medians printed. Per round and method: the scene's
- * geometry is marked moved (its first vertex re-uploaded: a new version,
- * as an animated object's), so the next frame revoxelizes: its
- * voxelization's wall time (glFinish both sides) and the frame's; then a
- * steady frame and a light-moving frame (every light product redrawn:
- * renderer_invalidate). The first frame of each (shader compilation) is
- * left out.
+ * geometry is marked moved (every vertex re-uploaded: a new version), so
+ * the next frame revoxelizes the whole volume: its voxelization's wall
+ * time (glFinish both sides) and the frame's; then a steady frame and a
+ * light-moving frame (every light product redrawn: renderer_invalidate).
+ * A third row, "region": compute with only a moved object's vertices
+ * re-uploaded (the scene file's first animated object, moved between two
+ * times of its track each round; without one, the first vertex), so that
+ * the frame revoxelizes its region alone (issue 46). The first frame of
+ * each (shader compilation) is left out.
  *
- * usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute]
+ * usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute|region]
  * (SCENE: cornell, or a scene file; ROUNDS default 5; VCT_SIZE the
  * scene's --vct-size by default, 0 too; a method named: that one alone). Not a test: a measuring tool built
  * beside the tests (scripts/gpu-check.sh and docs/performance.md run it). */
@@ -21,8 +24,8 @@
 #include "test_util.h"
 #include "base/util.h"
 
-enum { METHODS = 2, MAX_ROUNDS = 64 };
-static const char *const k_methods[METHODS] = {"raster", "compute"};
+enum { METHODS = 3, MAX_ROUNDS = 64 };
+static const char *const k_methods[METHODS] = {"raster", "compute", "region"};
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -48,7 +51,7 @@ static double frame_ms(Renderer *r, const Camera *cam)
 int main(int argc, char **argv)
 {
     if (argc < 3) {
-        fprintf(stderr, "usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute]\n");
+        fprintf(stderr, "usage: vct_voxelize_bench SCENE WxH [ROUNDS] [VCT_SIZE] [raster|compute|region]\n");
         return 2;
     }
     int w, h, rounds = argc > 3 ? atoi(argv[3]) : 5;
@@ -85,14 +88,24 @@ int main(int argc, char **argv)
     }
     double vox[METHODS][MAX_ROUNDS], moved[METHODS][MAX_ROUNDS], steady[METHODS][MAX_ROUNDS],
         light[METHODS][MAX_ROUNDS];
+    unsigned long long region_voxels = 0;
     /* Round 0 is a warm-up of every path (the first revoxelization and
      * light-moving frame compile nothing new, but llvmpipe's caches fill). */
+    SceneChange whole = {.what = SCENE_CHANGED_GEOMETRY, .first_vertex = 0, .vertex_count = s.vertex_count};
+    SceneChange object = {.what = SCENE_CHANGED_GEOMETRY, .first_vertex = 0, .vertex_count = 1};
+    double t_end = animation_present(&s) ? 0.5 * animation_duration(&s) : 0.0;
     for (int round = 0; ok && round <= rounds; round++) {
+        SceneChange moved_now = object;
+        if (t_end > 0.0 && animation_apply(&s, round % 2 ? t_end : 0.0, &moved_now))
+            moved_now.what = SCENE_CHANGED_GEOMETRY; /* the object alone (the lights and camera stand) */
         for (int m = first; m <= last; m++) {
-            SceneChange c = {.what = SCENE_CHANGED_GEOMETRY, .first_vertex = 0, .vertex_count = 1};
+            SceneChange c = m == 2 ? moved_now : whole;
             ok = renderer_scene_changed(&r[m], &c);
             double t_moved = frame_ms(&r[m], &s.camera);
-            double t_vox = renderer_collect_stats(&r[m])->voxelize_ms;
+            const GiStats *st = renderer_collect_stats(&r[m]);
+            double t_vox = st->voxelize_ms;
+            if (m == 2 && round == rounds)
+                region_voxels = st->region_voxelizations ? st->region_voxels : 0;
             double t_steady = frame_ms(&r[m], &s.camera);
             renderer_invalidate(&r[m]);
             double t_light = frame_ms(&r[m], &s.camera);
@@ -114,8 +127,10 @@ int main(int argc, char **argv)
             printf("%-8s %12.2f %14.2f %12.2f %14.2f\n", k_methods[m], med[m], median(moved[m], rounds),
                    median(steady[m], rounds), median(light[m], rounds));
         }
-        if (first != last)
-            printf("voxelize compute/raster: %.3f\n", med[1] / med[0]);
+        if (first == 0 && last == METHODS - 1)
+            printf("voxelize compute/raster: %.3f, region/compute: %.3f (region: %llu of %d^3 voxels%s)\n",
+                   med[1] / med[0], med[2] / med[1], region_voxels, size,
+                   region_voxels ? "" : ", none: the whole volume was cheaper");
     }
     for (int m = 0; m < METHODS; m++)
         if (made[m])

@@ -40,6 +40,7 @@
 #define SSBO_SCENE_VERTICES 16 /* the scene's vertex buffer read as floats (Vertex: 8 each; vct compute voxelization) */
 #define SSBO_SCENE_INDICES 17  /* the scene's index buffer read as uints (vct compute voxelization) */
 #define SSBO_VCT_WORK 18   /* vct compute voxelization: per submesh and level a header (indirect dispatch, count), then its large triangles */
+#define SSBO_VCT_OPAQUE_PREV 19 /* vct region revoxelization: the opaque list before it (as SSBO_VCT_OPAQUE) */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -170,6 +171,9 @@
 #define LOC_VCT_SCALE 11        /* vct trace, upsample: int, cones traced at every scale-th pixel per axis */
 #define LOC_VCT_LEVEL 20        /* vct voxelize: int, the clipmap level drawn */
 #define LOC_VCT_RUN 21          /* vct voxelize.comp: uvec4, first triangle, triangles, header, list start */
+#define LOC_VCT_REGION_LO 22    /* vct voxelize, resolve: ivec4, xyz the region's first voxel (resolve: stacked) */
+#define LOC_VCT_REGION_HI 23    /* vct voxelize, resolve: ivec4, xyz past its last voxel, w 1 (0: no region, every voxel) */
+#define LOC_VCT_REGIONS 24      /* vct list.comp (LIST_FILTER): ivec4[2 · VCT_MAX_LEVELS], per level the region's lo, hi (stacked) */
 #define LOC_COUNT_STEP 10       /* gi/count_surfaces.comp: int, the lattice's step */
 #define LOC_ISM_MAP_BASE 15     /* rsm gathers, ism passes: uint, the first map of the light being gathered */
 #define LOC_ISM_PUSH 16         /* gi/visibility/pull_push.comp: int, 0 pull, 1 push */

@@ -63,6 +63,8 @@ typedef struct GiStats {
     int visibility_builds;    /* --gi-visibility: times the visibility maps were built */
     uint64_t visibility_bytes; /* --gi-visibility: GPU memory of the visibility maps (in gpu_bytes too) */
     int voxelizations;        /* vct: times the scene was voxelized */
+    int region_voxelizations; /* vct: of them, a moved object's region alone */
+    uint64_t region_voxels;   /* vct: voxels of the last such region */
     double voxelize_ms;       /* vct: wall time of the last voxelization (glFinish on both sides) */
 } GiStats;
 

@@ -314,9 +314,50 @@ void gpu_scene_update_vertices(GpuScene *g, const Scene *s, uint32_t first, uint
         count = s->vertex_count - first;
     glNamedBufferSubData(g->vbo, (GLintptr)(sizeof(Vertex) * first), (GLsizeiptr)(sizeof(Vertex) * count),
                          s->vertices + first);
-    for (int i = 0; i < g->cluster_count; i++)
-        cluster_bounds(&g->clusters[i], s, g->cluster_indices);
-    g->version = ++s_versions;
+    GpuSceneMove *m = &g->moves[g->move_count++ % GPU_SCENE_MOVES];
+    for (int k = 0; k < 3; k++) {
+        m->min[k] = FLT_MAX;
+        m->max[k] = -FLT_MAX;
+    }
+    for (int i = 0; i < g->cluster_count; i++) {
+        GpuCluster *c = &g->clusters[i];
+        bool moved = false; /* a triangle of it uses a moved vertex: its bounds before and after join the box */
+        for (uint32_t j = 0; j < c->index_count && !moved; j++)
+            moved = g->cluster_indices[c->first_index + j] - first < count;
+        for (int pass = 0; pass < 2; pass++) {
+            if (pass)
+                cluster_bounds(c, s, g->cluster_indices);
+            for (int k = 0; k < 3 && moved; k++) {
+                m->min[k] = fminf(m->min[k], c->bounds_min[k]);
+                m->max[k] = fmaxf(m->max[k], c->bounds_max[k]);
+            }
+        }
+    }
+    m->from = g->version;
+    g->version = m->to = ++s_versions;
+}
+
+bool gpu_scene_moved_since(const GpuScene *g, uint64_t version, float min[3], float max[3])
+{
+    for (int k = 0; k < 3; k++) {
+        min[k] = FLT_MAX;
+        max[k] = -FLT_MAX;
+    }
+    uint64_t at = g->version;
+    uint32_t kept = g->move_count < GPU_SCENE_MOVES ? g->move_count : GPU_SCENE_MOVES;
+    for (uint32_t i = 0; at != version; i++) { /* newest first, back along the chain */
+        if (i == kept)
+            return false;
+        const GpuSceneMove *m = &g->moves[(g->move_count - 1 - i) % GPU_SCENE_MOVES];
+        if (m->to != at)
+            return false;
+        for (int k = 0; k < 3; k++) {
+            min[k] = fminf(min[k], m->min[k]);
+            max[k] = fmaxf(max[k], m->max[k]);
+        }
+        at = m->from;
+    }
+    return true;
 }
 
 uint64_t gpu_scene_bytes(const GpuScene *g)

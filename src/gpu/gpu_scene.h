@@ -21,6 +21,15 @@ typedef struct GpuCluster {
     float bounds_min[3], bounds_max[3];
 } GpuCluster;
 
+/* One upload of moved vertices: the geometry went from version `from` to
+ * `to`, and every triangle whose position changed lies, before and after,
+ * within [min, max] (world space). */
+typedef struct GpuSceneMove {
+    uint64_t from, to;
+    float min[3], max[3];
+} GpuSceneMove;
+#define GPU_SCENE_MOVES 8 /* the last moves kept (gpu_scene_moved_since) */
+
 typedef struct GpuScene {
     GLuint vao;
     GLuint vbo;       /* Vertex[] */
@@ -33,6 +42,8 @@ typedef struct GpuScene {
     uint64_t version; /* which geometry the buffers hold: unique in the process, new after every move
                          (light products and voxels drawn from it keep it in their keys) */
     struct GpuDrawItem *draw_items; /* [cluster_count]: a draw's visible clusters (scratch, gpu_scene.c) */
+    GpuSceneMove moves[GPU_SCENE_MOVES]; /* the last moves, a ring: moves[(move_count - 1) % N] the newest */
+    uint32_t move_count;
 } GpuScene;
 
 bool gpu_scene_create(GpuScene *g, const Scene *s);
@@ -41,6 +52,11 @@ void gpu_scene_destroy(GpuScene *g);
  * uploads them, recomputes the bounds of every cluster and takes a new
  * version. */
 void gpu_scene_update_vertices(GpuScene *g, const Scene *s, uint32_t first, uint32_t count);
+/* Whether the geometry of `version` differs from today's only within a box
+ * (true: [min, max] holds every moved triangle before and after each move
+ * since; empty, min > max, when nothing moved); false when `version` is
+ * not one of the last GPU_SCENE_MOVES moves' (then anything may differ). */
+bool gpu_scene_moved_since(const GpuScene *g, uint64_t version, float min[3], float max[3]);
 /* GPU memory of its vertices, indices and textures. */
 uint64_t gpu_scene_bytes(const GpuScene *g);
 

@@ -4,7 +4,8 @@
 // gi/vct/voxelize.glsl); the sums are cleared behind it for the next
 // voxelization. With OPAQUE_LIST over the opaque voxels the voxelization
 // listed (the volumes cleared before), else over every voxel (the list
-// overflowed: empty voxels written 0).
+// overflowed: empty voxels written 0); with a region (u_region_hi.w 1,
+// voxelize_region) over its box of the stacked volume.
 #include "shared/gpu_types.h"
 #include "gi/vct/volume.glsl"
 
@@ -17,11 +18,21 @@ layout(std430, binding = SSBO_VCT_VOXELS) buffer Voxels { uint voxels[]; };
 layout(binding = IMG_VCT_DST, rgba16f) writeonly uniform image3D u_albedo;
 layout(binding = IMG_VCT_DST2, rgba16f) writeonly uniform image3D u_normal;
 
+layout(location = LOC_VCT_REGION_LO) uniform ivec4 u_region_lo;
+layout(location = LOC_VCT_REGION_HI) uniform ivec4 u_region_hi;
+
 const float FIXED = 4096.0; // as gi/vct/voxelize.glsl's VCT_FIXED
 
 void main()
 {
     ivec3 v;
+#ifndef OPAQUE_LIST
+    if (u_region_hi.w != 0) {
+        v = ivec3(gl_GlobalInvocationID) + u_region_lo.xyz;
+        if (any(greaterThanEqual(v, u_region_hi.xyz)))
+            return;
+    } else
+#endif
     if (!vct_voxel_here(v))
         return;
     int size = u_vct.size;

@@ -58,6 +58,10 @@ vec3 vct_canonical_normal(vec3 n)
 
 layout(std430, binding = SSBO_VCT_VOXELS) buffer Voxels { uint voxels[]; };
 layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
+// A revoxelized region (vct.c, voxelize_region): only its voxels of the
+// level take samples; w 0: every voxel.
+layout(location = LOC_VCT_REGION_LO) uniform ivec4 u_region_lo;
+layout(location = LOC_VCT_REGION_HI) uniform ivec4 u_region_hi;
 
 const float VCT_FIXED = 4096.0; // fixed-point units per 1 (albedo, normal components)
 
@@ -135,6 +139,8 @@ void vct_add(ivec3 s, int axis, int level, vec3 albedo, vec3 n)
     int size = u_vct.size;
     ivec3 v = vct_unswizzle(s, axis);
     if (any(lessThan(v, ivec3(0))) || any(greaterThanEqual(v, ivec3(size))))
+        return;
+    if (u_region_hi.w != 0 && (any(lessThan(v, u_region_lo.xyz)) || any(greaterThanEqual(v, u_region_hi.xyz))))
         return;
     uint i = 8u * uint(((v.z + level * size) * size + v.y) * size + v.x);
     atomicAdd(voxels[i + 0u], uint(albedo.r * VCT_FIXED + 0.5));

@@ -2,8 +2,11 @@
  * 2011, "Interactive Indirect Illumination Using Voxel Cone Tracing"),
  * SPEC §6; one row of the technique table, `--gi vct`. Passes:
  *   vct_voxelize  once, and again when the scene's geometry moves (an
- *                 animated object: GpuScene.version; the whole volume is
- *                 rebuilt, so no voxel of where it was stays): each
+ *                 animated object: GpuScene.version; with the compute
+ *                 voxelization only the voxels within a voxel of where
+ *                 the moved triangles were and are, from the clusters that
+ *                 reach them, else the whole volume; no voxel of where an
+ *                 object was stays): each
  *                 triangle's voxel columns along its dominant axis, its
  *                 pixel squares conservatively and each voxel by an exact
  *                 triangle–box test (shaders/gi/vct/voxelize.*), found by
@@ -41,6 +44,7 @@
  * UBO, low-resolution images (programs come from the cache). */
 #include "gi/vct/vct.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,6 +93,8 @@ typedef struct VctGi {
     GLuint voxelize_tris[3], voxelize_tiles[3]; /* voxelize.comp (--vct-voxelize compute) per VoxelizeKind */
     GLuint voxelize, resolve, resolve_list, inject, mip, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
     GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
+    GLuint list[3];          /* list.comp after a region (compute): every voxel, LIST_FILTER, LIST_REGION */
+    GLuint opaque_prev;      /* SSBO (compute): the opaque list before a region's revoxelization */
     GLuint probe;            /* probe.comp (vct_probe, tests), built on first use */
     int scale;               /* --vct-trace-scale */
     GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
@@ -96,6 +102,8 @@ typedef struct VctGi {
     bool voxelized;          /* the volumes hold the scene */
     uint64_t voxels_version; /* the geometry they hold (GpuScene.version): a moved object revoxelizes */
     int voxelizations;
+    int region_voxelizations;/* of them, of a moved object's region alone (voxelize_region) */
+    uint64_t region_voxels;  /* voxels of the last region, every level */
     uint64_t built_for;      /* the light products and voxels the radiance volumes hold (0: none) */
     int builds;              /* times radiance was injected and filtered */
     double voxelize_ms;      /* wall time of the last voxelization */
@@ -187,6 +195,7 @@ static void vct_destroy(void *state)
     glDeleteBuffers(1, &v->sums);
     glDeleteBuffers(1, &v->work);
     glDeleteBuffers(1, &v->opaque);
+    glDeleteBuffers(1, &v->opaque_prev);
     glDeleteBuffers(1, &v->ubo);
     glDeleteTextures(1, &v->low_irradiance);
     glDeleteTextures(1, &v->low_specular);
@@ -289,7 +298,8 @@ static uint64_t vct_bytes(const GiParams *p, const Scene *s)
                                                                        box_bytes(n, n, n, radiance_levels(p, levels))) +
                      (p->vct.aniso ? ANISO_AXES * box_bytes(half, half, 2 * slab * clip, levels - 1) : 0);
     uint64_t sums = 32u * (uint64_t)clip * n * n * n;
-    return bytes + 4u * (4u + (uint64_t)opaque_capacity(n, clip)) + sums + 4u * work_words(p, s);
+    uint64_t lists = p->vct.voxelize == VCT_VOXELIZE_COMPUTE ? 2 : 1; /* and the list before a region */
+    return bytes + lists * 4u * (4u + (uint64_t)opaque_capacity(n, clip)) + sums + 4u * work_words(p, s);
 }
 
 /* Every program the settings call for; false after the first that failed
@@ -320,6 +330,12 @@ static bool vct_programs(VctGi *v)
     ok = ok && (v->resolve = program(v, "vct_resolve", NULL, NULL, NULL, "gi/vct/resolve.comp", NULL)) &&
               (v->resolve_list =
                    program(v, "vct_resolve_list", NULL, NULL, NULL, "gi/vct/resolve.comp", "#define OPAQUE_LIST\n")) &&
+              (p->vct.voxelize != VCT_VOXELIZE_COMPUTE ||
+               ((v->list[0] = program(v, "vct_list", NULL, NULL, NULL, "gi/vct/list.comp", NULL)) &&
+                (v->list[1] = program(v, "vct_list_filter", NULL, NULL, NULL, "gi/vct/list.comp",
+                                      "#define LIST_FILTER\n")) &&
+                (v->list[2] = program(v, "vct_list_region", NULL, NULL, NULL, "gi/vct/list.comp",
+                                      "#define LIST_REGION\n")))) &&
               (v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL)) &&
               (v->mip = program(v, "vct_mip", NULL, NULL, NULL, "gi/vct/mip.comp", NULL)) &&
               (v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL)) &&
@@ -367,6 +383,8 @@ static bool vct_volumes(VctGi *v, const Scene *s)
         ok = (v->work = gl_buffer_make(4u * words, NULL, GL_DYNAMIC_STORAGE_BIT, "vct.voxelize_work")) != 0;
     ok = ok && (v->opaque = gl_buffer_make(4u * (4u + (uint64_t)v->opaque_capacity), NULL, GL_DYNAMIC_STORAGE_BIT,
                                            "vct.opaque"));
+    if (ok && p->vct.voxelize == VCT_VOXELIZE_COMPUTE)
+        ok = (v->opaque_prev = gl_buffer_make(4u * (4u + (uint64_t)v->opaque_capacity), NULL, 0, "vct.opaque_prev"));
     return ok && (v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params"));
 }
 
@@ -524,11 +542,54 @@ static VoxelizeKind voxelize_kind(const Material *m)
     return m->alpha_mask ? VOXELIZE_MASKED : m->albedo_tex < 0 && m->mr_tex < 0 ? VOXELIZE_UNTEXTURED : VOXELIZE_OPAQUE;
 }
 
+/* A region of the volume: per level the voxels [lo, hi) (hi <= lo: none),
+ * and the world box every triangle that can touch one of them overlaps. */
+typedef struct VctRegion {
+    int lo[VCT_MAX_LEVELS][3], hi[VCT_MAX_LEVELS][3];
+    float wmin[3], wmax[3];
+} VctRegion;
+
+/* Whether `r` (NULL: the whole volume) holds voxels of level k. */
+static bool region_has_level(const VctRegion *r, int k)
+{
+    return !r || (r->hi[k][0] > r->lo[k][0] && r->hi[k][1] > r->lo[k][1] && r->hi[k][2] > r->lo[k][2]);
+}
+
+/* Sets the region uniforms of `prog` for level k (stacked: z offset by k·N
+ * for the resolve); none without a region. */
+static void region_uniforms(const VctGi *v, GLuint prog, const VctRegion *r, int k, bool stacked)
+{
+    if (!r) {
+        glProgramUniform4i(prog, LOC_VCT_REGION_LO, 0, 0, 0, 0);
+        glProgramUniform4i(prog, LOC_VCT_REGION_HI, 0, 0, 0, 0);
+        return;
+    }
+    int z = stacked ? k * v->n : 0;
+    glProgramUniform4i(prog, LOC_VCT_REGION_LO, r->lo[k][0], r->lo[k][1], r->lo[k][2] + z, 0);
+    glProgramUniform4i(prog, LOC_VCT_REGION_HI, r->hi[k][0], r->hi[k][1], r->hi[k][2] + z, 1);
+}
+
+static bool boxes_overlap(const float amin[3], const float amax[3], const float bmin[3], const float bmax[3])
+{
+    return amin[0] <= bmax[0] && bmin[0] <= amax[0] && amin[1] <= bmax[1] && bmin[1] <= amax[1] &&
+           amin[2] <= bmax[2] && bmin[2] <= amax[2];
+}
+
+/* voxelize.comp over `count` triangles from `first` (a thread each), their
+ * large ones listed under `header` from word `list` of the work buffer. */
+static void dispatch_triangles(GLuint prog, uint32_t first, uint32_t count, uint32_t header, uint32_t list)
+{
+    glProgramUniform4ui(prog, LOC_VCT_RUN, first, count, header, list);
+    GLuint groups = (count + 63) / 64, gx = groups < 65535 ? groups : 65535;
+    glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
+}
+
 /* The compute voxelization's sums (voxelize.comp): per clipmap level and
  * submesh a dispatch over its triangles, which list their large ones in
  * the work buffer; then per level and submesh an indirect dispatch over
- * those, in tiles of columns. */
-static void voxelize_compute(VctGi *v, const GiFrame *f)
+ * those, in tiles of columns. With a region, only the clusters whose
+ * bounds reach it are dispatched and only its voxels take samples. */
+static void voxelize_compute(VctGi *v, const GiFrame *f, const VctRegion *r)
 {
     const Scene *s = f->scene;
     const GpuScene *g = f->gpu_scene;
@@ -542,23 +603,40 @@ static void voxelize_compute(VctGi *v, const GiFrame *f)
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->work);
     for (int pass = 0; pass < 2; pass++) { /* the triangles, then the large ones' tiles */
         for (int k = 0; k < v->clip; k++) {
-            for (int i = 0; i < s->submesh_count; i++) {
+            if (!region_has_level(r, k))
+                continue;
+            for (int i = 0, c = 0; i < s->submesh_count; i++) {
                 const Submesh *sm = &s->submeshes[i];
                 const Material *m = &s->materials[sm->material];
                 uint32_t first = sm->first_index / 3, count = sm->index_count / 3;
+                int c0 = c; /* the submesh's clusters: [c0, c) */
+                while (c < g->cluster_count && g->clusters[c].submesh == i)
+                    c++;
                 if (m->light_index >= 0 || count == 0) /* as the raster path's DRAW_SKIP_EMITTERS */
+                    continue;
+                bool reached = !r;
+                for (int j = c0; j < c && !reached; j++)
+                    reached = boxes_overlap(g->clusters[j].bounds_min, g->clusters[j].bounds_max, r->wmin, r->wmax);
+                if (!reached)
                     continue;
                 GLuint prog = (pass ? v->voxelize_tiles : v->voxelize_tris)[voxelize_kind(m)];
                 glUseProgram(prog);
                 gpu_scene_bind_material(g, m, prog);
+                region_uniforms(v, prog, r, k, false);
                 uint32_t header = (uint32_t)k * (uint32_t)s->submesh_count + (uint32_t)i;
+                uint32_t list = 4 * headers + (uint32_t)k * tris + first;
                 glProgramUniform1i(prog, LOC_VCT_LEVEL, k);
-                glProgramUniform4ui(prog, LOC_VCT_RUN, first, count, header, 4 * headers + (uint32_t)k * tris + first);
                 if (pass) {
+                    glProgramUniform4ui(prog, LOC_VCT_RUN, first, count, header, list);
                     glDispatchComputeIndirect(16 * (GLintptr)header);
-                } else {
-                    GLuint groups = (count + 63) / 64, gx = groups < 65535 ? groups : 65535;
-                    glDispatchCompute(gx, (groups + gx - 1) / gx, 1);
+                    continue;
+                }
+                if (!r)
+                    dispatch_triangles(prog, first, count, header, list);
+                for (int j = c0; r && j < c; j++) { /* a region: the clusters that reach it */
+                    const GpuCluster *cl = &g->clusters[j];
+                    if (boxes_overlap(cl->bounds_min, cl->bounds_max, r->wmin, r->wmax))
+                        dispatch_triangles(prog, cl->first_index / 3, cl->index_count / 3, header, list);
                 }
             }
         }
@@ -580,7 +658,7 @@ static void voxelize(VctGi *v, const GiFrame *f)
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
     if (v->params.vct.voxelize == VCT_VOXELIZE_COMPUTE)
-        voxelize_compute(v, f);
+        voxelize_compute(v, f, NULL);
     else
         voxelize_raster(v, f);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
@@ -600,6 +678,113 @@ static void voxelize(VctGi *v, const GiFrame *f)
     glFinish();
     v->voxelize_ms = 1e3 * (util_seconds() - t0);
     v->voxelizations++;
+}
+
+/* The region of a move's box [bmin, bmax] (world): per level the voxels
+ * within one voxel of it, and their world box; `voxels` counts them. False
+ * when it holds no voxel of any level. */
+static bool region_of(const VctGi *v, const float bmin[3], const float bmax[3], VctRegion *r, uint64_t *voxels)
+{
+    bool any = false;
+    *voxels = 0;
+    for (int a = 0; a < 3; a++) {
+        r->wmin[a] = FLT_MAX;
+        r->wmax[a] = -FLT_MAX;
+    }
+    for (int k = 0; k < v->clip; k++) {
+        const float *o = v->gpu.level[k], voxel = v->gpu.level[k][3];
+        bool has = true;
+        for (int a = 0; a < 3; a++) {
+            float lo = floorf((bmin[a] - o[a]) / voxel) - 1.f, hi = floorf((bmax[a] - o[a]) / voxel) + 2.f;
+            r->lo[k][a] = lo < 0.f ? 0 : lo > (float)v->n ? v->n : (int)lo;
+            r->hi[k][a] = hi < 0.f ? 0 : hi > (float)v->n ? v->n : (int)hi;
+            has = has && r->hi[k][a] > r->lo[k][a];
+        }
+        if (!has)
+            continue;
+        any = true;
+        *voxels += (uint64_t)(r->hi[k][0] - r->lo[k][0]) * (uint64_t)(r->hi[k][1] - r->lo[k][1]) *
+                   (uint64_t)(r->hi[k][2] - r->lo[k][2]);
+        for (int a = 0; a < 3; a++) { /* the voxels' box, with room for the triangle–box test's tolerance */
+            r->wmin[a] = fminf(r->wmin[a], o[a] + voxel * ((float)r->lo[k][a] - 0.01f));
+            r->wmax[a] = fmaxf(r->wmax[a], o[a] + voxel * ((float)r->hi[k][a] + 0.01f));
+        }
+    }
+    return any;
+}
+
+/* Revoxelizes region `r` alone (compute voxelization): the sums of its
+ * voxels from the clusters that reach them, resolved over its boxes (the
+ * region's empty voxels written 0), then the opaque list made again
+ * (list.comp) so that it holds every opaque voxel once: the entries of
+ * the list before outside the region and the region's opaque voxels (or,
+ * when the list before had overflowed, every voxel's). The volumes equal
+ * a whole voxelization's: the sums are exact integers, whatever triangles
+ * add to them in whatever order. */
+static void voxelize_region(VctGi *v, const GiFrame *f, const VctRegion *r)
+{
+    glFinish(); /* as voxelize() */
+    double t0 = util_seconds();
+    const uint32_t empty[4] = {0, 0, 1, 1};
+    bool was_listed = opaque_listed(v);
+    uint32_t was = v->opaque_count;
+    if (was_listed) /* the list before, kept apart: the region's first samples append to v->opaque */
+        glCopyNamedBufferSubData(v->opaque, v->opaque_prev, 0, 0, 4 * (4 + (GLsizeiptr)was));
+    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
+    voxelize_compute(v, f, r);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    glUseProgram(v->resolve);
+    v->region_voxels = 0;
+    for (int k = 0; k < v->clip; k++) {
+        if (!region_has_level(r, k))
+            continue;
+        region_uniforms(v, v->resolve, r, k, true);
+        int d[3];
+        for (int a = 0; a < 3; a++)
+            d[a] = r->hi[k][a] - r->lo[k][a];
+        v->region_voxels += (uint64_t)d[0] * (uint64_t)d[1] * (uint64_t)d[2];
+        glDispatchCompute((GLuint)(d[0] + 3) / 4, (GLuint)(d[1] + 3) / 4, (GLuint)(d[2] + 3) / 4);
+    }
+    region_uniforms(v, v->resolve, NULL, 0, true);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
+    glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
+    if (!was_listed) {
+        glUseProgram(v->list[0]);
+        dispatch_volume(v->n, v->clip);
+    } else {
+        GLint boxes[2 * VCT_MAX_LEVELS][4] = {{0}};
+        for (int k = 0; k < v->clip; k++)
+            for (int a = 0; a < 3; a++) {
+                int z = a == 2 ? k * v->n : 0;
+                boxes[2 * k][a] = r->lo[k][a] + z;
+                boxes[2 * k + 1][a] = r->hi[k][a] + z;
+            }
+        glUseProgram(v->list[1]);
+        glProgramUniform4iv(v->list[1], LOC_VCT_REGIONS, 2 * VCT_MAX_LEVELS, &boxes[0][0]);
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE_PREV, v->opaque_prev);
+        GLuint groups = (was + 63) / 64;
+        if (groups)
+            glDispatchCompute(groups, 1, 1);
+        glUseProgram(v->list[2]);
+        for (int k = 0; k < v->clip; k++) {
+            if (!region_has_level(r, k))
+                continue;
+            region_uniforms(v, v->list[2], r, k, true);
+            glDispatchCompute((GLuint)(r->hi[k][0] - r->lo[k][0] + 3) / 4, (GLuint)(r->hi[k][1] - r->lo[k][1] + 3) / 4,
+                              (GLuint)(r->hi[k][2] - r->lo[k][2] + 3) / 4);
+        }
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
+    glFinish();
+    v->voxelize_ms = 1e3 * (util_seconds() - t0);
+    v->voxelizations++;
+    v->region_voxelizations++;
 }
 
 /* The injection program for one light type (LIGHT_FIXED_TYPE: the other
@@ -685,7 +870,22 @@ static bool vct_run(void *state, const GiFrame *f)
     GpuTimer *t = f->timer;
     place_levels(v, f->camera);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_VCT, v->ubo);
-    if (v->voxels_version != f->gpu_scene->version) /* an object moved (animation.h): no stale voxel stays */
+    /* An object moved (animation.h): its region again (compute), or the
+     * whole volume; no stale voxel stays. */
+    float mmin[3], mmax[3];
+    VctRegion region;
+    bool moved = v->voxels_version != f->gpu_scene->version;
+    bool in_region = moved && v->voxelized && v->params.vct.voxelize == VCT_VOXELIZE_COMPUTE &&
+                     gpu_scene_moved_since(f->gpu_scene, v->voxels_version, mmin, mmax);
+    uint64_t voxels = 0;
+    if (in_region && !region_of(v, mmin, mmax, &region, &voxels)) /* moved wholly outside the volume */
+        v->voxels_version = f->gpu_scene->version;
+    else if (in_region && 4 * voxels <= (uint64_t)v->clip * v->n * v->n * v->n) { /* larger: the whole is cheaper */
+        gpu_timer_begin(t, "vct_revoxelize");
+        v->voxels_version = f->gpu_scene->version;
+        voxelize_region(v, f, &region);
+        gpu_timer_end(t);
+    } else if (moved)
         v->voxelized = false;
     if (!v->voxelized) {
         gpu_timer_begin_once(t, "vct_voxelize"); /* in the warm-up frame: kept apart from the means */
@@ -773,6 +973,8 @@ static void vct_stats(void *state, const GiFrame *f, GiStats *st)
     st->gpu_bytes = gl_textures_bytes(tex, 4) + gl_textures_bytes(v->radiance, 2) +
                     gl_textures_bytes(v->aniso, ANISO_AXES) + gl_buffers_bytes(bufs, 4);
     st->voxelizations = v->voxelizations;
+    st->region_voxelizations = v->region_voxelizations;
+    st->region_voxels = v->region_voxels;
     st->volume_builds = v->builds;
     st->voxelize_ms = v->voxelize_ms;
 }
@@ -902,6 +1104,9 @@ static void vct_print_stats(const GiStats *st, double pixels, FILE *out)
 {
     (void)pixels;
     fprintf(out, "vct_voxelizations: %d\nvct_voxelize_wall_ms: %.3f\n", st->voxelizations, st->voxelize_ms);
+    if (st->region_voxelizations)
+        fprintf(out, "vct_region_voxelizations: %d\nvct_region_voxels: %llu\n", st->region_voxelizations,
+                (unsigned long long)st->region_voxels);
 }
 
 const GiTechnique gi_vct = {

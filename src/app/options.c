@@ -38,7 +38,7 @@ int options_take_setting(const char *opt, CliArgs *a, Settings *set, bool given[
     const char *text = NULL;
     if (d->type != VALUE_FLAG && !(text = cli_value(a)))
         return -1;
-    if (!settings_parse_cli(d, text, set))
+    if (!settings_parse_cli(d, opt, text, set))
         return -1;
     given[d - settings_table] = true;
     return 1;

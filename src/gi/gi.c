@@ -92,10 +92,10 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
     u->interp_dist = p->rsm.interp_dist;
     u->low_width = (w + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
     u->low_height = (h + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
-    u->interleave_n = p->interleave.n;
-    u->interleave_m = p->interleave.m;
-    u->sub_width = (w + p->interleave.n - 1) / p->interleave.n;
-    u->sub_height = (h + p->interleave.m - 1) / p->interleave.m;
+    u->interleave_n = p->interleave.pattern.n;
+    u->interleave_m = p->interleave.pattern.m;
+    u->sub_width = (w + p->interleave.pattern.n - 1) / p->interleave.pattern.n;
+    u->sub_height = (h + p->interleave.pattern.m - 1) / p->interleave.pattern.m;
     u->list_set = rsm_far_samples(p->rsm.samples);
     u->list_size = u->list_set * RSM_LIST_SETS;
     u->disk_r2_per_area = p->vpl.disk ? 1.f / 3.14159265358979f : 0.f;

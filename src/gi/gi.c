@@ -83,13 +83,13 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
 {
     memset(u, 0, sizeof *u);
     float r = p->rsm.r_max * (float)p->rsm.size;
-    u->r_max = p->rsm.r_max;
-    u->samples = p->rsm.samples;
+    u->rsm_r_max = p->rsm.r_max;
+    u->rsm_samples = p->rsm.samples;
     u->rsm_size = p->rsm.size;
     u->disk_texels = 3.14159265358979f * r * r;
-    u->interp_factor = p->rsm.interp_factor;
-    u->interp_normal = p->rsm.interp_normal;
-    u->interp_dist = p->rsm.interp_dist;
+    u->rsm_interp_factor = p->rsm.interp_factor;
+    u->rsm_interp_normal = p->rsm.interp_normal;
+    u->rsm_interp_dist = p->rsm.interp_dist;
     u->low_width = (w + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
     u->low_height = (h + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
     u->interleave_n = p->interleave.pattern.n;

@@ -277,7 +277,7 @@
     F(float, slc_emax)      /* stochastic light culling error bound e_max */     \
     F(float, slc_exposure)  /* exposure E of the SLC error bound */              \
     F(float, near_clamp)    /* falloff 1/max(d², c), c in m²; 0 = off */         \
-    F(float, clamp_range)   /* vpl-clamped range R (m) */                        \
+    F(float, range)         /* vpl.range, or 0.15 x the scene diagonal where 0: vpl-clamped range R (m) */ \
     F(float, keep)          /* vpl-all: kept fraction q */                       \
     F(uint, tile_capacity)  /* list entries per culling tile */                  \
     F(uint, subset_count)   /* K = n·m interleaved subsets */                    \

@@ -198,7 +198,7 @@ static void upload_params(VplGi *v, float exposure, float range)
     u.slc_emax = gp->vpl.slc_emax;
     u.slc_exposure = exposure > 0.f ? exposure : 1.f;
     u.near_clamp = gp->vpl.near_clamp;
-    u.clamp_range = range;
+    u.range = range;
     u.keep = gp->vpl.keep;
     u.tile_capacity = v->tile_capacity;
     u.subset_count = (uint32_t)(gp->interleave.pattern.n * gp->interleave.pattern.m);

@@ -277,8 +277,9 @@ static void interleaved_blur_is_the_window_mean(void **state)
             test_render_gi(&s, W, H, modes[k], &gp, &raw);
             gp.frame.indirect_scale = 0.f;
             test_render_gi(&s, W, H, modes[k], &gp, &direct);
-            double fb = blur_is_window_mean(&blur, &raw, &direct, gp.interleave.pattern.n, gp.interleave.pattern.m);
-            double fr = blur_is_window_mean(&raw, &raw, &direct, gp.interleave.pattern.n, gp.interleave.pattern.m);
+            int pn = gp.interleave.pattern.n, pm = gp.interleave.pattern.m;
+            double fb = blur_is_window_mean(&blur, &raw, &direct, pn, pm);
+            double fr = blur_is_window_mean(&raw, &raw, &direct, pn, pm);
             print_message("%s %dx%d: window mean at %.3f of the pixels blurred, %.3f unblurred\n",
                           k ? "vpl-interleaved" : "rsm-interleaved", gp.interleave.pattern.n, gp.interleave.pattern.m, fb, fr);
             assert_true(fb > 0.5);

@@ -457,8 +457,8 @@ static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *
         int n = settings_names(keys, 256);
         for (int i = 0; i < 2; i++)
             n += settings_object_keys(k_old_objects[i], keys + n, 256 - n);
-        usage_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's names, e.g. rsm.samples)",
-                    kv);
+        usage_error(util_nearest(kv, keys),
+                    "--gi: '%s' is not a setting key (the settings table's names, e.g. rsm.samples)", kv);
         return false;
     }
     if (e->given[d - settings_table]) {

@@ -347,7 +347,8 @@ void settings_scene_keys(const char **out, int *n, int cap)
     settings_families(fam, 32);
     for (int i = 0; fam[i] && *n < cap - 2; i++)
         out[(*n)++] = fam[i];
-    out[(*n)++] = "gi";
+    if (*n < cap - 1)
+        out[(*n)++] = "gi";
     out[*n] = NULL;
 }
 

@@ -73,7 +73,8 @@ static bool tiled(const VplGi *v) { return v->method == VPL_CLAMPED || v->method
  * (shaders/gi/vpl/shade.comp). */
 static void shade_groups(const VplGi *v, int *gx, int *gy)
 {
-    int n = interleaved(v) ? v->params.interleave.pattern.n : 1, m = interleaved(v) ? v->params.interleave.pattern.m : 1;
+    int n = interleaved(v) ? v->params.interleave.pattern.n : 1;
+    int m = interleaved(v) ? v->params.interleave.pattern.m : 1;
     *gx = (v->width + 8 * n - 1) / (8 * n) * n;
     *gy = (v->height + 8 * m - 1) / (8 * m) * m;
 }
@@ -117,7 +118,8 @@ static bool vpl_resize(void *state, int w, int h)
     gi_params_to_gpu(&v->params, w, h, &g);
     glNamedBufferSubData(v->gi_ubo, 0, sizeof g, &g);
     if (interleaved(v))
-        return gi_interleave_create(&v->il, v->pc, v->params.interleave.pattern.n, v->params.interleave.pattern.m, w, h, false);
+        return gi_interleave_create(&v->il, v->pc, v->params.interleave.pattern.n, v->params.interleave.pattern.m, w,
+                                    h, false);
     return true;
 }
 

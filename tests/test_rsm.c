@@ -281,7 +281,7 @@ static void interleaved_blur_is_the_window_mean(void **state)
             double fb = blur_is_window_mean(&blur, &raw, &direct, pn, pm);
             double fr = blur_is_window_mean(&raw, &raw, &direct, pn, pm);
             print_message("%s %dx%d: window mean at %.3f of the pixels blurred, %.3f unblurred\n",
-                          k ? "vpl-interleaved" : "rsm-interleaved", gp.interleave.pattern.n, gp.interleave.pattern.m, fb, fr);
+                          k ? "vpl-interleaved" : "rsm-interleaved", pn, pm, fb, fr);
             assert_true(fb > 0.5);
             assert_true(fr < 0.5 * fb);
             image_free(&blur);

@@ -64,7 +64,7 @@ static int setup(void **state)
     if (system(cmd) != 0)
         return -1;
     char *err = NULL;
-    int rc = test_run_cli(&err, "bench", "--size", "48x48", "--gi", "none,rsm,vpl-slc:vpls=1024,vct:vct_size=16",
+    int rc = test_run_cli(&err, "bench", "--size", "48x48", "--gi", "none,rsm,vpl-slc:vpls=1024,vct:vct.size=16",
                           "--spp", "16", "--frames", "1", "--threads", "2", "--cache", CACHE, "--out", DIR, NULL);
     if (rc != 0)
         fprintf(stderr, "bench failed (%d): %s\n", rc, err ? err : "");
@@ -101,7 +101,10 @@ static void schema(void **state)
         field(e, "label", 's');
         field(e, "id", 's');
         const cJSON *set = field(e, "settings", 'o');
+        /* Each setting by its name, and by its old key (scripts read it). */
+        assert_string_equal(field(set, "vpl.count", 's')->valuestring, i == 2 ? "1024" : "16384");
         assert_string_equal(field(set, "gi.vpls", 's')->valuestring, i == 2 ? "1024" : "16384");
+        assert_string_equal(field(set, "vct.size", 's')->valuestring, i == 3 ? "16" : "128");
         const cJSON *passes = field(e, "passes", 'a');
         assert_true(cJSON_GetArraySize(passes) >= 3);
         double sum = 0;
@@ -376,6 +379,7 @@ static void bad_lists(void **state)
     static const char *const bad[][3] = {
         /* option, value, what the error line must hold besides the option */
         {"--gi", "rsm:samples=4:samples=8", "'samples' is given twice"},
+        {"--gi", "rsm:samples=4:rsm.samples=8", "'rsm.samples' is given twice"},
         {"--gi", "vct:vct_bounces=2:vct_size=16:vct_bounces=1", "'vct_bounces' is given twice"},
         {"--gi", "none,,rsm", "empty item"},
         {"--gi", "none,", "empty item"},
@@ -446,6 +450,7 @@ static void long_gi_item(void **state)
     cJSON *doc = load_bench_json(DIR "/long");
     const cJSON *e = cJSON_GetArrayItem(field(doc, "techniques", 'a'), 0);
     assert_string_equal(field(field(e, "settings", 'o'), "gi.samples", 's')->valuestring, "4096");
+    assert_string_equal(field(field(e, "settings", 'o'), "rsm.samples", 's')->valuestring, "4096");
     assert_true(util_ends_with(field(e, "overrides", 's')->valuestring, ", samples=4096"));
     assert_true(util_ends_with(field(e, "label", 's')->valuestring, ", samples=4096)"));
     cJSON_Delete(doc);

@@ -1128,7 +1128,8 @@ static void shared_defaults(void **state)
     image_free(&a);
     image_free(&b);
     char line[512], *help = help_text("render");
-    assert_non_null(strstr(line_with(help, "  --vpls N", line, sizeof line), "(default 4096 "));
+    assert_non_null(strstr(line_with(help, "  --vpl-count N", line, sizeof line), "(default 4096 "));
+    assert_non_null(strstr(line, "also --vpls, gi.vpls")); /* the old spellings, still accepted */
     free(help);
     char args[700];
     snprintf(args, sizeof args, "render --size 8x8 --gi vpl-all --timings --frames 1 --out %s --quiet", r);

@@ -268,19 +268,20 @@ static void interleaved_blur_is_the_window_mean(void **state)
     for (int k = 0; k < 2; k++)
         for (int p = 0; p < 2; p++) {
             GiParams gp = s.settings.gi;
-            gp.interleave.n = pattern[p][0];
-            gp.interleave.m = pattern[p][1];
+            gp.interleave.pattern.n = pattern[p][0];
+            gp.interleave.pattern.m = pattern[p][1];
             gp.rsm.interp_dist = 0.2f; /* at this size neighbours lie ~1% of the view distance apart */
             ImageF blur, raw, direct;
             test_render_gi(&s, W, H, modes[k], &gp, &blur);
             gp.interleave.blur = false;
             test_render_gi(&s, W, H, modes[k], &gp, &raw);
-            gp.frame.scale = 0.f;
+            gp.frame.indirect_scale = 0.f;
             test_render_gi(&s, W, H, modes[k], &gp, &direct);
-            double fb = blur_is_window_mean(&blur, &raw, &direct, gp.interleave.n, gp.interleave.m);
-            double fr = blur_is_window_mean(&raw, &raw, &direct, gp.interleave.n, gp.interleave.m);
+            int pn = gp.interleave.pattern.n, pm = gp.interleave.pattern.m;
+            double fb = blur_is_window_mean(&blur, &raw, &direct, pn, pm);
+            double fr = blur_is_window_mean(&raw, &raw, &direct, pn, pm);
             print_message("%s %dx%d: window mean at %.3f of the pixels blurred, %.3f unblurred\n",
-                          k ? "vpl-interleaved" : "rsm-interleaved", gp.interleave.n, gp.interleave.m, fb, fr);
+                          k ? "vpl-interleaved" : "rsm-interleaved", pn, pm, fb, fr);
             assert_true(fb > 0.5);
             assert_true(fr < 0.5 * fb);
             image_free(&blur);

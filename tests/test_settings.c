@@ -71,7 +71,8 @@ static void every_setting_round_trips(void **state)
         bool single = d->type == VALUE_CHOICE && d->choices[0] && !d->choices[1];
         char cli[64], json[64], body[512];
         pick_value(d, cli, sizeof cli, json, sizeof json);
-        snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key, json);
+        snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->family, d->field,
+                 json);
         const char *path = test_tmp_file("roundtrip.json", body);
 
         Scene from_file;
@@ -95,14 +96,14 @@ static void every_setting_round_trips(void **state)
         settings_format(d, &b, vb, sizeof vb);
         settings_format(d, &def, vd, sizeof vd);
         if (strcmp(va, vb) || (!strcmp(va, vd) && !single))
-            fail_msg("%s / %s: file %s, command line %s, default %s", d->option, d->key, va, vb, vd);
+            fail_msg("%s / %s: file %s, command line %s, default %s", d->option, d->name, va, vb, vd);
         /* Nothing else differs between the two paths. */
         assert_memory_equal(&a.gi, &b.gi, sizeof a.gi);
         assert_memory_equal(&a.shadow, &b.shadow, sizeof a.shadow);
         if (d->type == VALUE_BOOL) { /* a switch also as the command line writes it: "on", "off" */
             Scene from_word;
-            snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": \"%s\" } }\n", d->group,
-                     d->key, cli);
+            snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": \"%s\" } }\n", d->family,
+                     d->field, cli);
             assert_true(scene_load(&from_word, test_tmp_file("roundtrip.json", body)));
             RenderSettings rs_word;
             render_options_init(&o, false); /* no command line over the file */
@@ -114,6 +115,104 @@ static void every_setting_round_trips(void **state)
         scene_free(&from_file);
         scene_free(&plain);
     }
+}
+
+/* The setting of row d after `body`, a scene file, is loaded and rendered
+ * options are made from it. */
+static void settings_from_file(const char *body, Settings *out)
+{
+    Scene sc;
+    assert_true(scene_load(&sc, test_tmp_file("names.json", body)));
+    RenderOptions o;
+    render_options_init(&o, false);
+    RenderSettings rs;
+    render_options_settings(&o, &sc, &rs);
+    *out = (Settings){rs.set.shadow, rs.set.gi};
+    scene_free(&sc);
+}
+
+/* The same from the command line `option value` (flags: no value). */
+static void settings_from_cli(const char *option, const char *value, Settings *out)
+{
+    Scene plain;
+    assert_true(scene_load(&plain, "cornell"));
+    RenderOptions o;
+    render_options_init(&o, false);
+    char *argv[3] = {(char *)option, (char *)value, NULL};
+    assert_int_equal(render_options_parse(&o, value ? 2 : 1, argv, cmd_render_help), 0);
+    RenderSettings rs;
+    render_options_settings(&o, &plain, &rs);
+    *out = (Settings){rs.set.shadow, rs.set.gi};
+    scene_free(&plain);
+}
+
+/* Each row has one name: "family.field" (its scene object and key; its C
+ * field, by the table's ROW macro), and the option "--family-field" with
+ * '_' as '-'; no two rows share a name or an option. */
+static void every_setting_has_one_name(void **state)
+{
+    (void)state;
+    for (int i = 0; i < settings_count; i++) {
+        const SettingDesc *d = &settings_table[i];
+        char name[128], option[128];
+        snprintf(name, sizeof name, "%s.%s", d->family, d->field);
+        snprintf(option, sizeof option, "--%s-%s", d->family, d->field);
+        for (char *c = option; *c; c++)
+            if (*c == '_')
+                *c = '-';
+        if (strcmp(d->name, name) || strcmp(d->option, option))
+            fail_msg("row %d: name %s, option %s; its family and field make %s, %s", i, d->name, d->option, name,
+                     option);
+        assert_ptr_equal(settings_find_name(d->name), d);
+        assert_ptr_equal(settings_find_option(d->option), d);
+    }
+}
+
+/* The spellings of commit d364f03 (tests/settings_d364f03.inc, generated
+ * from that commit's table): each old option and each old scene key (in the
+ * old "shadow" or "gi" object) still parses, to exactly what the row's name
+ * and option parse to. */
+static void old_spellings_still_parse(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *group, *key, *option;
+    } old[] = {
+#include "settings_d364f03.inc"
+    };
+    int n = (int)(sizeof old / sizeof old[0]), renamed = 0;
+    assert_int_equal(n, 58);
+    for (int i = 0; i < n; i++) {
+        char key[128], cli[64], json[64], body[512];
+        snprintf(key, sizeof key, "%s.%s", old[i].group, old[i].key);
+        const SettingDesc *d = settings_find_name(key);
+        if (!d)
+            fail_msg("the old scene key %s names no setting", key);
+        if (settings_find_option(old[i].option) != d)
+            fail_msg("the old option %s is not %s's (%s)", old[i].option, d->name, d->option);
+        renamed += strcmp(key, d->name) || strcmp(old[i].option, d->option);
+        pick_value(d, cli, sizeof cli, json, sizeof json);
+        const char *value = d->type == VALUE_FLAG ? NULL : cli;
+        Settings by_old, by_new, file_old, file_new;
+        settings_from_cli(old[i].option, value, &by_old);
+        settings_from_cli(d->option, value, &by_new);
+        snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", old[i].group,
+                 old[i].key, json);
+        settings_from_file(body, &file_old);
+        snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->family,
+                 d->field, json);
+        settings_from_file(body, &file_new);
+        char a[64], b[64], c[64], e[64];
+        settings_format(d, &by_old, a, sizeof a);
+        settings_format(d, &by_new, b, sizeof b);
+        settings_format(d, &file_old, c, sizeof c);
+        settings_format(d, &file_new, e, sizeof e);
+        if (memcmp(&by_old, &by_new, sizeof by_old) || memcmp(&file_old, &file_new, sizeof file_old) ||
+            memcmp(&by_old, &file_old, sizeof by_old))
+            fail_msg("%s %s: %s; %s %s: %s; file %s: %s; file %s: %s", old[i].option, cli, a, d->option, cli, b, key, c,
+                     d->name, e);
+    }
+    print_message("%d old spellings parse as their rows' names (%d of them renamed)\n", n, renamed);
 }
 
 /* Values just outside each end of every numeric row are rejected by both
@@ -141,10 +240,10 @@ static void out_of_range_is_rejected_by_both(void **state)
             char *err = NULL;
             int rc = test_run_cli(&err, "render", "--size", "8x8", (char *)d->option, cli, NULL);
             test_expect_cli_error(rc, err, 2, d->option, "out of range");
-            snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->group, d->key,
+            snprintf(body, sizeof body, "{ \"builtin\": \"cornell\", \"%s\": { \"%s\": %s } }\n", d->family, d->field,
                      json);
             const char *path = test_tmp_file("range.json", body);
-            snprintf(key, sizeof key, "%s.%s", d->group, d->key);
+            snprintf(key, sizeof key, "%s", d->name);
             rc = test_run_cli(&err, "render", "--size", "8x8", "--scene", path, NULL);
             test_expect_cli_error(rc, err, 1, key, "out of range");
             checked++;
@@ -180,6 +279,12 @@ static void bad_scene_settings(void **state)
         {"{\"builtin\":\"cornell\",\"gi\":{\"rsm_sise\":64}}", "gi.rsm_sise", "did you mean \"rsm_size\""},
         {"{\"builtin\":\"cornell\",\"gi\":{\"samples\":64,\"samples\":32}}", "gi.samples", "duplicate key"},
         {"{\"builtin\":\"cornell\",\"gi\":[1,2]}", "gi", "must be an object"},
+        /* The families' objects, and a setting in both its family's and the old object. */
+        {"{\"builtin\":\"cornell\",\"rsm\":{\"sampels\":64}}", "rsm.sampels", "did you mean \"samples\""},
+        {"{\"builtin\":\"cornell\",\"vct\":7}", "vct", "must be an object"},
+        {"{\"builtin\":\"cornell\",\"lpv\":{\"size\":1}}", "lpv.size", "out of range"},
+        {"{\"builtin\":\"cornell\",\"rsm\":{\"samples\":8},\"gi\":{\"samples\":4}}", "gi.samples",
+         "rsm.samples is also given in the object \"rsm\""},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const char *path = test_tmp_file("bad_settings.json", cases[i].body);
@@ -202,7 +307,7 @@ static void bad_scene_settings(void **state)
     setenv("RTGI_GPU_BUDGET_MIB", "2048", 1);
     rc = test_run_cli(&err, "render", "--size", "8x8", "--gi", "rsm", "--rsm-size", "4096", NULL);
     unsetenv("RTGI_GPU_BUDGET_MIB");
-    test_expect_cli_error(rc, err, 1, "gi.rsm_size 4096", "budget");
+    test_expect_cli_error(rc, err, 1, "rsm.size 4096", "budget");
     rc = test_run_cli(&err, "render", "--size", "16384x16384", NULL);
     test_expect_cli_error(rc, err, 1, "--size 16384x16384", "budget");
     /* The scene's own textures and buffers count too (a 2048² texture and
@@ -238,10 +343,10 @@ static void help_and_readme_list_every_setting(void **state)
     settings_default(&def);
     for (int i = 0; i < settings_count; i++) {
         const SettingDesc *d = &settings_table[i];
-        /* The guide's settings table has a row "| `--option` | `group.key` | default | ...". */
+        /* The guide's settings table has a row "| `--option` | `family.field` | default | ...". */
         char row[256], value[64];
         settings_format(d, &def, value, sizeof value);
-        snprintf(row, sizeof row, "| `%s` | `%s.%s` | %s |", d->option, d->group, d->key, value);
+        snprintf(row, sizeof row, "| `%s` | `%s` | %s |", d->option, d->name, value);
         if (!strstr(readme, row))
             fail_msg("docs/guide.md lacks the settings row '%s'", row);
     }
@@ -276,7 +381,9 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(technique_table_is_consistent),
+        cmocka_unit_test(every_setting_has_one_name),
         cmocka_unit_test(every_setting_round_trips),
+        cmocka_unit_test(old_spellings_still_parse),
         cmocka_unit_test(out_of_range_is_rejected_by_both),
         cmocka_unit_test(bad_scene_settings),
         cmocka_unit_test(help_and_readme_list_every_setting),

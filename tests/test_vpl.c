@@ -308,7 +308,7 @@ static void lists_sum_like_brute_force(void **state)
     assert_true(dc < 2e-5); /* rounding: 2e-6 measured; one entry read twice: 7e-5 */
     image_free(&img);
 
-    gp.interleave.n = gp.interleave.m = 1;
+    gp.interleave.pattern.n = gp.interleave.pattern.m = 1;
     RenderStats one = test_render_gi(&s, OW, OH, GI_VPL_INTERLEAVED, &gp, &img);
     double d1 = max_pixel_rel_diff(&img, &brute);
     print_message("vpl-interleaved 1x1: %llu evaluations, largest pixel difference %.2g\n",
@@ -317,7 +317,7 @@ static void lists_sum_like_brute_force(void **state)
     assert_true(d1 < 2e-5);
     image_free(&img);
 
-    gp.interleave.n = 3;
+    gp.interleave.pattern.n = 3;
     RenderStats three = test_render_gi(&s, OW, OH, GI_VPL_INTERLEAVED, &gp, &img);
     uint64_t expect = 0;
     for (uint32_t k = 0; k < 3; k++)

@@ -51,8 +51,8 @@ void main()
     // The thresholds and the image's size read once: in a loop every
     // uniform read is a per-lane gather on llvmpipe. Each tap is selected,
     // not branched on: a lane's untaken branch runs anyway.
-    float max_dist = u_gi.interp_dist * distance(p, u_frame.camera.xyz);
-    float min_cos = u_gi.interp_normal;
+    float max_dist = u_gi.rsm_interp_dist * distance(p, u_frame.camera.xyz);
+    float min_cos = u_gi.rsm_interp_normal;
     ivec2 size = ivec2(u_frame.width, u_frame.height);
     vec3 sum = vec3(0.0);
     float count = 0.0;

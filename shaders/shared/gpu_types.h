@@ -247,15 +247,17 @@
     F(float, indirect_scale) /* multiplies the GI technique's irradiance */ \
     F(float, exposure)       /* radiance multiplier before tone mapping */
 
-/* RSM gathers and the screen-space interpolation / interleaving (std140). */
+/* RSM gathers and the screen-space interpolation / interleaving (std140).
+ * A member holding a setting is named family_field (rsm.samples:
+ * rsm_samples); in the one-family blocks below, field (lpv.offset: u_lpv.offset). */
 #define GPU_GI_PARAMS_FIELDS(F, A)                                                  \
-    F(float, r_max)         /* sampling radius, RSM widths (cube: face widths) */  \
-    F(int, samples)         /* N samples per gather */                             \
-    F(int, rsm_size)        /* RSM resolution */                                   \
+    F(float, rsm_r_max)     /* rsm.r_max: sampling radius, RSM widths (cube: face widths) */ \
+    F(int, rsm_samples)     /* rsm.samples: N samples per gather */                \
+    F(int, rsm_size)        /* rsm.size, or what vpl.count sets: RSM resolution */ \
     F(float, disk_texels)   /* texels in the sampling disk, K = π (r_max·res)² */   \
-    F(int, interp_factor)   /* rsm-interp: low-res = full / factor */              \
-    F(float, interp_normal) /* min cosine between normals of usable samples */     \
-    F(float, interp_dist)   /* max distance, fraction of the view distance */      \
+    F(int, rsm_interp_factor) /* rsm-interp: low-res = full / factor */            \
+    F(float, rsm_interp_normal) /* min cosine between normals of usable samples */ \
+    F(float, rsm_interp_dist) /* max distance, fraction of the view distance */    \
     F(int, low_width)       /* rsm-interp low-resolution size */                   \
     F(int, low_height)                                                             \
     F(int, interleave_n)    /* interleaving pattern n × m */                       \
@@ -279,7 +281,7 @@
     F(float, slc_emax)      /* stochastic light culling error bound e_max */     \
     F(float, slc_exposure)  /* exposure E of the SLC error bound */              \
     F(float, near_clamp)    /* falloff 1/max(d², c), c in m²; 0 = off */         \
-    F(float, clamp_range)   /* vpl-clamped range R (m) */                        \
+    F(float, range)         /* vpl.range, or 0.15 x the scene diagonal where 0: vpl-clamped range R (m) */ \
     F(float, keep)          /* vpl-all: kept fraction q */                       \
     F(uint, tile_capacity)  /* list entries per culling tile */                  \
     F(uint, subset_count)   /* K = n·m interleaved subsets */                    \
@@ -296,7 +298,7 @@
 #define GPU_LPV_PARAMS_FIELDS(F, A)                                                   \
     F(int, size)            /* N cells per side */                                  \
     F(int, pad3)            /* (occlusion is compiled in: OCCLUSION, propagate.comp) */ \
-    F(float, inject_offset) /* VPLs move this many cells along their normal */      \
+    F(float, offset)        /* VPLs move this many cells along their normal */      \
     F(int, vpl_count_max)   /* entries the injection may read (capacity) */        \
     F(float, blend)         /* cascade blend band, fraction of a cascade's extent */ \
     F(float, pad0)          /* (the cascade count is compiled in: LPV_CASCADES) */  \

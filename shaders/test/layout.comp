@@ -9,7 +9,7 @@ layout(std430, binding = SSBO_COUNTERS) buffer OutBlock { int values[]; };
 
 void main()
 {
-    float sink = u_light.color.x + u_shadow.poisson[1].x + float(u_frame.width) + u_gi.r_max +
+    float sink = u_light.color.x + u_shadow.poisson[1].x + float(u_frame.width) + u_gi.rsm_r_max +
                  u_vpl.keep + vpls[0].flux.x + u_vct.cone_aperture[1].x + u_ism.bias_abs + u_ism.grid.w;
     values[0] = LIGHT_DIRECTIONAL;
     values[1] = LIGHT_SPOT;

@@ -89,7 +89,7 @@ static const OptionDesc k_bench_options[] = {
     OPT_WORD("--out", BA, out, "DIR", "output directory (required); images go to DIR/images/ (default: none)"),
     OPT_SCENE("--scene", BA, scene_name, "cornell, or a scene file (.json, .gltf, .obj)"),
     OPT_SIZE("--size", BA, width, height, 8192, "image size"),
-    OPT_WORD("--gi", BA, gi_list, "LIST", "comma-separated techniques, each optionally with settings: NAME[:key=value[:key=value]] with settings-table keys, e.g. rsm:samples=100,vpl-slc:vpls=65536"),
+    OPT_WORD("--gi", BA, gi_list, "LIST", "comma-separated techniques, each optionally with settings: NAME[:key=value[:key=value]] with settings' names (or their old gi/shadow keys), e.g. rsm:rsm.samples=100,vpl-slc:vpl.count=65536"),
     OPT_WORD("--shadow", BA, shadow_list, "LIST", "comma-separated shadow techniques"),
     OPT_INT("--spp", BA, ps.spp, 1, 1 << 20, "reference samples per pixel"),
     OPT_CHOICE("--ref-mode", BA, ps.mode, pt_mode_names, "what the reference's paths carry (rtgi reference --mode)"),
@@ -117,7 +117,7 @@ static void bench_args_default(BenchArgs *args)
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     ps->threads = cores > 0 ? (int)cores : 1;
     settings_default(&args->base);
-    const SettingDesc *vpls = settings_find_key("gi", "vpls");
+    const SettingDesc *vpls = settings_find_name("vpl.count");
     args->base.gi.vpl.count = 16384; /* what the benchmarks use */
     args->base_given[vpls - settings_table] = true;
 }
@@ -443,13 +443,22 @@ static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *
         return false;
     }
     *eq = 0;
-    const SettingDesc *d = settings_find_key("gi", kv);
-    if (!d)
-        d = settings_find_key("shadow", kv);
+    /* A setting's name (rsm.samples), or its old key in the scene file's
+     * "gi" or "shadow" object (samples, pcf_samples). */
+    const SettingDesc *d = settings_find_name(kv);
+    static const char *const k_old_objects[] = {"gi", "shadow"};
+    for (int i = 0; i < 2 && !d && !strchr(kv, '.'); i++) {
+        char old[128];
+        snprintf(old, sizeof old, "%s.%s", k_old_objects[i], kv);
+        d = settings_find_name(old);
+    }
     if (!d) {
-        const char *keys[128];
-        settings_keys(NULL, keys, 128);
-        usage_error(util_nearest(kv, keys), "--gi: '%s' is not a setting key (the settings table's keys)", kv);
+        const char *keys[256];
+        int n = settings_names(keys, 256);
+        for (int i = 0; i < 2; i++)
+            n += settings_object_keys(k_old_objects[i], keys + n, 256 - n);
+        usage_error(util_nearest(kv, keys),
+                    "--gi: '%s' is not a setting key (the settings table's names, e.g. rsm.samples)", kv);
         return false;
     }
     if (e->given[d - settings_table]) {
@@ -461,7 +470,7 @@ static bool parse_gi_setting(const char *item, char *kv, BenchEntry *e, StrBuf *
         usage_error(NULL, "--gi: %s is a flag: give %s=on", kv, kv);
         return false;
     }
-    if (!settings_parse_cli(d, d->type == VALUE_FLAG ? NULL : eq + 1, &e->set))
+    if (!settings_parse_cli(d, kv, d->type == VALUE_FLAG ? NULL : eq + 1, &e->set))
         return false;
     e->given[d - settings_table] = true;
     strbuf_printf(over, "%s%s=%s", over->len ? ", " : "", kv, eq + 1);
@@ -638,13 +647,17 @@ static cJSON *entry_json(const BenchEntry *e, const Renderer *r)
     cJSON_AddStringToObject(o, "overrides", e->overrides);
     cJSON *set = cJSON_AddObjectToObject(o, "settings");
     Settings s = {e->rs.set.shadow, e->rs.set.gi};
-    for (int i = 0; i < settings_count; i++) {
-        const SettingDesc *d = &settings_table[i];
-        char key[96], val[64];
-        snprintf(key, sizeof key, "%s.%s", d->group, d->key);
-        settings_format(d, &s, val, sizeof val);
-        cJSON_AddStringToObject(set, key, val);
-    }
+    /* Every setting by its name, then again by its old key (gi.samples),
+     * which scripts written before the names were unified read. */
+    for (int pass = 0; pass < 2; pass++)
+        for (int i = 0; i < settings_count; i++) {
+            const SettingDesc *d = &settings_table[i];
+            const char *key = pass ? settings_old_key(d) : d->name;
+            char val[64];
+            settings_format(d, &s, val, sizeof val);
+            if (key)
+                cJSON_AddStringToObject(set, key, val);
+        }
     /* The technique's counters of the last frame, per pixel where they are. */
     const RenderStats *st = &r->stats;
     cJSON *passes = cJSON_AddArrayToObject(o, "passes");

@@ -259,7 +259,7 @@ static void view_init(View *v, const RenderOptions *o, const Scene *scene, ViewS
     view_set_angles(v, &v->camera);
     view_update_camera(v);
     v->speed = 0.25f * glm_vec3_distance((float *)scene->bounds_min, (float *)scene->bounds_max);
-    const SettingDesc *temporal = settings_find_option("--temporal");
+    const SettingDesc *temporal = settings_find_name("frame.temporal");
     view_anim_init(v, scene, temporal && o->given[temporal - settings_table]);
 }
 

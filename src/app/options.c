@@ -38,7 +38,7 @@ int options_take_setting(const char *opt, CliArgs *a, Settings *set, bool given[
     const char *text = NULL;
     if (d->type != VALUE_FLAG && !(text = cli_value(a)))
         return -1;
-    if (!settings_parse_cli(d, text, set))
+    if (!settings_parse_cli(d, opt, text, set))
         return -1;
     given[d - settings_table] = true;
     return 1;
@@ -46,12 +46,17 @@ int options_take_setting(const char *opt, CliArgs *a, Settings *set, bool given[
 
 void options_unknown(const char *opt, const OptionDesc *const *tables, bool settings)
 {
-    const char *known[256];
+    enum { CAP = 512 };
+    const char *known[CAP];
     int n = 0;
     for (int t = 0; tables[t]; t++)
-        options_names(tables[t], known, &n, 256);
-    for (int i = 0; settings && i < settings_count && n < 255; i++)
+        options_names(tables[t], known, &n, CAP);
+    for (int i = 0; settings && i < settings_count && n < CAP - 2; i++) {
         known[n++] = settings_table[i].option;
+        const char *old = settings_old_option(&settings_table[i]); /* a typo of an old spelling */
+        if (old)
+            known[n++] = old;
+    }
     known[n] = NULL;
     cli_unknown_option(opt, known);
 }

@@ -33,10 +33,14 @@ void render_options_help_settings(void)
     printf("GI techniques (--gi):\n");
     for (int i = 0; gi_techniques[i]; i++)
         printf("  %-18s %s\n", gi_techniques[i]->name, gi_techniques[i]->summary);
-    printf("shadow parameters (default: the scene file's, else the value shown):\n");
-    settings_print_help(stdout, "shadow");
-    printf("GI parameters (default: the scene file's, else the value shown):\n");
-    settings_print_help(stdout, "gi");
+    /* One heading per family of the settings table; each option is
+     * --FAMILY-FIELD, its scene key FAMILY.FIELD. */
+    const char *families[32];
+    settings_families(families, 32);
+    for (int i = 0; families[i]; i++) {
+        printf("%s parameters (default: the scene file's, else the value shown):\n", families[i]);
+        settings_print_help(stdout, families[i]);
+    }
 }
 
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};

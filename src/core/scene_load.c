@@ -1280,11 +1280,12 @@ static void parse_materials(Ctx *c, Scene *s, const cJSON *obj)
     c->where[0] = 0;
 }
 
-/* The "shadow" and "gi" objects: the settings table's one parser. */
-static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
+/* The settings' objects ("shadow", "rsm", ..., and the old "gi"): the
+ * settings table's one parser. */
+static void parse_settings(Ctx *c, Scene *s, const cJSON *root)
 {
     Settings set = {s->settings.shadow, s->settings.gi};
-    if (!settings_parse_json(j, group, c->file, &set)) {
+    if (!settings_parse_scene(root, c->file, &set)) {
         c->ok = false;
         return;
     }
@@ -1292,9 +1293,9 @@ static void parse_settings(Ctx *c, Scene *s, const cJSON *j, const char *group)
     s->settings.gi = set.gi;
 }
 
-static const char *const k_top_keys[] = {"builtin", "mesh",     "mesh_scale", "mesh_translate", "quads",
-                                         "materials", "camera", "lights",     "exposure",       "shadow",
-                                         "gi",        "objects",    "animation",      NULL};
+/* With the settings' objects (settings_scene_keys). */
+static const char *const k_top_keys[] = {"builtin", "mesh",   "mesh_scale", "mesh_translate", "quads",     "materials",
+                                         "camera",  "lights", "exposure",   "objects",        "animation", NULL};
 
 /* What most likely broke JSON text where the parser stopped (*at, cJSON's
  * error position), the mistakes people make by hand: a comma before a
@@ -1427,7 +1428,12 @@ static bool load_json(Scene *s, const char *path)
     char dir[1024];
     util_dirname(path, dir, sizeof dir);
     SceneNodeMap nodes = {0};
-    if (check_keys(&c, root, k_top_keys))
+    const char *top_keys[64];
+    int top_count = 0;
+    for (; k_top_keys[top_count]; top_count++)
+        top_keys[top_count] = k_top_keys[top_count];
+    settings_scene_keys(top_keys, &top_count, 64);
+    if (check_keys(&c, root, top_keys))
         parse_geometry(&c, s, root, dir, &nodes);
     if (c.ok)
         snprintf(s->source, sizeof s->source, "%s", path);
@@ -1439,12 +1445,8 @@ static bool load_json(Scene *s, const char *path)
         parse_lights(&c, s, lights);
     if (c.ok)
         get_num_in(&c, root, "exposure", &s->exposure, SCENE_EXPOSURE_MIN, false, SCENE_EXPOSURE_MAX);
-    const cJSON *shadow = cJSON_GetObjectItemCaseSensitive(root, "shadow");
-    if (shadow && c.ok)
-        parse_settings(&c, s, shadow, "shadow");
-    const cJSON *gi = cJSON_GetObjectItemCaseSensitive(root, "gi");
-    if (gi && c.ok)
-        parse_settings(&c, s, gi, "gi");
+    if (c.ok)
+        parse_settings(&c, s, root);
     const cJSON *cam = cJSON_GetObjectItemCaseSensitive(root, "camera");
     bool has_camera = cam != NULL || cJSON_IsString(cJSON_GetObjectItemCaseSensitive(root, "builtin"));
     if (cam && c.ok)

@@ -1,9 +1,17 @@
 /* settings.h — the table of technique settings: one row per setting with
- * its scene-file key, command-line option, type, place, range, default and
- * help. One parser and one validator serve the command line and the scene
- * file (so the two cannot disagree), `--help` is printed from the table, and
- * tests check the guide (docs/guide.md) against it. Adding a setting is adding a row (and
- * its field in ShadowParams/GiParams, below). */
+ * its one name, "family.field" (rsm.samples), which is at once its scene-file
+ * key (the object "rsm", key "samples"), its place in Settings (.gi.rsm.samples;
+ * shadow: .shadow.FIELD), and, as "--family-field", its command-line option
+ * (--rsm-samples); where a GPU block holds the value, its member is
+ * u_FAMILY.field, or u_gi.family_field in the shared u_gi block (not yet:
+ * vct.levels is u_vct.clip_levels, and interleave.pattern u_gi.interleave_n,
+ * interleave_m). Each row
+ * also has its type, range, default and help. One parser and one validator
+ * serve the command line and the scene file (so the two cannot disagree),
+ * `--help` is printed from the table, and tests check the guide
+ * (docs/guide.md) against it. Adding a setting is adding a row (and its field
+ * in its family's struct, below). The spellings of commit d364f03 (gi.samples,
+ * --bias-const, ...) stay accepted: settings.c's alias list. */
 #ifndef RTGI_SETTINGS_H
 #define RTGI_SETTINGS_H
 
@@ -58,8 +66,8 @@ typedef enum RsmWeighting { RSM_WEIGHT_PAPER = 0, RSM_WEIGHT_UNBIASED = 1, RSM_W
 /* The GI settings by family (issue 45): each technique reads its family's
  * struct (and visibility, interleave where it takes them); `frame` is the
  * renderer's own (read when it composites), so changing it remakes no
- * technique. Field names are the settings-table keys without their family
- * prefix (gi.lpv_size is GiParams.lpv.size). */
+ * technique. Each field is a setting's name without its family: the setting
+ * lpv.size is GiParams.lpv.size. */
 
 /* Reflective shadow maps (SPEC §3): the gathers of rsm, rsm-interp and
  * rsm-interleaved; `size` is also the RSMs' size where --vpls does not set it. */
@@ -81,7 +89,9 @@ typedef struct RsmParams {
 
 /* Interleaved sampling and shading (rsm-interleaved, vpl-interleaved, vpl-metalights). */
 typedef struct InterleaveParams {
-    int n, m;              /* the sub-image pattern n×m */
+    struct {
+        int n, m;
+    } pattern;             /* the sub-image pattern n×m */
     bool blur;             /* geometry-aware blur after reassembly */
 } InterleaveParams;
 
@@ -137,7 +147,7 @@ typedef struct VctParams {
 
 /* What the renderer does with any technique's light (no technique reads it). */
 typedef struct FrameParams {
-    float scale;           /* indirect intensity scale (1 = physical) */
+    float indirect_scale;  /* indirect intensity scale (1 = physical) */
     bool temporal;         /* temporal accumulation of the indirect light (frame/pass_temporal.h) */
     bool temporal_clamp;   /* its neighbourhood clamp (off: the history lags a moving light; for measuring) */
 } FrameParams;
@@ -163,12 +173,13 @@ typedef struct Settings {
 
 
 typedef struct SettingDesc {
-    const char *group;           /* scene-file object holding it: "shadow" or "gi" */
-    const char *key;             /* its key there */
-    const char *option;          /* command-line option */
-    ValueType type;              /* base/value.h */
+    const char *family;          /* "shadow", "rsm", "interleave", "vpl", "visibility", "lpv", "vct", "frame" */
+    const char *field;           /* its field in the family's struct, and its key in the family's scene object */
+    const char *name;            /* "family.field": the one name */
     size_t offset;               /* in Settings */
     size_t offset2;              /* VALUE_PAIR: the second int */
+    const char *option;          /* command-line option, "--family-field" */
+    ValueType type;              /* base/value.h */
     double min, max;             /* inclusive range (pairs: each; enum/bool: unused) */
     double def;                  /* default (pairs: both values) */
     const char *const *choices;  /* VALUE_CHOICE: names, index = stored value; NULL-terminated */
@@ -180,31 +191,54 @@ extern const int settings_count;
 
 /* Every setting at its default. */
 void settings_default(Settings *s);
-/* The row whose option is `option` (e.g. "--pcf-samples"), or NULL. */
+/* The row whose option is `option` ("--shadow-pcf-samples", or its old
+ * spelling "--pcf-samples"), or NULL. */
 const SettingDesc *settings_find_option(const char *option);
-/* The row of `group`.`key`, or NULL. */
-const SettingDesc *settings_find_key(const char *group, const char *key);
+/* The row named `name` ("rsm.samples", or its old scene key "gi.samples"),
+ * or NULL. */
+const SettingDesc *settings_find_name(const char *name);
+/* Row `d`'s spellings before its one name (commit d364f03), or NULL where
+ * they were the same or the row is newer: its scene key ("gi.samples"), its
+ * option ("--bias-const"). */
+const char *settings_old_key(const SettingDesc *d);
+const char *settings_old_option(const SettingDesc *d);
 
-/* The keys of `group`'s rows (NULL: every row's) into out[0..cap-1],
- * NULL-terminated (for "did you mean"); returns how many. */
-int settings_keys(const char *group, const char **out, int cap);
+/* The rows' names into out[0..cap-1], NULL-terminated (for "did you mean");
+ * returns how many. */
+int settings_names(const char **out, int cap);
+/* The keys the scene file's object `object` may hold into out[0..cap-1],
+ * NULL-terminated: a family's fields, and for "gi" (and "shadow", whose old
+ * keys are its fields) the old keys of that object. Returns how many. */
+int settings_object_keys(const char *object, const char **out, int cap);
+/* The families in table order into out[0..cap-1], NULL-terminated; returns
+ * how many. */
+int settings_families(const char **out, int cap);
+/* The scene file's top-level keys that hold settings: each family's object,
+ * and "gi", the object of the old keys (gi.samples); NULL-terminated
+ * (appended at out[*n], *n advanced). */
+void settings_scene_keys(const char **out, int *n, int cap);
 
 /* Parses a command-line value (NULL for VALUE_FLAG) into `s`, range
- * checked. false after logging a usage error (usage_error) "<option>: '<value>'
- * <problem> (allowed: <range>)", with the nearest choice of an enum. */
-bool settings_parse_cli(const SettingDesc *d, const char *value, Settings *s);
-/* Reads the scene file's `group` object into `s`: every key must be a row
- * of the group (unknown keys are an error naming the nearest known key),
- * no key twice, each value of the row's type and in its range. false after
- * logging "<file>: <group>.<key>: <problem>". */
-bool settings_parse_json(const cJSON *obj, const char *group, const char *file, Settings *s);
+ * checked; `as_written` is the option as the user gave it (an old spelling;
+ * NULL: d->option). false after logging a usage error (usage_error)
+ * "<option>: '<value>' <problem> (allowed: <range>)", with the nearest
+ * choice of an enum. */
+bool settings_parse_cli(const SettingDesc *d, const char *as_written, const char *value, Settings *s);
+/* Reads the settings of a scene file's root object into `s`: each family's
+ * object ("rsm": {"samples": 100}) and the old "gi" object ("gi":
+ * {"samples": 100}); "shadow" is both. Every key must be a field of its
+ * object's rows (unknown keys are an error naming the nearest), no key
+ * twice, no setting both in its family's object and in "gi", each value of
+ * the row's type and in its range. false after logging "<file>:
+ * <object>.<key>: <problem>" as the file spells it. */
+bool settings_parse_scene(const cJSON *root, const char *file, Settings *s);
 /* Row `d` as the value it stores in a Settings (value.h). */
 ValueSpec settings_value(const SettingDesc *d);
 /* Copies the value of row `d` from `src` to `dst`. */
 void settings_copy(const SettingDesc *d, Settings *dst, const Settings *src);
 /* The value of row `d` in `s` as text ("20", "0.0005", "4x4", "paper", "on"). */
 void settings_format(const SettingDesc *d, const Settings *s, char *out, size_t cap);
-/* Prints the option help of one group, from the table. */
-void settings_print_help(FILE *f, const char *group);
+/* Prints the option help of one family, from the table. */
+void settings_print_help(FILE *f, const char *family);
 
 #endif

@@ -288,7 +288,7 @@ static void upload_frame(Renderer *r, const Camera *cam)
     glm_vec3_copy((float *)cam->position, f.camera);
     f.width = r->settings.width * renderer_ssaa(&r->settings); /* the shading size */
     f.height = r->settings.height * renderer_ssaa(&r->settings);
-    f.indirect_scale = r->settings.set.gi.frame.scale;
+    f.indirect_scale = r->settings.set.gi.frame.indirect_scale;
     f.exposure = r->settings.exposure;
     glNamedBufferSubData(r->frame_ubo, 0, sizeof f, &f);
     glBindBufferBase(GL_UNIFORM_BUFFER, UBO_FRAME, r->frame_ubo);

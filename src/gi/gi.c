@@ -83,19 +83,19 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
 {
     memset(u, 0, sizeof *u);
     float r = p->rsm.r_max * (float)p->rsm.size;
-    u->r_max = p->rsm.r_max;
-    u->samples = p->rsm.samples;
+    u->rsm_r_max = p->rsm.r_max;
+    u->rsm_samples = p->rsm.samples;
     u->rsm_size = p->rsm.size;
     u->disk_texels = 3.14159265358979f * r * r;
-    u->interp_factor = p->rsm.interp_factor;
-    u->interp_normal = p->rsm.interp_normal;
-    u->interp_dist = p->rsm.interp_dist;
+    u->rsm_interp_factor = p->rsm.interp_factor;
+    u->rsm_interp_normal = p->rsm.interp_normal;
+    u->rsm_interp_dist = p->rsm.interp_dist;
     u->low_width = (w + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
     u->low_height = (h + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
-    u->interleave_n = p->interleave.n;
-    u->interleave_m = p->interleave.m;
-    u->sub_width = (w + p->interleave.n - 1) / p->interleave.n;
-    u->sub_height = (h + p->interleave.m - 1) / p->interleave.m;
+    u->interleave_n = p->interleave.pattern.n;
+    u->interleave_m = p->interleave.pattern.m;
+    u->sub_width = (w + p->interleave.pattern.n - 1) / p->interleave.pattern.n;
+    u->sub_height = (h + p->interleave.pattern.m - 1) / p->interleave.pattern.m;
     u->list_set = rsm_far_samples(p->rsm.samples);
     u->list_size = u->list_set * RSM_LIST_SETS;
     u->disk_r2_per_area = p->vpl.disk ? 1.f / 3.14159265358979f : 0.f;

@@ -141,10 +141,10 @@ static bool products_fit(const LightStage *ls, const LightStageDesc *d)
     if (!gpu_budget_check(shadow, what))
         return false;
     if (d->vpl_count > 0)
-        snprintf(what, sizeof what, "gi.vpls %d (the RSMs and VPLs of %d light%s)", d->vpl_count, ls->light_count,
+        snprintf(what, sizeof what, "vpl.count %d (the RSMs and VPLs of %d light%s)", d->vpl_count, ls->light_count,
                  ls->light_count == 1 ? "" : "s");
     else
-        snprintf(what, sizeof what, "gi.rsm_size %d (%d light%s)", d->rsm_size, ls->light_count,
+        snprintf(what, sizeof what, "rsm.size %d (%d light%s)", d->rsm_size, ls->light_count,
                  ls->light_count == 1 ? "" : "s");
     return gpu_budget_check(shadow + rsm, what);
 }

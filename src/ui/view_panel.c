@@ -70,7 +70,7 @@ static bool setting_widget(View *v, const SettingDesc *d)
 {
     void *field = (char *)&v->edit + d->offset;
     char label[96], tip[320], range[64] = "";
-    snprintf(label, sizeof label, "%s##%s", d->key, d->option);
+    snprintf(label, sizeof label, "%s##%s", d->field, d->option);
     bool commit = false;
     switch (d->type) {
     case VALUE_INT: {
@@ -120,7 +120,7 @@ static bool setting_widget(View *v, const SettingDesc *d)
     case VALUE_TEXT:
         break;
     }
-    snprintf(tip, sizeof tip, "%s%s\n%s, scene key %s.%s", d->help, range, d->option, d->group, d->key);
+    snprintf(tip, sizeof tip, "%s%s\n%s, scene key %s", d->help, range, d->option, d->name);
     ui_tooltip(tip);
     return commit;
 }
@@ -197,8 +197,8 @@ static void settings_section(View *v)
     const char *group = NULL;
     for (int i = 0; i < settings_count; i++) {
         const SettingDesc *d = &settings_table[i];
-        if (!group || strcmp(group, d->group)) {
-            group = d->group;
+        if (!group || strcmp(group, d->family)) {
+            group = d->family;
             ui_separator();
             ui_text("%s", group);
         }

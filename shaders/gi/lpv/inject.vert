@@ -1,5 +1,5 @@
 // gi/lpv/inject.vert — light injection (Kaplanyan & Dachsbacher 2010): one
-// point per VPL. The VPL moves u_lpv.inject_offset cells along its normal
+// point per VPL. The VPL moves u_lpv.offset cells along its normal
 // and lands in the cell that contains it, as the 2-band SH of its
 // clamped-cosine intensity lobe I(ω) = Φ/π · max(0, n·ω), one vec4 per
 // colour channel. Its flux is preserved: ∫ I dω = c00·2√π = Φ.
@@ -26,11 +26,11 @@ void main()
     GpuVpl v = vpls[gl_VertexID];
     vec3 n = vpl_normal(v);
     int k = u_cascade, size = u_lpv.size;
-    vec3 p = vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[k].w);
+    vec3 p = vpl_position(v) + n * (u_lpv.offset * u_lpv.cascade[k].w);
     ivec3 c = lpv_cell(k, p);
     v_layer = lpv_inside(c, size) && lpv_in_group(n, u_group) ? c.z + lpv_group_layer(u_group, size) : -1;
     if (u_exclude >= 0 &&
-        lpv_inside(lpv_cell(u_exclude, vpl_position(v) + n * (u_lpv.inject_offset * u_lpv.cascade[u_exclude].w)), size))
+        lpv_inside(lpv_cell(u_exclude, vpl_position(v) + n * (u_lpv.offset * u_lpv.cascade[u_exclude].w)), size))
         v_layer = -1;
     gl_Position = vec4((vec2(c.xy) + 0.5) / float(size) * 2.0 - 1.0, 0.0, 1.0);
     gl_PointSize = 1.0;

@@ -51,8 +51,8 @@ void main()
     if (first >= count)
         return;
     int k = u_cascade, size = u_lpv.size, exclude = u_exclude;
-    float offset = u_lpv.inject_offset * u_lpv.cascade[k].w;
-    float offset_x = exclude >= 0 ? u_lpv.inject_offset * u_lpv.cascade[exclude].w : 0.0;
+    float offset = u_lpv.offset * u_lpv.cascade[k].w;
+    float offset_x = exclude >= 0 ? u_lpv.offset * u_lpv.cascade[exclude].w : 0.0;
     float scale = u_scale;
     int base = -1;
     ivec4 r = ivec4(0), g = ivec4(0), b = ivec4(0);

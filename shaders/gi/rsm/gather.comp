@@ -73,7 +73,7 @@ vec3 gather(vec3 x, vec3 n, ivec2 px, int first, int stride, int count)
 #elif WEIGHTING == RSM_WEIGHT_IMPORTANCE
     return rsm_gather_importance(x, n, list_set(px), first, stride, count);
 #else
-    return rsm_gather(rsm_frame(x), x, n, first, stride, count, WEIGHTING == RSM_WEIGHT_UNBIASED, u_gi.samples);
+    return rsm_gather(rsm_frame(x), x, n, first, stride, count, WEIGHTING == RSM_WEIGHT_UNBIASED, u_gi.rsm_samples);
 #endif
 }
 
@@ -87,7 +87,7 @@ void store(ivec2 at, vec3 e)
 void main()
 {
     ivec2 gid = ivec2(gl_GlobalInvocationID.xy);
-    int N = u_gi.samples;
+    int N = u_gi.rsm_samples;
 #if defined(MODE_FULL)
     if (any(greaterThanEqual(gid, ivec2(u_frame.width, u_frame.height))))
         return;
@@ -96,7 +96,7 @@ void main()
 #elif defined(MODE_LOWRES)
     if (any(greaterThanEqual(gid, ivec2(u_gi.low_width, u_gi.low_height))))
         return;
-    int f = u_gi.interp_factor;
+    int f = u_gi.rsm_interp_factor;
     ivec2 px = min(gid * f + f / 2, ivec2(u_frame.width, u_frame.height) - 1), at = gid;
     int first = 0, stride = 1, count = N;
 #elif defined(MODE_LIST)

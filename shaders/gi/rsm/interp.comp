@@ -28,8 +28,8 @@ bool interpolate(ivec2 px, out vec4 result)
     vec3 p, n;
     if (!gb_surface(px, p, n))
         return true;
-    int f = u_gi.interp_factor;
-    float max_dist = u_gi.interp_dist * distance(p, u_frame.camera.xyz);
+    int f = u_gi.rsm_interp_factor;
+    float max_dist = u_gi.rsm_interp_dist * distance(p, u_frame.camera.xyz);
     vec2 u = (vec2(px) + 0.5) / float(f) - 0.5;
     ivec2 i0 = ivec2(floor(u));
     vec2 t = u - vec2(i0);
@@ -41,7 +41,7 @@ bool interpolate(ivec2 px, out vec4 result)
         ivec2 s = clamp(i0 + o, ivec2(0), ivec2(u_gi.low_width, u_gi.low_height) - 1);
         ivec2 sp = min(s * f + f / 2, ivec2(u_frame.width, u_frame.height) - 1);
         vec3 q, qn;
-        if (!gb_surface(sp, q, qn) || dot(n, qn) < u_gi.interp_normal || distance(p, q) > max_dist)
+        if (!gb_surface(sp, q, qn) || dot(n, qn) < u_gi.rsm_interp_normal || distance(p, q) > max_dist)
             continue;
         float w = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y) + 1e-4;
         sum += w * texelFetch(u_lowres, s, 0).rgb;

@@ -69,7 +69,7 @@ struct RsmFrame {
 RsmFrame rsm_frame(vec3 x)
 {
     RsmFrame f;
-    float r_max = u_gi.r_max;
+    float r_max = u_gi.rsm_r_max;
     f.r2_per_area = u_gi.disk_r2_per_area;
     f.texel = rsm_texel_frame();
 #ifdef ISM_FROM_RSM
@@ -226,7 +226,7 @@ bool rsm_in_disk(RsmFrame f, vec3 xp)
 // for the sum over every RSM texel.
 vec3 rsm_gather_importance(vec3 x, vec3 n, uint set, int first, int stride, int count)
 {
-    int n_near = max(u_gi.samples / 2, 1), n_far = u_gi.list_set;
+    int n_near = max(u_gi.rsm_samples / 2, 1), n_far = u_gi.list_set;
     ivec2 near_k = ivec2(0, max(count / 2, 1)), far_k = ivec2(0, max(count - near_k.y, 1));
     if (stride > 1) { // interleaved: subset `first` of the near pattern and of the list set
         near_k = rsm_subset(n_near, first, stride);

@@ -25,6 +25,6 @@ void main()
     float r2 = vpl_r2(vpl_falloff_params(), vpls[i]), xi = vpl_xi(vpls[i]);
     ranges[i] = vec2(alpha, r2 > 0.0 ? sqrt(max(1.0 / (alpha * xi) - r2, 0.0)) : inversesqrt(alpha * xi));
 #else
-    ranges[i] = vec2(0.0, u_vpl.clamp_range);
+    ranges[i] = vec2(0.0, u_vpl.range);
 #endif
 }

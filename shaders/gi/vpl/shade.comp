@@ -128,7 +128,7 @@ void main()
         float limit = vpl_slc_num();
         uint seed = counters[1]; // what the VPLs' ξ were drawn with
 #else
-        float limit = u_vpl.clamp_range * u_vpl.clamp_range;
+        float limit = u_vpl.range * u_vpl.range;
         const uint seed = 0u;
 #endif
         // Four list entries per load (the list and u_chunk are aligned to

@@ -328,7 +328,7 @@ static void place_grids(LpvGi *l, const Camera *cam)
     GpuLpvParams *u = &l->gpu;
     memset(u, 0, sizeof *u);
     u->size = l->n;
-    u->inject_offset = l->params.lpv.offset;
+    u->offset = l->params.lpv.offset;
     u->blend = 0.1f;
     if (l->cascades == 1) {
         /* The bounds plus one cell of margin on each side. */

@@ -107,7 +107,8 @@ static bool rsm_resize(void *state, int w, int h)
                                  GL_DYNAMIC_STORAGE_BIT, "gi.pixel_list");
         return g->lowres && g->list; /* each logs its failure */
     } else if (g->variant == RSM_INTERLEAVED) {
-        return gi_interleave_create(&g->il, g->pc, g->params.interleave.n, g->params.interleave.m, w, h, true);
+        return gi_interleave_create(&g->il, g->pc, g->params.interleave.pattern.n, g->params.interleave.pattern.m, w,
+                                    h, true);
     }
     return true;
 }
@@ -391,7 +392,8 @@ static void rsm_stats(void *state, const GiFrame *f, GiStats *st)
     }
     uint64_t per_pixel = g->params.rsm.exhaustive ? st->vpl_count : (uint64_t)g->params.rsm.samples;
     if (g->variant == RSM_INTERLEAVED && !g->params.rsm.exhaustive)
-        per_pixel = (uint64_t)(g->params.rsm.samples / (g->params.interleave.n * g->params.interleave.m));
+        per_pixel =
+            (uint64_t)(g->params.rsm.samples / (g->params.interleave.pattern.n * g->params.interleave.pattern.m));
     per_pixel = per_pixel ? per_pixel : 1;
     switch (g->variant) { /* each gather pass, named as its timer (rsm_run) */
     case RSM_FULL:

@@ -279,8 +279,8 @@ bool ism_create(Ism *m, IsmSource source, const GiCreateInfo *ci)
     uint64_t bytes = (uint64_t)m->per_row * m->size * (uint64_t)rows * m->size * 4 * 4 / 3 + (uint64_t)m->point_count * 16 +
                      (source == ISM_FROM_RSM ? (uint64_t)m->maps * 16 : 0);
     char what[160];
-    snprintf(what, sizeof what, "gi.gi_visibility's %u imperfect shadow maps of %d² (gi.ism_size, %s)", m->maps, m->size,
-             source == ISM_FROM_VPLS ? "one per VPL: gi.vpls" : "gi.ism_maps");
+    snprintf(what, sizeof what, "visibility.on's %u imperfect shadow maps of %d² (visibility.ism_size, %s)", m->maps,
+             m->size, source == ISM_FROM_VPLS ? "one per VPL: vpl.count" : "visibility.ism_maps");
     if (!gpu_budget_check(bytes, what)) {
         ism_destroy(m);
         return false;

@@ -73,7 +73,8 @@ static bool tiled(const VplGi *v) { return v->method == VPL_CLAMPED || v->method
  * (shaders/gi/vpl/shade.comp). */
 static void shade_groups(const VplGi *v, int *gx, int *gy)
 {
-    int n = interleaved(v) ? v->params.interleave.n : 1, m = interleaved(v) ? v->params.interleave.m : 1;
+    int n = interleaved(v) ? v->params.interleave.pattern.n : 1;
+    int m = interleaved(v) ? v->params.interleave.pattern.m : 1;
     *gx = (v->width + 8 * n - 1) / (8 * n) * n;
     *gy = (v->height + 8 * m - 1) / (8 * m) * m;
 }
@@ -117,7 +118,8 @@ static bool vpl_resize(void *state, int w, int h)
     gi_params_to_gpu(&v->params, w, h, &g);
     glNamedBufferSubData(v->gi_ubo, 0, sizeof g, &g);
     if (interleaved(v))
-        return gi_interleave_create(&v->il, v->pc, v->params.interleave.n, v->params.interleave.m, w, h, false);
+        return gi_interleave_create(&v->il, v->pc, v->params.interleave.pattern.n, v->params.interleave.pattern.m, w,
+                                    h, false);
     return true;
 }
 
@@ -169,8 +171,8 @@ static void *vpl_create_method(const GiCreateInfo *ci, VplMethod method)
         ok = (v->shade = cached(v, "vpl_shade_all", "gi/vpl/shade.comp", "#define MODE_ALL\n")) != 0;
     } else {
         char defs[96]; /* the pattern compiled in: constant divisors */
-        gi_interleave_defines(defs, sizeof defs, "#define MODE_INTERLEAVED", v->params.interleave.n,
-                              v->params.interleave.m);
+        gi_interleave_defines(defs, sizeof defs, "#define MODE_INTERLEAVED", v->params.interleave.pattern.n,
+                              v->params.interleave.pattern.m);
         v->shade = cached(v, "vpl_shade_interleaved", "gi/vpl/shade.comp", defs);
         if (method == VPL_METALIGHTS)
             v->signature = cached(v, "metalight_signature", "gi/vpl/metalight_signature.comp", NULL);
@@ -198,10 +200,10 @@ static void upload_params(VplGi *v, float exposure, float range)
     u.slc_emax = gp->vpl.slc_emax;
     u.slc_exposure = exposure > 0.f ? exposure : 1.f;
     u.near_clamp = gp->vpl.near_clamp;
-    u.clamp_range = range;
+    u.range = range;
     u.keep = gp->vpl.keep;
     u.tile_capacity = v->tile_capacity;
-    u.subset_count = (uint32_t)(gp->interleave.n * gp->interleave.m);
+    u.subset_count = (uint32_t)(gp->interleave.pattern.n * gp->interleave.pattern.m);
     u.subset_len = v->subset_len;
     u.tiles_x = v->tiles_x;
     u.tiles_y = v->tiles_y;
@@ -286,7 +288,7 @@ static bool subsets(VplGi *v, const GiFrame *f)
     const LightStage *ls = f->lights;
     const GiParams *gp = &v->params;
     uint32_t n = light_stage_vpl_count(ls);
-    uint32_t K = (uint32_t)(gp->interleave.n * gp->interleave.m);
+    uint32_t K = (uint32_t)(gp->interleave.pattern.n * gp->interleave.pattern.m);
     uint32_t L = (n + K - 1) / K;
     SortItem *items = malloc(sizeof(SortItem) * (n + 1));
     GpuVpl *vpls = malloc(sizeof(GpuVpl) * (n + 1));
@@ -450,7 +452,7 @@ static double vpl_all_cost(const GiCostQuery *q) { return vpl_cost(q) * q->param
 /* Interleaved: each pixel shades one subset of the VPLs. */
 static double vpl_subset_cost(const GiCostQuery *q)
 {
-    return vpl_cost(q) / ((double)q->params->interleave.n * q->params->interleave.m);
+    return vpl_cost(q) / ((double)q->params->interleave.pattern.n * q->params->interleave.pattern.m);
 }
 
 #define VPL_ROW(id, row_name, row_paper, create_fn, cost_fn, row_flags, text)                           \

@@ -137,7 +137,7 @@ const SettingDesc settings_table[] = {
      "vct: 1 = one volume over the scene bounds; 2-4 = a clipmap of nested volumes around the camera"},
     {"gi", "vct_aniso", "--vct-aniso", VALUE_BOOL, GI(vct.aniso), 0, 0, 1, 1, NULL,
      "vct: six directional mip volumes (anisotropic voxels) instead of one isotropic chain"},
-    {"gi", "vct_cones", "--vct-cones", VALUE_CHOICE, GI(vct.cones), 0, 0, 2, 0, k_vct_cones,
+    {"gi", "vct_cones", "--vct-cones", VALUE_CHOICE, GI(vct.cones), 0, 0, 2, 1, k_vct_cones,
      "vct: diffuse cones over the hemisphere, weighted to integrate the cosine lobe"},
     {"gi", "vct_bounces", "--vct-bounces", VALUE_INT, GI(vct.bounces), 0, 1, 2, 1, NULL,
      "vct: 1 = direct light in the voxels; 2 = plus a cone-traced bounce between voxels"},

@@ -5,8 +5,9 @@
  * the cone's cell of the hemisphere:
  *   truth   rays of the cell (cosine-weighted) through the path tracer's
  *           scene, each returning the diffuse radiance the first hit sends
- *           back under the scene's directional lights (shadow rays; glossy
- *           and area lights left out);
+ *           back under the scene's directional and quad lights (shadow
+ *           rays, 8×8 points on a quad; glossy reflection and other lights
+ *           left out);
  *   narrow  the same rays as cones of tan(half-angle) 0.02 through the
  *           volumes (vct_probe: what the voxels hold along the rays);
  *   cone    the cone itself (what the frame's trace reads).
@@ -16,11 +17,20 @@
  * the voxels (voxelization, injection).
  *
  * usage: vct_probe SCENE WxH X Y [RAYS] [--tan T] [--dir DX DY DZ]
- * (RAYS per cell, 256 unless told; --tan: trace the cones with this
+ * (2·RAYS rays per cone on average, RAYS 256 unless told; --tan: trace the cones with this
  * tan(half-angle) instead of the set's; --dir: one extra cone along
  * (DX, DY, DZ) in the surface's frame (z = normal), printed with its
- * opacity at tan T or the set's first ring's.) Not a test: a measuring tool
- * built beside the tests, sharing their helpers. */
+ * opacity over tan(half-angle) 0.02-0.7 beside the mean of the ray casts
+ * inside each.) Environment: VCT_PROBE_MAP=1 also prints the hemisphere
+ * (ray casts | narrow cones) as text; VCT_PROBE_SHADERS=DIR reads the
+ * shaders from DIR (render --shader-dir); VCT_PROBE_TMAX=1 with --dir
+ * traces that cone to growing distances, which needs a copy of
+ * gi/vct/probe.comp in DIR that ends each cone at floor(w / 10) / 100 m
+ * (w: the probe's tan field; tan = mod(w, 10)). Example (the arcade
+ * soffit of issue 44):
+ *   build/tests/vct_probe scenes/sponza_nave.json 320x180 270 30 64
+ * Not a test: a measuring tool built beside the tests, sharing their
+ * helpers. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -8,7 +8,7 @@
  * against REF, emitter pixels and their neighbours left out.
  *
  * usage: gi_regions SCENE TECH.pfm NONE.pfm REF.pfm DIRECT.pfm [--surfaces]
- *        [--row LABEL] [--header] [--digits N]
+ *        [--row LABEL] [--header] [--digits N] [--min-pixels N]
  * (--row: one Markdown table row; --header: the table's header first;
  * --digits: the relMSEs' decimals, 4 unless told.)
  * The four images must have one size, that of the view measured. Not a
@@ -20,7 +20,7 @@
 #include "test_util.h"
 #include "io/metrics.h"
 
-#define MIN_PIXELS 40 /* as test_fidelity.c */
+static int min_pixels = 40; /* as test_fidelity.c (--min-pixels) */
 
 static const char *const k_faces[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
 
@@ -38,7 +38,7 @@ static int surfaces_seen(const Scene *s, int w, int h, uint8_t *mask, Surface *o
         if (emissive(&s->materials[m]))
             continue;
         for (int face = 0; face < 6 && count < max; face++)
-            if (test_surface_mask(s, w, h, s->materials[m].name, face, mask) >= MIN_PIXELS)
+            if (test_surface_mask(s, w, h, s->materials[m].name, face, mask) >= min_pixels)
                 out[count++] = (Surface){m, face};
     }
     return count;
@@ -61,6 +61,8 @@ int main(int argc, char **argv)
             header = true;
         else if (strcmp(argv[i], "--row") == 0 && i + 1 < argc)
             row = argv[++i];
+        else if (strcmp(argv[i], "--min-pixels") == 0 && i + 1 < argc)
+            min_pixels = atoi(argv[++i]) < 1 ? 1 : atoi(argv[i]);
         else if (strcmp(argv[i], "--digits") == 0 && i + 1 < argc)
             digits = atoi(argv[++i]) < 1 ? 1 : atoi(argv[i]) > 9 ? 9 : atoi(argv[i]);
         else {

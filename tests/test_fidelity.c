@@ -213,7 +213,7 @@ static void lpv_against_one_bounce(void **state)
     assert_true(lpv < 0.5 * none);
 }
 
-/* Voxel cone tracing (the defaults: 128³, directional volumes, 6 cones)
+/* Voxel cone tracing (the defaults: 128³, directional volumes, 9 cones)
  * against one-bounce: every surface within [0.75, 1.33] (issue 44).
  * Measured at 256² (scripts/gi-regions.sh): 0.89-1.28 on the 10 surfaces,
  * whole 1.04; the code before (opacity mips, every voxel sending its light
@@ -231,6 +231,52 @@ static void vct_against_one_bounce(void **state)
     assert_true(vct < 2.5 * rsm);
 }
 
+/* The short block's top at 256², where the issue measures it: at 128² it
+ * has 37 eroded pixels (under MIN_PIXELS) and reads higher (6 cones 1.42,
+ * 9 cones 1.35; scripts/gi-regions.sh, gi_regions --min-pixels 10), so the
+ * fixture's check above does not see it. Its own references at 256², 64
+ * spp. Measured (9 cones, the default): 1.322 against these references
+ * (1.315 against 256 spp); the 6-cone set, the default before, reads 1.375
+ * (1.369): its ring cones, narrowed near the surface by the mip cap
+ * (gi/vct/cone.glsl, vct_mip_cap), read the radiance along their axes,
+ * and on the block's top the 6-cone set's axes point at brighter wall
+ * than their cells hold on average (tests/vct_probe: cone 1 reads 2.4×
+ * its cell's ray cast, the narrow cones over the whole hemisphere 0.96).
+ * The bound is the issue's [0.75, 1.33]; the 6-cone set must fail it. */
+static void vct_block_top_256(void **state)
+{
+    (void)state;
+    enum { W2 = 256, SPP2 = 64 };
+    Scene s;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    ImageF none, ob, direct, img[2];
+    test_render_gi(&s, W2, W2, GI_NONE, NULL, &none);
+    test_reference(&s, W2, W2, PT_ONE_BOUNCE, SPP2, &ob);
+    test_reference(&s, W2, W2, PT_DIRECT, SPP2, &direct);
+    uint8_t *mask = malloc((size_t)W2 * W2);
+    assert_non_null(mask);
+    int n = test_surface_mask(&s, W2, W2, "short_block", PT_FACE_POS_Y, mask);
+    assert_true(n >= 200);
+    double r[2];
+    for (int k = 0; k < 2; k++) {
+        GiParams gp = s.settings.gi;
+        if (k == 1)
+            gp.vct.cones = VCT_CONES_6;
+        test_render_gi(&s, W2, W2, GI_VCT, &gp, &img[k]);
+        r[k] = test_indirect_ratio(&img[k], &none, &ob, &direct, mask);
+        image_free(&img[k]);
+    }
+    print_message("short block's top at 256x256 (%d px): vct %.3f, with 6 cones %.3f\n", n, r[0], r[1]);
+    assert_true(r[0] >= 0.75 && r[0] <= 1.33);
+    assert_true(r[1] > 1.33); /* the baseline fails the bound */
+    free(mask);
+    image_free(&none);
+    image_free(&ob);
+    image_free(&direct);
+    scene_free(&s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -238,6 +284,7 @@ int main(void)
         cmocka_unit_test(rsm_against_one_bounce_novis),
         cmocka_unit_test(lpv_against_one_bounce),
         cmocka_unit_test(vct_against_one_bounce),
+        cmocka_unit_test(vct_block_top_256),
     };
     return cmocka_run_group_tests_name("fidelity", tests, setup, teardown);
 }

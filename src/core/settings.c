@@ -141,7 +141,7 @@ const SettingDesc settings_table[] = {
      "vct: 1 = one volume over the scene bounds; 2-4 = a clipmap of nested volumes around the camera"},
     {ROW(vct, aniso), "--vct-aniso", VALUE_BOOL, 0, 1, 1, NULL,
      "vct: six directional mip volumes (anisotropic voxels) instead of one isotropic chain"},
-    {ROW(vct, cones), "--vct-cones", VALUE_CHOICE, 0, 2, 0, k_vct_cones,
+    {ROW(vct, cones), "--vct-cones", VALUE_CHOICE, 0, 2, 1, k_vct_cones,
      "vct: diffuse cones over the hemisphere, weighted to integrate the cosine lobe"},
     {ROW(vct, bounces), "--vct-bounces", VALUE_INT, 1, 2, 1, NULL,
      "vct: 1 = direct light in the voxels; 2 = plus a cone-traced bounce between voxels"},

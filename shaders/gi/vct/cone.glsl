@@ -24,6 +24,7 @@ struct VctCone {
     float sign_a;       // the sign of the normal's component along it
     float n_a;          // |that component|
     float spread;       // the plane's slope against that axis: (L1(n) − n_a) / n_a
+    float top;          // how far the surface's voxels reach past its plane (level voxels)
     float tan_half;     // tan(half-angle)
     float v0;           // level 0's voxel (m)
     float max_mip;      // the coarsest mip
@@ -98,8 +99,9 @@ float vct_cone_diameter(VctCone c) { return max(c.v0, 2.0 * c.t * c.tan_half); }
 // (tests/test_vct.c, surfaces_do_not_light_themselves):
 //  - the mip is capped where the sample is low (vct_mip_cap), down to mip
 //    0: the sample must stand VCT_CLEAR texels of its mip above the
-//    surface's voxels, which reach VCT_SURFACE_TOP level voxels past its
-//    plane (conservative voxelization) and rise across the filter's
+//    surface's voxels, which reach c.top level voxels past its plane
+//    (VCT_SURFACE_TOP: 1 with conservative voxelization, ½ with fragment
+//    centres) and rise across the filter's
 //    footprint (1.5 texels each side) as the plane slopes against its
 //    dominant axis (c.spread); a capped sample is a narrower cone there,
 //    and steps by its own texel;
@@ -126,7 +128,15 @@ float vct_cone_diameter(VctCone c) { return max(c.v0, 2.0 * c.t * c.tan_half); }
 // diameter, not by the capped mip, so a capped sample read a level whose
 // voxels are coarser than its cap (Cornell 128², 2 levels of 32³: relMSE
 // 0.028 -> 0.054, the floor 2.2 -> 5.7 of the reference's bounce). Open.
-const float VCT_SURFACE_TOP = 1.0;
+// The surface's voxels' reach past its plane: conservative voxelization
+// takes every voxel the plane touches, two layers where it passes near a
+// voxel boundary (1 voxel); fragment centres (--vct-conservative off) one
+// voxel a column, the one holding the plane at the column's centre. The
+// ¾ was measured (issue 44, fourth round; scripts/gi-regions.sh, Sponza
+// 320×180 at 256³ with fragment centres, the lowest block above the
+// median, and test_vct's lone square): 1: 0.331; ¾: 0.340, the square
+// adds 1.1% to its own light; ½: 0.350, 1.6% (conservative, 1: 0.8%).
+const vec2 VCT_SURFACE_TOP = vec2(0.75, 1.0); // [fragment centres, conservative]
 #if VCT_CLIP_LEVELS == 1
 const float VCT_CLEAR = 1.75;
 #else
@@ -140,10 +150,10 @@ float vct_mip_cap(VctCone c, vec3 q, float vk)
 {
     float h = dot(c.n, q - c.x) / c.n_a; // height above the plane along the dominant axis
 #if VCT_CLIP_LEVELS == 1
-    float texel = (h - vk * (VCT_SURFACE_TOP + 0.5 * c.spread)) / (VCT_CLEAR + 1.5 * c.spread);
+    float texel = (h - vk * (c.top + 0.5 * c.spread)) / (VCT_CLEAR + 1.5 * c.spread);
     return log2(max(texel, vk) / vk);
 #else
-    float room = (h - vk * (VCT_SURFACE_TOP + 0.5 * c.spread)) / (1.5 * (1.0 + c.spread));
+    float room = (h - vk * (c.top + 0.5 * c.spread)) / (1.5 * (1.0 + c.spread));
     return room >= 2.0 * vk ? log2(room / vk) : 1.0;
 #endif
 }
@@ -156,7 +166,7 @@ vec3 vct_clear_of_surface(VctCone c, vec3 q, float vk, float mip)
 {
     float d = vk * exp2(floor(mip));
     float above = dot(c.n, q - c.x) / c.n_a; // the sample's height over the plane along the axis
-    float need = c.spread * (1.5 * d + 0.5 * vk) + VCT_SURFACE_TOP * vk + VCT_CLEAR * d;
+    float need = c.spread * (1.5 * d + 0.5 * vk) + c.top * vk + VCT_CLEAR * d;
     return q + c.axis * (c.sign_a * max(need - above, 0.0));
 }
 
@@ -228,6 +238,7 @@ vec4 vct_cone(vec3 x, vec3 d, vec3 n, float tan_half, float voxel, out float occ
     c.n_a = max(abs(na), 1e-3);
     c.spread = (an.x + an.y + an.z - c.n_a) / c.n_a;
     c.tan_half = tan_half;
+    c.top = VCT_SURFACE_TOP[u_vct.conservative != 0 ? 1 : 0];
     c.v0 = u_vct.level[0].w;
     c.max_mip = float(u_vct.levels - 1);
     c.step = u_vct.step;

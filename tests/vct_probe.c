@@ -87,7 +87,7 @@ static float truth_ray(const PtScene *ps, const Scene *s, const vec3 o, const ve
                     glm_vec3_sub(q, p, to);
                     float d2 = glm_vec3_norm2(to), dd = sqrtf(d2);
                     glm_vec3_scale(to, 1.f / dd, to);
-                    float c1 = glm_vec3_dot(h.ns, to), c2 = -glm_vec3_dot(li->direction, to);
+                    float c1 = glm_vec3_dot(h.ns, to), c2 = -glm_vec3_dot((float *)li->direction, to);
                     if (c1 <= 0.f || c2 <= 0.f || glm_vec3_dot(h.ng, to) <= 0.f || pt_occluded(ps, p, to, dd * 0.999f))
                         continue;
                     e += c1 * c2 * area / d2 / 64.0;

@@ -67,6 +67,32 @@ bool renderer_forward(const Renderer *r)
     return (double)(r->scene->index_count / 3) * 64.0 < pixels;
 }
 
+/* The G-buffer pass per device class, for GBUFFER_AUTO (measured with
+ * scripts/gbuffer-ab.sh). llvmpipe: raster (see docs/performance.md); a
+ * GPU: raster, unmeasured (scripts/gpu-check.sh measures both). */
+bool renderer_gbuffer_visibility(const Renderer *r)
+{
+    return r->settings.gbuffer == GBUFFER_VISIBILITY;
+}
+
+/* The visibility buffer's pass and targets while it is in use, sized
+ * with the G-buffer; freed when it is not. */
+static bool vbuffer_prepare(Renderer *r)
+{
+    if (!renderer_gbuffer_visibility(r)) {
+        if (r->vbuffer_made)
+            pass_vbuffer_destroy(&r->pass_vbuffer);
+        r->vbuffer_made = false;
+        return true;
+    }
+    if (!r->vbuffer_made) {
+        r->vbuffer_made = true; /* destroyed as made, even half-way */
+        if (!pass_vbuffer_create(&r->pass_vbuffer, &r->programs, &r->gpu_scene, r->scene))
+            return false;
+    }
+    return pass_vbuffer_resize(&r->pass_vbuffer, &r->gbuffer);
+}
+
 static void targets_destroy(Renderer *r)
 {
     gbuffer_destroy(&r->gbuffer);
@@ -199,7 +225,7 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
         return false;
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->set.shadow);
     pass_temporal_create(&r->pass_temporal, pc);
-    return technique_create(r);
+    return vbuffer_prepare(r) && technique_create(r);
 }
 
 void renderer_destroy(Renderer *r)
@@ -211,6 +237,8 @@ void renderer_destroy(Renderer *r)
     pass_shade_destroy(&r->pass_shade);
     pass_direct_destroy(&r->pass_direct);
     pass_gbuffer_destroy(&r->pass_gbuffer);
+    if (r->vbuffer_made)
+        pass_vbuffer_destroy(&r->pass_vbuffer);
     glDeleteBuffers(1, &r->frame_ubo);
     glDeleteTextures(1, &r->brdf_albedo);
     targets_destroy(r);
@@ -268,6 +296,8 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
     } else if (rs->aa != old.aa && !fxaa_target_make(r)) {
         return false;
     }
+    if (!vbuffer_prepare(r))
+        return false;
     if (!r->gi)
         return technique_create(r);
     return true;
@@ -341,7 +371,10 @@ void renderer_frame(Renderer *r, const Camera *cam)
         gpu_timer_end(t);
     } else {
         gpu_timer_begin(t, "gbuffer");
-        pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
+        if (r->vbuffer_made)
+            pass_vbuffer_run(&r->pass_vbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
+        else
+            pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
         gpu_timer_end(t);
         /* The technique reads the G-buffer and the light products, never
          * the direct radiance: it runs first, so that one shading pass
@@ -463,7 +496,8 @@ RenderMemory renderer_gpu_memory(const Renderer *r)
     return (RenderMemory){
         .gi = r->stats.gpu_bytes,
         .lights = light_stage_gpu_bytes(&r->lights),
-        .frame = gl_textures_bytes(tex, 10) + gl_buffers_bytes(bufs, 2) + pass_temporal_bytes(&r->pass_temporal),
+        .frame = gl_textures_bytes(tex, 10) + gl_buffers_bytes(bufs, 2) + pass_temporal_bytes(&r->pass_temporal) +
+                 (r->vbuffer_made ? pass_vbuffer_bytes(&r->pass_vbuffer) : 0),
         .scene = gpu_scene_bytes(&r->gpu_scene),
     };
 }

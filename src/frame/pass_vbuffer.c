@@ -8,6 +8,7 @@
 #include "gl/gl_resources.h"
 #include "shared/gpu_types.h"
 
+_Static_assert(sizeof(Vertex) == 8 * sizeof(float), "frame/vbuffer.glsl reads a Vertex as two vec4");
 _Static_assert(GPU_CLUSTER_TRIANGLES == 1 << VBUFFER_TRIANGLE_BITS, "a visibility texel's triangle bits hold a cluster");
 
 enum { BIN_UINTS = 6 }; /* per material: indirect dispatch (3), count, start, cursor (frame/vbuffer.glsl) */

@@ -24,7 +24,9 @@
 // per vertex where llvmpipe would gather each float.
 layout(std430, binding = SSBO_SCENE_VERTICES) readonly buffer Vertices { vec4 vertex_data[]; };
 layout(std430, binding = SSBO_SCENE_INDICES) readonly buffer Indices { uint indices[]; };
-layout(std430, binding = SSBO_VBUFFER_CLUSTERS) readonly buffer Clusters { uvec2 clusters[]; }; // first triangle, material
+// Per cluster: its first triangle; its material, bit 31 set where that
+// material is resolved by its own dispatch (textured or alpha-masked).
+layout(std430, binding = SSBO_VBUFFER_CLUSTERS) readonly buffer Clusters { uvec2 clusters[]; };
 layout(std430, binding = SSBO_VBUFFER_MATERIALS) readonly buffer Materials { GpuMaterial materials[]; };
 layout(std430, binding = SSBO_VBUFFER_BINS) buffer Bins { uint bins[]; };
 layout(std430, binding = SSBO_VBUFFER_PIXELS) buffer Pixels { uint pixels[]; };
@@ -41,14 +43,13 @@ uint bin_count(uint m) { return 4u * m + 3u; }
 uint bin_start(uint m) { return 4u * material_count() + m; }
 uint bin_cursor(uint m) { return 5u * material_count() + m; }
 
-// The material of visibility texel id (not 0).
-uint vbuffer_material(uint id) { return clusters[(id - 1u) >> VBUFFER_TRIANGLE_BITS].y; }
-
-// Whether material m is resolved without textures (gpu_scene.c's untextured()).
-bool material_plain(uint m)
+// The material of visibility texel id (not 0), and whether it has its own
+// resolve dispatch (else the classification pass resolves it: no textures).
+uint vbuffer_material(uint id, out bool textured)
 {
-    GpuMaterial r = materials[m];
-    return r.albedo.w == 0.0 && r.pbr.w == 0.0 && r.emission.w < 0.0;
+    uint m = clusters[(id - 1u) >> VBUFFER_TRIANGLE_BITS].y;
+    textured = (m >> 31) != 0u;
+    return m & 0x7fffffffu;
 }
 
 

@@ -7,7 +7,11 @@
 //     itself to its material's list (SSBO_VBUFFER_PIXELS).
 // Material classification: a compute pass binds no textures per pixel, so
 // each textured material's pixels are resolved by one indirect dispatch
-// with its textures bound (frame/vbuffer_resolve.comp).
+// with its textures bound (frame/vbuffer_resolve.comp). A work group's
+// pixels of one material take one atomic between them (their count, and
+// each its rank among them, from shared memory): a global atomic per pixel
+// cost the classification and the scatter 2-3× their time on llvmpipe
+// (Sponza's nave, where a tile of 64 pixels holds one or two materials).
 #include "shared/gpu_types.h"
 #define MATERIAL_ROW
 #define MATERIAL_GRADIENTS
@@ -16,28 +20,50 @@
 
 layout(local_size_x = SHADE_GROUP, local_size_y = SHADE_GROUP) in;
 
+const uint LANES = uint(SHADE_GROUP * SHADE_GROUP);
+shared uint s_key[LANES];  // material + 1 of each lane's pixel where it is binned, else 0
+shared uint s_base[LANES]; // SCATTER: a leader's first slot
+
 void main()
 {
     ivec2 px = ivec2(gl_GlobalInvocationID.xy), size = imageSize(u_id);
-    if (any(greaterThanEqual(px, size)))
-        return;
-    uint id = imageLoad(u_id, px).x;
-#ifdef SCATTER
-    if (id == 0u)
-        return;
-    uint m = vbuffer_material(id);
-    if (!material_plain(m))
-        pixels[atomicAdd(bins[bin_cursor(m)], 1u)] = uint(px.x) | uint(px.y) << 16;
-#else
-    if (id == 0u) {
+    bool inside = all(lessThan(px, size));
+    uint id = inside ? imageLoad(u_id, px).x : 0u, m = 0u, key = 0u;
+    bool textured = false;
+    if (id != 0u) {
+        m = vbuffer_material(id, textured);
+        key = textured ? m + 1u : 0u;
+    }
+#ifndef SCATTER
+    if (inside && id == 0u) {
         imageStore(u_surface, px, uvec4(0u)); // no surface, no material
         imageStore(u_material, px, uvec4(0u));
-        return;
-    }
-    uint m = vbuffer_material(id);
-    if (material_plain(m))
+    } else if (inside && !textured) {
         vbuffer_resolve(px, id, m, size);
-    else
-        atomicAdd(bins[bin_count(m)], 1u);
+    }
+#endif
+    // This lane's rank among the group's lanes of its material, their
+    // count, and the first of them (the leader, which takes the atomic).
+    uint lane = gl_LocalInvocationIndex;
+    s_key[lane] = key;
+    barrier();
+    uint rank = 0u, count = 0u, leader = lane;
+    if (key != 0u) {
+        for (uint j = 0u; j < LANES; j++) {
+            bool same = s_key[j] == key;
+            count += same ? 1u : 0u;
+            rank += same && j < lane ? 1u : 0u;
+            leader = same && j < leader ? j : leader;
+        }
+    }
+#ifdef SCATTER
+    if (key != 0u && rank == 0u)
+        s_base[lane] = atomicAdd(bins[bin_cursor(m)], count);
+    barrier();
+    if (key != 0u)
+        pixels[s_base[leader] + rank] = uint(px.x) | uint(px.y) << 16;
+#else
+    if (key != 0u && rank == 0u)
+        atomicAdd(bins[bin_count(m)], count);
 #endif
 }

@@ -40,7 +40,7 @@
 #define SSBO_SCENE_VERTICES 16 /* the scene's vertex buffer read as floats (Vertex: 8 each; vct compute voxelization) */
 #define SSBO_SCENE_INDICES 17  /* the scene's index buffer read as uints (vct compute voxelization) */
 #define SSBO_VCT_WORK 18   /* vct compute voxelization: per submesh and level a header (indirect dispatch, count), then its large triangles */
-#define SSBO_VBUFFER_CLUSTERS 19  /* --gbuffer visibility: uint[2] per GpuScene cluster, its first triangle and its material */
+#define SSBO_VBUFFER_CLUSTERS 19  /* --gbuffer visibility: uint[2] per GpuScene cluster, its first triangle and its material (bit 31: textured) */
 #define SSBO_VBUFFER_MATERIALS 20 /* --gbuffer visibility: GpuMaterial per scene material */
 #define SSBO_VBUFFER_BINS 21      /* --gbuffer visibility: per material uint[4] (indirect dispatch x y z, pixel count), then start and cursor per material */
 #define SSBO_VBUFFER_PIXELS 22    /* --gbuffer visibility: the binned pixels, x | y << 16, material after material */

@@ -41,7 +41,8 @@ bool pass_vbuffer_create(PassVbuffer *p, ProgramCache *pc, const GpuScene *gs, c
     }
     for (int i = 0; i < gs->cluster_count; i++) {
         clusters[2 * i] = gs->clusters[i].first_index / 3u;
-        clusters[2 * i + 1] = (uint32_t)s->submeshes[gs->clusters[i].submesh].material;
+        const Submesh *sm = &s->submeshes[gs->clusters[i].submesh];
+        clusters[2 * i + 1] = (uint32_t)sm->material | (material_textured(&s->materials[sm->material]) ? 1u << 31 : 0u);
     }
     p->material_count = s->material_count;
     for (int m = 0; m < s->material_count; m++)

@@ -38,7 +38,7 @@ typedef struct PassVbuffer {
     GLuint fbo;       /* ids + the G-buffer's depth */
     GLuint depth;     /* the G-buffer depth texture fbo holds (a new one: remake) */
     int width, height;
-    GLuint clusters;  /* SSBO: uint[2] per GpuScene cluster: first triangle, material */
+    GLuint clusters;  /* SSBO: uint[2] per GpuScene cluster: first triangle, material (bit 31: textured) */
     GLuint materials; /* SSBO: GpuMaterial per scene material (uploaded every run) */
     GLuint bins;      /* SSBO: uint[6] per material (frame/vbuffer.glsl) */
     GLuint pixels;    /* SSBO: a uint per pixel, the binned pixels */

@@ -10,6 +10,7 @@
 
 #include <cglm/cglm.h>
 
+#include "gl/gl_context.h"
 #include "gl/gl_resources.h"
 #include "gl/gpu_budget.h"
 #include "base/log.h"
@@ -68,11 +69,25 @@ bool renderer_forward(const Renderer *r)
 }
 
 /* The G-buffer pass per device class, for GBUFFER_AUTO (measured with
- * scripts/gbuffer-ab.sh). llvmpipe: raster (see docs/performance.md); a
- * GPU: raster, unmeasured (scripts/gpu-check.sh measures both). */
+ * scripts/gbuffer-ab.sh, medians of alternated runs, steady `gbuffer` ms;
+ * docs/performance.md). A software rasterizer (llvmpipe): the visibility
+ * buffer draws the triangles once with no material work where the raster
+ * pass draws them twice, and pays a compute resolve per pixel instead, so
+ * it wins where triangles are many per pixel (Sponza's nave, 262K
+ * triangles: 0.4× at 640×360, 0.6× at 1280×720) and loses where they are
+ * few (1.2× at 1920×1080; the Cornell box at 256²: 2-4×): visibility from
+ * one triangle per 4 shading pixels.
+ * A GPU: raster, unmeasured (no GPU was lent; scripts/gpu-check.sh
+ * measures both). */
 bool renderer_gbuffer_visibility(const Renderer *r)
 {
-    return r->settings.gbuffer == GBUFFER_VISIBILITY;
+    const RenderSettings *rs = &r->settings;
+    if (rs->gbuffer != GBUFFER_AUTO)
+        return rs->gbuffer == GBUFFER_VISIBILITY;
+    if (!r->software)
+        return false;
+    double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs);
+    return (double)(r->scene->index_count / 3) * 4.0 >= pixels;
 }
 
 /* The visibility buffer's pass and targets while it is in use, sized
@@ -210,6 +225,7 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
     r->scene = s;
     r->settings = *rs;
     r->radiance_kept = true; /* (nothing drawn yet: hdr as created) */
+    r->software = gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
     gpu_timer_create(&r->timer, rs->timings, rs->timing_sync);
     program_cache_create(&r->programs);
     LightStageDesc ld = light_desc(rs);
@@ -371,9 +387,10 @@ void renderer_frame(Renderer *r, const Camera *cam)
         gpu_timer_end(t);
     } else {
         gpu_timer_begin(t, "gbuffer");
-        if (r->vbuffer_made)
+        if (r->vbuffer_made) {
             pass_vbuffer_run(&r->pass_vbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
-        else
+            r->pass_gbuffer.culled = r->pass_vbuffer.culled; /* the G-buffer's count, whichever pass drew it */
+        } else
             pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
         gpu_timer_end(t);
         /* The technique reads the G-buffer and the light products, never

@@ -92,6 +92,7 @@ typedef struct Renderer {
     PassGbuffer pass_gbuffer;
     PassVbuffer pass_vbuffer;  /* made while renderer_gbuffer_visibility (vbuffer_made) */
     bool vbuffer_made;
+    bool software;             /* the GL renderer is a software rasterizer (gl_renderer_is_software) */
     PassDirect pass_direct;
     PassShade pass_shade;
     PassFinish pass_finish;

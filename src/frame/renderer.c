@@ -69,14 +69,15 @@ bool renderer_forward(const Renderer *r)
 }
 
 /* The G-buffer pass per device class, for GBUFFER_AUTO (measured with
- * scripts/gbuffer-ab.sh, medians of alternated runs, steady `gbuffer` ms;
- * docs/performance.md). A software rasterizer (llvmpipe): the visibility
- * buffer draws the triangles once with no material work where the raster
- * pass draws them twice, and pays a compute resolve per pixel instead, so
- * it wins where triangles are many per pixel (Sponza's nave, 262K
- * triangles: 0.4× at 640×360, 0.6× at 1280×720) and loses where they are
- * few (1.2× at 1920×1080; the Cornell box at 256²: 2-4×): visibility from
- * one triangle per 4 shading pixels.
+ * scripts/gbuffer-ab.sh; docs/performance.md). A software rasterizer
+ * (llvmpipe): the visibility buffer draws the triangles once with no
+ * material work where the raster pass draws them twice, and pays a compute
+ * resolve per pixel instead, so it wins where triangles are many per pixel
+ * (Sponza's nave, 262K triangles, at 640×360: G-buffer wall time 0.4-0.7×,
+ * frame CPU time 0.78×) and loses where they are few (1920×1080: 1.2×;
+ * the Cornell box at 256²: 2-10×, frame CPU 1.5×); 1280×720 is about even
+ * (wall 0.6-1.0×, CPU 1.08×): visibility from one triangle per 2 shading
+ * pixels.
  * A GPU: raster, unmeasured (no GPU was lent; scripts/gpu-check.sh
  * measures both). */
 bool renderer_gbuffer_visibility(const Renderer *r)
@@ -87,7 +88,7 @@ bool renderer_gbuffer_visibility(const Renderer *r)
     if (!r->software)
         return false;
     double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs);
-    return (double)(r->scene->index_count / 3) * 4.0 >= pixels;
+    return (double)(r->scene->index_count / 3) * 2.0 >= pixels;
 }
 
 /* The visibility buffer's pass and targets while it is in use, sized

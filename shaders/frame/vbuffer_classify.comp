@@ -9,9 +9,10 @@
 // each textured material's pixels are resolved by one indirect dispatch
 // with its textures bound (frame/vbuffer_resolve.comp). A work group's
 // pixels of one material take one atomic between them (their count, and
-// each its rank among them, from shared memory): a global atomic per pixel
-// cost the classification and the scatter 2-3× their time on llvmpipe
-// (Sponza's nave, where a tile of 64 pixels holds one or two materials).
+// each its rank among them, from shared memory) where each had taken its
+// own: Sponza's nave at 640×360 on llvmpipe, CPU seconds per cold and
+// steady frame 0.51-0.56 -> 0.46-0.48 (a tile of 64 pixels holds one or
+// two materials).
 #include "shared/gpu_types.h"
 #define MATERIAL_ROW
 #define MATERIAL_GRADIENTS

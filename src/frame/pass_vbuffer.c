@@ -120,16 +120,9 @@ static void raster(PassVbuffer *p, const GpuScene *gs, const Scene *s, const Cam
     camera_view_proj(cam, (float)p->width / (float)p->height, vp);
     glProgramUniformMatrix4fv(p->raster_opaque, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
     glProgramUniformMatrix4fv(p->raster_masked, LOC_VIEW_PROJ, 1, GL_FALSE, (const float *)vp);
-    const GLuint zero[4] = {0, 0, 0, 0};
-    const float one = 1.f;
+    const GLuint zero[4] = {0, 0, 0, 0}; /* no surface */
     glClearNamedFramebufferuiv(p->fbo, GL_COLOR, 0, zero);
-    glClearNamedFramebufferfv(p->fbo, GL_DEPTH, 0, &one);
-    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
-    glViewport(0, 0, p->width, p->height);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LEQUAL);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
+    scene_raster_begin(p->fbo, p->width, p->height, GL_LEQUAL);
     /* Without culling: every cluster in scene order, as pass_gbuffer_run draws them. */
     DrawView view = {.view_proj = cull ? (const float *)vp : NULL, .eye = cull ? cam->position : NULL,
                      .culled = &p->culled, .draw_ids = true};

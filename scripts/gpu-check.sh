@@ -10,7 +10,10 @@
 #      first one's GPU and wall ms from `render --timings`, and with
 #      tests/vct_voxelize_bench (VCT_BENCH) the revoxelization after a move,
 #      medians of alternated rounds, on the Cornell box and Sponza;
-#   5. `rtgi probe` (what the device sustains on gather-shaped work).
+#   5. the two G-buffer passes (--gbuffer raster, visibility) alternated
+#      on the Cornell box and Sponza at SIZE (scripts/gbuffer-ab.sh): which
+#      one `--gbuffer auto` should pick on this device class;
+#   6. `rtgi probe` (what the device sustains on gather-shaped work).
 #   scripts/gpu-check.sh [OUT_DIR]        (default out/gpu-check; the tables also go to OUT_DIR/gpu-check.md)
 #   FRAMES=10 SIZE=1920x1080 GI="none rsm vct" scripts/gpu-check.sh    (the defaults, and a subset)
 # Run from the checkout's root after building (or with RTGI=path/to/rtgi:
@@ -96,6 +99,10 @@ start=$(date +%s)
         done
         echo
     fi
+    echo "## G-buffer: raster vs visibility, $size, medians of 3 alternated runs (steady, --gi none)"
+    echo
+    CASES="cornell|$size scenes/sponza_nave.json|$size" RTGI="$rtgi" scripts/gbuffer-ab.sh 3 "$frames"
+    echo
     echo "## rtgi probe"
     echo
     echo '```'

@@ -5,6 +5,7 @@
 # two directories with --compare DIR_A DIR_B).
 # Usage: scripts/render-matrix.sh DIR [RTGI]
 #        scripts/render-matrix.sh --compare DIR_A DIR_B [RTGI]
+#        RENDER_ARGS="--gbuffer visibility" scripts/render-matrix.sh DIR   (options added to every render)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ "${1:-}" = "--compare" ]; then
@@ -22,6 +23,8 @@ if [ "${1:-}" = "--compare" ]; then
 fi
 DIR=${1:?usage: scripts/render-matrix.sh DIR [RTGI]}
 RTGI=${2:-build/rtgi}
+# shellcheck disable=SC2086 # (EXTRA: words, split on purpose)
+EXTRA=${RENDER_ARGS:-}
 mkdir -p "$DIR"
 SPONZA=scenes/sponza_nave.json
 scenes=("cornell|cornell|96x96")
@@ -29,20 +32,20 @@ if [ -f ../shared/assets/sponza/Sponza.gltf ]; then scenes+=("sponza|$SPONZA|160
 for s in "${scenes[@]}"; do
   IFS='|' read -r tag scene size <<<"$s"
   for sh in none hard pcf pcss; do
-    $RTGI render --scene "$scene" --size "$size" --shadow "$sh" --out "$DIR/${tag}_shadow_$sh.pfm" --quiet
+    $RTGI render --scene "$scene" --size "$size" --shadow "$sh" --out "$DIR/${tag}_shadow_$sh.pfm" --quiet $EXTRA
   done
   for gi in rsm rsm-interp rsm-interleaved; do
-    $RTGI render --scene "$scene" --size "$size" --gi "$gi" --rsm-size 128 --out "$DIR/${tag}_gi_$gi.pfm" --quiet
+    $RTGI render --scene "$scene" --size "$size" --gi "$gi" --rsm-size 128 --out "$DIR/${tag}_gi_$gi.pfm" --quiet $EXTRA
   done
-  $RTGI render --scene "$scene" --size "$size" --gi rsm --rsm-exhaustive --rsm-size 16 --out "$DIR/${tag}_gi_rsm-exhaustive.pfm" --quiet
-  $RTGI render --scene "$scene" --size "$size" --gi lpv --lpv-size 16 --out "$DIR/${tag}_gi_lpv.pfm" --quiet
-  $RTGI render --scene "$scene" --size "$size" --gi vct --vct-size 32 --out "$DIR/${tag}_gi_vct.pfm" --quiet
+  $RTGI render --scene "$scene" --size "$size" --gi rsm --rsm-exhaustive --rsm-size 16 --out "$DIR/${tag}_gi_rsm-exhaustive.pfm" --quiet $EXTRA
+  $RTGI render --scene "$scene" --size "$size" --gi lpv --lpv-size 16 --out "$DIR/${tag}_gi_lpv.pfm" --quiet $EXTRA
+  $RTGI render --scene "$scene" --size "$size" --gi vct --vct-size 32 --out "$DIR/${tag}_gi_vct.pfm" --quiet $EXTRA
   for gi in vpl-all vpl-clamped vpl-slc vpl-interleaved vpl-metalights; do
-    $RTGI render --scene "$scene" --size "$size" --gi "$gi" --vpls 4096 --out "$DIR/${tag}_gi_$gi.pfm" --quiet
+    $RTGI render --scene "$scene" --size "$size" --gi "$gi" --vpls 4096 --out "$DIR/${tag}_gi_$gi.pfm" --quiet $EXTRA
   done
 done
 # Glossy materials: the direct light's GGX lobe and VCT's specular cone.
 for gi in none vct; do
-  $RTGI render --scene scenes/cornell_glossy.json --size 96x96 --gi "$gi" --vct-size 32 --out "$DIR/glossy_gi_$gi.pfm" --quiet
+  $RTGI render --scene scenes/cornell_glossy.json --size 96x96 --gi "$gi" --vct-size 32 --out "$DIR/glossy_gi_$gi.pfm" --quiet $EXTRA
 done
 echo "render-matrix: $(ls "$DIR"/*.pfm | wc -l) images in $DIR"

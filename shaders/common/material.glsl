@@ -1,10 +1,24 @@
 // material.glsl — the scene material as set per draw by gpu_scene_draw():
 // glTF metallic-roughness (scene.h Material; the BRDF is common/brdf.glsl).
+#ifdef MATERIAL_ROW
+// Compute passes over the pixels of many materials (frame/vbuffer_*.comp):
+// the constants from the row (GpuMaterial) the caller copies into
+// material_row; the textures are still bound per material. Such a program
+// declares none of the uniforms: gpu_scene_bind_material must not be used
+// on it.
+GpuMaterial material_row;
+#define u_albedo material_row.albedo.rgb
+#define u_has_tex int(material_row.albedo.w)
+#define u_alpha_cutoff material_row.emission.w
+#define u_emission material_row.emission.rgb
+#define u_pbr material_row.pbr
+#else
 layout(location = LOC_MATERIAL_ALBEDO) uniform vec3 u_albedo;
 layout(location = LOC_MATERIAL_HAS_TEX) uniform int u_has_tex;
 layout(location = LOC_MATERIAL_CUTOFF) uniform float u_alpha_cutoff;
 layout(location = LOC_MATERIAL_EMISSION) uniform vec3 u_emission;
 layout(location = LOC_MATERIAL_PBR) uniform vec4 u_pbr; // metallic, roughness, specular weight, has MR texture
+#endif
 layout(binding = TEX_ALBEDO) uniform sampler2D u_albedo_tex;
 layout(binding = TEX_MATERIAL_MR) uniform sampler2D u_mr_tex;
 #ifdef FLAT_UNIFORMS

@@ -40,7 +40,11 @@
 #define SSBO_SCENE_VERTICES 16 /* the scene's vertex buffer read as floats (Vertex: 8 each; vct compute voxelization) */
 #define SSBO_SCENE_INDICES 17  /* the scene's index buffer read as uints (vct compute voxelization) */
 #define SSBO_VCT_WORK 18   /* vct compute voxelization: per submesh and level a header (indirect dispatch, count), then its large triangles */
-#define SSBO_VCT_OPAQUE_PREV 19 /* vct region revoxelization: the opaque list before it (as SSBO_VCT_OPAQUE) */
+#define SSBO_VBUFFER_CLUSTERS 19  /* --gbuffer visibility: uint[2] per GpuScene cluster, its first triangle and its material (bit 31: textured) */
+#define SSBO_VBUFFER_MATERIALS 20 /* --gbuffer visibility: GpuMaterial per scene material */
+#define SSBO_VBUFFER_BINS 21      /* --gbuffer visibility: per material uint[4] (indirect dispatch x y z, pixel count), then start and cursor per material */
+#define SSBO_VBUFFER_PIXELS 22    /* --gbuffer visibility: the binned pixels, x | y << 16, material after material */
+#define SSBO_VCT_OPAQUE_PREV 23 /* vct region revoxelization: the opaque list before it (as SSBO_VCT_OPAQUE) */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */
@@ -78,6 +82,7 @@
 #define IMG_HDR 0        /* the frame's compute passes: radiance (RGBA32F) read and written */
 #define IMG_LDR 1        /* the frame's compute passes: display image written (RGBA8, sRGB-encoded bytes) */
 #define IMG_OUT2 1       /* second image (de-interleaving writes two) */
+#define IMG_VBUFFER_ID 2 /* --gbuffer visibility: the R32UI visibility image its compute passes read (frame/vbuffer.glsl) */
 #define IMG_LPV_STEP_SRC 0 /* lpv propagation: the last step's SH light, R, G, B side by side in x (3N × N × N) */
 #define IMG_LPV_STEP_DST 1 /* lpv propagation: this step's, the same layout */
 #define IMG_LPV_FACES 2  /* lpv propagation with occlusion: vec4[8] per cell side by side in x (8N × N × N), the faces' factors */
@@ -106,6 +111,8 @@
 #define LPV_INJECT_RUN 32     /* lpv compute injection: consecutive VPLs per invocation (gi/lpv/inject_fixed.comp) */
 #define VCT_MAX_CONES 16     /* diffuse cones of the largest set */
 #define VCT_MAX_LEVELS 4     /* clipmap levels */
+#define VBUFFER_TRIANGLE_BITS 11 /* a visibility texel: (cluster << 11 | triangle in it) + 1 (0: no surface); 2^11 = GPU_CLUSTER_TRIANGLES */
+#define VBUFFER_GROUP 64         /* frame/vbuffer_resolve.comp: binned pixels per work group */
 #define ISM_EMPTY 0x7f7fffffu /* an ISM texel no point reached: FLT_MAX's bits (visible from any distance) */
 
 /* ---- Uniform locations -------------------------------------------------- */
@@ -117,6 +124,8 @@
 #define LOC_VIEW_PROJ 4         /* mat4 */
 #define LOC_EYE 5               /* vec3: camera or light position (for facing) */
 #define LOC_MATERIAL_PBR 6      /* vec4: metallic, roughness, specular weight, 1 if it has a metallicRoughness texture */
+#define LOC_VBUFFER_DRAW 7      /* frame/vbuffer.frag: uint, the GpuScene cluster drawn (gpu_scene_draw_view's draw ids) */
+#define LOC_VBUFFER_MATERIAL 8  /* frame/vbuffer_resolve.comp: uint, the material whose pixels it resolves */
 /* Per-program uniforms (each program's own locations, from 10 up). */
 #define LOC_RSM_FACE_AXIS 12    /* rsm.frag: vec3 unit axis of the face / spot (past scene.vert's FLAT_UNIFORMS locations) */
 #define LOC_RSM_TEXEL_AREA 13   /* rsm.frag: float texel area on the projection plane */
@@ -358,6 +367,14 @@
     F(uint, far_stride)     /* far points: odd step through the sorted buffer */       \
     F(vec4, grid)           /* xyz: the grid's min corner (m); w: its cell size (m) */
 
+/* A scene material as the visibility buffer's resolve reads it (std430;
+ * frame/vbuffer_*.comp, common/material.glsl's MATERIAL_ROW): the
+ * constants gpu_scene_bind_material sets as uniforms. */
+#define GPU_MATERIAL_FIELDS(F, A)                                                        \
+    F(vec4, albedo)   /* rgb: base colour factor; w: 1 if it has a base colour texture */ \
+    F(vec4, emission) /* rgb: emitted radiance; w: alpha cutoff, < 0: no alpha mask */    \
+    F(vec4, pbr)      /* metallic, roughness, specular weight, 1 if it has a metallicRoughness texture */
+
 /* ---- Declarations --------------------------------------------------------- */
 #ifdef GL_core_profile /* GLSL */
 #define GPU_MEMBER(t, n) t n;
@@ -387,6 +404,7 @@ GPU_STRUCT(GpuVplParams, GPU_VPL_PARAMS_FIELDS)
 GPU_STRUCT(GpuLpvParams, GPU_LPV_PARAMS_FIELDS)
 GPU_STRUCT(GpuVctParams, GPU_VCT_PARAMS_FIELDS)
 GPU_STRUCT(GpuIsmParams, GPU_ISM_PARAMS_FIELDS)
+GPU_STRUCT(GpuMaterial, GPU_MATERIAL_FIELDS)
 
 #ifdef GL_core_profile
 /* The blocks, as every shader names them. */
@@ -407,6 +425,7 @@ static_assert(sizeof(GpuVpl) == 48, "GpuVpl: std430 size");
 static_assert(sizeof(GpuVplParams) == 13 * 4, "GpuVplParams: 13 scalars (std140 rounds the block to 64)");
 static_assert(sizeof(GpuLpvParams) == 2 * 16 + LPV_MAX_CASCADES * 16, "GpuLpvParams: std140 size");
 static_assert(sizeof(GpuIsmParams) == 5 * 16, "GpuIsmParams: std140 size");
+static_assert(sizeof(GpuMaterial) == 3 * 16, "GpuMaterial: std430 size");
 static_assert(sizeof(GpuVctParams) == 3 * 16 + VCT_MAX_LEVELS * 16 + 2 * VCT_MAX_CONES * 16, "GpuVctParams: std140 size");
 
 #include <string.h>

@@ -46,6 +46,7 @@ void render_options_help_settings(void)
 static const char *const k_shadow_names[] = {"none", "hard", "pcf", "pcss", NULL};
 static const char *const k_aa_names[] = {"none", "fxaa", NULL};
 static const char *const k_shading_names[] = {"auto", "forward", "deferred", NULL};
+static const char *const k_gbuffer_names[] = {"auto", "raster", "visibility", NULL};
 
 /* --probe of the options last turned into settings (read by the timings report). */
 
@@ -86,6 +87,7 @@ static OptionDesc k_shared_options[] = {
     OPT_INT("--ssaa", RO, ssaa, 1, 8, "N x N supersampling, box filter (1: off)"),
     OPT_CHOICE("--aa", RO, aa, k_aa_names, "post-process AA of the tone-mapped image"),
     OPT_CHOICE("--shading", RO, shading, k_shading_names, "frames without a GI technique: shade while drawing the scene (forward) or from the G-buffer, as GI frames do; auto: forward below 1 triangle per 64 pixels"),
+    OPT_CHOICE("--gbuffer", RO, gbuffer, k_gbuffer_names, "deferred frames' G-buffer: draw the scene's materials (raster) or a visibility buffer of triangle ids resolved in compute (visibility); auto: this device class's faster one"),
     OPT_FLAG("--half", RO, half, "EXR (.exr) output (render) or captures (view) as half floats (else float32)"),
     OPT_WORD("--shader-dir", RO, shader_dir, "DIR", "read shaders from DIR instead of the embedded copies (default: embedded)"),
     OPT_FLAG("--debug", RO, debug, "GL debug context, KHR_debug messages logged"),
@@ -220,4 +222,5 @@ void render_options_settings(const RenderOptions *o, const Scene *scene, RenderS
     rs->ssaa = o->ssaa;
     rs->aa = (AaMode)o->aa;
     rs->shading = (ShadingMode)o->shading;
+    rs->gbuffer = (GbufferMode)o->gbuffer;
 }

@@ -25,6 +25,7 @@ typedef struct RenderOptions {
     int ssaa;          /* N×N supersampling (1: off) */
     int aa;            /* AaMode (render: none, view: fxaa) */
     int shading;       /* ShadingMode of direct-only frames (--shading; default auto) */
+    int gbuffer;       /* GbufferMode of deferred frames (--gbuffer; default auto) */
     bool timings, debug;
     bool half;         /* --half: EXR output (render) or captures (view) as half floats */
     const char *probe; /* --probe FILE: a `rtgi probe --json` result for --timings */

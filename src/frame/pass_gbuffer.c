@@ -38,16 +38,9 @@ static void gbuffer_begin(PassGbuffer *p, const Camera *cam, const GBuffer *out,
             glProgramUniform3fv(programs[i], LOC_EYE, 1, cam->position);
     }
     const GLuint zero[4] = {0, 0, 0, 0}; /* no surface, no material */
-    const float one = 1.f;
     for (int i = 0; i < 2 && colors; i++)
         glClearNamedFramebufferuiv(out->fbo, GL_COLOR, i, zero);
-    glClearNamedFramebufferfv(out->fbo, GL_DEPTH, 0, &one);
-    glBindFramebuffer(GL_FRAMEBUFFER, out->fbo);
-    glViewport(0, 0, out->width, out->height);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
+    scene_raster_begin(out->fbo, out->width, out->height, GL_LESS);
 }
 
 /* Opaque materials with early depth, nearest clusters first so it rejects

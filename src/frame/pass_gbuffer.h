@@ -24,7 +24,8 @@ typedef struct PassGbuffer {
     GLuint program_untextured; /* opaque materials without textures: no texture code */
     GLuint depth_opaque;   /* pre-pass: opaque materials, no fragment work */
     GLuint depth_masked;   /* pre-pass: alpha-masked materials, discard only */
-    int culled; /* clusters outside the view in the last run */
+    int culled; /* clusters outside the view in the last run (of pass_vbuffer's, copied by
+                   renderer_frame, where it filled the G-buffer) */
 } PassGbuffer;
 
 /* Its program comes from `pc`. */

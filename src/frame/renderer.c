@@ -10,6 +10,7 @@
 
 #include <cglm/cglm.h>
 
+#include "gl/gl_context.h"
 #include "gl/gl_resources.h"
 #include "gl/gpu_budget.h"
 #include "base/log.h"
@@ -65,6 +66,47 @@ bool renderer_forward(const Renderer *r)
         return true;
     double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs);
     return (double)(r->scene->index_count / 3) * 64.0 < pixels;
+}
+
+/* The G-buffer pass per device class, for GBUFFER_AUTO (measured with
+ * scripts/gbuffer-ab.sh; docs/performance.md). A software rasterizer
+ * (llvmpipe): the visibility buffer draws the triangles once with no
+ * material work where the raster pass draws them twice, and pays a compute
+ * resolve per pixel instead, so it wins where triangles are many per pixel
+ * (Sponza's nave, 262K triangles, at 640×360: G-buffer wall time 0.4-0.7×,
+ * frame CPU time 0.78×) and loses where they are few (1920×1080: 1.2×;
+ * the Cornell box at 256²: 2-10×, frame CPU 1.5×); 1280×720 is about even
+ * (wall 0.6-1.0×, CPU 1.08×): visibility from one triangle per 2 shading
+ * pixels.
+ * A GPU: raster, unmeasured (no GPU was lent; scripts/gpu-check.sh
+ * measures both). */
+bool renderer_gbuffer_visibility(const Renderer *r)
+{
+    const RenderSettings *rs = &r->settings;
+    if (rs->gbuffer != GBUFFER_AUTO)
+        return rs->gbuffer == GBUFFER_VISIBILITY;
+    if (!r->software)
+        return false;
+    double pixels = (double)rs->width * rs->height * renderer_ssaa(rs) * renderer_ssaa(rs);
+    return (double)(r->scene->index_count / 3) * 2.0 >= pixels;
+}
+
+/* The visibility buffer's pass and targets while it is in use, sized
+ * with the G-buffer; freed when it is not. */
+static bool vbuffer_prepare(Renderer *r)
+{
+    if (!renderer_gbuffer_visibility(r)) {
+        if (r->vbuffer_made)
+            pass_vbuffer_destroy(&r->pass_vbuffer);
+        r->vbuffer_made = false;
+        return true;
+    }
+    if (!r->vbuffer_made) {
+        r->vbuffer_made = true; /* destroyed as made, even half-way */
+        if (!pass_vbuffer_create(&r->pass_vbuffer, &r->programs, &r->gpu_scene, r->scene))
+            return false;
+    }
+    return pass_vbuffer_resize(&r->pass_vbuffer, &r->gbuffer);
 }
 
 static void targets_destroy(Renderer *r)
@@ -184,6 +226,7 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
     r->scene = s;
     r->settings = *rs;
     r->radiance_kept = true; /* (nothing drawn yet: hdr as created) */
+    r->software = gl_renderer_is_software((const char *)glGetString(GL_RENDERER));
     gpu_timer_create(&r->timer, rs->timings, rs->timing_sync);
     program_cache_create(&r->programs);
     LightStageDesc ld = light_desc(rs);
@@ -199,7 +242,7 @@ bool renderer_create(Renderer *r, const Scene *s, const RenderSettings *rs)
         return false;
     pass_direct_set_shadow(&r->pass_direct, rs->shadow, &rs->set.shadow);
     pass_temporal_create(&r->pass_temporal, pc);
-    return technique_create(r);
+    return vbuffer_prepare(r) && technique_create(r);
 }
 
 void renderer_destroy(Renderer *r)
@@ -211,6 +254,8 @@ void renderer_destroy(Renderer *r)
     pass_shade_destroy(&r->pass_shade);
     pass_direct_destroy(&r->pass_direct);
     pass_gbuffer_destroy(&r->pass_gbuffer);
+    if (r->vbuffer_made)
+        pass_vbuffer_destroy(&r->pass_vbuffer);
     glDeleteBuffers(1, &r->frame_ubo);
     glDeleteTextures(1, &r->brdf_albedo);
     targets_destroy(r);
@@ -268,6 +313,8 @@ static bool apply(Renderer *r, const RenderSettings *rs, bool redo)
     } else if (rs->aa != old.aa && !fxaa_target_make(r)) {
         return false;
     }
+    if (!vbuffer_prepare(r))
+        return false;
     if (!r->gi)
         return technique_create(r);
     return true;
@@ -341,7 +388,11 @@ void renderer_frame(Renderer *r, const Camera *cam)
         gpu_timer_end(t);
     } else {
         gpu_timer_begin(t, "gbuffer");
-        pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
+        if (r->vbuffer_made) {
+            pass_vbuffer_run(&r->pass_vbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
+            r->pass_gbuffer.culled = r->pass_vbuffer.culled; /* the G-buffer's count, whichever pass drew it */
+        } else
+            pass_gbuffer_run(&r->pass_gbuffer, &r->gpu_scene, r->scene, cam, cull, &r->gbuffer);
         gpu_timer_end(t);
         /* The technique reads the G-buffer and the light products, never
          * the direct radiance: it runs first, so that one shading pass
@@ -463,7 +514,8 @@ RenderMemory renderer_gpu_memory(const Renderer *r)
     return (RenderMemory){
         .gi = r->stats.gpu_bytes,
         .lights = light_stage_gpu_bytes(&r->lights),
-        .frame = gl_textures_bytes(tex, 10) + gl_buffers_bytes(bufs, 2) + pass_temporal_bytes(&r->pass_temporal),
+        .frame = gl_textures_bytes(tex, 10) + gl_buffers_bytes(bufs, 2) + pass_temporal_bytes(&r->pass_temporal) +
+                 (r->vbuffer_made ? pass_vbuffer_bytes(&r->pass_vbuffer) : 0),
         .scene = gpu_scene_bytes(&r->gpu_scene),
     };
 }

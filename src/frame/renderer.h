@@ -25,11 +25,18 @@
 #include "frame/pass_gbuffer.h"
 #include "frame/pass_shade.h"
 #include "frame/pass_temporal.h"
+#include "frame/pass_vbuffer.h"
 #include "core/scene.h"
 #include "gpu/targets.h"
 
 /* How frames without a GI technique shade (renderer_forward). */
 typedef enum ShadingMode { SHADING_AUTO = 0, SHADING_FORWARD = 1, SHADING_DEFERRED = 2 } ShadingMode;
+
+/* How deferred frames fill the G-buffer (renderer_gbuffer_visibility):
+ * drawing the scene with its materials (pass_gbuffer) or a visibility
+ * buffer resolved in compute (pass_vbuffer); auto: this device class's
+ * faster one. */
+typedef enum GbufferMode { GBUFFER_AUTO = 0, GBUFFER_RASTER = 1, GBUFFER_VISIBILITY = 2 } GbufferMode;
 
 /* Post-process anti-aliasing of the tone-mapped image. */
 typedef enum AaMode { AA_NONE = 0, AA_FXAA = 1 } AaMode;
@@ -45,6 +52,7 @@ typedef struct RenderSettings {
     bool cache;       /* keep light products (shadow maps, RSMs) until their light or size changes */
     bool no_cull;     /* draw every cluster in scene order (culling's baseline in tests) */
     ShadingMode shading; /* direct-only frames (no GI technique): forward, deferred, or chosen by the scene */
+    GbufferMode gbuffer; /* deferred frames' G-buffer: raster, visibility, or chosen by the device */
     int ssaa;         /* N×N supersampling with a box filter; 0 or 1: off */
     AaMode aa;        /* post-process AA of the tone-mapped image */
     bool display_only; /* only the final image is read: a forward frame that tone-maps as it shades
@@ -82,6 +90,9 @@ typedef struct Renderer {
     RenderStats stats;         /* filled by renderer_collect_stats */
     GiFrame last_frame;        /* what the technique saw last (for its stats) */
     PassGbuffer pass_gbuffer;
+    PassVbuffer pass_vbuffer;  /* made while renderer_gbuffer_visibility (vbuffer_made) */
+    bool vbuffer_made;
+    bool software;             /* the GL renderer is a software rasterizer (gl_renderer_is_software) */
     PassDirect pass_direct;
     PassShade pass_shade;
     PassFinish pass_finish;
@@ -149,6 +160,10 @@ int renderer_ssaa(const RenderSettings *rs);
  * G-buffer); SHADING_AUTO picks forward where the scene has fewer
  * triangles than shading pixels / 64 (see renderer.c). */
 bool renderer_forward(const Renderer *r);
+/* Whether r's deferred frames fill the G-buffer through the visibility
+ * buffer (pass_vbuffer) rather than by drawing the materials
+ * (pass_gbuffer): GBUFFER_AUTO picks by device class (see renderer.c). */
+bool renderer_gbuffer_visibility(const Renderer *r);
 /* Whether the frames so far were drawn as asked: every program they asked
  * for was built and every technique run succeeded. Where a program was not
  * (a shader under --shader-dir that does not compile, say), the frame drew

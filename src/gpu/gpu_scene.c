@@ -468,6 +468,8 @@ void gpu_scene_draw_view(const GpuScene *g, const Scene *s, const DrawPrograms *
             if (mi != bound)
                 gpu_scene_bind_material(g, m, program);
             bound = mi;
+            if (view && view->draw_ids)
+                glProgramUniform1ui(program, LOC_VBUFFER_DRAW, (GLuint)items[k].cluster);
             glDrawElements(GL_TRIANGLES, (GLsizei)c->index_count, GL_UNSIGNED_INT,
                            (const void *)(sizeof(uint32_t) * c->first_index));
         }

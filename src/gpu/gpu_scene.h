@@ -73,6 +73,8 @@ typedef struct DrawView {
     const float *view_proj; /* column-major 4×4 (cglm mat4) */
     const float *eye;       /* vec3 */
     int *culled;
+    bool draw_ids; /* set LOC_VBUFFER_DRAW (uint) to each draw's cluster index (GpuScene.clusters)
+                      before it: the visibility buffer's ids (frame/vbuffer.frag) */
 } DrawView;
 
 /* Draws every submesh with `program`, setting the material uniforms

@@ -96,6 +96,18 @@ bool fbo_make(GLuint *fbo, const GLuint *colors, int n, GLuint depth, bool cube,
     return fbo_check(*fbo, label);
 }
 
+void scene_raster_begin(GLuint fbo, int width, int height, GLenum depth_func)
+{
+    const float one = 1.f;
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, width, height);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(depth_func);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+}
+
 bool gbuffer_create(GBuffer *g, int w, int h)
 {
     g->width = w;

@@ -45,6 +45,11 @@ bool fbo_check(GLuint fbo, const char *label);
  * sampled, drawn or blitted. */
 void fullscreen_dispatch(int width, int height);
 
+/* The state of a pass that draws the scene into `fbo` (width × height):
+ * its depth cleared to 1, bound, the viewport set, the depth test with
+ * `depth_func`, no face culling, no blending (the G-buffer's passes). */
+void scene_raster_begin(GLuint fbo, int width, int height, GLenum depth_func);
+
 bool gbuffer_create(GBuffer *g, int width, int height);
 void gbuffer_destroy(GBuffer *g);
 bool color_target_create(ColorTarget *t, GLenum format, int width, int height, const char *label);

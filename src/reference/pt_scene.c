@@ -188,6 +188,10 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
         return false;
     }
     rtcCommitScene(ps->rtc);
+    size_t bytes = records;
+    for (int i = 0; i < s->texture_count; i++)
+        bytes += 4 * (size_t)s->textures[i].width * (size_t)s->textures[i].height;
+    ps->memory_bound = bytes > PT_CACHE_BYTES;
     ps->diag = glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
     if (ps->diag <= 0.f)
         ps->diag = 1.f;
@@ -253,7 +257,21 @@ static void fill_hit(const PtScene *ps, const vec3 d, float t, unsigned geom, un
     h->material = (int)tr->material;
 }
 
-bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h)
+/* The texels a bilinear lookup of t at uv reads (texture_bilinear's two
+ * rows at x0 and x1), asked of the memory ahead of the read. */
+static void texture_prefetch(const Texture *t, const float uv[2])
+{
+    float x = uv[0] * t->width - 0.5f, y = uv[1] * t->height - 0.5f;
+    int x0 = wrap((int)floorf(x), t->width), y0 = wrap((int)floorf(y), t->height);
+    int x1 = x0 + 1 < t->width ? x0 + 1 : 0, y1 = y0 + 1 < t->height ? y0 + 1 : 0;
+    const uint8_t *r0 = t->rgba + 4 * (size_t)y0 * t->width, *r1 = t->rgba + 4 * (size_t)y1 * t->width;
+    __builtin_prefetch(r0 + 4 * x0);
+    __builtin_prefetch(r1 + 4 * x0);
+    __builtin_prefetch(r0 + 4 * x1);
+    __builtin_prefetch(r1 + 4 * x1);
+}
+
+bool pt_trace(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtRawHit *r)
 {
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -264,7 +282,37 @@ bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtH
     rtcIntersect1(ps->rtc, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return false;
-    fill_hit(ps, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, h);
+    r->t = rh.ray.tfar;
+    r->u = rh.hit.u;
+    r->v = rh.hit.v;
+    r->geom = rh.hit.geomID;
+    r->prim = rh.hit.primID;
+    const char *rec = (const char *)&ps->tris[ps->tri_base[r->geom] + r->prim];
+    __builtin_prefetch(rec);
+    __builtin_prefetch(rec + 64);
+    return true;
+}
+
+void pt_hit(const PtScene *ps, const vec3 d, const PtRawHit *r, PtHit *h)
+{
+    fill_hit(ps, d, r->t, r->geom, r->prim, r->u, r->v, h);
+}
+
+void pt_prefetch_surface(const PtScene *ps, const PtHit *h)
+{
+    const Material *m = &ps->scene->materials[h->material];
+    if (m->albedo_tex >= 0)
+        texture_prefetch(&ps->scene->textures[m->albedo_tex], h->uv);
+    if (m->mr_tex >= 0)
+        texture_prefetch(&ps->scene->textures[m->mr_tex], h->uv);
+}
+
+bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h)
+{
+    PtRawHit r;
+    if (!pt_trace(ps, o, d, tmax, &r))
+        return false;
+    pt_hit(ps, d, &r, h);
     return true;
 }
 

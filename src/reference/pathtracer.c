@@ -46,6 +46,12 @@ void pt_settings_default(PtSettings *s)
     s->sampler = PT_SAMPLER_SOBOL;
 }
 
+/* A directional light's disk, as sun_sample draws it (sun_disk). */
+typedef struct SunDisk {
+    float one_minus_cos; /* 1 − cos of the disk's angular radius */
+    float li_scale;      /* the irradiance's factor to L·Ω */
+} SunDisk;
+
 /* pt_job.h's job. */
 typedef struct PtJob {
     const Scene *scene;        /* borrowed */
@@ -61,6 +67,8 @@ typedef struct PtJob {
     pthread_t *threads;        /* room for set->threads − 1 helpers (owned) */
     struct MatShade *mats;     /* per material, made at each pass's start (owned; NULL: none) */
     int mats_count, mats_cap;  /* materials in `mats` (0: shade_make computes every one), its room */
+    SunDisk *suns;             /* per light, made at each pass's start (owned; directional lights' entries used; NULL: none) */
+    int suns_cap;              /* room in `suns` */
     CameraRayBasis cam;        /* the scene camera's rays at this size */
 } Job;
 
@@ -87,13 +95,24 @@ static void toward(const vec3 o, const vec3 lp, LightSample *ls)
     glm_vec3_scale(ls->wi, 1.f / ls->dist, ls->wi);
 }
 
+/* sun_sample's constants of a sun of angular diameter `size` > 0: with
+ * a = size/2, s = sin(a/2) and c = cos(a/2), 1 − cos a = 2s² and the
+ * radiance's factor 1/c² (made once per pass: libm's sinf and cosf at
+ * every vertex had been 1.3% of Sponza's time). */
+static void sun_disk(float size, SunDisk *sd)
+{
+    float half = 0.5f * size, s = sinf(0.5f * half), c = cosf(0.5f * half);
+    sd->one_minus_cos = 2.f * s * s;
+    sd->li_scale = 1.f / (c * c);
+}
+
 /* Directional: irradiance E on a plane facing it. With an angular diameter
  * 2a it is a disk of uniform radiance L = E / (π sin²a) (so that the
  * irradiance facing it, L·π sin²a, is E), sampled uniformly over its solid
  * angle Ω = 2π(1 − cos a) = 4π sin²(a/2); then li = L·Ω = E / cos²(a/2),
  * with no cancellation (2π(1 − cosf a) in float is 0.25% low for the real
  * sun, a = 0.0046). */
-static bool sun_sample(const Light *l, const float u[2], LightSample *ls)
+static bool sun_sample(const Light *l, const SunDisk *sd, const float u[2], LightSample *ls)
 {
     glm_vec3_negate_to((float *)l->direction, ls->wi);
     ls->dist = INFINITY;
@@ -102,11 +121,15 @@ static bool sun_sample(const Light *l, const float u[2], LightSample *ls)
         glm_vec3_copy((float *)l->color, ls->li);
         return true;
     }
-    float half = 0.5f * l->size, s = sinf(0.5f * half), c = cosf(0.5f * half);
+    SunDisk own;
+    if (!sd) { /* none made (no room for them): this one */
+        sun_disk(l->size, &own);
+        sd = &own;
+    }
     vec3 axis;
     glm_vec3_copy(ls->wi, axis);
-    sample_cone(axis, 2.f * s * s, u[0], u[1], ls->wi);
-    glm_vec3_scale((float *)l->color, 1.f / (c * c), ls->li);
+    sample_cone(axis, sd->one_minus_cos, u[0], u[1], ls->wi);
+    glm_vec3_scale((float *)l->color, sd->li_scale, ls->li);
     return true;
 }
 
@@ -198,11 +221,11 @@ static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSam
     return true;
 }
 
-static bool light_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+static bool light_sample(const Light *l, const SunDisk *sd, const vec3 o, const float u[2], LightSample *ls)
 {
     switch (l->type) {
     case LIGHT_DIRECTIONAL:
-        return sun_sample(l, u, ls);
+        return sun_sample(l, sd, u, ls);
     case LIGHT_POINT:
         return point_sample(l, o, u, ls);
     case LIGHT_SPOT:
@@ -258,6 +281,29 @@ static void materials_refresh(Job *j)
     j->mats_count = n;
 }
 
+/* The job's SunDisk of every light as it is now (lights change between
+ * passes too); with no room for them, none (sun_sample then makes each). */
+static void lights_refresh(Job *j)
+{
+    int n = j->scene->light_count;
+    if (n > j->suns_cap) {
+        SunDisk *d = realloc(j->suns, (size_t)n * sizeof *d);
+        if (!d) {
+            free(j->suns);
+            j->suns = NULL;
+            j->suns_cap = 0;
+            return;
+        }
+        j->suns = d;
+        j->suns_cap = n;
+    }
+    for (int i = 0; i < n; i++) {
+        const Light *l = &j->scene->lights[i];
+        if (l->type == LIGHT_DIRECTIONAL && l->size > 0.f)
+            sun_disk(l->size, &j->suns[i]);
+    }
+}
+
 static void shade_make(const Job *j, const PtHit *h, const vec3 wo, Shade *sh)
 {
     if (h->material < j->mats_count && j->mats[h->material].constant)
@@ -300,7 +346,7 @@ static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, 
         float u[2];
         sampler_2d(smp, u);
         LightSample ls;
-        if (!light_sample(&j->scene->lights[i], o, u, &ls))
+        if (!light_sample(&j->scene->lights[i], j->suns ? &j->suns[i] : NULL, o, u, &ls))
             continue;
         float c = dot3(ls.wi, sh->n);
         if (c <= 0.f || dot3(ls.wi, h->ng) <= 0.f)
@@ -678,6 +724,7 @@ void pt_job_destroy(Job *j)
     free(j->sum2);
     free(j->threads);
     free(j->mats);
+    free(j->suns);
     pt_scene_destroy(&j->ps);
     free(j);
 }
@@ -710,6 +757,7 @@ bool pt_job_pass(Job *j, int s0, int s1, int nthreads, bool background, const at
     atomic_store(&j->next_tile, 0);
     atomic_store(&j->tiles_done, 0);
     materials_refresh(j);
+    lights_refresh(j);
     int helpers = nthreads - 1, max = j->set->threads > 1 ? j->set->threads - 1 : 0;
     helpers = helpers < 0 ? 0 : helpers > max ? max : helpers;
     int started = 0;

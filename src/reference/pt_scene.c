@@ -38,12 +38,6 @@ static inline int wrap(int x, int n)
     return x < 0 ? x + n : x;
 }
 
-/* Texel fetch with wrap-around; row 0 of the image is v = 0. */
-static const uint8_t *texel(const Texture *t, int x, int y)
-{
-    return t->rgba + 4 * ((size_t)wrap(y, t->height) * t->width + wrap(x, t->width));
-}
-
 static void tri_uv(const PtTri *t, float bu, float bv, float uv[2])
 {
     float w = 1.f - bu - bv;
@@ -60,8 +54,13 @@ static float alpha_at(const Texture *t, const float uv[2])
     float x = uv[0] * t->width - 0.5f, y = uv[1] * t->height - 0.5f;
     int x0 = (int)floorf(x), y0 = (int)floorf(y);
     float fx = x - x0, fy = y - y0;
-    return ((1 - fx) * (1 - fy) * texel(t, x0, y0)[3] + fx * (1 - fy) * texel(t, x0 + 1, y0)[3] +
-            (1 - fx) * fy * texel(t, x0, y0 + 1)[3] + fx * fy * texel(t, x0 + 1, y0 + 1)[3]) / 255.f;
+    /* Wrapped once per axis (texel's modulo at every texel had been most
+     * of the filter's time); the next texel wraps by a compare. */
+    int wx0 = wrap(x0, t->width), wy0 = wrap(y0, t->height);
+    int wx1 = wx0 + 1 < t->width ? wx0 + 1 : 0, wy1 = wy0 + 1 < t->height ? wy0 + 1 : 0;
+    const uint8_t *r0 = t->rgba + 4 * (size_t)wy0 * t->width, *r1 = t->rgba + 4 * (size_t)wy1 * t->width;
+    return ((1 - fx) * (1 - fy) * r0[4 * wx0 + 3] + fx * (1 - fy) * r0[4 * wx1 + 3] +
+            (1 - fx) * fy * r1[4 * wx0 + 3] + fx * fy * r1[4 * wx1 + 3]) / 255.f;
 }
 
 /* Rejects hits on texels below the material's alpha cutoff. */
@@ -119,7 +118,7 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
     rtcSetDeviceErrorFunction(ps->device, embree_error, NULL);
     ps->rtc = rtcNewScene(ps->device);
     rtcSetSceneFlags(ps->rtc, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-    rtcSetSceneBuildQuality(ps->rtc, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(ps->rtc, RTC_BUILD_QUALITY_MEDIUM);
 
     uint32_t ntri = s->index_count / 3;
     size_t table = sizeof(uint32_t) * ((size_t)ntri + 1);

@@ -46,11 +46,13 @@ void pt_settings_default(PtSettings *s)
     s->sampler = PT_SAMPLER_SOBOL;
 }
 
-/* A directional light's disk, as sun_sample draws it (sun_disk). */
-typedef struct SunDisk {
-    float one_minus_cos; /* 1 − cos of the disk's angular radius */
-    float li_scale;      /* the irradiance's factor to L·Ω */
-} SunDisk;
+/* What a light's sample needs that does not vary over the scene, made
+ * once per pass (light_const) rather than at every vertex. */
+typedef struct LightConst {
+    float one_minus_cos; /* directional, size > 0: 1 − cos of the disk's angular radius */
+    float li_scale;      /* directional, size > 0: the irradiance's factor to L·Ω */
+    float area1;         /* quad: its area at size 1 (quad_area1) */
+} LightConst;
 
 /* pt_job.h's job. */
 typedef struct PtJob {
@@ -67,8 +69,8 @@ typedef struct PtJob {
     pthread_t *threads;        /* room for set->threads − 1 helpers (owned) */
     struct MatShade *mats;     /* per material, made at each pass's start (owned; NULL: none) */
     int mats_count, mats_cap;  /* materials in `mats` (0: shade_make computes every one), its room */
-    SunDisk *suns;             /* per light, made at each pass's start (owned; directional lights' entries used; NULL: none) */
-    int suns_cap;              /* room in `suns` */
+    LightConst *lconst;        /* per light, made at each pass's start (owned; NULL: none) */
+    int lconst_cap;            /* room in `lconst` */
     CameraRayBasis cam;        /* the scene camera's rays at this size */
 } Job;
 
@@ -95,15 +97,21 @@ static void toward(const vec3 o, const vec3 lp, LightSample *ls)
     glm_vec3_scale(ls->wi, 1.f / ls->dist, ls->wi);
 }
 
-/* sun_sample's constants of a sun of angular diameter `size` > 0: with
- * a = size/2, s = sin(a/2) and c = cos(a/2), 1 − cos a = 2s² and the
- * radiance's factor 1/c² (made once per pass: libm's sinf and cosf at
- * every vertex had been 1.3% of Sponza's time). */
-static void sun_disk(float size, SunDisk *sd)
+/* quad_area1 and sun_sample's constants of a sun of angular diameter
+ * size > 0: with a = size/2, s = sin(a/2) and c = cos(a/2), 1 − cos a =
+ * 2s² and the radiance's factor 1/c² (libm's sinf and cosf at every vertex
+ * had been 1.3% of Sponza's time). */
+static float quad_area1(const Light *l);
+static void light_const(const Light *l, LightConst *lc)
 {
-    float half = 0.5f * size, s = sinf(0.5f * half), c = cosf(0.5f * half);
-    sd->one_minus_cos = 2.f * s * s;
-    sd->li_scale = 1.f / (c * c);
+    memset(lc, 0, sizeof *lc);
+    if (l->type == LIGHT_DIRECTIONAL && l->size > 0.f) {
+        float half = 0.5f * l->size, s = sinf(0.5f * half), c = cosf(0.5f * half);
+        lc->one_minus_cos = 2.f * s * s;
+        lc->li_scale = 1.f / (c * c);
+    }
+    if (l->type == LIGHT_QUAD)
+        lc->area1 = quad_area1(l);
 }
 
 /* Directional: irradiance E on a plane facing it. With an angular diameter
@@ -112,7 +120,7 @@ static void sun_disk(float size, SunDisk *sd)
  * angle Ω = 2π(1 − cos a) = 4π sin²(a/2); then li = L·Ω = E / cos²(a/2),
  * with no cancellation (2π(1 − cosf a) in float is 0.25% low for the real
  * sun, a = 0.0046). */
-static bool sun_sample(const Light *l, const SunDisk *sd, const float u[2], LightSample *ls)
+static bool sun_sample(const Light *l, const LightConst *sd, const float u[2], LightSample *ls)
 {
     glm_vec3_negate_to((float *)l->direction, ls->wi);
     ls->dist = INFINITY;
@@ -120,11 +128,6 @@ static bool sun_sample(const Light *l, const SunDisk *sd, const float u[2], Ligh
     if (l->size <= 0.f) {
         glm_vec3_copy((float *)l->color, ls->li);
         return true;
-    }
-    SunDisk own;
-    if (!sd) { /* none made (no room for them): this one */
-        sun_disk(l->size, &own);
-        sd = &own;
     }
     vec3 axis;
     glm_vec3_copy(ls->wi, axis);
@@ -200,7 +203,7 @@ static float quad_pdf(const Light *l, float a1, float dist, float cos_l)
 /* Quad: one-sided radiance L; intensity L·A·cos θ at size 0 (a point at
  * its centre); with a size, the real quad (emitter geometry that BSDF rays
  * hit), sampled uniformly by area, power independent of size. */
-static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+static bool quad_sample(const Light *l, const LightConst *lc, const vec3 o, const float u[2], LightSample *ls)
 {
     ls->pdf = 0.f;
     vec3 lp;
@@ -214,24 +217,30 @@ static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSam
     if (cos_l <= 0.f)
         return false;
     /* light_intensity's L·A·cos_l at size 1, over dist². */
-    float a1 = quad_area1(l), inv_d2 = 1.f / (ls->dist * ls->dist);
+    float a1 = lc->area1, inv_d2 = 1.f / (ls->dist * ls->dist);
     glm_vec3_scale((float *)l->color, a1 * cos_l * inv_d2, ls->li);
     if (l->size > 0.f)
         ls->pdf = quad_pdf(l, a1, ls->dist, cos_l);
     return true;
 }
 
-static bool light_sample(const Light *l, const SunDisk *sd, const vec3 o, const float u[2], LightSample *ls)
+/* lc: l's light_const (NULL: made here). */
+static bool light_sample(const Light *l, const LightConst *lc, const vec3 o, const float u[2], LightSample *ls)
 {
+    LightConst own;
+    if (!lc) {
+        light_const(l, &own);
+        lc = &own;
+    }
     switch (l->type) {
     case LIGHT_DIRECTIONAL:
-        return sun_sample(l, sd, u, ls);
+        return sun_sample(l, lc, u, ls);
     case LIGHT_POINT:
         return point_sample(l, o, u, ls);
     case LIGHT_SPOT:
         return spot_sample(l, o, u, ls);
     case LIGHT_QUAD:
-        return quad_sample(l, o, u, ls);
+        return quad_sample(l, lc, o, u, ls);
     }
     return false;
 }
@@ -281,27 +290,24 @@ static void materials_refresh(Job *j)
     j->mats_count = n;
 }
 
-/* The job's SunDisk of every light as it is now (lights change between
- * passes too); with no room for them, none (sun_sample then makes each). */
+/* The job's LightConst of every light as it is now (lights change between
+ * passes too); with no room for them, none (light_sample then makes each). */
 static void lights_refresh(Job *j)
 {
     int n = j->scene->light_count;
-    if (n > j->suns_cap) {
-        SunDisk *d = realloc(j->suns, (size_t)n * sizeof *d);
-        if (!d) {
-            free(j->suns);
-            j->suns = NULL;
-            j->suns_cap = 0;
+    if (n > j->lconst_cap) {
+        LightConst *c = realloc(j->lconst, (size_t)n * sizeof *c);
+        if (!c) {
+            free(j->lconst);
+            j->lconst = NULL;
+            j->lconst_cap = 0;
             return;
         }
-        j->suns = d;
-        j->suns_cap = n;
+        j->lconst = c;
+        j->lconst_cap = n;
     }
-    for (int i = 0; i < n; i++) {
-        const Light *l = &j->scene->lights[i];
-        if (l->type == LIGHT_DIRECTIONAL && l->size > 0.f)
-            sun_disk(l->size, &j->suns[i]);
-    }
+    for (int i = 0; i < n; i++)
+        light_const(&j->scene->lights[i], &j->lconst[i]);
 }
 
 static void shade_make(const Job *j, const PtHit *h, const vec3 wo, Shade *sh)
@@ -346,7 +352,7 @@ static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, 
         float u[2];
         sampler_2d(smp, u);
         LightSample ls;
-        if (!light_sample(&j->scene->lights[i], j->suns ? &j->suns[i] : NULL, o, u, &ls))
+        if (!light_sample(&j->scene->lights[i], j->lconst ? &j->lconst[i] : NULL, o, u, &ls))
             continue;
         float c = dot3(ls.wi, sh->n);
         if (c <= 0.f || dot3(ls.wi, h->ng) <= 0.f)
@@ -433,7 +439,8 @@ static void emitted(Job *j, const PtHit *h, const vec3 d, float pdf_bsdf, bool m
         float cos_l = -glm_vec3_dot((float *)d, (float *)l->direction);
         if (cos_l <= 0.f)
             return;
-        w = power_heuristic(pdf_bsdf, quad_pdf(l, quad_area1(l), h->t, cos_l));
+        float a1 = j->lconst ? j->lconst[m->light_index].area1 : quad_area1(l);
+        w = power_heuristic(pdf_bsdf, quad_pdf(l, a1, h->t, cos_l));
     }
     glm_vec3_scale((float *)m->emission, w, out);
 }
@@ -550,8 +557,9 @@ static bool path_vertex(Job *j, const PathMode *pm, Path *p, int depth, Sampler 
 static void trace_paths(Job *j, const PathMode *pm, Path *path, int n, Sampler *smp, uint64_t *rays)
 {
     const PtScene *ps = &j->ps;
+    bool prefetch = ps->memory_bound; /* else the texels are in the caches already */
     for (int i = 0; i < n; i++)
-        if (path[i].alive)
+        if (path[i].alive && prefetch)
             pt_prefetch_surface(ps, &path[i].hit);
     for (int depth = 1;; depth++) {
         bool any = false;
@@ -568,7 +576,8 @@ static void trace_paths(Job *j, const PathMode *pm, Path *path, int n, Sampler *
         for (int i = 0; i < n; i++)
             if (path[i].alive) {
                 pt_hit(ps, path[i].d, &path[i].raw, &path[i].hit);
-                pt_prefetch_surface(ps, &path[i].hit);
+                if (prefetch)
+                    pt_prefetch_surface(ps, &path[i].hit);
             }
     }
 }
@@ -620,7 +629,7 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
             /* Together where the scene's records and texels overflow the
              * caches; one by one where they fit (lock step costs the
              * Cornell box 5%: the loops' bookkeeping). */
-            int group = j->ps.memory_bound ? x1 - x0 : 1;
+            int group = s->path_group > 0 ? s->path_group : j->ps.memory_bound ? x1 - x0 : 1;
             for (int i = 0; i < x1 - x0; i += group)
                 trace_paths(j, &pm, path + i, group, smp + i, rays);
             for (int x = x0; x < x1; x++) {
@@ -724,7 +733,7 @@ void pt_job_destroy(Job *j)
     free(j->sum2);
     free(j->threads);
     free(j->mats);
-    free(j->suns);
+    free(j->lconst);
     pt_scene_destroy(&j->ps);
     free(j);
 }

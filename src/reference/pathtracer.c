@@ -631,7 +631,7 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
              * Cornell box 5%: the loops' bookkeeping). */
             int group = s->path_group > 0 ? s->path_group : j->ps.memory_bound ? x1 - x0 : 1;
             for (int i = 0; i < x1 - x0; i += group)
-                trace_paths(j, &pm, path + i, group, smp + i, rays);
+                trace_paths(j, &pm, path + i, group < x1 - x0 - i ? group : x1 - x0 - i, smp + i, rays);
             for (int x = x0; x < x1; x++) {
                 const float *L = path[x - x0].L;
                 double *sum = j->sum + 3 * (row + x), *sum2 = j->sum2 + 3 * (row + x);

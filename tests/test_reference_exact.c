@@ -338,6 +338,14 @@ static void sobol_pairs_are_nets(void **state)
     }
 }
 
+/* The Cornell box and its Embree scene. */
+static void cornell_pt_scene(Scene *s, PtScene *ps)
+{
+    scene_build_cornell(s);
+    scene_finalize(s);
+    assert_true(pt_scene_create(ps, s));
+}
+
 /* The packet of camera rays (pt_intersect_packet, what the render traces
  * first) finds what pt_intersect finds ray by ray: the same hits and
  * misses, triangle (material, normals) and distance within 1e-5, on the
@@ -348,10 +356,8 @@ static void packet_hits_equal_single_rays(void **state)
 {
     (void)state;
     Scene s;
-    scene_build_cornell(&s);
-    scene_finalize(&s);
     PtScene ps;
-    assert_true(pt_scene_create(&ps, &s));
+    cornell_pt_scene(&s, &ps);
     enum { W = 48, H = 40, RANDOM = 400 };
     int hits = 0, misses = 0, total = 0;
     srand(48);
@@ -504,10 +510,8 @@ static void paths_in_lock_step_equal_one_by_one(void **state)
 {
     (void)state;
     Scene s;
-    scene_build_cornell(&s);
-    scene_finalize(&s);
     PtScene ps;
-    assert_true(pt_scene_create(&ps, &s));
+    cornell_pt_scene(&s, &ps);
     assert_false(ps.memory_bound); /* 32 triangles: one by one by default */
     pt_scene_destroy(&ps);
     PtSettings set;

@@ -46,6 +46,14 @@ void pt_settings_default(PtSettings *s)
     s->sampler = PT_SAMPLER_SOBOL;
 }
 
+/* What a light's sample needs that does not vary over the scene, made
+ * once per pass (light_const) rather than at every vertex. */
+typedef struct LightConst {
+    float one_minus_cos; /* directional, size > 0: 1 − cos of the disk's angular radius */
+    float li_scale;      /* directional, size > 0: the irradiance's factor to L·Ω */
+    float area1;         /* quad: its area at size 1 (quad_area1) */
+} LightConst;
+
 /* pt_job.h's job. */
 typedef struct PtJob {
     const Scene *scene;        /* borrowed */
@@ -61,6 +69,8 @@ typedef struct PtJob {
     pthread_t *threads;        /* room for set->threads − 1 helpers (owned) */
     struct MatShade *mats;     /* per material, made at each pass's start (owned; NULL: none) */
     int mats_count, mats_cap;  /* materials in `mats` (0: shade_make computes every one), its room */
+    LightConst *lconst;        /* per light, made at each pass's start (owned; NULL: none) */
+    int lconst_cap;            /* room in `lconst` */
     CameraRayBasis cam;        /* the scene camera's rays at this size */
 } Job;
 
@@ -87,13 +97,30 @@ static void toward(const vec3 o, const vec3 lp, LightSample *ls)
     glm_vec3_scale(ls->wi, 1.f / ls->dist, ls->wi);
 }
 
+/* quad_area1 and sun_sample's constants of a sun of angular diameter
+ * size > 0: with a = size/2, s = sin(a/2) and c = cos(a/2), 1 − cos a =
+ * 2s² and the radiance's factor 1/c² (libm's sinf and cosf at every vertex
+ * had been 1.3% of Sponza's time). */
+static float quad_area1(const Light *l);
+static void light_const(const Light *l, LightConst *lc)
+{
+    memset(lc, 0, sizeof *lc);
+    if (l->type == LIGHT_DIRECTIONAL && l->size > 0.f) {
+        float half = 0.5f * l->size, s = sinf(0.5f * half), c = cosf(0.5f * half);
+        lc->one_minus_cos = 2.f * s * s;
+        lc->li_scale = 1.f / (c * c);
+    }
+    if (l->type == LIGHT_QUAD)
+        lc->area1 = quad_area1(l);
+}
+
 /* Directional: irradiance E on a plane facing it. With an angular diameter
  * 2a it is a disk of uniform radiance L = E / (π sin²a) (so that the
  * irradiance facing it, L·π sin²a, is E), sampled uniformly over its solid
  * angle Ω = 2π(1 − cos a) = 4π sin²(a/2); then li = L·Ω = E / cos²(a/2),
  * with no cancellation (2π(1 − cosf a) in float is 0.25% low for the real
  * sun, a = 0.0046). */
-static bool sun_sample(const Light *l, const float u[2], LightSample *ls)
+static bool sun_sample(const Light *l, const LightConst *sd, const float u[2], LightSample *ls)
 {
     glm_vec3_negate_to((float *)l->direction, ls->wi);
     ls->dist = INFINITY;
@@ -102,11 +129,10 @@ static bool sun_sample(const Light *l, const float u[2], LightSample *ls)
         glm_vec3_copy((float *)l->color, ls->li);
         return true;
     }
-    float half = 0.5f * l->size, s = sinf(0.5f * half), c = cosf(0.5f * half);
     vec3 axis;
     glm_vec3_copy(ls->wi, axis);
-    sample_cone(axis, 2.f * s * s, u[0], u[1], ls->wi);
-    glm_vec3_scale((float *)l->color, 1.f / (c * c), ls->li);
+    sample_cone(axis, sd->one_minus_cos, u[0], u[1], ls->wi);
+    glm_vec3_scale((float *)l->color, sd->li_scale, ls->li);
     return true;
 }
 
@@ -177,7 +203,7 @@ static float quad_pdf(const Light *l, float a1, float dist, float cos_l)
 /* Quad: one-sided radiance L; intensity L·A·cos θ at size 0 (a point at
  * its centre); with a size, the real quad (emitter geometry that BSDF rays
  * hit), sampled uniformly by area, power independent of size. */
-static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+static bool quad_sample(const Light *l, const LightConst *lc, const vec3 o, const float u[2], LightSample *ls)
 {
     ls->pdf = 0.f;
     vec3 lp;
@@ -191,24 +217,30 @@ static bool quad_sample(const Light *l, const vec3 o, const float u[2], LightSam
     if (cos_l <= 0.f)
         return false;
     /* light_intensity's L·A·cos_l at size 1, over dist². */
-    float a1 = quad_area1(l), inv_d2 = 1.f / (ls->dist * ls->dist);
+    float a1 = lc->area1, inv_d2 = 1.f / (ls->dist * ls->dist);
     glm_vec3_scale((float *)l->color, a1 * cos_l * inv_d2, ls->li);
     if (l->size > 0.f)
         ls->pdf = quad_pdf(l, a1, ls->dist, cos_l);
     return true;
 }
 
-static bool light_sample(const Light *l, const vec3 o, const float u[2], LightSample *ls)
+/* lc: l's light_const (NULL: made here). */
+static bool light_sample(const Light *l, const LightConst *lc, const vec3 o, const float u[2], LightSample *ls)
 {
+    LightConst own;
+    if (!lc) {
+        light_const(l, &own);
+        lc = &own;
+    }
     switch (l->type) {
     case LIGHT_DIRECTIONAL:
-        return sun_sample(l, u, ls);
+        return sun_sample(l, lc, u, ls);
     case LIGHT_POINT:
         return point_sample(l, o, u, ls);
     case LIGHT_SPOT:
         return spot_sample(l, o, u, ls);
     case LIGHT_QUAD:
-        return quad_sample(l, o, u, ls);
+        return quad_sample(l, lc, o, u, ls);
     }
     return false;
 }
@@ -258,6 +290,26 @@ static void materials_refresh(Job *j)
     j->mats_count = n;
 }
 
+/* The job's LightConst of every light as it is now (lights change between
+ * passes too); with no room for them, none (light_sample then makes each). */
+static void lights_refresh(Job *j)
+{
+    int n = j->scene->light_count;
+    if (n > j->lconst_cap) {
+        LightConst *c = realloc(j->lconst, (size_t)n * sizeof *c);
+        if (!c) {
+            free(j->lconst);
+            j->lconst = NULL;
+            j->lconst_cap = 0;
+            return;
+        }
+        j->lconst = c;
+        j->lconst_cap = n;
+    }
+    for (int i = 0; i < n; i++)
+        light_const(&j->scene->lights[i], &j->lconst[i]);
+}
+
 static void shade_make(const Job *j, const PtHit *h, const vec3 wo, Shade *sh)
 {
     if (h->material < j->mats_count && j->mats[h->material].constant)
@@ -300,7 +352,7 @@ static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, 
         float u[2];
         sampler_2d(smp, u);
         LightSample ls;
-        if (!light_sample(&j->scene->lights[i], o, u, &ls))
+        if (!light_sample(&j->scene->lights[i], j->lconst ? &j->lconst[i] : NULL, o, u, &ls))
             continue;
         float c = dot3(ls.wi, sh->n);
         if (c <= 0.f || dot3(ls.wi, h->ng) <= 0.f)
@@ -325,8 +377,12 @@ static void direct_light(Job *j, const PtHit *h, const Shade *sh, const vec3 o, 
 /* Samples the BSDF at hit h (shade: its vertex): the direction `wi`, its
  * density and the weight f·cos/pdf. The lobe choice takes a number only
  * when both lobes may be picked, so a Lambertian surface draws the same
- * numbers as plain cosine sampling. false if the sample is unusable. */
-static bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi, float *pdf, vec3 weight)
+ * numbers as plain cosine sampling. false if the sample is unusable.
+ * Always inline: its weight then stays in registers (through memory, the
+ * caller's 8-byte load of its 4-byte stores missed store forwarding: 11%
+ * of the Cornell box's path loop). */
+static inline __attribute__((always_inline)) bool bsdf_sample(const PtHit *h, const Shade *sh, Sampler *smp, vec3 wi,
+                                                              float *pdf, vec3 weight)
 {
     float p = sh->spec_prob;
     float u[2];
@@ -387,108 +443,159 @@ static void emitted(Job *j, const PtHit *h, const vec3 d, float pdf_bsdf, bool m
         float cos_l = -glm_vec3_dot((float *)d, (float *)l->direction);
         if (cos_l <= 0.f)
             return;
-        w = power_heuristic(pdf_bsdf, quad_pdf(l, quad_area1(l), h->t, cos_l));
+        float a1 = j->lconst ? j->lconst[m->light_index].area1 : quad_area1(l);
+        w = power_heuristic(pdf_bsdf, quad_pdf(l, a1, h->t, cos_l));
     }
     glm_vec3_scale((float *)m->emission, w, out);
 }
 
 /* ---------------------------------------------------------------- paths */
 
-/* The radiance arriving at o0 from direction -d0 along one path of `smp`'s
- * sample; `first` is the ray's closest hit when it was traced already (a
- * packet of camera rays; NULL if it missed), `traced` says so. */
-static void radiance(Job *j, const vec3 o0, const vec3 d0, const PtHit *first, bool traced, Sampler *smp,
-                     uint64_t *rays, vec3 L)
+/* One path of a pixel's sample, as the tile's paths advance together one
+ * vertex at a time (render_tile): where it is, what it carries, what it
+ * has gathered. */
+typedef struct Path {
+    vec3 o, d;        /* the ray to trace next: origin (moved off the surface) and direction */
+    vec3 thr;         /* throughput: the product of the BSDF weights so far */
+    vec3 L;           /* radiance gathered */
+    float pdf_prev;   /* the BSDF density of d (-1: a camera ray) */
+    bool alive;       /* has a hit at this depth to shade */
+    PtRawHit raw;     /* Embree's hit of the ray just traced */
+    PtHit hit;        /* its hit record */
+} Path;
+
+/* What the mode asks of every vertex. */
+typedef struct PathMode {
+    int min_direct, max_direct; /* vertices whose direct light counts */
+    bool novis, mis;
+} PathMode;
+
+static PathMode path_mode(const PtSettings *s)
+{
+    PathMode m;
+    m.min_direct = s->mode == PT_INDIRECT ? 2 : 1;
+    m.max_direct = s->mode == PT_DIRECT ? 1 : (s->mode == PT_ONE_BOUNCE || s->mode == PT_ONE_BOUNCE_NOVIS) ? 2 : s->max_depth;
+    m.novis = s->mode == PT_ONE_BOUNCE_NOVIS;
+    m.mis = !m.novis;
+    return m;
+}
+
+/* Vertex `depth` of path p, at its hit p->hit reached along p->d: the
+ * emission it sees, its direct light, Russian roulette and the BSDF sample
+ * that sets the next ray (p->o, p->d); false when the path ends here. */
+static bool path_vertex(Job *j, const PathMode *pm, Path *p, int depth, Sampler *smp, uint64_t *rays)
 {
     const PtSettings *s = j->set;
     const PtScene *ps = &j->ps;
-    int min_direct = s->mode == PT_INDIRECT ? 2 : 1;
-    int max_direct = s->mode == PT_DIRECT ? 1 : (s->mode == PT_ONE_BOUNCE || s->mode == PT_ONE_BOUNCE_NOVIS) ? 2 : s->max_depth;
-    bool novis = s->mode == PT_ONE_BOUNCE_NOVIS;
-    bool mis = !novis;
-    vec3 o, d, thr = {1, 1, 1};
-    glm_vec3_copy((float *)o0, o);
-    glm_vec3_copy((float *)d0, d);
-    glm_vec3_zero(L);
-    float pdf_prev = -1.f;
-    for (int depth = 1; depth <= s->max_depth; depth++) {
-        PtHit traced_hit;
-        const PtHit *h = &traced_hit;
+    const PtHit *h = &p->hit;
+    /* Emission reaching the previous vertex is part of its direct light. */
+    int owner = depth == 1 ? 1 : depth - 1;
+    if (owner >= pm->min_direct && owner <= pm->max_direct) {
+        vec3 e;
+        emitted(j, h, p->d, depth == 1 ? -1.f : p->pdf_prev, pm->mis, e);
+        glm_vec3_muladd(p->thr, e, p->L);
+    }
+    if (depth > pm->max_direct)
+        return false;
+    vec3 wo;
+    glm_vec3_negate_to(p->d, wo);
+    Shade sh;
+    shade_make(j, h, wo, &sh);
+    pt_offset(h->p, h->ng, p->o); /* where this vertex's shadow rays and bounce start */
+    if (depth >= pm->min_direct) {
+        vec3 e;
+        direct_light(j, h, &sh, p->o, smp, pm->mis, rays, e);
+        glm_vec3_muladd(p->thr, e, p->L);
+    }
+    if (pm->novis) {
+        /* One bounce without visibility on x1 → x2: every surface along
+         * the BSDF-sampled ray contributes its direct light. */
+        vec3 dir, t1, w;
+        float pdf;
+        if (!bsdf_sample(h, &sh, smp, dir, &pdf, w))
+            return false;
+        glm_vec3_mul(p->thr, w, t1);
+        vec3 wo2;
+        glm_vec3_negate_to(dir, wo2);
+        PtHit hits[MAX_ALL_HITS];
         (*rays)++;
-        if (depth == 1 && traced) {
-            if (!first)
-                break;
-            h = first;
-        } else if (!pt_intersect(ps, o, d, INFINITY, &traced_hit)) {
-            break;
+        int n = pt_intersect_all(ps, p->o, dir, INFINITY, hits, MAX_ALL_HITS);
+        for (int k = 0; k < n; k++) {
+            Shade s2;
+            vec3 e, o2;
+            shade_make(j, &hits[k], wo2, &s2);
+            pt_offset(hits[k].p, hits[k].ng, o2);
+            direct_light(j, &hits[k], &s2, o2, smp, false, rays, e);
+            glm_vec3_muladd(t1, e, p->L);
         }
-        /* Emission reaching the previous vertex is part of its direct light. */
-        int owner = depth == 1 ? 1 : depth - 1;
-        if (owner >= min_direct && owner <= max_direct) {
-            vec3 e;
-            emitted(j, h, d, depth == 1 ? -1.f : pdf_prev, mis, e);
-            glm_vec3_muladd(thr, e, L);
-        }
-        if (depth > max_direct)
-            break;
-        vec3 wo;
-        glm_vec3_negate_to(d, wo);
-        Shade sh;
-        shade_make(j, h, wo, &sh);
-        pt_offset(h->p, h->ng, o); /* where this vertex's shadow rays and bounce start */
-        if (depth >= min_direct) {
-            vec3 e;
-            direct_light(j, h, &sh, o, smp, mis, rays, e);
-            glm_vec3_muladd(thr, e, L);
-        }
-        if (novis) {
-            /* One bounce without visibility on x1 → x2: every surface along
-             * the BSDF-sampled ray contributes its direct light. */
-            vec3 dir, t1, w;
-            float pdf;
-            if (!bsdf_sample(h, &sh, smp, dir, &pdf, w))
-                break;
-            glm_vec3_mul(thr, w, t1);
-            vec3 wo2;
-            glm_vec3_negate_to(dir, wo2);
-            PtHit hits[MAX_ALL_HITS];
-            (*rays)++;
-            int n = pt_intersect_all(ps, o, dir, INFINITY, hits, MAX_ALL_HITS);
-            for (int k = 0; k < n; k++) {
-                Shade s2;
-                vec3 e, o2;
-                shade_make(j, &hits[k], wo2, &s2);
-                pt_offset(hits[k].p, hits[k].ng, o2);
-                direct_light(j, &hits[k], &s2, o2, smp, false, rays, e);
-                glm_vec3_muladd(t1, e, L);
+        return false;
+    }
+    /* The throughput in a local (registers) rather than p->thr through
+     * the calls: 9% of the Cornell box's time went to reloading it. */
+    float t0 = p->thr[0], t1 = p->thr[1], t2 = p->thr[2];
+    if (s->russian_roulette && depth > s->rr_depth) {
+        float q = t0 > t1 ? t0 : t1;
+        q = q > t2 ? q : t2;
+        q = q < 0.95f ? q : 0.95f;
+        if (sampler_1d(smp) >= q)
+            return false;
+        float r = 1.f / q;
+        t0 *= r, t1 *= r, t2 *= r;
+    }
+    vec3 w;
+    if (!bsdf_sample(h, &sh, smp, p->d, &p->pdf_prev, w))
+        return false;
+    /* f·cos/pdf; Lambertian: ρ */
+    p->thr[0] = t0 * w[0];
+    p->thr[1] = t1 * w[1];
+    p->thr[2] = t2 * w[2];
+    return !(p->thr[0] <= 0.f && p->thr[1] <= 0.f && p->thr[2] <= 0.f);
+}
+
+/* The paths of one sample index of a tile's row, from their camera rays'
+ * hits (a packet) on, each until it ends, all advanced one vertex at a
+ * time: every path's ray is traced before any is shaded, so that the
+ * memory reads of their hits (records, texels: cache misses on a large
+ * scene) are asked for together rather than one after another. A path's
+ * numbers, and so its radiance, are those it would draw alone. */
+static void trace_paths(Job *j, const PathMode *pm, Path *path, int n, Sampler *smp, uint64_t *rays)
+{
+    const PtScene *ps = &j->ps;
+    bool prefetch = ps->memory_bound; /* else the texels are in the caches already */
+    for (int i = 0; i < n; i++)
+        if (path[i].alive && prefetch)
+            pt_prefetch_surface(ps, &path[i].hit);
+    for (int depth = 1;; depth++) {
+        bool any = false;
+        for (int i = 0; i < n; i++)
+            if (path[i].alive)
+                any |= path[i].alive = path_vertex(j, pm, &path[i], depth, &smp[i], rays);
+        if (!any || depth >= j->set->max_depth)
+            return;
+        for (int i = 0; i < n; i++)
+            if (path[i].alive) {
+                (*rays)++;
+                path[i].alive = pt_trace(ps, path[i].o, path[i].d, INFINITY, &path[i].raw);
             }
-            break;
-        }
-        if (s->russian_roulette && depth > s->rr_depth) {
-            float p = thr[0] > thr[1] ? thr[0] : thr[1];
-            p = p > thr[2] ? p : thr[2];
-            p = p < 0.95f ? p : 0.95f;
-            if (sampler_1d(smp) >= p)
-                break;
-            glm_vec3_scale(thr, 1.f / p, thr);
-        }
-        vec3 w;
-        if (!bsdf_sample(h, &sh, smp, d, &pdf_prev, w))
-            break;
-        glm_vec3_mul(thr, w, thr); /* f·cos/pdf; Lambertian: ρ */
-        if (thr[0] <= 0.f && thr[1] <= 0.f && thr[2] <= 0.f)
-            break;
+        for (int i = 0; i < n; i++)
+            if (path[i].alive) {
+                pt_hit(ps, path[i].d, &path[i].raw, &path[i].hit);
+                if (prefetch)
+                    pt_prefetch_surface(ps, &path[i].hit);
+            }
     }
 }
 
 /* Samples [s0, s1) of every pixel of one tile, added to the job's sums:
  * row by row, each sample index of a row's pixels at once, their camera
- * rays traced as one packet (pt_intersect_packet). A pixel's samples are
- * added in index order, so the sums do not depend on the tiling. */
+ * rays traced as one packet (pt_intersect_packet) and their paths together
+ * (trace_paths). A pixel's samples are added in index order, so the sums
+ * do not depend on the tiling. */
 static void render_tile(Job *j, int tile, uint64_t *rays)
 {
     _Static_assert((int)TILE <= (int)PT_PACKET, "a tile's row is one packet");
     const PtSettings *s = j->set;
+    PathMode pm = path_mode(s);
     int tx = tile % j->tiles_x, ty = tile / j->tiles_x;
     int x0 = tx * TILE, x1 = x0 + TILE < s->width ? x0 + TILE : s->width;
     const float *cam = j->scene->camera.position;
@@ -496,6 +603,7 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
     vec3 d[TILE];
     PtHit hits[TILE];
     bool hit[TILE];
+    Path path[TILE];
     for (int y = ty * TILE; y < (ty + 1) * TILE && y < s->height; y++) {
         size_t row = (size_t)y * s->width;
         for (int x = x0; x < x1; x++)
@@ -510,10 +618,26 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
                 camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d[x - x0]);
             }
             pt_intersect_packet(&j->ps, cam, (const vec3 *)d, x1 - x0, hits, hit);
+            for (int i = 0; i < x1 - x0; i++) {
+                Path *p = &path[i];
+                glm_vec3_copy((float *)cam, p->o);
+                glm_vec3_copy(d[i], p->d);
+                glm_vec3_one(p->thr);
+                glm_vec3_zero(p->L);
+                p->pdf_prev = -1.f;
+                p->alive = hit[i];
+                if (hit[i])
+                    p->hit = hits[i];
+            }
+            *rays += (uint64_t)(x1 - x0); /* the camera rays */
+            /* Together where the scene's records and texels overflow the
+             * caches; one by one where they fit (lock step costs the
+             * Cornell box 5%: the loops' bookkeeping). */
+            int group = s->path_group > 0 ? s->path_group : j->ps.memory_bound ? x1 - x0 : 1;
+            for (int i = 0; i < x1 - x0; i += group)
+                trace_paths(j, &pm, path + i, group < x1 - x0 - i ? group : x1 - x0 - i, smp + i, rays);
             for (int x = x0; x < x1; x++) {
-                int i = x - x0;
-                vec3 L;
-                radiance(j, cam, d[i], hit[i] ? &hits[i] : NULL, true, &smp[i], rays, L);
+                const float *L = path[x - x0].L;
                 double *sum = j->sum + 3 * (row + x), *sum2 = j->sum2 + 3 * (row + x);
                 for (int c = 0; c < 3; c++) {
                     float v = isfinite(L[c]) ? L[c] : 0.f;
@@ -613,6 +737,7 @@ void pt_job_destroy(Job *j)
     free(j->sum2);
     free(j->threads);
     free(j->mats);
+    free(j->lconst);
     pt_scene_destroy(&j->ps);
     free(j);
 }
@@ -645,6 +770,7 @@ bool pt_job_pass(Job *j, int s0, int s1, int nthreads, bool background, const at
     atomic_store(&j->next_tile, 0);
     atomic_store(&j->tiles_done, 0);
     materials_refresh(j);
+    lights_refresh(j);
     int helpers = nthreads - 1, max = j->set->threads > 1 ? j->set->threads - 1 : 0;
     helpers = helpers < 0 ? 0 : helpers > max ? max : helpers;
     int started = 0;

@@ -38,12 +38,6 @@ static inline int wrap(int x, int n)
     return x < 0 ? x + n : x;
 }
 
-/* Texel fetch with wrap-around; row 0 of the image is v = 0. */
-static const uint8_t *texel(const Texture *t, int x, int y)
-{
-    return t->rgba + 4 * ((size_t)wrap(y, t->height) * t->width + wrap(x, t->width));
-}
-
 static void tri_uv(const PtTri *t, float bu, float bv, float uv[2])
 {
     float w = 1.f - bu - bv;
@@ -60,8 +54,13 @@ static float alpha_at(const Texture *t, const float uv[2])
     float x = uv[0] * t->width - 0.5f, y = uv[1] * t->height - 0.5f;
     int x0 = (int)floorf(x), y0 = (int)floorf(y);
     float fx = x - x0, fy = y - y0;
-    return ((1 - fx) * (1 - fy) * texel(t, x0, y0)[3] + fx * (1 - fy) * texel(t, x0 + 1, y0)[3] +
-            (1 - fx) * fy * texel(t, x0, y0 + 1)[3] + fx * fy * texel(t, x0 + 1, y0 + 1)[3]) / 255.f;
+    /* Wrapped once per axis (texel's modulo at every texel had been most
+     * of the filter's time); the next texel wraps by a compare. */
+    int wx0 = wrap(x0, t->width), wy0 = wrap(y0, t->height);
+    int wx1 = wx0 + 1 < t->width ? wx0 + 1 : 0, wy1 = wy0 + 1 < t->height ? wy0 + 1 : 0;
+    const uint8_t *r0 = t->rgba + 4 * (size_t)wy0 * t->width, *r1 = t->rgba + 4 * (size_t)wy1 * t->width;
+    return ((1 - fx) * (1 - fy) * r0[4 * wx0 + 3] + fx * (1 - fy) * r0[4 * wx1 + 3] +
+            (1 - fx) * fy * r1[4 * wx0 + 3] + fx * fy * r1[4 * wx1 + 3]) / 255.f;
 }
 
 /* Rejects hits on texels below the material's alpha cutoff. */
@@ -119,7 +118,7 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
     rtcSetDeviceErrorFunction(ps->device, embree_error, NULL);
     ps->rtc = rtcNewScene(ps->device);
     rtcSetSceneFlags(ps->rtc, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-    rtcSetSceneBuildQuality(ps->rtc, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(ps->rtc, RTC_BUILD_QUALITY_MEDIUM);
 
     uint32_t ntri = s->index_count / 3;
     size_t table = sizeof(uint32_t) * ((size_t)ntri + 1);
@@ -188,6 +187,10 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
         return false;
     }
     rtcCommitScene(ps->rtc);
+    size_t bytes = records;
+    for (int i = 0; i < s->texture_count; i++)
+        bytes += 4 * (size_t)s->textures[i].width * (size_t)s->textures[i].height;
+    ps->memory_bound = bytes > PT_CACHE_BYTES;
     ps->diag = glm_vec3_distance((float *)s->bounds_min, (float *)s->bounds_max);
     if (ps->diag <= 0.f)
         ps->diag = 1.f;
@@ -253,7 +256,34 @@ static void fill_hit(const PtScene *ps, const vec3 d, float t, unsigned geom, un
     h->material = (int)tr->material;
 }
 
-bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h)
+/* Asks for the cache line at p ahead of its read. An asm statement on
+ * x86 rather than __builtin_prefetch: GCC 12 takes a function whose only
+ * effect is __builtin_prefetch for pure and drops its calls (-O3 had made
+ * pt_prefetch_surface an empty function). */
+static inline void prefetch(const void *p)
+{
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+    __asm__ volatile("prefetcht0 %0" : : "m"(*(const char *)p));
+#else
+    __builtin_prefetch(p);
+#endif
+}
+
+/* The texels a bilinear lookup of t at uv reads (texture_bilinear's two
+ * rows at x0 and x1), asked of the memory ahead of the read. */
+static void texture_prefetch(const Texture *t, const float uv[2])
+{
+    float x = uv[0] * t->width - 0.5f, y = uv[1] * t->height - 0.5f;
+    int x0 = wrap((int)floorf(x), t->width), y0 = wrap((int)floorf(y), t->height);
+    int x1 = x0 + 1 < t->width ? x0 + 1 : 0, y1 = y0 + 1 < t->height ? y0 + 1 : 0;
+    const uint8_t *r0 = t->rgba + 4 * (size_t)y0 * t->width, *r1 = t->rgba + 4 * (size_t)y1 * t->width;
+    prefetch(r0 + 4 * x0);
+    prefetch(r1 + 4 * x0);
+    prefetch(r0 + 4 * x1);
+    prefetch(r1 + 4 * x1);
+}
+
+bool pt_trace(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtRawHit *r)
 {
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -264,7 +294,37 @@ bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtH
     rtcIntersect1(ps->rtc, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return false;
-    fill_hit(ps, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, h);
+    r->t = rh.ray.tfar;
+    r->u = rh.hit.u;
+    r->v = rh.hit.v;
+    r->geom = rh.hit.geomID;
+    r->prim = rh.hit.primID;
+    const char *rec = (const char *)&ps->tris[ps->tri_base[r->geom] + r->prim];
+    prefetch(rec);
+    prefetch(rec + 64);
+    return true;
+}
+
+void pt_hit(const PtScene *ps, const vec3 d, const PtRawHit *r, PtHit *h)
+{
+    fill_hit(ps, d, r->t, r->geom, r->prim, r->u, r->v, h);
+}
+
+void pt_prefetch_surface(const PtScene *ps, const PtHit *h)
+{
+    const Material *m = &ps->scene->materials[h->material];
+    if (m->albedo_tex >= 0)
+        texture_prefetch(&ps->scene->textures[m->albedo_tex], h->uv);
+    if (m->mr_tex >= 0)
+        texture_prefetch(&ps->scene->textures[m->mr_tex], h->uv);
+}
+
+bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h)
+{
+    PtRawHit r;
+    if (!pt_trace(ps, o, d, tmax, &r))
+        return false;
+    pt_hit(ps, d, &r, h);
     return true;
 }
 

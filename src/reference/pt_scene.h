@@ -36,6 +36,7 @@ typedef struct PtScene {
     PtTri *tris;            /* per primitive, geometry 0's then geometry 1's (owned, 128-byte aligned) */
     uint32_t tri_base[2];   /* per geometry: index in `tris` of its primitive 0 */
     float diag;             /* scene bounds diagonal (m), > 0 */
+    bool memory_bound;      /* the triangle records and textures hold more than PT_CACHE_BYTES */
 } PtScene;
 
 /* A ray's hit, with normals oriented toward the ray's origin. */
@@ -49,11 +50,27 @@ typedef struct PtHit {
     bool front;    /* hit the side the triangle's winding faces (emitters emit there) */
 } PtHit;
 
+/* Above this many bytes of triangle records and texels a hit's reads are
+ * mostly cache misses (a last-level cache's share per core). */
+#define PT_CACHE_BYTES ((size_t)4 << 20)
+
 bool pt_scene_create(PtScene *ps, const Scene *s);
 void pt_scene_destroy(PtScene *ps);
 
 /* Closest hit along o + t·d, t in (0, tmax); false if none. */
 bool pt_intersect(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtHit *h);
+/* pt_intersect in two halves, so that a caller tracing several paths can
+ * overlap their memory reads (the triangle records and texels of a large
+ * scene are cache misses): pt_trace finds the hit (Embree's answer) and
+ * asks for its triangle's record ahead of pt_hit, which makes the PtHit
+ * from it; pt_prefetch_surface asks for the texels pt_surface will read. */
+typedef struct PtRawHit {
+    float t, u, v;
+    unsigned geom, prim;
+} PtRawHit;
+bool pt_trace(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtRawHit *r);
+void pt_hit(const PtScene *ps, const vec3 d, const PtRawHit *r, PtHit *h);
+void pt_prefetch_surface(const PtScene *ps, const PtHit *h);
 /* Closest hits of up to PT_PACKET rays from one origin o along d[i],
  * i < n, t in (0, ∞), traced together as one Embree packet (coherent rays:
  * a row of camera rays): hit[i] says whether ray i hit, and h[i] is then

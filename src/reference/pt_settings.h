@@ -40,6 +40,9 @@ typedef struct PtSettings {
                               variance is at most this (from PT_TARGET_MIN_SPP samples on) */
     double time_budget;    /* > 0: seconds; stop before a pass that would end past it (the first pass
                               always runs) */
+    int path_group;        /* paths of a tile row traced in lock step (render_tile): 0 (default) the whole
+                              row where the scene overflows the caches, else 1; n ≥ 1: up to n (the same
+                              image whatever it is: test_reference_exact checks) */
     bool ordinary_priority;/* pt_progressive: its threads at the ordinary scheduling priority, not the
                               lowest (SCHED_IDLE), which on a machine busy with other work leaves them
                               almost nothing */

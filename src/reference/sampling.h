@@ -67,16 +67,18 @@ static inline void sample_cosine(const vec3 n, float u1, float u2, vec3 out)
 static inline void sample_cone(const vec3 axis, float one_minus_cos, float u1, float u2, vec3 out)
 {
     float h = u1 * one_minus_cos; /* 1 − cos θ */
-    float s = sqrtf(fmaxf(0.f, h * (2.f - h))), phi = 2.f * GLM_PIf * u2;
-    to_world(axis, s * cosf(phi), s * sinf(phi), 1.f - h, out);
+    float s = sqrtf(fmaxf(0.f, h * (2.f - h))), sp, cp;
+    sincos_2pi(u2, &sp, &cp);
+    to_world(axis, s * cp, s * sp, 1.f - h, out);
 }
 
 /* Uniform on a disk of radius r, centre c, normal n; pdf = 1/(πr²). */
 static inline void sample_disk(const vec3 c, const vec3 n, float r, float u1, float u2, vec3 out)
 {
-    float rr = r * sqrtf(u1), phi = 2.f * GLM_PIf * u2;
+    float rr = r * sqrtf(u1), sp, cp;
+    sincos_2pi(u2, &sp, &cp);
     vec3 d;
-    to_world(n, rr * cosf(phi), rr * sinf(phi), 0.f, d);
+    to_world(n, rr * cp, rr * sp, 0.f, d);
     glm_vec3_add((float *)c, d, out);
 }
 

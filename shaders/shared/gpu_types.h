@@ -269,8 +269,8 @@
     F(float, rsm_interp_dist) /* max distance, fraction of the view distance */    \
     F(int, low_width)       /* rsm-interp low-resolution size */                   \
     F(int, low_height)                                                             \
-    F(int, interleave_n)    /* interleaving pattern n × m */                       \
-    F(int, interleave_m)                                                           \
+    F(int, interleave_pattern_n) /* interleave.pattern n × m */                       \
+    F(int, interleave_pattern_m)                                                   \
     F(int, sub_width)       /* de-interleaved sub-image size */                    \
     F(int, sub_height)                                                             \
     F(int, list_size)       /* importance: entries in the sample list (sets × set) */ \
@@ -326,7 +326,7 @@
  * signs lets a cone read the side it faces in one fetch per axis. */
 #define GPU_VCT_PARAMS_FIELDS(F, A)                                                        \
     F(int, size)             /* N voxels per side of a level */                             \
-    F(int, levels)           /* mips of a level: log2(N) + 1 */                             \
+    F(int, mips)             /* mips of a level: log2(N) + 1 */                             \
     F(int, aniso)            /* 1: the directional volumes are built (tracers: VCT_ANISO) */ \
     F(int, cones)            /* diffuse cones in use */                                     \
     F(float, step)           /* sampling step, in cone diameters */                         \
@@ -335,7 +335,7 @@
     F(float, roughness)      /* perceptual roughness of every surface when f0 > 0 */        \
     F(float, f0)             /* > 0: F0 of every surface (tests); 0: the G-buffer's */       \
     F(float, max_distance)   /* cones stop after this distance (m) */                       \
-    F(int, clip_levels)      /* L levels (1: one volume over the bounds) */                 \
+    F(int, levels)           /* vct.levels: L clipmap levels (1: one volume over the bounds) */                 \
     F(int, aniso_slab)       /* S: a directional slab's depth at its mip 0 (texels) */      \
     A(vec4, level, VCT_MAX_LEVELS) /* xyz: min corner of level k (m); w: its voxel size (m) */ \
     A(vec4, cone, VCT_MAX_CONES) /* xyz: unit direction in the normal's frame (z = normal); w: weight ∫cosθ dω of its cell */ \

@@ -3,9 +3,8 @@
  * key (the object "rsm", key "samples"), its place in Settings (.gi.rsm.samples;
  * shadow: .shadow.FIELD), and, as "--family-field", its command-line option
  * (--rsm-samples); where a GPU block holds the value, its member is
- * u_FAMILY.field, or u_gi.family_field in the shared u_gi block (not yet:
- * vct.levels is u_vct.clip_levels, and interleave.pattern u_gi.interleave_n,
- * interleave_m). Each row
+ * u_FAMILY.field, or u_gi.family_field in the shared u_gi block (a pair,
+ * interleave.pattern: u_gi.interleave_pattern_n, _m). Each row
  * also has its type, range, default and help. One parser and one validator
  * serve the command line and the scene file (so the two cannot disagree),
  * `--help` is printed from the table, and tests check the guide

@@ -92,8 +92,8 @@ void gi_params_to_gpu(const GiParams *p, int w, int h, GpuGiParams *u)
     u->rsm_interp_dist = p->rsm.interp_dist;
     u->low_width = (w + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
     u->low_height = (h + p->rsm.interp_factor - 1) / p->rsm.interp_factor;
-    u->interleave_n = p->interleave.pattern.n;
-    u->interleave_m = p->interleave.pattern.m;
+    u->interleave_pattern_n = p->interleave.pattern.n;
+    u->interleave_pattern_m = p->interleave.pattern.m;
     u->sub_width = (w + p->interleave.pattern.n - 1) / p->interleave.pattern.n;
     u->sub_height = (h + p->interleave.pattern.m - 1) / p->interleave.pattern.m;
     u->list_set = rsm_far_samples(p->rsm.samples);

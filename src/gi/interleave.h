@@ -7,7 +7,7 @@
  *          the blur: both in one pass)
  *   blur   geometry-aware blur over the n×m window: neighbours whose normal
  *          and position agree (the interpolation's thresholds, GpuGiParams)
- * Reads UBO_GI (interleave_n/m, sub size, thresholds) and UBO_FRAME.
+ * Reads UBO_GI (interleave_pattern_n/m, sub size, thresholds) and UBO_FRAME.
  * Owns: the de-interleaved textures (when made with
  * `deinterleave`) or the pre-blur image (without). Shader: shaders/gi/interleave.comp. */
 #ifndef RTGI_GI_INTERLEAVE_H

@@ -108,7 +108,7 @@ void main()
     ivec2 px = ivec2(code & 0xffffu, code >> 16), at = px;
     int first = 0, stride = 1, count = N;
 #elif defined(MODE_INTERLEAVED)
-    int n = u_gi.interleave_n, m = u_gi.interleave_m;
+    int n = u_gi.interleave_pattern_n, m = u_gi.interleave_pattern_m;
     ivec2 sub = ivec2(u_gi.sub_width, u_gi.sub_height);
     ivec2 k2 = div_small(gid, sub);
     if (k2.x >= n || k2.y >= m)

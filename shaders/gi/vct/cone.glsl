@@ -240,7 +240,7 @@ vec4 vct_cone(vec3 x, vec3 d, vec3 n, float tan_half, float voxel, out float occ
     c.tan_half = tan_half;
     c.top = VCT_SURFACE_TOP[u_vct.conservative != 0 ? 1 : 0];
     c.v0 = u_vct.level[0].w;
-    c.max_mip = float(u_vct.levels - 1);
+    c.max_mip = float(u_vct.mips - 1);
     c.step = u_vct.step;
     c.ao_range = u_vct.ao_range;
     c.size = u_vct.size;

@@ -398,9 +398,9 @@ static void vct_params_upload(VctGi *v)
     GpuVctParams *u = &v->gpu;
     float voxel = gi_grid_around(v->bmin, v->bmax, n, u->level[0]);
     u->level[0][3] = voxel;
-    u->clip_levels = v->clip;
+    u->levels = v->clip;
+    u->mips = v->levels;
     u->size = n;
-    u->levels = v->levels;
     u->aniso = p->vct.aniso && v->aniso[0] ? 1 : 0;
     u->aniso_slab = aniso_slab(n, v->levels);
     float tan_half[VCT_MAX_CONES] = {0};

@@ -289,9 +289,10 @@ static void failed_output_leaves_none(void **state)
 
 /* Runs `rtgi ARGS` (NULL-ended, at most 16; OUT among them) with the
  * preloaded allocation shim, once whole to count its allocations, then
- * with each of the last 10 refused: exit 1, one line and no OUT, or, where
- * the allocation was not needed, exit 0. Returns the refusals that failed
- * the command. */
+ * with each of the last 7 refused (the read-back, the encoder's and the
+ * last log lines' copies: a PNG's 16x16 write had its 8-bit image 4th from
+ * the end): exit 1, one line and no OUT, or, where the allocation was not
+ * needed, exit 0. Returns the refusals that failed the command. */
 static int sweep_last_allocations(const char *const *args, const char *out)
 {
     char count[512], fired[512], preload[2048], env_count[600], env_fired[600], at[32] = "OOM_AT=0";
@@ -314,7 +315,7 @@ static int sweep_last_allocations(const char *const *args, const char *out)
     int n = atoi(text), failed = 0;
     free(text);
     assert_true(n > 10);
-    for (int k = n - 9; k <= n; k++) {
+    for (int k = n - 6; k <= n; k++) {
         snprintf(at, sizeof at, "OOM_AT=%d", k);
         remove(out);
         remove(fired);
@@ -1253,6 +1254,13 @@ static void failed_stdout_fails_the_command(void **state)
 static void debug_context_reports_no_gl_errors(void **state)
 {
     (void)state;
+#ifdef __SANITIZE_ADDRESS__
+    /* A driver check, not a memory one: make test runs it; under make
+     * test-asan every technique's C code runs in test_lifetime (its 24
+     * renders had been a sixth of CI's ASan time). */
+    print_message("skipped under AddressSanitizer: the GL debug output is make test's check\n");
+    skip();
+#endif
     test_masked_leaf_obj("debug_masked");
     const char *masked = test_tmp_file(
         "debug_masked.json",

@@ -102,7 +102,7 @@ typedef struct VctGi {
     bool voxelized;          /* the volumes hold the scene */
     uint64_t voxels_version; /* the geometry they hold (GpuScene.version): a moved object revoxelizes */
     int voxelizations;
-    int region_voxelizations;/* of them, of a moved object's region alone (voxelize_region) */
+    int region_voxelizations;/* of them, of a moved object's region alone (voxelize with a region) */
     uint64_t region_voxels;  /* voxels of the last region, every level */
     uint64_t built_for;      /* the light products and voxels the radiance volumes hold (0: none) */
     int builds;              /* times radiance was injected and filtered */
@@ -645,41 +645,6 @@ static void voxelize_compute(VctGi *v, const GiFrame *f, const VctRegion *r)
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
-/* Voxelizes the scene into the fixed-point sums (raster or compute), each
- * voxel's first sample listing it as opaque, then resolves them into the
- * albedo and normal volumes over that list (every voxel when the list
- * overflowed), clearing the sums behind it. */
-static void voxelize(VctGi *v, const GiFrame *f)
-{
-    glFinish(); /* its wall time is worth the wait */
-    double t0 = util_seconds();
-    const uint32_t empty[4] = {0, 0, 1, 1}; /* no voxels; an indirect dispatch of 0 × 1 × 1 */
-    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
-    if (v->params.vct.voxelize == VCT_VOXELIZE_COMPUTE)
-        voxelize_compute(v, f, NULL);
-    else
-        voxelize_raster(v, f);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
-
-    gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    if (opaque_listed(v)) { /* the empty voxels hold the clear's 0 */
-        glClearTexImage(v->albedo, 0, GL_RGBA, GL_FLOAT, NULL);
-        glClearTexImage(v->normal, 0, GL_RGBA, GL_FLOAT, NULL);
-        glUseProgram(v->resolve_list);
-        dispatch_opaque(v);
-    } else {
-        glUseProgram(v->resolve);
-        dispatch_volume(v->n, v->clip);
-    }
-    glFinish();
-    v->voxelize_ms = 1e3 * (util_seconds() - t0);
-    v->voxelizations++;
-}
-
 /* The region of a move's box [bmin, bmax] (world): per level the voxels
  * within one voxel of it, and their world box; `voxels` counts them. False
  * when it holds no voxel of any level. */
@@ -713,44 +678,54 @@ static bool region_of(const VctGi *v, const float bmin[3], const float bmax[3], 
     return any;
 }
 
-/* Revoxelizes region `r` alone (compute voxelization): the sums of its
- * voxels from the clusters that reach them, resolved over its boxes (the
- * region's empty voxels written 0), then the opaque list made again
- * (list.comp) so that it holds every opaque voxel once: the entries of
- * the list before outside the region and the region's opaque voxels (or,
- * when the list before had overflowed, every voxel's). The volumes equal
- * a whole voxelization's: the sums are exact integers, whatever triangles
- * add to them in whatever order. */
-static void voxelize_region(VctGi *v, const GiFrame *f, const VctRegion *r)
+/* `prog` over region `r`'s box at each level it holds, 4×4×4 groups (the
+ * stacked volume's coordinates, as the resolve and list.comp take them);
+ * returns the voxels dispatched. */
+static uint64_t dispatch_region(const VctGi *v, GLuint prog, const VctRegion *r)
 {
-    glFinish(); /* as voxelize() */
-    double t0 = util_seconds();
-    const uint32_t empty[4] = {0, 0, 1, 1};
-    bool was_listed = opaque_listed(v);
-    uint32_t was = v->opaque_count;
-    if (was_listed) /* the list before, kept apart: the region's first samples append to v->opaque */
-        glCopyNamedBufferSubData(v->opaque, v->opaque_prev, 0, 0, 4 * (4 + (GLsizeiptr)was));
-    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
-    voxelize_compute(v, f, r);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    glUseProgram(v->resolve);
-    v->region_voxels = 0;
+    uint64_t voxels = 0;
+    glUseProgram(prog);
     for (int k = 0; k < v->clip; k++) {
         if (!region_has_level(r, k))
             continue;
-        region_uniforms(v, v->resolve, r, k, true);
+        region_uniforms(v, prog, r, k, true);
         int d[3];
         for (int a = 0; a < 3; a++)
             d[a] = r->hi[k][a] - r->lo[k][a];
-        v->region_voxels += (uint64_t)d[0] * (uint64_t)d[1] * (uint64_t)d[2];
+        voxels += (uint64_t)d[0] * (uint64_t)d[1] * (uint64_t)d[2];
         glDispatchCompute((GLuint)(d[0] + 3) / 4, (GLuint)(d[1] + 3) / 4, (GLuint)(d[2] + 3) / 4);
     }
-    region_uniforms(v, v->resolve, NULL, 0, true);
+    return voxels;
+}
+
+/* A whole voxelization's resolve: over the opaque list the sums' first
+ * samples made (the volumes cleared first), or every voxel when it
+ * overflowed. */
+static void resolve_whole(VctGi *v)
+{
+    glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
+    if (opaque_listed(v)) { /* the empty voxels hold the clear's 0 */
+        glClearTexImage(v->albedo, 0, GL_RGBA, GL_FLOAT, NULL);
+        glClearTexImage(v->normal, 0, GL_RGBA, GL_FLOAT, NULL);
+        glUseProgram(v->resolve_list);
+        dispatch_opaque(v);
+    } else {
+        glUseProgram(v->resolve);
+        dispatch_volume(v->n, v->clip);
+    }
+}
+
+/* A region's resolve: over its boxes (its empty voxels written 0), then
+ * the opaque list made again (list.comp) so that it holds every opaque
+ * voxel once: the entries of the list before (`was` of them, in
+ * opaque_prev, when `was_listed`) outside the region and the region's
+ * opaque voxels, or, when the list before had overflowed, every voxel's. */
+static void resolve_region(VctGi *v, const VctRegion *r, bool was_listed, uint32_t was)
+{
+    v->region_voxels = dispatch_region(v, v->resolve, r);
+    region_uniforms(v, v->resolve, NULL, 0, true); /* a whole voxelization's resolve shares the program */
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    const uint32_t empty[4] = {0, 0, 1, 1};
     glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
     glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
     if (!was_listed) {
@@ -760,7 +735,7 @@ static void voxelize_region(VctGi *v, const GiFrame *f, const VctRegion *r)
         GLint boxes[2 * VCT_MAX_LEVELS][4] = {{0}};
         for (int k = 0; k < v->clip; k++)
             for (int a = 0; a < 3; a++) {
-                int z = a == 2 ? k * v->n : 0;
+                int z = a == 2 ? k * v->n : 0; /* stacked */
                 boxes[2 * k][a] = r->lo[k][a] + z;
                 boxes[2 * k + 1][a] = r->hi[k][a] + z;
             }
@@ -770,21 +745,46 @@ static void voxelize_region(VctGi *v, const GiFrame *f, const VctRegion *r)
         GLuint groups = (was + 63) / 64;
         if (groups)
             glDispatchCompute(groups, 1, 1);
-        glUseProgram(v->list[2]);
-        for (int k = 0; k < v->clip; k++) {
-            if (!region_has_level(r, k))
-                continue;
-            region_uniforms(v, v->list[2], r, k, true);
-            glDispatchCompute((GLuint)(r->hi[k][0] - r->lo[k][0] + 3) / 4, (GLuint)(r->hi[k][1] - r->lo[k][1] + 3) / 4,
-                              (GLuint)(r->hi[k][2] - r->lo[k][2] + 3) / 4);
-        }
+        dispatch_region(v, v->list[2], r);
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
+}
+
+/* Voxelizes the scene into the fixed-point sums (raster or compute), each
+ * voxel's first sample listing it as opaque, then resolves them into the
+ * albedo and normal volumes, clearing the sums behind it. With a region
+ * (compute only, vct_run) only its voxels take samples, from the clusters
+ * that reach them, and only they are resolved: the volumes equal a whole
+ * voxelization's, the sums being exact integers whatever triangles add to
+ * them in whatever order. */
+static void voxelize(VctGi *v, const GiFrame *f, const VctRegion *r)
+{
+    glFinish(); /* its wall time is worth the wait */
+    double t0 = util_seconds();
+    bool was_listed = opaque_listed(v);
+    uint32_t was = v->opaque_count;
+    if (r && was_listed) /* the list before, kept apart: the region's first samples append to v->opaque */
+        glCopyNamedBufferSubData(v->opaque, v->opaque_prev, 0, 0, 4 * (4 + (GLsizeiptr)was));
+    const uint32_t empty[4] = {0, 0, 1, 1}; /* no voxels; an indirect dispatch of 0 × 1 × 1 */
+    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
+    if (v->params.vct.voxelize == VCT_VOXELIZE_COMPUTE)
+        voxelize_compute(v, f, r);
+    else
+        voxelize_raster(v, f);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
+    if (r)
+        resolve_region(v, r, was_listed, was);
+    else
+        resolve_whole(v);
     glFinish();
     v->voxelize_ms = 1e3 * (util_seconds() - t0);
     v->voxelizations++;
-    v->region_voxelizations++;
+    v->region_voxelizations += r != NULL;
 }
 
 /* The injection program for one light type (LIGHT_FIXED_TYPE: the other
@@ -883,14 +883,14 @@ static bool vct_run(void *state, const GiFrame *f)
     else if (in_region && 4 * voxels <= (uint64_t)v->clip * v->n * v->n * v->n) { /* larger: the whole is cheaper */
         gpu_timer_begin(t, "vct_revoxelize");
         v->voxels_version = f->gpu_scene->version;
-        voxelize_region(v, f, &region);
+        voxelize(v, f, &region);
         gpu_timer_end(t);
     } else if (moved)
         v->voxelized = false;
     if (!v->voxelized) {
         gpu_timer_begin_once(t, "vct_voxelize"); /* in the warm-up frame: kept apart from the means */
         v->voxels_version = f->gpu_scene->version;
-        voxelize(v, f);
+        voxelize(v, f, NULL);
         v->voxelized = true;
         gpu_timer_end(t);
     }

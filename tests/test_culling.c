@@ -118,14 +118,8 @@ static void untextured_programs_change_nothing(void **state)
 static void sponza_culled_equals_unculled(void **state)
 {
     (void)state;
-    char path[1024];
-    snprintf(path, sizeof path, "%s/assets/sponza/Sponza.gltf", RTGI_SHARED_DIR);
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
-    fclose(f);
+    test_skip_without_sponza();
+    const char *path = test_sponza_gltf();
     Scene s;
     assert_true(scene_load(&s, path));
     /* From the middle of the atrium toward a side colonnade, under the sun

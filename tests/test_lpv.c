@@ -1277,11 +1277,8 @@ static void cornell_against_reference(void **state)
 static void sponza_against_one_bounce(void **state)
 {
     (void)state;
+    test_skip_without_sponza();
     const char *file = test_sponza_file();
-    if (!file) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
     enum { W = 160, H = 90 };
     Scene s;
     assert_true(scene_load(&s, file));

@@ -20,11 +20,8 @@ static double lit_fraction(const ImageF *img)
 static void sponza_loads_and_renders(void **state)
 {
     (void)state;
+    test_skip_without_sponza();
     const char *path = test_sponza_gltf();
-    if (!path) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
     Scene s;
     assert_true(scene_load(&s, path));
     int masked = 0, textured = 0;
@@ -92,10 +89,7 @@ static double lit_share(const ImageF *im, float exposure)
 static void sponza_default_view_shows_the_bounce(void **state)
 {
     (void)state;
-    if (!test_sponza_gltf()) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
+    test_skip_without_sponza();
     enum { W = 160, H = 90 };
     const char *files[] = {RTGI_SOURCE_DIR "/scenes/sponza.json", test_sponza_gltf(),
                            RTGI_SOURCE_DIR "/scenes/sponza_nave.json"};
@@ -131,10 +125,7 @@ static void sponza_default_view_shows_the_bounce(void **state)
 static void sponza_rsm_recovers_the_bounce(void **state)
 {
     (void)state;
-    if (!test_sponza_gltf()) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
+    test_skip_without_sponza();
     char scene_file[1024];
     snprintf(scene_file, sizeof scene_file, "%s/scenes/sponza_nave.json", RTGI_SOURCE_DIR);
     Scene s;
@@ -197,10 +188,7 @@ static void sponza_rsm_recovers_the_bounce(void **state)
 static void sponza_direct_matches_reference(void **state)
 {
     (void)state;
-    if (!test_sponza_gltf()) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
+    test_skip_without_sponza();
     Scene s;
     test_sponza_lambert(&s);
     enum { W = 320, H = 180, SPP = 64, BX = 16, BY = 9 };

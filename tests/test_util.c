@@ -544,6 +544,14 @@ const char *test_sponza_file(void)
     return path;
 }
 
+void test_skip_without_sponza(void)
+{
+    if (!test_sponza_gltf()) {
+        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
+        skip();
+    }
+}
+
 void test_sponza_lambert(Scene *s)
 {
     const char *file = test_sponza_file();

@@ -158,6 +158,9 @@ void test_camera_down(Camera *c, const vec3 position);
 const char *test_sponza_file(void);
 /* Sponza's glTF under ../shared/assets, or NULL when it is not there. */
 const char *test_sponza_gltf(void);
+/* Skips the calling test (cmocka skip(), saying why) when Sponza's asset
+ * is absent. */
+void test_skip_without_sponza(void);
 /* Loads test_sponza_file() (it must exist) with its glTF materials made
  * Lambertian (specular 0, metallic 0) and its sun a parallel one (size 0):
  * the path tracer's bounce then has no glossy paths a diffuse gather

@@ -1081,11 +1081,8 @@ static void turned_face_has_no_bands(void **state)
 static void sponza_against_one_bounce(void **state)
 {
     (void)state;
+    test_skip_without_sponza();
     const char *file = test_sponza_file();
-    if (!file) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
     enum { W = 320, H = 180 };
     Scene s;
     assert_true(scene_load(&s, file));

@@ -124,10 +124,7 @@ static void wall_hides_the_bounce(void **state)
 static void sponza_against_one_bounce(void **state)
 {
     (void)state;
-    if (!test_sponza_file()) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
+    test_skip_without_sponza();
     Scene s;
     test_sponza_lambert(&s); /* materials Lambertian, a parallel sun (as test_sponza's) */
     enum { SW = 160, SH = 90 };

@@ -539,10 +539,7 @@ static void disk_vpls_bound_the_singularity(void **state)
 static void vpls_sum_the_rsm_on_sponza(void **state)
 {
     (void)state;
-    if (!test_sponza_file()) {
-        print_message("Sponza not found under %s/assets/sponza: skipped\n", RTGI_SHARED_DIR);
-        skip();
-    }
+    test_skip_without_sponza();
     enum { SW = 80, SH = 45 };
     Scene s;
     test_sponza_lambert(&s); /* a parallel sun */

@@ -80,6 +80,7 @@ int main(int argc, char **argv)
         rs.set.gi = s.settings.gi;
         rs.set.gi.vct.voxelize = m == 0 ? VCT_VOXELIZE_RASTER : VCT_VOXELIZE_COMPUTE;
         rs.set.gi.vct.size = size;
+        rs.timings = rs.timing_sync = true; /* vct then times its voxelizations (GiStats.voxelize_ms) */
         ok = made[m] = renderer_create(&r[m], &s, &rs);
         if (ok) {
             renderer_frame(&r[m], &s.camera); /* compiles, voxelizes once */

@@ -45,6 +45,7 @@
 #define SSBO_VBUFFER_BINS 21      /* --gbuffer visibility: per material uint[4] (indirect dispatch x y z, pixel count), then start and cursor per material */
 #define SSBO_VBUFFER_PIXELS 22    /* --gbuffer visibility: the binned pixels, x | y << 16, material after material */
 #define SSBO_VCT_OPAQUE_PREV 23 /* vct region revoxelization: the opaque list before it (as SSBO_VCT_OPAQUE) */
+#define SSBO_VCT_ARGS 24        /* vct: uvec4[4], the indirect dispatches over the list or every voxel (gi/vct/args.comp) */
 /* (lpv injects from SSBO_VPL, counted by SSBO_COUNTERS) */
 /* Texture units */
 #define TEX_ALBEDO 0     /* material texture while drawing the scene */

@@ -5,9 +5,12 @@
 //   LIST_FILTER: over the list before (SSBO_VCT_OPAQUE_PREV), the entries
 //     outside their level's region (u_regions) kept;
 //   LIST_REGION: over one level's region box (u_region_lo/hi, stacked),
-//     its opaque voxels (albedo alpha > 0) appended;
+//     its opaque voxels (albedo alpha > 0) appended, unless the list
+//     before had overflowed (the pass over every voxel lists them);
 //   else: over every voxel of the stacked levels, its opaque ones (when
 //     the list before had overflowed).
+// vct.c dispatches the first and the last indirectly (gi/vct/args.comp):
+// the one that does not apply has no groups.
 #include "shared/gpu_types.h"
 #include "gi/vct/volume.glsl"
 
@@ -17,6 +20,9 @@ layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_
 layout(location = LOC_VCT_REGIONS) uniform ivec4 u_regions[2 * VCT_MAX_LEVELS];
 #else
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
+#ifdef LIST_REGION
+layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_count, prev_x, prev_y, prev_z; uint prev[]; };
+#endif
 layout(binding = TEX_VCT_ALBEDO) uniform sampler3D u_albedo;
 layout(location = LOC_VCT_REGION_LO) uniform ivec4 u_region_lo;
 layout(location = LOC_VCT_REGION_HI) uniform ivec4 u_region_hi;
@@ -48,7 +54,7 @@ void main()
     ivec3 v;
 #ifdef LIST_REGION
     v = ivec3(gl_GlobalInvocationID) + u_region_lo.xyz;
-    if (any(greaterThanEqual(v, u_region_hi.xyz)))
+    if (any(greaterThanEqual(v, u_region_hi.xyz)) || prev_count > uint(prev.length()))
         return;
 #else
     if (!vct_voxel_here(v))

@@ -88,13 +88,14 @@ typedef struct VctGi {
     uint32_t work_headers;   /* headers in `work`: levels × submeshes */
     GLuint opaque;           /* SSBO: the opaque voxels (gi/vct/voxelize.glsl appends them), count + indirect dispatch first */
     uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
-    uint32_t opaque_count;   /* opaque voxels of the last voxelization (may exceed the capacity) */
+    GLuint args;             /* the indirect dispatches over the list or every voxel (gi/vct/args.comp) */
     GLuint ubo;              /* GpuVctParams */
     GLuint voxelize_tris[3], voxelize_tiles[3]; /* voxelize.comp (--vct-voxelize compute) per VoxelizeKind */
     GLuint voxelize, resolve, resolve_list, inject, mip, aniso_prog, aniso_first, bounce, trace, upsample; /* programs */
     GLuint bounce_list;      /* bounce.comp over the opaque-voxel list (OPAQUE_LIST) */
     GLuint list[3];          /* list.comp after a region (compute): every voxel, LIST_FILTER, LIST_REGION */
-    GLuint opaque_prev;      /* SSBO (compute): the opaque list before a region's revoxelization */
+    GLuint opaque_prev;      /* SSBO (compute): the opaque list before a region's revoxelization (swapped with opaque) */
+    GLuint args_prog;        /* args.comp */
     GLuint probe;            /* probe.comp (vct_probe, tests), built on first use */
     int scale;               /* --vct-trace-scale */
     GLuint low_irradiance, low_specular; /* RGBA32F ⌈w/scale⌉ × ⌈h/scale⌉ (scale > 1) */
@@ -106,7 +107,7 @@ typedef struct VctGi {
     uint64_t region_voxels;  /* voxels of the last region, every level */
     uint64_t built_for;      /* the light products and voxels the radiance volumes hold (0: none) */
     int builds;              /* times radiance was injected and filtered */
-    double voxelize_ms;      /* wall time of the last voxelization */
+    double voxelize_ms;      /* wall time of the last voxelization timed (vct_voxelize_wall_ms) */
     uint64_t bytes;          /* GPU memory held by the volumes */
     int width, height;
 } VctGi;
@@ -196,6 +197,7 @@ static void vct_destroy(void *state)
     glDeleteBuffers(1, &v->work);
     glDeleteBuffers(1, &v->opaque);
     glDeleteBuffers(1, &v->opaque_prev);
+    glDeleteBuffers(1, &v->args);
     glDeleteBuffers(1, &v->ubo);
     glDeleteTextures(1, &v->low_irradiance);
     glDeleteTextures(1, &v->low_specular);
@@ -336,6 +338,7 @@ static bool vct_programs(VctGi *v)
                                       "#define LIST_FILTER\n")) &&
                 (v->list[2] = program(v, "vct_list_region", NULL, NULL, NULL, "gi/vct/list.comp",
                                       "#define LIST_REGION\n")))) &&
+              (v->args_prog = program(v, "vct_args", NULL, NULL, NULL, "gi/vct/args.comp", NULL)) &&
               (v->inject = program(v, "vct_inject", NULL, NULL, NULL, "gi/vct/inject.comp", NULL)) &&
               (v->mip = program(v, "vct_mip", NULL, NULL, NULL, "gi/vct/mip.comp", NULL)) &&
               (v->aniso_prog = program(v, "vct_aniso", NULL, NULL, NULL, "gi/vct/aniso.comp", NULL)) &&
@@ -384,7 +387,9 @@ static bool vct_volumes(VctGi *v, const Scene *s)
     ok = ok && (v->opaque = gl_buffer_make(4u * (4u + (uint64_t)v->opaque_capacity), NULL, GL_DYNAMIC_STORAGE_BIT,
                                            "vct.opaque"));
     if (ok && p->vct.voxelize == VCT_VOXELIZE_COMPUTE)
-        ok = (v->opaque_prev = gl_buffer_make(4u * (4u + (uint64_t)v->opaque_capacity), NULL, 0, "vct.opaque_prev"));
+        ok = (v->opaque_prev = gl_buffer_make(4u * (4u + (uint64_t)v->opaque_capacity), NULL, GL_DYNAMIC_STORAGE_BIT,
+                                              "vct.opaque_prev"));
+    ok = ok && (v->args = gl_buffer_make(sizeof(GLuint[4][4]), NULL, 0, "vct.dispatch_args"));
     return ok && (v->ubo = gi_ubo_make(sizeof(GpuVctParams), "vct.params"));
 }
 
@@ -495,17 +500,38 @@ static void dispatch_box(int side, int depth)
 /* The same over the n × n × n·layers stacked volume. */
 static void dispatch_volume(int n, int layers) { dispatch_box(n, n * layers); }
 
-/* Whether the last voxelization's opaque voxels fit their list, so that
- * the injection and the bounce run over it rather than every voxel. */
-static bool opaque_listed(const VctGi *v) { return v->opaque_count <= v->opaque_capacity; }
+/* The indirect dispatches of args.comp (its header), from the opaque
+ * list's count and the list's before a region's revoxelization: whether a
+ * list fits its capacity is known on the GPU alone. */
+enum { ARGS_LIST, ARGS_VOLUME, ARGS_PREV_LIST, ARGS_PREV_VOLUME };
 
-/* One invocation per listed opaque voxel (gi/vct/volume.glsl, OPAQUE_LIST). */
-static void dispatch_opaque(const VctGi *v)
+static void update_args(const VctGi *v)
+{
+    glUseProgram(v->args_prog);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE_PREV, v->opaque_prev ? v->opaque_prev : v->opaque);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_ARGS, v->args);
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+/* `prog` dispatched indirectly with args.comp's dispatch `which`. */
+static void dispatch_args(const VctGi *v, GLuint prog, int which)
+{
+    glUseProgram(prog);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->args);
+    glDispatchComputeIndirect((GLintptr)which * 4 * sizeof(GLuint));
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+}
+
+/* A pass over the opaque voxels: `listed` (OPAQUE_LIST, an invocation per
+ * entry) when the list holds them all, else `all` over every voxel; the
+ * other dispatch has no groups. */
+static void dispatch_voxels(const VctGi *v, GLuint listed, GLuint all)
 {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, v->opaque);
-    glDispatchComputeIndirect(sizeof(uint32_t));
-    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+    dispatch_args(v, listed, ARGS_LIST);
+    dispatch_args(v, all, ARGS_VOLUME);
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                     GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
 }
@@ -699,28 +725,21 @@ static uint64_t dispatch_region(const VctGi *v, GLuint prog, const VctRegion *r)
 }
 
 /* A whole voxelization's resolve: over the opaque list the sums' first
- * samples made (the volumes cleared first), or every voxel when it
- * overflowed. */
+ * samples made (the volumes cleared first: the empty voxels hold its 0),
+ * or every voxel when it overflowed. */
 static void resolve_whole(VctGi *v)
 {
-    glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
-    if (opaque_listed(v)) { /* the empty voxels hold the clear's 0 */
-        glClearTexImage(v->albedo, 0, GL_RGBA, GL_FLOAT, NULL);
-        glClearTexImage(v->normal, 0, GL_RGBA, GL_FLOAT, NULL);
-        glUseProgram(v->resolve_list);
-        dispatch_opaque(v);
-    } else {
-        glUseProgram(v->resolve);
-        dispatch_volume(v->n, v->clip);
-    }
+    glClearTexImage(v->albedo, 0, GL_RGBA, GL_FLOAT, NULL);
+    glClearTexImage(v->normal, 0, GL_RGBA, GL_FLOAT, NULL);
+    dispatch_voxels(v, v->resolve_list, v->resolve);
 }
 
 /* A region's resolve: over its boxes (its empty voxels written 0), then
  * the opaque list made again (list.comp) so that it holds every opaque
- * voxel once: the entries of the list before (`was` of them, in
- * opaque_prev, when `was_listed`) outside the region and the region's
- * opaque voxels, or, when the list before had overflowed, every voxel's. */
-static void resolve_region(VctGi *v, const VctRegion *r, bool was_listed, uint32_t was)
+ * voxel once: the entries of the list before (opaque_prev) outside the
+ * region and the region's opaque voxels, or, when the list before had
+ * overflowed, every voxel's (args.comp picks on the GPU). */
+static void resolve_region(VctGi *v, const VctRegion *r)
 {
     v->region_voxels = dispatch_region(v, v->resolve, r);
     region_uniforms(v, v->resolve, NULL, 0, true); /* a whole voxelization's resolve shares the program */
@@ -728,27 +747,19 @@ static void resolve_region(VctGi *v, const VctRegion *r, bool was_listed, uint32
     const uint32_t empty[4] = {0, 0, 1, 1};
     glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
     glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
-    if (!was_listed) {
-        glUseProgram(v->list[0]);
-        dispatch_volume(v->n, v->clip);
-    } else {
-        GLint boxes[2 * VCT_MAX_LEVELS][4] = {{0}};
-        for (int k = 0; k < v->clip; k++)
-            for (int a = 0; a < 3; a++) {
-                int z = a == 2 ? k * v->n : 0; /* stacked */
-                boxes[2 * k][a] = r->lo[k][a] + z;
-                boxes[2 * k + 1][a] = r->hi[k][a] + z;
-            }
-        glUseProgram(v->list[1]);
-        glProgramUniform4iv(v->list[1], LOC_VCT_REGIONS, 2 * VCT_MAX_LEVELS, &boxes[0][0]);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE_PREV, v->opaque_prev);
-        GLuint groups = (was + 63) / 64;
-        if (groups)
-            glDispatchCompute(groups, 1, 1);
-        dispatch_region(v, v->list[2], r);
-    }
+    GLint boxes[2 * VCT_MAX_LEVELS][4] = {{0}};
+    for (int k = 0; k < v->clip; k++)
+        for (int a = 0; a < 3; a++) {
+            int z = a == 2 ? k * v->n : 0; /* stacked */
+            boxes[2 * k][a] = r->lo[k][a] + z;
+            boxes[2 * k + 1][a] = r->hi[k][a] + z;
+        }
+    glProgramUniform4iv(v->list[1], LOC_VCT_REGIONS, 2 * VCT_MAX_LEVELS, &boxes[0][0]);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE_PREV, v->opaque_prev);
+    dispatch_args(v, v->list[0], ARGS_PREV_VOLUME); /* the list before overflowed: every voxel */
+    dispatch_args(v, v->list[1], ARGS_PREV_LIST);   /* else its entries outside the region */
+    dispatch_region(v, v->list[2], r);              /* and the region's (none when it overflowed) */
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-    glGetNamedBufferSubData(v->opaque, 0, sizeof v->opaque_count, &v->opaque_count);
 }
 
 /* Voxelizes the scene into the fixed-point sums (raster or compute), each
@@ -760,12 +771,18 @@ static void resolve_region(VctGi *v, const VctRegion *r, bool was_listed, uint32
  * them in whatever order. */
 static void voxelize(VctGi *v, const GiFrame *f, const VctRegion *r)
 {
-    glFinish(); /* its wall time is worth the wait */
+    /* Timed in wall time with --timings (a whole voxelization, or any with
+     * synchronous timings); otherwise nothing waits for the GPU. */
+    const GpuTimer *t = f->timer;
+    bool timed = t && t->enabled && (t->sync || !r);
+    if (timed)
+        glFinish();
     double t0 = util_seconds();
-    bool was_listed = opaque_listed(v);
-    uint32_t was = v->opaque_count;
-    if (r && was_listed) /* the list before, kept apart: the region's first samples append to v->opaque */
-        glCopyNamedBufferSubData(v->opaque, v->opaque_prev, 0, 0, 4 * (4 + (GLsizeiptr)was));
+    if (r) { /* the list before, kept apart: the region's first samples append to v->opaque */
+        GLuint before = v->opaque;
+        v->opaque = v->opaque_prev;
+        v->opaque_prev = before;
+    }
     const uint32_t empty[4] = {0, 0, 1, 1}; /* no voxels; an indirect dispatch of 0 × 1 × 1 */
     glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
@@ -777,26 +794,30 @@ static void voxelize(VctGi *v, const GiFrame *f, const VctRegion *r)
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     gl_texture3d_bind_image(IMG_VCT_DST, v->albedo, 0, GL_WRITE_ONLY, GL_RGBA16F);
     gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_WRITE_ONLY, GL_RGBA16F);
-    if (r)
-        resolve_region(v, r, was_listed, was);
-    else
+    update_args(v);
+    if (r) {
+        resolve_region(v, r);
+        update_args(v);
+    } else {
         resolve_whole(v);
-    glFinish();
-    v->voxelize_ms = 1e3 * (util_seconds() - t0);
+    }
+    if (timed) {
+        glFinish();
+        v->voxelize_ms = 1e3 * (util_seconds() - t0);
+    }
     v->voxelizations++;
     v->region_voxelizations += r != NULL;
 }
 
 /* The injection program for one light type (LIGHT_FIXED_TYPE: the other
  * types' code and map kind drop out; llvmpipe runs both sides of a branch,
- * so each shadow tap read a cube and a 2D map), over the opaque-voxel list
- * or every voxel, built on first use; the general one (every voxel) if it
- * does not build. */
-static GLuint inject_program(VctGi *v, const Scene *s, const Light *l, bool list)
+ * so each shadow tap read a cube and a 2D map), over the opaque-voxel list,
+ * built on first use; the general one (every voxel) if it does not build. */
+static GLuint inject_program(VctGi *v, const Scene *s, const Light *l)
 {
     char defs[96];
-    snprintf(defs, sizeof defs, "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_CUBE %d\n%s", (int)l->type,
-             shadow_frame_is_cube(l, s->bounds_min, s->bounds_max) ? 1 : 0, list ? "#define OPAQUE_LIST\n" : "");
+    snprintf(defs, sizeof defs, "#define LIGHT_FIXED_TYPE %d\n#define SHADOW_FIXED_CUBE %d\n#define OPAQUE_LIST\n",
+             (int)l->type, shadow_frame_is_cube(l, s->bounds_min, s->bounds_max) ? 1 : 0);
     GLuint p = program(v, "vct_inject_fixed_type", NULL, NULL, NULL, "gi/vct/inject.comp", defs);
     return p ? p : v->inject;
 }
@@ -809,18 +830,19 @@ static void inject(VctGi *v, const GiFrame *f)
     int lights = f->lights->light_count;
     /* Over the opaque voxels alone when they fit the list; the empty ones
      * then hold the clear's 0. */
-    bool list = opaque_listed(v);
-    if (lights == 0 || list)
-        glClearTexImage(v->radiance[0], 0, GL_RGBA, GL_FLOAT, NULL);
+    glClearTexImage(v->radiance[0], 0, GL_RGBA, GL_FLOAT, NULL);
     for (int i = 0; i < lights; i++) {
-        GLuint prog = inject_program(v, f->scene, &f->scene->lights[i], list);
-        glUseProgram(prog);
+        const Light *l = &f->scene->lights[i];
+        GLuint listed = inject_program(v, f->scene, l);
         light_stage_bind_shadow(f->lights, i);
-        glProgramUniform1i(prog, LOC_VCT_ACCUMULATE, i > 0);
-        if (prog != v->inject && list)
-            dispatch_opaque(v);
-        else
+        glProgramUniform1i(listed, LOC_VCT_ACCUMULATE, i > 0);
+        glProgramUniform1i(v->inject, LOC_VCT_ACCUMULATE, i > 0);
+        if (listed != v->inject) { /* an overflowed list (rare): the general program over every voxel */
+            dispatch_voxels(v, listed, v->inject);
+        } else { /* the list's program did not build */
+            glUseProgram(v->inject);
             dispatch_volume(v->n, v->clip);
+        }
     }
 }
 
@@ -914,7 +936,7 @@ static bool vct_run(void *state, const GiFrame *f)
         gpu_timer_begin(t, "vct_bounce");
         /* Over the opaque voxels alone when they fit the list (as the
          * injection): the empty ones keep the direct radiance, copied. */
-        bool list = v->bounce_list && opaque_listed(v);
+        bool list = v->bounce_list != 0;
         glUseProgram(list ? v->bounce_list : v->bounce);
         bind_volumes(v, v->radiance[0]);
         glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
@@ -923,7 +945,7 @@ static bool vct_run(void *state, const GiFrame *f)
         if (list) {
             glCopyImageSubData(v->radiance[0], GL_TEXTURE_3D, 0, 0, 0, 0, v->radiance[1], GL_TEXTURE_3D, 0, 0, 0, 0,
                                v->n, v->n, v->n * v->clip);
-            dispatch_opaque(v);
+            dispatch_voxels(v, v->bounce_list, v->bounce);
         } else {
             dispatch_volume(v->n, v->clip);
         }
@@ -1013,8 +1035,10 @@ bool vct_read_volume(void *state, VctVolume which, float *out)
 unsigned vct_opaque_voxels(const void *state, bool *listed)
 {
     const VctGi *v = state;
-    *listed = opaque_listed(v);
-    return v->opaque_count;
+    uint32_t count = 0; /* read back here alone: stats, tests */
+    glGetNamedBufferSubData(v->opaque, 0, sizeof count, &count);
+    *listed = count <= v->opaque_capacity;
+    return count;
 }
 
 bool vct_read_directional(void *state, int axis, bool negative, int k, float *out)

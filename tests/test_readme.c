@@ -176,11 +176,13 @@ static void readme_commands_work(void **state)
             if (view)
                 test_x_display(); /* a window: under Xvfb */
             char *out = NULL;
+            double t0 = util_seconds();
             int rc = run(argv, &out);
+            double took = util_seconds() - t0;
             unsetenv("SETTINGS");
             unsetenv("GI");
             unsetenv("PROBE");
-            print_message("%s %s\n", rc == 0 ? "ok  " : "FAIL", shown);
+            print_message("%s %5.1f s  %s\n", rc == 0 ? "ok  " : "FAIL", took, shown);
             if (rc != 0) {
                 print_message("  exit %d:\n%s\n", rc, out ? out : "");
                 failed++;

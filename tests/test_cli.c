@@ -342,9 +342,8 @@ static int sweep_last_allocations(const char *const *args, const char *out, int 
  * alloc_failure_shim.c, preloaded: the k-th allocation that rtgi's own code
  * asks for returns NULL) fails the command with one line and no file. The
  * whole sweep is scripts/alloc-failure-sweep.sh. render's last 7 to a PNG,
- * its last 3 to a PFM or EXR: before those, the same five string copies as
- * the PNG's (the rest of its run; they had taken 10 runs of CI's ASan
- * time); compare's last 7. */
+ * its last 3 to a PFM or EXR: the four before those are string copies that
+ * the PNG's sweep refuses too (8 runs of CI's ASan time); compare's last 7. */
 static void output_allocation_failures(void **state)
 {
     (void)state;

@@ -32,7 +32,7 @@
 #define SSBO_SAMPLES 8   /* RSM importance sampling: GpuVpl[list_size] with flux Φ/p */
 #define SSBO_LPV_FIXED 9  /* lpv compute injection: int[12 · N³] fixed-point SH sums */
 #define SSBO_VCT_VOXELS 10 /* vct voxelization: uint[8 · N³] fixed-point albedo, normal, count sums per voxel */
-#define SSBO_VCT_OPAQUE 11 /* vct: the opaque voxels: count, indirect dispatch (x, y, z), packed coordinates */
+#define SSBO_VCT_OPAQUE 11 /* vct: the opaque voxels: count, 3 words of padding, packed coordinates */
 #define SSBO_ISM_POINTS 12 /* ism: vec4[point_count], the scene's point samples (xyz, m) */
 #define SSBO_STATS 13     /* gi/count_surfaces.comp: [0] the count (stats read back on request) */
 #define SSBO_ISM_REPS 14  /* ism from an RSM: uvec4 per map, its block's representative texel (position bits, oct normal) */

@@ -11,8 +11,8 @@
 #include "gi/vct/volume.glsl"
 
 layout(local_size_x = 1) in;
-layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
-layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_count, prev_x, prev_y, prev_z; uint prev[]; };
+layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count; uint opaque_pad[3]; uint opaque[]; };
+layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_count; uint prev_pad[3]; uint prev[]; };
 layout(std430, binding = SSBO_VCT_ARGS) writeonly buffer Args { uvec4 args[4]; };
 
 void write_pair(int i, uint count, uint capacity)

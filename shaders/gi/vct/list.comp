@@ -16,27 +16,24 @@
 
 #ifdef LIST_FILTER
 layout(local_size_x = 64) in;
-layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_count, prev_x, prev_y, prev_z; uint prev[]; };
+layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_count; uint prev_pad[3]; uint prev[]; };
 layout(location = LOC_VCT_REGIONS) uniform ivec4 u_regions[2 * VCT_MAX_LEVELS];
 #else
 layout(local_size_x = 4, local_size_y = 4, local_size_z = 4) in;
 #ifdef LIST_REGION
-layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_count, prev_x, prev_y, prev_z; uint prev[]; };
+layout(std430, binding = SSBO_VCT_OPAQUE_PREV) readonly buffer Prev { uint prev_count; uint prev_pad[3]; uint prev[]; };
 #endif
 layout(binding = TEX_VCT_ALBEDO) uniform sampler3D u_albedo;
 layout(location = LOC_VCT_REGION_LO) uniform ivec4 u_region_lo;
 layout(location = LOC_VCT_REGION_HI) uniform ivec4 u_region_hi;
 #endif
-layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
+layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count; uint opaque_pad[3]; uint opaque[]; };
 
 void append(ivec3 v)
 {
     uint slot = atomicAdd(opaque_count, 1u);
-    if (slot < uint(opaque.length())) {
+    if (slot < uint(opaque.length()))
         opaque[slot] = vct_voxel_code(v);
-        if (slot % 64u == 0u)
-            atomicMax(groups_x, slot / 64u + 1u);
-    }
 }
 
 void main()

@@ -10,7 +10,7 @@
 // Passes over the voxels run either over every stacked voxel (4×4×4
 // groups) or, with OPAQUE_LIST, over the opaque-voxel list the
 // voxelization appends (gi/vct/voxelize.glsl; 64 entries a group,
-// dispatched indirectly): vct_voxel_here.
+// dispatched indirectly from gi/vct/args.comp): vct_voxel_here.
 
 // A stacked voxel as one list entry, and back (N ≤ 256: x, y in 8 bits,
 // z = level·N + z' in 16).
@@ -18,7 +18,7 @@ uint vct_voxel_code(ivec3 v) { return uint(v.x) | (uint(v.y) << 8) | (uint(v.z) 
 ivec3 vct_voxel_of(uint code) { return ivec3(code & 0xffu, (code >> 8) & 0xffu, code >> 16); }
 
 #ifdef OPAQUE_LIST
-layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
+layout(std430, binding = SSBO_VCT_OPAQUE) readonly buffer Opaque { uint opaque_count; uint opaque_pad[3]; uint opaque[]; };
 #endif
 
 // The voxel this invocation handles; false past the list or the volume

@@ -5,10 +5,10 @@
 // in fixed point with integer atomics into SSBO_VCT_VOXELS (an exact
 // average after resolve.comp; the order-independent equivalent of Crassin &
 // Green's moving average under imageAtomicCompSwap); a voxel's first
-// sample appends it to the opaque list (SSBO_VCT_OPAQUE, vct_voxel_code,
-// with the indirect dispatch of 64 a group over it; past the list's
-// capacity only the count grows and vct.c resolves every voxel), which the
-// resolve, the injection and the bounce then run over.
+// sample appends it to the opaque list (SSBO_VCT_OPAQUE, vct_voxel_code;
+// past the list's capacity only the count grows, and gi/vct/args.comp then
+// dispatches the passes over every voxel), which the resolve, the
+// injection and the bounce then run over.
 //   conservative: the column's depth range over the pixel square (the
 //     plane's slope is at most 1 per pixel along the dominant axis: ≤ 3
 //     voxels) and an exact triangle–box overlap test (separating axes,
@@ -57,7 +57,7 @@ vec3 vct_canonical_normal(vec3 n)
 #include "gi/vct/volume.glsl"
 
 layout(std430, binding = SSBO_VCT_VOXELS) buffer Voxels { uint voxels[]; };
-layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count, groups_x, groups_y, groups_z; uint opaque[]; };
+layout(std430, binding = SSBO_VCT_OPAQUE) buffer Opaque { uint opaque_count; uint opaque_pad[3]; uint opaque[]; };
 // A revoxelized region (vct.c, voxelize_region): only its voxels of the
 // level take samples; w 0: every voxel.
 layout(location = LOC_VCT_REGION_LO) uniform ivec4 u_region_lo;
@@ -151,11 +151,8 @@ void vct_add(ivec3 s, int axis, int level, vec3 albedo, vec3 n)
     atomicAdd(voxels[i + 5u], uint(int(round(n.z * VCT_FIXED))));
     if (atomicAdd(voxels[i + 6u], 1u) == 0u) {
         uint slot = atomicAdd(opaque_count, 1u);
-        if (slot < uint(opaque.length())) {
+        if (slot < uint(opaque.length()))
             opaque[slot] = vct_voxel_code(ivec3(v.xy, v.z + level * size));
-            if (slot % 64u == 0u)
-                atomicMax(groups_x, slot / 64u + 1u);
-        }
     }
 }
 

@@ -87,7 +87,7 @@ typedef struct VctGi {
     GLuint sums;             /* SSBO: uint[8] per voxel, the voxelization's fixed-point sums; all 0 between voxelizations */
     GLuint work;             /* SSBO (--vct-voxelize compute): per level and submesh a header, then the large triangles */
     uint32_t work_headers;   /* headers in `work`: levels × submeshes */
-    GLuint opaque;           /* SSBO: the opaque voxels (gi/vct/voxelize.glsl appends them), count + indirect dispatch first */
+    GLuint opaque;           /* SSBO: the opaque voxels (gi/vct/voxelize.glsl appends them), a 4-word header (the count) first */
     uint32_t opaque_capacity;/* entries: N³·L / VCT_OPAQUE_SHARE */
     GLuint args;             /* the indirect dispatches over the list or every voxel (gi/vct/args.comp) */
     GLuint ubo;              /* GpuVctParams */
@@ -750,8 +750,8 @@ static void resolve_region(VctGi *v, const VctRegion *r)
     v->region_voxels = dispatch_region(v, v->resolve, r);
     region_uniforms(v, v->resolve, NULL, 0, true); /* a whole voxelization's resolve shares the program */
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
-    const uint32_t empty[4] = {0, 0, 1, 1};
-    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
+    const uint32_t none = 0; /* the count */
+    glNamedBufferSubData(v->opaque, 0, sizeof none, &none);
     glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
     GLint boxes[2 * VCT_MAX_LEVELS][4] = {{0}};
     for (int k = 0; k < v->clip; k++)
@@ -789,8 +789,8 @@ static void voxelize(VctGi *v, const GiFrame *f, const VctRegion *r)
         v->opaque = v->opaque_prev;
         v->opaque_prev = before;
     }
-    const uint32_t empty[4] = {0, 0, 1, 1}; /* no voxels; an indirect dispatch of 0 × 1 × 1 */
-    glNamedBufferSubData(v->opaque, 0, sizeof empty, empty);
+    const uint32_t none = 0; /* the count; args.comp makes the dispatches over the list */
+    glNamedBufferSubData(v->opaque, 0, sizeof none, &none);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_OPAQUE, v->opaque);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, SSBO_VCT_VOXELS, v->sums);
     if (v->params.vct.voxelize == VCT_VOXELIZE_COMPUTE)
@@ -942,17 +942,16 @@ static bool vct_run(void *state, const GiFrame *f)
         gpu_timer_begin(t, "vct_bounce");
         /* Over the opaque voxels alone when they fit the list (as the
          * injection): the empty ones keep the direct radiance, copied. */
-        bool list = v->bounce_list != 0;
-        glUseProgram(list ? v->bounce_list : v->bounce);
         bind_volumes(v, v->radiance[0]);
         glBindTextureUnit(TEX_VCT_ALBEDO, v->albedo);
         gl_texture3d_bind_image(IMG_VCT_DST, v->radiance[1], 0, GL_WRITE_ONLY, GL_RGBA16F);
         gl_texture3d_bind_image(IMG_VCT_DST2, v->normal, 0, GL_READ_WRITE, GL_RGBA16F); /* w: + the bounce's side */
-        if (list) {
+        if (v->bounce_list) {
             glCopyImageSubData(v->radiance[0], GL_TEXTURE_3D, 0, 0, 0, 0, v->radiance[1], GL_TEXTURE_3D, 0, 0, 0, 0,
                                v->n, v->n, v->n * v->clip);
             dispatch_voxels(v, v->bounce_list, v->bounce);
-        } else {
+        } else { /* the list's program did not build */
+            glUseProgram(v->bounce);
             dispatch_volume(v->n, v->clip);
         }
         gpu_timer_end(t);

@@ -198,8 +198,14 @@ static bool technique_create(Renderer *r)
     if (!r->gi->create)
         return true;
     int n = renderer_ssaa(rs);
-    GiCreateInfo ci = {r->scene, &rs->set.gi, &r->lights, &r->programs, rs->width * n, rs->height * n,
-                       r->gpu_scene.version};
+    GiCreateInfo ci = {.scene = r->scene,
+                       .params = &rs->set.gi,
+                       .lights = &r->lights,
+                       .programs = &r->programs,
+                       .width = rs->width * n,
+                       .height = rs->height * n,
+                       .geometry_version = r->gpu_scene.version,
+                       .software = r->software};
     r->gi_state = r->gi->create(&ci);
     return r->gi_state != NULL;
 }

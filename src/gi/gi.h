@@ -76,6 +76,7 @@ typedef struct GiCreateInfo {
     ProgramCache *programs;  /* where its programs come from (the cache owns them) */
     int width, height;       /* output size */
     uint64_t geometry_version; /* GpuScene.version of the geometry `scene` holds now */
+    bool software;           /* the GL renderer is a software rasterizer (Renderer.software): a device class */
 } GiCreateInfo;
 
 /* What a technique reads and writes each frame. */

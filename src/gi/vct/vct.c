@@ -58,7 +58,6 @@
 #include "base/log.h"
 #include "gl/shader.h"
 #include "gpu/targets.h"
-#include "gl/gl_context.h"
 #include "base/util.h"
 
 enum { ANISO_AXES = 3 }; /* directional volumes: one texture per axis, both signs */
@@ -307,7 +306,7 @@ static uint64_t vct_bytes(const GiParams *p, const Scene *s)
 
 /* Every program the settings call for; false after the first that failed
  * (it logged its one line; as lpv_programs). */
-static bool vct_programs(VctGi *v)
+static bool vct_programs(VctGi *v, bool software)
 {
     const GiParams *p = &v->params;
     /* The cone tracers read the directional volumes only when compiled
@@ -321,9 +320,7 @@ static bool vct_programs(VctGi *v)
         static const char *const kinds[VOXELIZE_KINDS] = {"#define OPAQUE_DRAW\n", "#define UNTEXTURED\n", ""};
         /* Larger triangles walk their own columns on a software rasterizer
          * (voxelize.comp, SMALL_COLUMNS) */
-        const char *small = gl_renderer_is_software((const char *)glGetString(GL_RENDERER))
-                                ? "#define SMALL_COLUMNS 1024\n"
-                                : "";
+        const char *small = software ? "#define SMALL_COLUMNS 1024\n" : "";
         for (int u = 0; ok && u < VOXELIZE_KINDS; u++) {
             char tris[96], tiles[96];
             snprintf(tris, sizeof tris, "%s%s", small, kinds[u]);
@@ -457,7 +454,7 @@ static void *vct_create(const GiCreateInfo *ci)
     v->height = ci->height;
     glm_vec3_copy((float *)ci->scene->bounds_min, v->bmin);
     glm_vec3_copy((float *)ci->scene->bounds_max, v->bmax);
-    if (!vct_programs(v) || !vct_volumes(v, ci->scene)) { /* what failed logged its line */
+    if (!vct_programs(v, ci->software) || !vct_volumes(v, ci->scene)) { /* what failed logged its line */
         vct_destroy(v);
         return NULL;
     }

@@ -543,7 +543,9 @@ static void compare_voxelizations(const Scene *s, int n, const char *what, doubl
  * Cornell box, the thin plane and wall (so it is as watertight), and a
  * textured quad whose texture is alpha-masked on half of it (texels read
  * at the explicit gradient: bilinear, mip level within rounding of the
- * fragments' derivatives). */
+ * fragments' derivatives). The Cornell box also at 64³, where its walls
+ * span more columns than a triangle walks itself on llvmpipe (voxelize.comp
+ * SMALL_COLUMNS, 1024 there): the tile pass. */
 static void compute_equals_raster(void **state)
 {
     (void)state;
@@ -551,6 +553,7 @@ static void compute_equals_raster(void **state)
     scene_build_cornell(&s);
     scene_finalize(&s);
     compare_voxelizations(&s, 32, "cornell", 2e-3);
+    compare_voxelizations(&s, 64, "cornell", 2e-3);
     scene_free(&s);
     thin_scene(&s);
     compare_voxelizations(&s, 32, "thin plane and wall", 2e-3);

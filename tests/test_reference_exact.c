@@ -305,36 +305,88 @@ static void room_far_from_origin(void **state)
 
 /* ------------------------------------------------------------ sampler */
 
-/* Each pair of the Sobol' sampler is a (0,2)-sequence: for every m ≤ 8 the
- * first 2^m samples of a pixel put exactly one point in each elementary
- * interval of area 2^-m (every shape 2^a × 2^(m−a)), whatever the pixel and
- * the pair, scrambled and shuffled as they are. */
-static void sobol_pairs_are_nets(void **state)
+/* Whether the first n = 2^m points of `pts` (dims coordinates each, of
+ * which the ones in `use` count) put exactly 2^t points in every
+ * elementary interval of volume 2^(t−m): a (t,m,s)-net in those
+ * coordinates. Names the first cell that fails. */
+static bool is_net(const float *pts, int dims, unsigned use, int m, int t, char *why, size_t why_size)
+{
+    int axes[4], s = 0;
+    for (int d = 0; d < dims; d++)
+        if (use >> d & 1u)
+            axes[s++] = d;
+    int q = m - t, shape[4] = {0};
+    static unsigned short count[1 << 8];
+    /* Every split of q bits over the s axes. */
+    for (;;) {
+        int used = 0;
+        for (int k = 0; k < s - 1; k++)
+            used += shape[k];
+        if (used <= q) {
+            shape[s - 1] = q - used;
+            memset(count, 0, sizeof count);
+            for (int i = 0; i < 1 << m; i++) {
+                int cell = 0;
+                for (int k = 0; k < s; k++)
+                    cell = (cell << shape[k]) | (int)(pts[i * dims + axes[k]] * (float)(1 << shape[k]));
+                count[cell]++;
+            }
+            for (int c = 0; c < 1 << q; c++)
+                if (count[c] != 1 << t) {
+                    snprintf(why, why_size, "2^%d points, cell %d of shape %d/%d/%d/%d holds %d, not %d", m, c,
+                             shape[0], shape[1], shape[2], shape[3], count[c], 1 << t);
+                    return false;
+                }
+        }
+        int k = 0;
+        while (k < s - 1 && ++shape[k] > q)
+            shape[k++] = 0;
+        if (k == s - 1)
+            return true;
+    }
+}
+
+/* The Sobol' sampler's 4D blocks: for every m ≤ 8 the first 2^m samples of
+ * a pixel form, scrambled and shuffled as they are, a (0,m,2)-net in a
+ * block's first half (one point in each elementary interval of area
+ * 2^−m), a (2,m,2)-net in its second half, a (0,m,1)-net in each
+ * coordinate and a (3,m,4)-net in the four together (Sobol's t of its first
+ * four dimensions): whatever the pixel and the block, and when the block's
+ * first request is left out (sampler_skip_2d, the pixel jitter when it is
+ * off; a second half that kept the previous block's index fails here). */
+static void sobol_blocks_are_nets(void **state)
 {
     (void)state;
     sampler_init();
-    enum { M = 8, N = 1 << M, DIMS = 6 };
-    static float pts[DIMS][N][2];
+    enum { M = 8, N = 1 << M, BLOCKS = 3 };
+    static float pts[BLOCKS][N][4];
+    char why[160];
     for (uint64_t pixel = 0; pixel < 5; pixel++) {
         Sampler smp = sampler_make(PT_SAMPLER_SOBOL, 42, pixel * 7919);
+        bool skip = pixel == 4;
         for (int k = 0; k < N; k++) {
             sampler_start(&smp, (uint32_t)k);
-            for (int d = 0; d < DIMS; d++)
-                sampler_2d(&smp, pts[d][k]);
+            for (int b = 0; b < BLOCKS; b++) {
+                if (b == 0 && skip)
+                    sampler_skip_2d(&smp);
+                else
+                    sampler_2d(&smp, &pts[b][k][0]);
+                sampler_2d(&smp, &pts[b][k][2]);
+                (void)sampler_1d(&smp); /* counted apart: moves no block */
+            }
         }
-        for (int d = 0; d < DIMS; d++)
-            for (int m = 0; m <= M; m++)
-                for (int a = 0; a <= m; a++) {
-                    int nx = 1 << a, ny = 1 << (m - a);
-                    static unsigned char hit[N];
-                    memset(hit, 0, sizeof hit);
-                    for (int k = 0; k < (1 << m); k++) {
-                        int cx = (int)(pts[d][k][0] * nx), cy = (int)(pts[d][k][1] * ny);
-                        if (hit[cy * nx + cx]++)
-                            fail_msg("pixel %d pair %d: 2^%d points, %dx%d cell (%d,%d) twice", (int)pixel, d, m,
-                                     nx, ny, cx, cy);
-                    }
-                }
+        for (int b = 0; b < BLOCKS; b++)
+            for (int m = 0; m <= M; m++) {
+                const float *p = &pts[b][0][0];
+                bool first = !(b == 0 && skip);
+                bool ok = (!first || is_net(p, 4, 0x3u, m, 0, why, sizeof why)) &&
+                          (m < 2 || is_net(p, 4, 0xcu, m, 2, why, sizeof why)) && is_net(p, 4, 0x8u, m, 0, why, sizeof why) &&
+                          is_net(p, 4, 0x4u, m, 0, why, sizeof why) &&
+                          (!first || m < 3 || is_net(p, 4, 0xfu, m, 3, why, sizeof why));
+                if (!ok)
+                    fail_msg("pixel %d block %d%s: %s", (int)pixel, b, b == 0 && skip ? " (first half left out)" : "",
+                             why);
+            }
     }
 }
 
@@ -767,7 +819,7 @@ int main(void)
         cmocka_unit_test(plane_under_sphere_light),
         cmocka_unit_test(plane_under_quad_light),
         cmocka_unit_test(room_far_from_origin),
-        cmocka_unit_test(sobol_pairs_are_nets),
+        cmocka_unit_test(sobol_blocks_are_nets),
         cmocka_unit_test(packet_hits_equal_single_rays),
         cmocka_unit_test(quads_hit_as_triangles),
         cmocka_unit_test(sincos_2pi_is_accurate),

@@ -615,6 +615,8 @@ static void render_tile(Job *j, int tile, uint64_t *rays)
                 float jit[2] = {0.5f, 0.5f};
                 if (s->pixel_jitter)
                     sampler_2d(sm, jit);
+                else
+                    sampler_skip_2d(sm); /* the light's sample and the bounce keep their blocks */
                 camera_ray_dir(&j->cam, x + jit[0], y + jit[1], d[x - x0]);
             }
             pt_intersect_packet(&j->ps, cam, (const vec3 *)d, x1 - x0, hits, hit);

@@ -1260,10 +1260,10 @@ static void cornell_against_reference(void **state)
 
 /* The shipped scenes/sponza_nave.json (its LPV: 3 cascades of 32³ around
  * the camera, the coarsest on the scene) at 160×90 against the path
- * tracer's one bounce (16 spp at pixel centres): the indirect ratio of the
+ * tracer's one bounce (64 spp at pixel centres): the indirect ratio of the
  * whole image within [0.75, 1.33], and every 16×9 block whose reference
- * bounce is above the median within [0.3, 3]. Measured 1.14, blocks
- * 0.35 .. 2.20 (the CLI with PCSS 0.33 .. 2.42; 320×180, 64 spp: 1.13,
+ * bounce is above the median within [0.3, 3]. Measured 1.15, blocks
+ * 0.348 .. 2.25 (seeds 2–4: 0.338 .. 0.353; at 16 spp 0.325 .. 0.357) (the CLI with PCSS 0.33 .. 2.42; 320×180, 64 spp: 1.13,
  * 0.36 .. 2.21; scripts/gi-regions.sh). With one grid (1 m cells; the
  * scene file before issue 44's second round) 1.04, blocks 0.20 .. 2.48
  * (320×180: 0.21 .. 2.22):

@@ -569,8 +569,8 @@ void test_one_bounce_regions(const Scene *s, GiMode gi, int w, int h, const char
     ImageF tech, none, ob, direct;
     test_render_gi(s, w, h, gi, NULL, &tech);
     test_render_gi(s, w, h, GI_NONE, NULL, &none);
-    test_reference(s, w, h, PT_ONE_BOUNCE, 16, &ob);
-    test_reference(s, w, h, PT_DIRECT, 16, &direct);
+    test_reference(s, w, h, PT_ONE_BOUNCE, 64, &ob);
+    test_reference(s, w, h, PT_DIRECT, 64, &direct);
     *whole = test_indirect_ratio(&tech, &none, &ob, &direct, NULL);
     test_block_ratio_range(&tech, &none, &ob, &direct, 16, 9, lo, hi);
     print_message("%s %dx%d: indirect ratio against one-bounce %.3f; 16x9 blocks above the median %.3f .. %.3f\n",

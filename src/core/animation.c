@@ -704,7 +704,9 @@ static const AnimTrack *find_track(const Animation *a, AnimTarget target, int in
 
 /* p' = R (p − pivot) + pivot + translate, n' = R n, with R turning about
  * x, then y, then z by rot (degrees); in double, rounded once. */
-static void place_object(Scene *s, const SceneObject *o, const vec3 translate, const vec3 rot)
+/* Object o's vertices at translate and rot, written into `vertices` (the
+ * scene's array or a copy of it). */
+static void place_object(Vertex *vertices, const SceneObject *o, const vec3 translate, const vec3 rot)
 {
     double cx = cos(glm_rad(rot[0])), sx = sin(glm_rad(rot[0])), cy = cos(glm_rad(rot[1])),
            sy = sin(glm_rad(rot[1])), cz = cos(glm_rad(rot[2])), sz = sin(glm_rad(rot[2]));
@@ -715,7 +717,7 @@ static void place_object(Scene *s, const SceneObject *o, const vec3 translate, c
         {-sy, cy * sx, cy * cx},
     };
     for (uint32_t i = 0; i < o->vertex_count; i++) {
-        Vertex *v = &s->vertices[o->vertices[i]];
+        Vertex *v = &vertices[o->vertices[i]];
         const float *r = o->rest[i];
         double d[3] = {(double)r[0] - o->pivot[0], (double)r[1] - o->pivot[1], (double)r[2] - o->pivot[2]};
         for (int row = 0; row < 3; row++) {
@@ -743,24 +745,99 @@ static void change_vertices(SceneChange *c, uint32_t first, uint32_t count)
     c->vertex_count = hi - lo;
 }
 
+/* The first vertex of submesh k's emitter quad when it is light i's
+ * (scene_add_quad's p0 p1 p2 p3 from the first of its six indices), else
+ * -1. */
+static int64_t emitter_first_vertex(const Scene *s, int k, int i)
+{
+    const Submesh *sm = &s->submeshes[k];
+    if (s->materials[sm->material].light_index != i || sm->index_count < 6)
+        return -1;
+    return s->indices[sm->first_index];
+}
+
 /* Moves quad light i's emitter geometry and emission to the light. */
 static void place_emitter(Scene *s, int i, SceneChange *c)
 {
     const Light *l = &s->lights[i];
     for (int k = 0; k < s->submesh_count; k++) {
-        const Submesh *sm = &s->submeshes[k];
-        Material *m = &s->materials[sm->material];
-        if (m->light_index != i || sm->index_count < 6)
+        int64_t first = emitter_first_vertex(s, k, i);
+        if (first < 0)
             continue;
+        Material *m = &s->materials[s->submeshes[k].material];
         glm_vec3_scale((float *)l->color, 1.f / (l->size * l->size), m->emission);
-        /* scene_add_quad's vertices: p0 p1 p2 p3 from the first of its six indices */
-        uint32_t first = s->indices[sm->first_index];
         vec3 p[4];
         scene_emitter_corners(l, p);
         for (int v = 0; v < 4; v++)
             memcpy(s->vertices[first + v].position, p[v], sizeof(vec3));
-        change_vertices(c, first, 4);
+        change_vertices(c, (uint32_t)first, 4);
     }
+}
+
+static double clamp_time(const Animation *a, double t);
+
+static bool is_emitter(const Light *l) { return l->type == LIGHT_QUAD && l->size > 0.f; }
+
+bool animation_geometry_moves(const Scene *s)
+{
+    if (s->object_count > 0)
+        return true;
+    for (int i = 0; i < s->light_count; i++)
+        if (is_emitter(&s->lights[i]))
+            return true;
+    return false;
+}
+
+bool animation_vertices_at(const Scene *s, double t, const Light *lights, Vertex *out)
+{
+    /* The vertices an animation moves are written, never read: another
+     * thread may be rewriting them in s. */
+    uint8_t *moved = calloc(s->vertex_count ? s->vertex_count : 1, 1);
+    if (!moved) {
+        log_error("animation", "cannot allocate a map of %u vertices", s->vertex_count);
+        return false;
+    }
+    const Animation *a = s->animation;
+    t = clamp_time(a, t);
+    for (int i = 0; i < s->object_count; i++) {
+        const SceneObject *o = &s->objects[i];
+        const AnimTrack *tr = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_TRANSLATE),
+                        *rot = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_ROTATE);
+        vec3 translate, rotate;
+        glm_vec3_copy((float *)o->translate, translate);
+        glm_vec3_copy((float *)o->rotate_deg, rotate);
+        if (tr)
+            animation_track_value(tr, t, translate);
+        if (rot)
+            animation_track_value(rot, t, rotate);
+        place_object(out, o, translate, rotate);
+        for (uint32_t k = 0; k < o->vertex_count; k++)
+            moved[o->vertices[k]] = 1;
+    }
+    for (int i = 0; i < s->light_count; i++) {
+        if (!is_emitter(&lights[i]))
+            continue;
+        vec3 p[4];
+        scene_emitter_corners(&lights[i], p);
+        for (int k = 0; k < s->submesh_count; k++) {
+            int64_t first = emitter_first_vertex(s, k, i);
+            for (int v = 0; first >= 0 && v < 4; v++) {
+                /* The normal and uv as the scene built them (place_emitter
+                 * writes positions only). */
+                Vertex *o = &out[first + v];
+                const Vertex *in = &s->vertices[first + v];
+                memcpy(o->position, p[v], sizeof(vec3));
+                memcpy(o->normal, in->normal, sizeof o->normal);
+                memcpy(o->uv, in->uv, sizeof o->uv);
+                moved[first + v] = 1;
+            }
+        }
+    }
+    for (uint32_t v = 0; v < s->vertex_count; v++)
+        if (!moved[v])
+            out[v] = s->vertices[v];
+    free(moved);
+    return true;
 }
 
 /* The camera at t from its tracks, written over *cam; false (the view
@@ -884,7 +961,7 @@ bool animation_apply(Scene *s, double t, SceneChange *changed)
         if (o->placed && !memcmp(translate, o->placed_translate, sizeof translate) &&
             !memcmp(rotate, o->placed_rotate_deg, sizeof rotate))
             continue;
-        place_object(s, o, translate, rotate);
+        place_object(s->vertices, o, translate, rotate);
         glm_vec3_copy(translate, o->placed_translate);
         glm_vec3_copy(rotate, o->placed_rotate_deg);
         o->placed = true;

@@ -112,6 +112,18 @@ void animation_lights_at(const Scene *s, double t, Light *lights);
  * animation has no camera track or its target meets its position. Reads
  * the scene's animation only. */
 bool animation_camera_at(const Scene *s, double t, Camera *cam);
+/* Whether the scene's geometry can move: it has objects, or a quad light
+ * with a size (its emitter is geometry that follows the light). */
+bool animation_geometry_moves(const Scene *s);
+/* The scene's vertices at time t (clamped to [0, duration]), its quad
+ * lights' emitters placed at `lights` (an array of the scene's
+ * light_count: the lights as animated and edited), written into `out` (the
+ * scene's vertex_count): what animation_apply and animation_place_emitter
+ * would leave in s->vertices, without writing s or reading the vertices
+ * they write (the window's live reference makes its own geometry on its
+ * thread while the render thread applies the animation to s). false after
+ * logging (out of memory). */
+bool animation_vertices_at(const Scene *s, double t, const Light *lights, Vertex *out);
 /* After a caller edited light `light` by hand (a quad light moved or its
  * radiance changed in the window): its emitter geometry and emission
  * follow, the vertices rewritten added to *c (nothing for other types). */

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/animation.h"
 #include "base/log.h"
 #include "io/metrics.h"
 #include "base/util.h"
@@ -14,8 +15,9 @@
 /* A renderer being made on a thread of its own. */
 struct LiveMake {
     pthread_t thread;
-    Scene scene;             /* the window's geometry (borrowed), this make's camera and lights: */
+    Scene scene;             /* the window's geometry (borrowed) or `geom`, this make's camera and lights: */
     Light *lights;           /* owned */
+    Vertex *geom;            /* owned until adopted: the vertices the renderer borrows (NULL: the scene's) */
     PtSettings set;
     PtProgressive *pt;       /* the result (NULL: failed, it logged) */
     double seconds;          /* what making it took */
@@ -42,10 +44,12 @@ static void make_end(LiveReference *l, bool keep)
     pthread_join(m->thread, NULL);
     if (keep && m->pt) {
         l->pt = m->pt;
+        l->geom = m->geom;
         log_info("view", "live reference: %dx%d, %d threads, up to %d spp (BVH in %.2f s)", m->set.width,
                  m->set.height, m->set.threads, m->set.spp, m->seconds);
     } else {
         pt_progressive_destroy(m->pt);
+        free(m->geom);
         l->failed = keep; /* a make that was wanted failed */
     }
     free(m->lights);
@@ -53,8 +57,10 @@ static void make_end(LiveReference *l, bool keep)
     l->make = NULL;
 }
 
-/* Starts making the renderer of `s` at l->set's size. false after logging. */
-static bool make_start(LiveReference *l, const Scene *s)
+/* Starts making the renderer of `s` at l->set's size, over `geom` (taken:
+ * s's vertices at its state) or, when NULL, s's own vertices. false after
+ * logging. */
+static bool make_start(LiveReference *l, const Scene *s, Vertex *geom)
 {
     LiveMake *m = calloc(1, sizeof *m);
     size_t n = (size_t)s->light_count * sizeof(Light);
@@ -65,15 +71,22 @@ static bool make_start(LiveReference *l, const Scene *s)
         if (m)
             free(m->lights);
         free(m);
+        free(geom);
         return false;
     }
     m->scene = *s;
     m->scene.lights = m->lights;
+    m->geom = geom;
+    if (geom) {
+        m->scene.vertices = geom;
+        scene_compute_bounds(&m->scene);
+    }
     m->set = l->set;
     atomic_init(&m->done, false);
     if (pthread_create(&m->thread, NULL, make_thread, m) != 0) {
         log_error("view", "live reference: cannot start a thread to make its renderer");
         free(m->lights);
+        free(m->geom);
         free(m);
         return false;
     }
@@ -92,11 +105,21 @@ void live_reference_init(LiveReference *l, int threads, int spp, bool ordinary_p
     l->status.relmse_compare = -1;
 }
 
+/* Frees the renderer and the vertices it borrowed. */
+static void drop_renderer(LiveReference *l)
+{
+    pt_progressive_destroy(l->pt);
+    l->pt = NULL;
+    free(l->geom);
+    l->geom = NULL;
+}
+
 void live_reference_stop(LiveReference *l)
 {
     make_end(l, false);
-    pt_progressive_destroy(l->pt);
-    l->pt = NULL;
+    drop_renderer(l);
+    free(l->pending);
+    l->pending = NULL;
     l->failed = false;
     l->stale = false;
     image_free(&l->image);
@@ -129,17 +152,25 @@ static bool remember(LiveReference *l, const Scene *scene, const Camera *camera,
 }
 
 /* The renderer of the last make became l's: a state newer than the make's
- * restarts it. */
+ * restarts it, or, when its geometry moved meanwhile, is made anew. */
 static void adopt(LiveReference *l)
 {
     make_end(l, true);
-    if (l->pt && l->stale) {
-        Scene s = *l->scene;
-        s.camera = l->camera;
-        s.lights = l->lights;
-        s.light_count = l->light_count;
-        pt_progressive_restart(l->pt, &s); /* a failure logged: it renders the make's state */
+    Scene s = *l->scene;
+    s.camera = l->camera;
+    s.lights = l->lights;
+    s.light_count = l->light_count;
+    if (l->pending && !l->failed) {
+        drop_renderer(l);
+        Vertex *geom = l->pending;
+        l->pending = NULL;
+        l->stale = false;
+        if (!make_start(l, &s, geom)) /* logged */
+            l->failed = true;
+        return; /* still building */
     }
+    if (l->pt && l->stale)
+        pt_progressive_restart(l->pt, &s); /* a failure logged: it renders the make's state */
     l->stale = false;
     l->status.building = false;
 }
@@ -161,20 +192,56 @@ int live_reference_update(LiveReference *l, const Scene *scene, const Camera *ca
     Scene s = *scene; /* the geometry borrowed; the camera the window's */
     s.camera = *camera;
     bool was = l->pt != NULL || l->make != NULL;
+    /* Where objects or quad-light emitters can move, the renderer borrows
+     * vertices of its own at its state (the render thread rewrites the
+     * scene's): when they differ from those of the newest renderer, made or
+     * being made, it is made anew (its BVH over them). */
+    Vertex *geom = NULL;
+    bool regeom = false;
+    if (animation_geometry_moves(scene)) {
+        size_t bytes = sizeof(Vertex) * scene->vertex_count;
+        geom = malloc(bytes ? bytes : 1);
+        if (!geom)
+            log_error("view", "live reference: out of memory for %u vertices", scene->vertex_count);
+        if (!geom || !animation_vertices_at(scene, time, scene->lights, geom)) { /* logged */
+            free(geom);
+            live_reference_stop(l);
+            return -1;
+        }
+        const Vertex *newest = l->pending ? l->pending : l->make ? l->make->geom : l->geom;
+        regeom = !newest || memcmp(newest, geom, bytes) != 0;
+        if (!regeom && !size) {
+            free(geom);
+            geom = NULL;
+        }
+    }
     if (size) {
         make_end(l, false); /* a make of another size: waited for (a resize during a BVH build) */
-        pt_progressive_destroy(l->pt);
-        l->pt = NULL;
+        drop_renderer(l);
+        free(l->pending);
+        l->pending = NULL;
         image_free(&l->image);
         l->set.width = w;
         l->set.height = h;
         l->stale = false;
         if (!image_alloc(&l->image, w, h)) {
             log_error("view", "live reference: out of memory for a %dx%d image", w, h);
+            free(geom);
             live_reference_stop(l);
             return -1;
         }
-        if (!make_start(l, &s)) {
+        if (!make_start(l, &s, geom)) {
+            live_reference_stop(l);
+            return -1;
+        }
+        l->status.building = true;
+    } else if (regeom && l->make) {
+        free(l->pending); /* made anew once the make in flight ends (adopt) */
+        l->pending = geom;
+        l->stale = true;
+    } else if (regeom) {
+        drop_renderer(l);
+        if (!make_start(l, &s, geom)) {
             live_reference_stop(l);
             return -1;
         }

@@ -8,10 +8,11 @@
  *
  * A change of what the path tracer sees restarts it from zero samples:
  * the camera, the lights, the animation time (View.time) or the image
- * size (which makes the renderer anew: its BVH is built again, on a
- * thread of its own: Sponza's takes seconds, which the window's thread
- * would have stood still for; changes meanwhile restart it once it is
- * made). Exposure,
+ * size. A new size, or moved geometry (an animated object, a quad light's
+ * emitter), makes the renderer anew: its BVH is built again, on a thread
+ * of its own (Sponza's takes seconds, which the window's thread would have
+ * stood still for); changes meanwhile restart it, or make it anew again,
+ * once it is made. Exposure,
  * the GI and shadow techniques and their settings change only the
  * real-time frame, not the ground truth, and restart nothing.
  *
@@ -48,6 +49,9 @@ typedef struct LiveMake LiveMake;
 typedef struct LiveReference {
     PtSettings set;          /* threads and the spp cap; the size is the window's */
     PtProgressive *pt;       /* owned; NULL: stopped or being made */
+    Vertex *geom;            /* owned: the vertices pt borrows (NULL: the scene's, which cannot move) */
+    Vertex *pending;         /* owned: vertices of a newer state, for a renderer made once the make in
+                                flight ends (NULL: none) */
     LiveMake *make;          /* owned: the renderer being made on a thread, or NULL */
     bool failed;             /* the last make failed (it logged) */
     bool stale;              /* the state changed while it was made: restart it once made */
@@ -72,8 +76,14 @@ void live_reference_init(LiveReference *l, int threads, int spp, bool ordinary_p
  * `camera` at `time` and w×h: 0 when nothing changed, 1 when it (re)started
  * (the image read so far belongs to another state: status.spp is 0 until
  * the first pass of this one), -1 after logging when it could not start
- * (it is then stopped). `scene`'s geometry must be the same at every call
- * and outlive the renderer. */
+ * (it is then stopped). `scene`'s indices, submeshes, materials and
+ * textures must be the same at every call and outlive the renderer. Its
+ * vertices may move under it (the render thread applies the animation):
+ * where objects or quad-light emitters can move (animation_geometry_moves),
+ * the renderer borrows vertices of its own, made at `time` with `scene`'s
+ * lights (animation_vertices_at), and a state whose vertices differ makes
+ * the renderer anew (its BVH built again, on its thread, as for a new
+ * size). */
 int live_reference_update(LiveReference *l, const Scene *scene, const Camera *camera, double time, int w, int h);
 
 /* Whether the renderer published an image newer than the one read last:

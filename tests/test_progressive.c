@@ -245,6 +245,41 @@ static void threads_at_the_lowest_priority(void **state)
     }
 }
 
+/* A quad light's emitter shines with its light's radiance whatever its
+ * material holds: with the light doubled, the Cornell box renders the same
+ * to the bit before and after the emitter's material follows
+ * (animation_place_emitter, which the window's render thread does only at
+ * its next frame, after the live reference restarted with the new light).
+ * The emitter had shone with the material's old radiance: seen directly
+ * and through BSDF hits, against the light samples' new one. */
+static void emitter_shines_with_its_light(void **state)
+{
+    (void)state;
+    Scene s;
+    PtSettings set;
+    scene_build_cornell(&s);
+    scene_finalize(&s);
+    pt_settings_default(&set);
+    set.width = set.height = 32;
+    set.spp = 16;
+    set.threads = 2;
+    assert_true(s.lights[0].type == LIGHT_QUAD && s.lights[0].size > 0.f);
+    ImageF before, edited, placed;
+    assert_true(pt_render(&s, &set, &before, NULL, NULL));
+    glm_vec3_scale(s.lights[0].color, 2.f, s.lights[0].color);
+    assert_true(pt_render(&s, &set, &edited, NULL, NULL));
+    SceneChange c = {0};
+    animation_place_emitter(&s, 0, &c);
+    assert_true(c.what & SCENE_CHANGED_GEOMETRY);
+    assert_true(pt_render(&s, &set, &placed, NULL, NULL));
+    assert_memory_equal(edited.rgb, placed.rgb, sizeof(float) * 3 * 32 * 32);
+    assert_memory_not_equal(edited.rgb, before.rgb, sizeof(float) * 3 * 32 * 32);
+    image_free(&before);
+    image_free(&edited);
+    image_free(&placed);
+    scene_free(&s);
+}
+
 /* Polls the window's live reference at the state it was last given until
  * it has published its last image (its spp cap). */
 static void live_wait(LiveReference *l, const Scene *s, const Camera *cam, double t, int size)
@@ -327,6 +362,7 @@ int main(void)
         cmocka_unit_test(target_stops_it),
         cmocka_unit_test(pause_and_destroy),
         cmocka_unit_test(threads_at_the_lowest_priority),
+        cmocka_unit_test(emitter_shines_with_its_light),
         cmocka_unit_test(live_reference_follows_moving_objects),
     };
     return cmocka_run_group_tests_name("progressive", tests, NULL, NULL);

@@ -765,7 +765,7 @@ static void place_emitter(Scene *s, int i, SceneChange *c)
         if (first < 0)
             continue;
         Material *m = &s->materials[s->submeshes[k].material];
-        glm_vec3_scale((float *)l->color, 1.f / (l->size * l->size), m->emission);
+        scene_emitter_radiance(l, m->emission);
         vec3 p[4];
         scene_emitter_corners(l, p);
         for (int v = 0; v < 4; v++)

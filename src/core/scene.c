@@ -208,7 +208,7 @@ static bool add_emitters(Scene *s)
         int m = scene_add_material(s, name, (vec3){0, 0, 0});
         if (m < 0)
             return false; /* logged */
-        glm_vec3_scale(l->color, 1.f / (l->size * l->size), s->materials[m].emission);
+        scene_emitter_radiance(l, s->materials[m].emission);
         s->materials[m].light_index = i;
         vec3 p[4];
         scene_emitter_corners(l, p);
@@ -216,6 +216,11 @@ static bool add_emitters(Scene *s)
             return false; /* logged */
     }
     return true;
+}
+
+void scene_emitter_radiance(const Light *l, vec3 out)
+{
+    glm_vec3_scale((float *)l->color, 1.f / (l->size * l->size), out);
 }
 
 void scene_emitter_corners(const Light *l, vec3 p[4])

@@ -195,6 +195,9 @@ void scene_compute_bounds(Scene *s);
 /* The four corners of quad light l's emitter at its size, wound so that
  * (p1 − p0) × (p3 − p0) points along its direction. */
 void scene_emitter_corners(const Light *l, vec3 p[4]);
+/* The radiance of quad light l's emitter (its material's emission): the
+ * same power at any size, L / size². */
+void scene_emitter_radiance(const Light *l, vec3 out);
 
 /* Scales every light's emitter size (see header comment) and rebuilds the
  * emitter geometry of a finalized scene. false after logging. */

@@ -433,20 +433,33 @@ static void emitted(Job *j, const PtHit *h, const vec3 d, float pdf_bsdf, bool m
 {
     const Material *m = &j->scene->materials[h->material];
     glm_vec3_zero(out);
-    if (!h->front || (m->emission[0] <= 0.f && m->emission[1] <= 0.f && m->emission[2] <= 0.f))
+    if (!h->front)
+        return;
+    /* A quad light's emitter shines with its light's radiance, taken from
+     * the light (scene_emitter_radiance) rather than from the emitter's
+     * material: the light sample and the BSDF hit then see one light even
+     * where the material is rewritten later (the window's render thread
+     * places an edited light's emitter only at its next frame, while the
+     * live reference has restarted with the edited light already). */
+    const Light *l = m->light_index >= 0 ? &j->scene->lights[m->light_index] : NULL;
+    vec3 le;
+    if (l)
+        scene_emitter_radiance(l, le);
+    else
+        glm_vec3_copy((float *)m->emission, le);
+    if (le[0] <= 0.f && le[1] <= 0.f && le[2] <= 0.f)
         return;
     float w = 1.f;
-    if (m->light_index >= 0 && pdf_bsdf >= 0.f) {
+    if (l && pdf_bsdf >= 0.f) {
         if (!mis)
             return; /* light sampling alone counts this light */
-        const Light *l = &j->scene->lights[m->light_index];
         float cos_l = -glm_vec3_dot((float *)d, (float *)l->direction);
         if (cos_l <= 0.f)
             return;
         float a1 = j->lconst ? j->lconst[m->light_index].area1 : quad_area1(l);
         w = power_heuristic(pdf_bsdf, quad_pdf(l, a1, h->t, cos_l));
     }
-    glm_vec3_scale((float *)m->emission, w, out);
+    glm_vec3_scale(le, w, out);
 }
 
 /* ---------------------------------------------------------------- paths */

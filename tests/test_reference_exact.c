@@ -455,8 +455,10 @@ static void packet_hits_equal_single_rays(void **state)
     scene_free(&s);
 }
 
-/* ps's quads (pt_trace: the paths' bounce rays on a small scene) find what
- * its triangles (pt_intersect) find, ray by ray: the same hits and misses,
+/* ps's quads or its small-scene test (pt_trace, pt_occluded: the paths'
+ * bounce and shadow rays on a small scene) find what its triangles
+ * (pt_intersect) find, ray by ray: the same hits and misses (and the
+ * shadow ray stopped short of the hit unoccluded, the one past it occluded),
  * triangle (material), distance within 1e-5 (of itself plus the scene's
  * size: a ray from near a corner hits the next wall at 1e-5 m) and the
  * point, normals and
@@ -490,6 +492,8 @@ static int quads_agree(const Scene *s, const PtScene *ps, bool down, int n, int 
         if (qhit)
             pt_hit(ps, d, &raw, &got);
         bool same = hit == qhit;
+        float tmax = hit ? want.t : INFINITY;
+        same = same && !pt_occluded(ps, o, d, 0.99f * tmax) && (!hit || pt_occluded(ps, o, d, 1.01f * tmax));
         if (same && hit) {
             same = want.material == got.material && want.front == got.front && fabsf(want.t - got.t) <= 1e-5f * (want.t + ps->diag);
             for (int c = 0; c < 3; c++)
@@ -511,9 +515,19 @@ static void quads_hit_as_triangles(void **state)
     PtScene ps;
     cornell_pt_scene(&s, &ps);
     assert_non_null(ps.quads); /* a small scene: its bounce rays on quads */
+    assert_non_null(ps.tiny);  /* ... or, this small, on every triangle in turn */
+    PtTiny *tiny = ps.tiny;
+    ps.tiny = NULL; /* the quads alone */
     srand(7);
     int hits = 0, differ = quads_agree(&s, &ps, false, 20000, &hits);
     print_message("Cornell box: %d of %d hits differ between quads and triangles\n", differ, hits);
+    assert_true(hits > 10000 && differ <= 2);
+    ps.tiny = tiny;
+    srand(7);
+    hits = 0;
+    differ = quads_agree(&s, &ps, false, 20000, &hits);
+    print_message("Cornell box: %d of %d hits differ between the small-scene test and Embree's triangles\n", differ,
+                  hits);
     assert_true(hits > 10000 && differ <= 2);
     pt_scene_destroy(&ps);
     scene_free(&s);
@@ -522,6 +536,7 @@ static void quads_hit_as_triangles(void **state)
     assert_true(scene_load(&leaf, test_masked_leaf_obj("pt_quads_leaf")));
     assert_true(pt_scene_create(&ps, &leaf));
     assert_non_null(ps.quads);
+    assert_null(ps.tiny); /* alpha-masked: Embree's filter */
     int on_leaf = 0;
     hits = 0;
     differ = quads_agree(&leaf, &ps, true, 4000, &hits);

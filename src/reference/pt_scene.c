@@ -303,6 +303,20 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
         if (count[g] > 0)
             ok = add_geometry(ps, ps->rtc, (unsigned)g, 3, idx + 3 * (size_t)ps->tri_base[g], count[g], g == 1);
     free(idx);
+    if (ok && count[1] == 0 && ntri <= PT_TINY_MAX) {
+        ps->tiny = calloc(1, sizeof *ps->tiny);
+        ok = ps->tiny != NULL;
+        if (!ok)
+            log_error("reference", "cannot allocate the small scene's arrays");
+        for (uint32_t i = 0; ok && i < ntri; i++)
+            for (int c = 0; c < 3; c++) {
+                ps->tiny->p0[c][i] = ps->tris[i].p0[c];
+                ps->tiny->e1[c][i] = ps->tris[i].e1[c];
+                ps->tiny->e2[c][i] = ps->tris[i].e2[c];
+            }
+        if (ok)
+            ps->tiny->n = (ntri + 7) & ~7u;
+    }
     if (ok && !ps->memory_bound) {
         ps->quads = new_scene(ps->device);
         ok = build_quads(ps, prim_tri, tri_material, ntri);
@@ -333,6 +347,7 @@ void pt_scene_destroy(PtScene *ps)
     if (ps->quads)
         rtcReleaseScene(ps->quads);
     free(ps->quad);
+    free(ps->tiny);
     if (ps->device)
         rtcReleaseDevice(ps->device);
     free(ps->tris);
@@ -431,8 +446,85 @@ static bool trace_in(const PtScene *ps, RTCScene sc, const vec3 o, const vec3 d,
     return true;
 }
 
+/* Eight lanes of floats or of their masks (GCC's vector extensions: SSE
+ * pairs by default, AVX where tiny_hit's clone for it runs). */
+typedef float v8f __attribute__((vector_size(32)));
+typedef int32_t v8i __attribute__((vector_size(32)));
+
+/* Every triangle of a small scene (PtTiny) against o + t·d, t in (0,
+ * tmax) (Möller & Trumbore), eight at a time: the closest hit into r, or
+ * with `any` whether there is one (r unused). */
+__attribute__((target_clones("avx2", "default"))) static bool tiny_hit(const PtTiny *k, const vec3 o, const vec3 d,
+                                                                        float tmax, bool any, PtRawHit *r)
+{
+    const v8f ox = {o[0], o[0], o[0], o[0], o[0], o[0], o[0], o[0]}, oy = ox * 0.f + o[1], oz = ox * 0.f + o[2];
+    const v8f dx = ox * 0.f + d[0], dy = ox * 0.f + d[1], dz = ox * 0.f + d[2];
+    const v8f zero = ox * 0.f, one = zero + 1.f, far = zero + tmax;
+    v8f best_t = zero + INFINITY;
+    v8i best_i = (v8i){0} - 1, lane = {0, 1, 2, 3, 4, 5, 6, 7};
+    for (uint32_t i = 0; i < k->n; i += 8, lane += 8) {
+        v8f e1x, e1y, e1z, e2x, e2y, e2z, tx, ty, tz;
+        memcpy(&e1x, &k->e1[0][i], sizeof e1x);
+        memcpy(&e1y, &k->e1[1][i], sizeof e1y);
+        memcpy(&e1z, &k->e1[2][i], sizeof e1z);
+        memcpy(&e2x, &k->e2[0][i], sizeof e2x);
+        memcpy(&e2y, &k->e2[1][i], sizeof e2y);
+        memcpy(&e2z, &k->e2[2][i], sizeof e2z);
+        memcpy(&tx, &k->p0[0][i], sizeof tx);
+        memcpy(&ty, &k->p0[1][i], sizeof ty);
+        memcpy(&tz, &k->p0[2][i], sizeof tz);
+        tx = ox - tx, ty = oy - ty, tz = oz - tz;
+        v8f px = dy * e2z - dz * e2y, py = dz * e2x - dx * e2z, pz = dx * e2y - dy * e2x;
+        v8f inv = one / (e1x * px + e1y * py + e1z * pz); /* inf on a degenerate lane: NaNs, no hit */
+        v8f u = (tx * px + ty * py + tz * pz) * inv;
+        v8f qx = ty * e1z - tz * e1y, qy = tz * e1x - tx * e1z, qz = tx * e1y - ty * e1x;
+        v8f v = (dx * qx + dy * qy + dz * qz) * inv;
+        v8f t = (e2x * qx + e2y * qy + e2z * qz) * inv;
+        v8i hit = (u >= zero) & (v >= zero) & (u + v <= one) & (t > zero) & (t < far) & (t < best_t);
+        if (any) {
+            int32_t found = 0;
+            for (int l = 0; l < 8; l++)
+                found |= hit[l];
+            if (found)
+                return true;
+            continue;
+        }
+        best_t = (v8f)((hit & (v8i)t) | (~hit & (v8i)best_t));
+        best_i = (hit & lane) | (~hit & best_i);
+    }
+    if (any)
+        return false;
+    int b = -1;
+    for (int l = 0; l < 8; l++)
+        if (best_i[l] >= 0 && (b < 0 || best_t[l] < best_t[b]))
+            b = l;
+    if (b < 0)
+        return false;
+    /* The winner's barycentrics again, alone (kept in lanes they cost the
+     * loop two blends and its registers). */
+    uint32_t i = (uint32_t)best_i[b];
+    float e1[3] = {k->e1[0][i], k->e1[1][i], k->e1[2][i]}, e2[3] = {k->e2[0][i], k->e2[1][i], k->e2[2][i]};
+    float tv[3] = {o[0] - k->p0[0][i], o[1] - k->p0[1][i], o[2] - k->p0[2][i]}, p[3], q[3];
+    glm_vec3_cross((float *)d, e2, p);
+    glm_vec3_cross(tv, e1, q);
+    float inv = 1.f / glm_vec3_dot(e1, p);
+    r->t = best_t[b];
+    r->u = glm_vec3_dot(tv, p) * inv;
+    r->v = glm_vec3_dot((float *)d, q) * inv;
+    r->rec = i;
+    return true;
+}
+
 bool pt_trace(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtRawHit *r)
 {
+    if (ps->tiny) {
+        if (!tiny_hit(ps->tiny, o, d, tmax, false, r))
+            return false;
+        const char *rec = (const char *)&ps->tris[r->rec];
+        prefetch(rec);
+        prefetch(rec + 64);
+        return true;
+    }
     return trace_in(ps, ps->quads ? ps->quads : ps->rtc, o, d, tmax, r);
 }
 
@@ -536,6 +628,8 @@ int pt_intersect_all(const PtScene *ps, const vec3 o, const vec3 d, float tmax, 
 
 bool pt_occluded(const PtScene *ps, const vec3 o, const vec3 d, float tmax)
 {
+    if (ps->tiny)
+        return tiny_hit(ps->tiny, o, d, tmax, true, NULL);
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     struct RTCRay r;

@@ -245,6 +245,25 @@ static bool build_quads(PtScene *ps, const uint32_t *prim_tri, const uint32_t *t
     return ok;
 }
 
+/* PtScene.tiny from the records of a scene of ntri ≤ PT_TINY_MAX
+ * triangles. false after logging. */
+static bool build_tiny(PtScene *ps, uint32_t ntri)
+{
+    ps->tiny = calloc(1, sizeof *ps->tiny);
+    if (!ps->tiny) {
+        log_error("reference", "cannot allocate the small scene's arrays");
+        return false;
+    }
+    for (uint32_t i = 0; i < ntri; i++)
+        for (int c = 0; c < 3; c++) {
+            ps->tiny->p0[c][i] = ps->tris[i].p0[c];
+            ps->tiny->e1[c][i] = ps->tris[i].e1[c];
+            ps->tiny->e2[c][i] = ps->tris[i].e2[c];
+        }
+    ps->tiny->n = (ntri + 7) & ~7u; /* the padding lanes stay zero: degenerate */
+    return true;
+}
+
 bool pt_scene_create(PtScene *ps, const Scene *s)
 {
     pthread_once(&g_lut_once, init_lut);
@@ -303,20 +322,8 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
         if (count[g] > 0)
             ok = add_geometry(ps, ps->rtc, (unsigned)g, 3, idx + 3 * (size_t)ps->tri_base[g], count[g], g == 1);
     free(idx);
-    if (ok && count[1] == 0 && ntri <= PT_TINY_MAX) {
-        ps->tiny = calloc(1, sizeof *ps->tiny);
-        ok = ps->tiny != NULL;
-        if (!ok)
-            log_error("reference", "cannot allocate the small scene's arrays");
-        for (uint32_t i = 0; ok && i < ntri; i++)
-            for (int c = 0; c < 3; c++) {
-                ps->tiny->p0[c][i] = ps->tris[i].p0[c];
-                ps->tiny->e1[c][i] = ps->tris[i].e1[c];
-                ps->tiny->e2[c][i] = ps->tris[i].e2[c];
-            }
-        if (ok)
-            ps->tiny->n = (ntri + 7) & ~7u;
-    }
+    if (ok && count[1] == 0 && ntri <= PT_TINY_MAX)
+        ok = build_tiny(ps, ntri);
     if (ok && !ps->memory_bound) {
         ps->quads = new_scene(ps->device);
         ok = build_quads(ps, prim_tri, tri_material, ntri);

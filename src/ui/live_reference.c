@@ -175,6 +175,36 @@ static void adopt(LiveReference *l)
     l->status.building = false;
 }
 
+/* Where objects or quad-light emitters can move, the renderer borrows
+ * vertices of its own at its state (the render thread rewrites the
+ * scene's): *geom gets scene's at `time` when they differ from those of
+ * the newest renderer, made or being made (*regeom: it is made anew, its
+ * BVH over them), or when `keep` (a new size makes it anew anyway); else
+ * NULL. false after logging (out of memory). */
+static bool state_geometry(const LiveReference *l, const Scene *scene, double time, bool keep, Vertex **geom,
+                           bool *regeom)
+{
+    *geom = NULL;
+    *regeom = false;
+    if (!animation_geometry_moves(scene))
+        return true;
+    size_t bytes = sizeof(Vertex) * scene->vertex_count;
+    Vertex *g = malloc(bytes ? bytes : 1);
+    if (!g)
+        log_error("view", "live reference: out of memory for %u vertices", scene->vertex_count);
+    if (!g || !animation_vertices_at(scene, time, scene->lights, g)) { /* logged */
+        free(g);
+        return false;
+    }
+    const Vertex *newest = l->pending ? l->pending : l->make ? l->make->geom : l->geom;
+    *regeom = !newest || memcmp(newest, g, bytes) != 0;
+    if (*regeom || keep)
+        *geom = g;
+    else
+        free(g);
+    return true;
+}
+
 int live_reference_update(LiveReference *l, const Scene *scene, const Camera *camera, double time, int w, int h)
 {
     l->scene = scene;
@@ -192,28 +222,11 @@ int live_reference_update(LiveReference *l, const Scene *scene, const Camera *ca
     Scene s = *scene; /* the geometry borrowed; the camera the window's */
     s.camera = *camera;
     bool was = l->pt != NULL || l->make != NULL;
-    /* Where objects or quad-light emitters can move, the renderer borrows
-     * vertices of its own at its state (the render thread rewrites the
-     * scene's): when they differ from those of the newest renderer, made or
-     * being made, it is made anew (its BVH over them). */
     Vertex *geom = NULL;
     bool regeom = false;
-    if (animation_geometry_moves(scene)) {
-        size_t bytes = sizeof(Vertex) * scene->vertex_count;
-        geom = malloc(bytes ? bytes : 1);
-        if (!geom)
-            log_error("view", "live reference: out of memory for %u vertices", scene->vertex_count);
-        if (!geom || !animation_vertices_at(scene, time, scene->lights, geom)) { /* logged */
-            free(geom);
-            live_reference_stop(l);
-            return -1;
-        }
-        const Vertex *newest = l->pending ? l->pending : l->make ? l->make->geom : l->geom;
-        regeom = !newest || memcmp(newest, geom, bytes) != 0;
-        if (!regeom && !size) {
-            free(geom);
-            geom = NULL;
-        }
+    if (!state_geometry(l, scene, time, size, &geom, &regeom)) {
+        live_reference_stop(l);
+        return -1;
     }
     if (size) {
         make_end(l, false); /* a make of another size: waited for (a resize during a BVH build) */

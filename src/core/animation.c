@@ -728,6 +728,21 @@ static void place_object(Vertex *vertices, const SceneObject *o, const vec3 tran
     }
 }
 
+/* Object i (o) at time t: its file's transform, each channel a track
+ * moves replaced by the track's value. */
+static void object_transform_at(const Animation *a, const SceneObject *o, int i, double t, vec3 translate,
+                                vec3 rotate)
+{
+    const AnimTrack *tr = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_TRANSLATE),
+                    *rot = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_ROTATE);
+    glm_vec3_copy((float *)o->translate, translate);
+    glm_vec3_copy((float *)o->rotate_deg, rotate);
+    if (tr)
+        animation_track_value(tr, t, translate);
+    if (rot)
+        animation_track_value(rot, t, rotate);
+}
+
 /* Grows the change's vertex range by [first, first + count). */
 static void change_vertices(SceneChange *c, uint32_t first, uint32_t count)
 {
@@ -801,15 +816,8 @@ bool animation_vertices_at(const Scene *s, double t, const Light *lights, Vertex
     t = clamp_time(a, t);
     for (int i = 0; i < s->object_count; i++) {
         const SceneObject *o = &s->objects[i];
-        const AnimTrack *tr = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_TRANSLATE),
-                        *rot = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_ROTATE);
         vec3 translate, rotate;
-        glm_vec3_copy((float *)o->translate, translate);
-        glm_vec3_copy((float *)o->rotate_deg, rotate);
-        if (tr)
-            animation_track_value(tr, t, translate);
-        if (rot)
-            animation_track_value(rot, t, rotate);
+        object_transform_at(a, o, i, t, translate, rotate);
         place_object(out, o, translate, rotate);
         for (uint32_t k = 0; k < o->vertex_count; k++)
             moved[o->vertices[k]] = 1;
@@ -949,15 +957,8 @@ bool animation_apply(Scene *s, double t, SceneChange *changed)
     bool moved = false;
     for (int i = 0; i < s->object_count; i++) {
         SceneObject *o = &s->objects[i];
-        const AnimTrack *tr = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_TRANSLATE),
-                        *rot = find_track(a, ANIM_TARGET_OBJECT, i, ANIM_ROTATE);
         vec3 translate, rotate;
-        glm_vec3_copy(o->translate, translate);
-        glm_vec3_copy(o->rotate_deg, rotate);
-        if (tr)
-            animation_track_value(tr, t, translate);
-        if (rot)
-            animation_track_value(rot, t, rotate);
+        object_transform_at(a, o, i, t, translate, rotate);
         if (o->placed && !memcmp(translate, o->placed_translate, sizeof translate) &&
             !memcmp(rotate, o->placed_rotate_deg, sizeof rotate))
             continue;

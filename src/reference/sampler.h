@@ -170,12 +170,19 @@ static inline float sampler_scrambled(uint32_t rev, uint32_t seed)
     return sampler_to_float(util_reverse_bits(sampler_lk_permute(rev, seed)));
 }
 
-/* The shuffled index of the current block (seeds: its seeds), kept for
- * its second half: an Owen scramble of the sample index. */
-static inline uint32_t sampler_block_index(Sampler *s, const uint32_t *seed)
+/* The sample index shuffled by an Owen scramble seeded by `seed`. */
+static inline uint32_t sampler_shuffled(const Sampler *s, uint32_t seed)
 {
-    s->block_i = util_reverse_bits(sampler_lk_permute(s->index_rev, seed[0]));
-    return s->block_i;
+    return util_reverse_bits(sampler_lk_permute(s->index_rev, seed));
+}
+
+/* Block b's seeds: the cached ones, else made into `own`. */
+static inline const uint32_t *sampler_seeds_of_block(const Sampler *s, uint32_t b, uint32_t own[5])
+{
+    if (b < SAMPLER_CACHED_BLOCKS)
+        return s->seeds[b];
+    sampler_block_seeds(s->pixel_key, b, own);
+    return own;
 }
 
 static inline __attribute__((always_inline)) void sampler_2d(Sampler *s, float u[2])
@@ -185,14 +192,11 @@ static inline __attribute__((always_inline)) void sampler_2d(Sampler *s, float u
         u[1] = rng_float(&s->rng);
         return;
     }
-    uint32_t b = s->dim >> 1, half = s->dim & 1u, own[5];
-    const uint32_t *seed = own;
-    if (b < SAMPLER_CACHED_BLOCKS)
-        seed = s->seeds[b];
-    else
-        sampler_block_seeds(s->pixel_key, b, own);
-    if (!half) {
-        uint32_t i = sampler_block_index(s, seed);
+    uint32_t own[5];
+    const uint32_t *seed = sampler_seeds_of_block(s, s->dim >> 1, own);
+    if (!(s->dim & 1u)) {
+        /* The block's shuffled index, kept for its second half. */
+        uint32_t i = s->block_i = sampler_shuffled(s, seed[0]);
         u[0] = sampler_scrambled(i, seed[1]);
         u[1] = sampler_scrambled(sobol_dim_reversed(1, i), seed[2]);
     } else {
@@ -210,13 +214,8 @@ static inline void sampler_skip_2d(Sampler *s)
     if (s->kind != PT_SAMPLER_SOBOL)
         return;
     if (!(s->dim & 1u)) {
-        uint32_t b = s->dim >> 1, own[5];
-        if (b < SAMPLER_CACHED_BLOCKS)
-            sampler_block_index(s, s->seeds[b]);
-        else {
-            sampler_block_seeds(s->pixel_key, b, own);
-            sampler_block_index(s, own);
-        }
+        uint32_t own[5];
+        s->block_i = sampler_shuffled(s, sampler_seeds_of_block(s, s->dim >> 1, own)[0]);
     }
     s->dim++;
 }
@@ -231,9 +230,8 @@ static inline float sampler_1d(Sampler *s)
         seed = s->seeds1[s->dim1];
     else
         sampler_1d_seeds(s->pixel_key, s->dim1, own);
-    uint32_t i = util_reverse_bits(sampler_lk_permute(s->index_rev, seed[0]));
     s->dim1++;
-    return sampler_scrambled(i, seed[1]);
+    return sampler_scrambled(sampler_shuffled(s, seed[0]), seed[1]);
 }
 
 #endif

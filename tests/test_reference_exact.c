@@ -514,20 +514,32 @@ static void quads_hit_as_triangles(void **state)
     Scene s;
     PtScene ps;
     cornell_pt_scene(&s, &ps);
-    assert_non_null(ps.quads); /* a small scene: its bounce rays on quads */
-    assert_non_null(ps.tiny);  /* ... or, this small, on every triangle in turn */
-    PtTiny *tiny = ps.tiny;
-    ps.tiny = NULL; /* the quads alone */
+    assert_non_null(ps.tiny); /* this small: its bounce and shadow rays on every triangle in turn */
+    assert_null(ps.quads);
     srand(7);
     int hits = 0, differ = quads_agree(&s, &ps, false, 20000, &hits);
-    print_message("Cornell box: %d of %d hits differ between quads and triangles\n", differ, hits);
+    print_message("Cornell box: %d of %d hits differ between the small-scene test and Embree's triangles\n", differ,
+                  hits);
     assert_true(hits > 10000 && differ <= 2);
-    ps.tiny = tiny;
+    pt_scene_destroy(&ps);
+    scene_free(&s);
+
+    /* The box with 20 square tiles just above its floor: 72 triangles, past
+     * PT_TINY_MAX, so on quads. */
+    scene_build_cornell(&s);
+    for (int k = 0; k < 20; k++) {
+        float x0 = 0.05f + 0.1f * (float)(k % 5), z0 = 0.05f + 0.12f * (float)(k / 5), y = 0.002f;
+        assert_true(scene_add_quad(&s, 0, (vec3){x0, y, z0}, (vec3){x0, y, z0 + 0.06f}, (vec3){x0 + 0.06f, y, z0 + 0.06f},
+                                   (vec3){x0 + 0.06f, y, z0}));
+    }
+    scene_finalize(&s);
+    assert_true(pt_scene_create(&ps, &s));
+    assert_null(ps.tiny);
+    assert_non_null(ps.quads);
     srand(7);
     hits = 0;
     differ = quads_agree(&s, &ps, false, 20000, &hits);
-    print_message("Cornell box: %d of %d hits differ between the small-scene test and Embree's triangles\n", differ,
-                  hits);
+    print_message("Cornell box and tiles: %d of %d hits differ between quads and triangles\n", differ, hits);
     assert_true(hits > 10000 && differ <= 2);
     pt_scene_destroy(&ps);
     scene_free(&s);

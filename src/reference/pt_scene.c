@@ -324,7 +324,7 @@ bool pt_scene_create(PtScene *ps, const Scene *s)
     free(idx);
     if (ok && count[1] == 0 && ntri <= PT_TINY_MAX)
         ok = build_tiny(ps, ntri);
-    if (ok && !ps->memory_bound) {
+    if (ok && !ps->memory_bound && !ps->tiny) {
         ps->quads = new_scene(ps->device);
         ok = build_quads(ps, prim_tri, tri_material, ntri);
         if (ok)
@@ -524,14 +524,8 @@ __attribute__((target_clones("avx2", "default"))) static bool tiny_hit(const PtT
 
 bool pt_trace(const PtScene *ps, const vec3 o, const vec3 d, float tmax, PtRawHit *r)
 {
-    if (ps->tiny) {
-        if (!tiny_hit(ps->tiny, o, d, tmax, false, r))
-            return false;
-        const char *rec = (const char *)&ps->tris[r->rec];
-        prefetch(rec);
-        prefetch(rec + 64);
-        return true;
-    }
+    if (ps->tiny) /* its records are in the caches: nothing to prefetch */
+        return tiny_hit(ps->tiny, o, d, tmax, false, r);
     return trace_in(ps, ps->quads ? ps->quads : ps->rtc, o, d, tmax, r);
 }
 

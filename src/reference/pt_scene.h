@@ -73,7 +73,7 @@ typedef struct PtScene {
      * exactly along a diagonal pixel after pixel, and pt_intersect stay on
      * the triangles; a bounce or shadow ray meets a diagonal within an ulp
      * with probability ~0. NULL on a large scene (no gain measured on
-     * Sponza). */
+     * Sponza) and on a small one (PtTiny serves its rays). */
     RTCScene quads;         /* owned; NULL: none */
     PtQuad *quad;           /* per primitive of `quads`, geometry 0's then geometry 1's (owned) */
     uint32_t quad_base[2];  /* per geometry: index in `quad` of its primitive 0 */

@@ -230,7 +230,6 @@ int live_reference_update(LiveReference *l, const Scene *scene, const Camera *ca
     }
     if (size) {
         make_end(l, false); /* a make of another size: waited for (a resize during a BVH build) */
-        drop_renderer(l);
         free(l->pending);
         l->pending = NULL;
         image_free(&l->image);
@@ -243,22 +242,18 @@ int live_reference_update(LiveReference *l, const Scene *scene, const Camera *ca
             live_reference_stop(l);
             return -1;
         }
-        if (!make_start(l, &s, geom)) {
-            live_reference_stop(l);
-            return -1;
-        }
-        l->status.building = true;
-    } else if (regeom && l->make) {
-        free(l->pending); /* made anew once the make in flight ends (adopt) */
-        l->pending = geom;
-        l->stale = true;
-    } else if (regeom) {
+    }
+    if ((size || regeom) && !l->make) { /* made anew */
         drop_renderer(l);
         if (!make_start(l, &s, geom)) {
             live_reference_stop(l);
             return -1;
         }
         l->status.building = true;
+    } else if (regeom) {
+        free(l->pending); /* made anew once the make in flight ends (adopt) */
+        l->pending = geom;
+        l->stale = true;
     } else if (l->make) {
         l->stale = true; /* restarted with this state once made */
     } else if (!pt_progressive_restart(l->pt, &s)) { /* logged; it goes on with the old state */
